@@ -1,0 +1,18 @@
+"""oceangnc: guidance, navigation, control and identification of unmanned marine vehicles.
+
+Python API first::
+
+    import oceangnc
+    res = oceangnc.run("usv-turn", overrides={"environment.current.speed": 0.1}, duration=60)
+    res.summary["usv.turn_radius_m"], res.df.head()
+
+The command line ``oceangnc`` is a thin layer over :func:`run`.
+"""
+
+from .api import RunResult, list_scenarios, replot, resolve_config, run
+from .errors import ConfigError, DivergenceError, InputError, OceanGNCError
+
+__version__ = "0.1.0"
+
+__all__ = ["run", "replot", "list_scenarios", "resolve_config", "RunResult", "ConfigError",
+           "DivergenceError", "InputError", "OceanGNCError", "__version__"]

@@ -1,0 +1,194 @@
+"""The Python API: ``oceangnc.run(scenario, overrides=..., duration=...)``; the CLI is a thin layer on it."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import DivergenceError, OceanGNCError
+from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
+from .io.logs import LogWriter, read_log
+from .scenarios.base import RunContext, get_scenario, registry
+
+DEFAULT_SCENARIO = "combined-survey"
+FALLBACK_SCENARIO = "usv-turn"
+
+
+@dataclass
+class RunResult:
+    """What :func:`run` returns.
+
+    Attributes
+    ----------
+    log : pyarrow.Table
+        The run's log (one row per sample, time column ``t`` in s). ``df`` gives it as pandas.
+    summary : dict
+        The scenario's metrics (flat keys, SI units) plus ``scenario`` and ``duration_s``.
+    config : pydantic model
+        The fully resolved config.
+    out_dir : Path
+        Folder holding ``log.parquet``, ``summary.json``, ``config.toml`` and the plots.
+    plots : list of Path
+    """
+
+    log: Any
+    summary: dict
+    config: Any
+    out_dir: Path
+    plots: list
+
+    @property
+    def df(self):
+        """The log as a pandas DataFrame."""
+        return self.log.to_pandas()
+
+
+def default_scenario() -> str:
+    """The flagship scenario if it exists, else the USV turn."""
+    return DEFAULT_SCENARIO if DEFAULT_SCENARIO in registry() else FALLBACK_SCENARIO
+
+
+def list_scenarios() -> dict[str, str]:
+    """Scenario name -> one-line description."""
+    return {n: s.summary for n, s in registry().items()}
+
+
+def resolve_config(scenario: str | None = None, config: str | Path | dict | None = None,
+                   overrides: dict | None = None, duration: float | None = None):
+    """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
+
+    ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
+    Returns ``(scenario_object, config_model)``.
+    """
+    from .io.config import set_dotted
+
+    file_cfg: dict = {}
+    if isinstance(config, (str, Path)):
+        file_cfg = load_toml(config)
+    elif isinstance(config, dict):
+        file_cfg = config
+    name = scenario or file_cfg.get("scenario") or default_scenario()
+    sc = get_scenario(name)
+    over: dict = {}
+    for k, v in (overrides or {}).items():
+        if isinstance(v, dict):
+            over = deep_merge(over, {k: v})
+        else:
+            set_dotted(over, k, v)
+    if duration is not None:
+        set_dotted(over, "sim.duration", duration)
+    data = deep_merge(deep_merge(sc.defaults, file_cfg), over)
+    data["scenario"] = sc.name
+    cfg = validate(sc.Config, data)
+    return sc, cfg
+
+
+def new_run_dir(root: str | Path = "runs", name: str = "run") -> Path:
+    """A new, unique folder ``runs/<name>-<timestamp>``."""
+    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    base = Path(root) / f"{name}-{stamp}"
+    out = base
+    i = 1
+    while out.exists():
+        out = Path(f"{base}-{i}")
+        i += 1
+    return out
+
+
+def _jsonable(v):
+    if isinstance(v, (np.floating, float)):
+        v = float(v)
+        return v if math.isfinite(v) else None
+    if isinstance(v, (np.integer,)):
+        return int(v)
+    if isinstance(v, (np.bool_,)):
+        return bool(v)
+    return v
+
+
+def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
+        config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
+        progress: bool = False) -> RunResult:
+    """Run a scenario and write its outputs.
+
+    Parameters
+    ----------
+    scenario : str, optional
+        Scenario name (see :func:`list_scenarios`); default the flagship ``combined-survey``.
+    overrides : dict, optional
+        Config overrides, nested or with dotted keys, e.g. ``{"environment.current.speed": 0.5}``.
+    duration : float, optional
+        Simulated time (s); shorthand for ``sim.duration``.
+    config : path or dict, optional
+        A TOML file (or dict) merged over the scenario's defaults before the overrides.
+    out : path, optional
+        Output folder (default a new ``runs/<scenario>-<timestamp>``).
+    plots : bool
+        Draw the PNG plots.
+    progress : bool
+        Show a progress bar on long runs.
+
+    Raises
+    ------
+    ConfigError, InputError
+        Bad config or input (the CLI exits 2).
+    DivergenceError
+        The simulation blew up; ``log.parquet`` up to that point and ``summary.json`` with
+        ``status = "diverged"`` are still written (the CLI exits 1).
+    """
+    sc, cfg = resolve_config(scenario, config, overrides, duration)
+    out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    dump_toml(cfg, out_dir / "config.toml")
+    log = LogWriter(out_dir / "log.parquet")
+    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress)
+    t0 = time.perf_counter()
+    summary: dict = {"scenario": sc.name}
+    try:
+        metrics = sc.run(cfg, ctx)
+    except DivergenceError as e:
+        log.close()
+        summary.update({"status": "diverged", "error": str(e), "duration_s": e.t,
+                        "wall_time_s": time.perf_counter() - t0})
+        (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
+        raise
+    except BaseException:
+        log.close()
+        raise
+    log.close()
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(out_dir / "log.parquet")
+    df = table.to_pandas()
+    metrics = dict(metrics or {})
+    metrics.update(sc.summarize(df, cfg))
+    summary.update({k: _jsonable(v) for k, v in metrics.items()})
+    summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
+    summary["status"] = "ok"
+    summary["wall_time_s"] = time.perf_counter() - t0
+    (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
+    plot_paths = sc.plot(df, cfg, out_dir) if plots else []
+    return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
+
+
+def replot(run_dir: str | Path) -> list[Path]:
+    """Re-draw a finished run's plots from its ``log.parquet`` and ``config.toml``."""
+    d = Path(run_dir)
+    cfg_dict = load_toml(d / "config.toml")
+    sc, cfg = resolve_config(cfg_dict.get("scenario"), cfg_dict)
+    df = read_log(d / "log.parquet")
+    return sc.plot(df, cfg, d)
+
+
+def config_dict(cfg) -> dict:
+    """A resolved config as a plain nested dict."""
+    return to_dict(cfg)
+
+

@@ -1,0 +1,126 @@
+"""Command line ``oceangnc``: a thin layer over :mod:`oceangnc.api`.
+
+Exit codes: 0 success, 2 bad input (config, file, name), 1 diverged simulation; errors are one line.
+
+Subcommands of later capabilities live in their own packages and are registered here through a
+``register(subparsers)`` function in each module of :data:`PLUGINS` (``identify``, ``console``,
+``sweep``); a module that is absent or whose optional dependencies are missing is skipped.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import sys
+
+from .errors import OceanGNCError
+
+PLUGINS = (
+    "oceangnc.identification.cli",
+    "oceangnc.console.cli",
+    "oceangnc.sweep.cli",
+)
+
+
+def _cmd_list(args) -> int:
+    from .api import default_scenario, list_scenarios
+
+    default = default_scenario()
+    scen = list_scenarios()
+    w = max(len(n) for n in scen)
+    for name, summary in scen.items():
+        star = " (default)" if name == default else ""
+        print(f"{name:<{w}}  {summary}{star}")
+    return 0
+
+
+def _cmd_run(args) -> int:
+    from .api import run
+    from .io.config import flatten, parse_sets
+
+    overrides = flatten(parse_sets(args.set))
+    res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
+              plots=not args.no_plots, progress=not args.quiet)
+    if not args.quiet:
+        keys = [k for k in res.summary if k not in ("scenario",)]
+        w = max(len(k) for k in keys)
+        print(f"scenario {res.summary['scenario']}: wrote {res.out_dir}")
+        for k in keys:
+            v = res.summary[k]
+            print(f"  {k:<{w}}  {v:.4g}" if isinstance(v, float) else f"  {k:<{w}}  {v}")
+    if args.json:
+        print(json.dumps(res.summary))
+    return 0
+
+
+def _cmd_plot(args) -> int:
+    from .api import replot
+
+    for p in replot(args.dir):
+        print(p)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="oceangnc", description="Guidance, navigation, control and "
+                                 "identification of unmanned marine vehicles.")
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("list", help="list the scenarios, one line each")
+    p.set_defaults(func=_cmd_list)
+
+    p = sub.add_parser("run", help="run a scenario (default: the flagship combined survey)")
+    p.add_argument("scenario", nargs="?", help="scenario name (see 'oceangnc list')")
+    p.add_argument("--config", help="TOML config file")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
+    p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
+    p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
+    p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("plot", help="re-draw the plots of a run folder from its log")
+    p.add_argument("dir", help="run folder holding log.parquet and config.toml")
+    p.set_defaults(func=_cmd_plot)
+
+    for modname in PLUGINS:
+        try:
+            mod = importlib.import_module(modname)
+        except ModuleNotFoundError as e:
+            if e.name and (modname.startswith(e.name) or e.name == modname):
+                continue  # capability not present
+            missing = e.name
+            q = sub.add_parser(modname.split(".")[1], help=f"(unavailable: missing package {missing})")
+            q.set_defaults(func=lambda a, m=missing: _missing(m))
+            continue
+        mod.register(sub)
+    return ap
+
+
+def _missing(name: str) -> int:
+    print(f"error: this command needs the optional package '{name}'; install with "
+          f"pip install 'oceangnc[all]'", file=sys.stderr)
+    return 2
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = build_parser()
+    args = ap.parse_args(argv)
+    if not getattr(args, "func", None):
+        ap.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except OceanGNCError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return e.exit_code
+    except KeyboardInterrupt:
+        print("interrupted: the log written so far is kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Simulation core: frames and rotations, integrators, blocks and the multi-rate clock."""

@@ -1,0 +1,122 @@
+"""Blocks: discrete (sensors, guidance, control, actuators) and continuous (plants).
+
+A *discrete block* fires every ``period`` seconds. Its :meth:`Block.step` reads named signals from the
+signal bus (a plain ``dict[str, float]``) and writes its outputs back; the outputs stay on the bus
+unchanged until the block fires again (zero-order hold). Its internal state lives in attributes, is
+set by :meth:`Block.reset` and is never shared between blocks.
+
+A *plant* holds continuous state as one flat float64 array with documented layout, a flat
+parameter array, and a numba-compiled right-hand side ``rhs(t, x, u, p, out)``. Between two clock
+ticks the simulator integrates it with the compiled RK4 of :mod:`oceangnc.core.integrators`, the
+inputs ``u`` being read from the bus (zero-order hold) by name.
+
+Signal names are ``<body>.<signal>``: ``usv.x``, ``usv.psi``, ``usv.thrust_port``; names that start
+with ``_`` are internal and not logged.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..errors import DivergenceError
+from .integrators import rk4_advance, rk4_workspace
+
+
+class Block:
+    """A discrete-time block with explicit state.
+
+    Subclasses set ``name`` and ``period`` (s) and implement :meth:`step`; they may override
+    :meth:`reset` to (re)initialise their state from a random generator (for determinism every source
+    of randomness is a ``numpy.random.Generator`` given here, never a global one).
+    """
+
+    name: str = "block"
+    period: float = 0.01
+
+    def reset(self, rng: np.random.Generator) -> None:  # noqa: D401 - default: stateless
+        """Reinitialise the block's state; ``rng`` is the block's own generator."""
+
+    def step(self, t: float, bus: dict) -> None:
+        """Read inputs from ``bus`` and write outputs to it at time ``t`` (s)."""
+        raise NotImplementedError
+
+
+class FunctionBlock(Block):
+    """A stateless block made from a function ``fn(t, bus)``; handy for commands and glue."""
+
+    def __init__(self, name: str, period: float, fn):
+        self.name = name
+        self.period = float(period)
+        self._fn = fn
+
+    def step(self, t: float, bus: dict) -> None:
+        self._fn(t, bus)
+
+
+class Plant:
+    """A continuous-time system integrated by the simulator.
+
+    Parameters
+    ----------
+    name : str
+        Body name; states are published as ``<name>.<state_name>``.
+    rhs : numba dispatcher
+        ``rhs(t, x, u, p, out)`` writing dx/dt into ``out``.
+    x0 : array (n,)
+        Initial state; its layout is ``state_names``.
+    p : array
+        Flat parameter array in the layout the ``rhs`` expects.
+    input_names : sequence of str
+        Bus keys read (zero-order hold) into ``u`` before each integration interval.
+    state_bound : float
+        A state component larger than this in magnitude counts as divergence (default 1e7).
+    max_dt : float or None
+        Largest stable physics step (s), if the model knows it; the simulator refuses larger steps.
+    """
+
+    def __init__(self, name: str, rhs, x0, p, state_names: Sequence[str], input_names: Sequence[str],
+                 state_bound: float = 1e7, max_dt: float | None = None):
+        self.name = name
+        self.rhs = rhs
+        self.x = np.array(x0, dtype=np.float64)
+        self.x0 = self.x.copy()
+        self.p = np.ascontiguousarray(p, dtype=np.float64)
+        self.state_names = list(state_names)
+        self.input_names = list(input_names)
+        if len(self.state_names) != self.x.size:
+            raise ValueError(f"plant {name}: {len(self.state_names)} state names for {self.x.size} states")
+        self.u = np.zeros(len(self.input_names))
+        self.work = rk4_workspace(self.x.size)
+        self.state_bound = float(state_bound)
+        self.max_dt = max_dt
+
+    def reset(self) -> None:
+        """Restore the initial state."""
+        self.x[:] = self.x0
+
+    def read_inputs(self, bus: dict) -> None:
+        """Copy the plant's inputs from the bus (missing inputs are zero)."""
+        for i, k in enumerate(self.input_names):
+            self.u[i] = bus.get(k, 0.0)
+
+    def advance(self, t: float, dt: float, n: int) -> float:
+        """Integrate ``n`` RK4 steps of ``dt`` s from time ``t``; raises :class:`DivergenceError`."""
+        t_new = rk4_advance(self.rhs, t, self.x, self.u, self.p, dt, n, self.work)
+        if t_new < 0.0:
+            k = int(-t_new - 1.0)
+            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict())
+        if np.max(np.abs(self.x)) > self.state_bound:
+            raise DivergenceError(t_new, self.name, self.state_dict(),
+                                  reason=f"|state| above {self.state_bound:g}")
+        return t_new
+
+    def state_dict(self) -> dict[str, float]:
+        """State as ``{"<name>.<state>": value}``."""
+        return {f"{self.name}.{k}": float(v) for k, v in zip(self.state_names, self.x)}
+
+    def publish(self, bus: dict) -> None:
+        """Write the plant's outputs to the bus. Default: every state; subclasses add derived signals."""
+        for k, v in zip(self.state_names, self.x):
+            bus[f"{self.name}.{k}"] = float(v)

@@ -1,0 +1,121 @@
+"""Frames and rotations: NED earth frame, body frame x forward / y starboard / z down.
+
+Implements the planar rotation used by the 3-DOF models (003 eq. 2.1-2.2; 000 eq. 2, whose printed
+matrix has a sign misprint: the standard rotation is used here) and the 6-DOF Euler-angle
+(zyx, roll phi / pitch theta / yaw psi) kinematics of 003 appendix A (Fossen 2011, eq. 2.18 and 2.29):
+
+    eta_dot = J(eta) nu,  J = diag(R_b^n(Theta), T(Theta)).
+
+All functions are compiled with numba so that vehicle right-hand sides can call them; they accept
+and return float64 numpy arrays and angles in radians.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def wrap(a):
+    """Wrap one angle (rad) to (-pi, pi]."""
+    w = (a + math.pi) % (2.0 * math.pi) - math.pi
+    if w == -math.pi:
+        w = math.pi
+    return w
+
+
+@njit(cache=True)
+def rot2(psi):
+    """Planar rotation body -> NED, R(psi) (2x2); [x_dot, y_dot] = R(psi) [u, v]."""
+    c = math.cos(psi)
+    s = math.sin(psi)
+    R = np.empty((2, 2))
+    R[0, 0] = c
+    R[0, 1] = -s
+    R[1, 0] = s
+    R[1, 1] = c
+    return R
+
+
+@njit(cache=True)
+def rot3(psi):
+    """3-DOF rotation body -> NED for (x, y, psi) and (u, v, r) (Fossen 2011 eq. 2.39)."""
+    c = math.cos(psi)
+    s = math.sin(psi)
+    R = np.zeros((3, 3))
+    R[0, 0] = c
+    R[0, 1] = -s
+    R[1, 0] = s
+    R[1, 1] = c
+    R[2, 2] = 1.0
+    return R
+
+
+@njit(cache=True)
+def rzyx(phi, theta, psi):
+    """Euler zyx rotation matrix R_b^n(phi, theta, psi), body -> NED (Fossen 2011 eq. 2.18)."""
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cth = math.cos(theta)
+    sth = math.sin(theta)
+    cpsi = math.cos(psi)
+    spsi = math.sin(psi)
+    R = np.empty((3, 3))
+    R[0, 0] = cpsi * cth
+    R[0, 1] = -spsi * cphi + cpsi * sth * sphi
+    R[0, 2] = spsi * sphi + cpsi * cphi * sth
+    R[1, 0] = spsi * cth
+    R[1, 1] = cpsi * cphi + sphi * sth * spsi
+    R[1, 2] = -cpsi * sphi + sth * spsi * cphi
+    R[2, 0] = -sth
+    R[2, 1] = cth * sphi
+    R[2, 2] = cth * cphi
+    return R
+
+
+@njit(cache=True)
+def tzyx(phi, theta):
+    """Euler-angle rate transform T(Theta): [phi_dot, theta_dot, psi_dot] = T [p, q, r] (Fossen eq. 2.29).
+
+    Singular at theta = +-pi/2 (the vehicle pointing straight up or down).
+    """
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cth = math.cos(theta)
+    sth = math.sin(theta)
+    T = np.empty((3, 3))
+    T[0, 0] = 1.0
+    T[0, 1] = sphi * sth / cth
+    T[0, 2] = cphi * sth / cth
+    T[1, 0] = 0.0
+    T[1, 1] = cphi
+    T[1, 2] = -sphi
+    T[2, 0] = 0.0
+    T[2, 1] = sphi / cth
+    T[2, 2] = cphi / cth
+    return T
+
+
+@njit(cache=True)
+def skew(a):
+    """Skew-symmetric matrix S(a) with S(a) b = a x b."""
+    S = np.zeros((3, 3))
+    S[0, 1] = -a[2]
+    S[0, 2] = a[1]
+    S[1, 0] = a[2]
+    S[1, 2] = -a[0]
+    S[2, 0] = -a[1]
+    S[2, 1] = a[0]
+    return S
+
+
+@njit(cache=True)
+def euler_from_rotation(R):
+    """Recover (phi, theta, psi) from a zyx rotation matrix (inverse of :func:`rzyx`)."""
+    theta = -math.asin(max(-1.0, min(1.0, R[2, 0])))
+    phi = math.atan2(R[2, 1], R[2, 2])
+    psi = math.atan2(R[1, 0], R[0, 0])
+    return phi, theta, psi

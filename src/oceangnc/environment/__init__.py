@@ -1,0 +1,15 @@
+"""Environment: ocean current and wind, as discrete blocks publishing NED velocities on the bus."""
+
+from .current import CurrentConfig, OceanCurrent
+from .wind import WindConfig, Wind, beaufort_speed
+
+__all__ = ["CurrentConfig", "OceanCurrent", "WindConfig", "Wind", "beaufort_speed", "EnvironmentConfig"]
+
+from ..io.config import StrictModel
+
+
+class EnvironmentConfig(StrictModel):
+    """Current and wind of a scenario."""
+
+    current: CurrentConfig = CurrentConfig()
+    wind: WindConfig = WindConfig()

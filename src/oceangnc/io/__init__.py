@@ -1,0 +1,1 @@
+"""Input and output: TOML configs validated with pydantic, Parquet logs, plots."""

@@ -1,0 +1,62 @@
+"""Plots drawn from run logs (matplotlib, Agg backend, PNG files).
+
+Conventions: tracks are drawn with east (y) to the right and north (x) up, as on a chart.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def _save(fig, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_track(df, bodies: list[str], path: Path, title: str = "", waypoints=None, extra=None) -> Path:
+    """Plan view of the bodies' tracks (east right, north up), with optional waypoints (N, E)."""
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    for b in bodies:
+        if f"{b}.x" in df and f"{b}.y" in df:
+            ax.plot(df[f"{b}.y"], df[f"{b}.x"], label=b)
+            ax.plot(df[f"{b}.y"].iloc[0], df[f"{b}.x"].iloc[0], "o", color="k", ms=4)
+    if waypoints is not None and len(waypoints):
+        wp = np.asarray(waypoints, dtype=float)
+        ax.plot(wp[:, 1], wp[:, 0], "k--", lw=0.8)
+        ax.plot(wp[:, 1], wp[:, 0], "ks", ms=5, label="waypoints")
+    if extra is not None:
+        extra(ax)
+    ax.set_xlabel("east y [m]")
+    ax.set_ylabel("north x [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title(title)
+    return _save(fig, path)
+
+
+def plot_signals(df, groups: list[tuple[str, list[tuple[str, str, float]]]], path: Path, title: str = "") -> Path:
+    """Stacked time plots. ``groups`` = [(ylabel, [(column, label, scale), ...]), ...]."""
+    groups = [(lab, [c for c in cols if c[0] in df]) for lab, cols in groups]
+    groups = [g for g in groups if g[1]]
+    if not groups:
+        groups = [("(no signals)", [])]
+    fig, axes = plt.subplots(len(groups), 1, figsize=(8, 1.9 * len(groups) + 0.6), sharex=True, squeeze=False)
+    for ax, (ylabel, cols) in zip(axes[:, 0], groups):
+        for col, label, scale in cols:
+            ax.plot(df["t"], df[col] * scale, label=label)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        if len(cols) > 1:
+            ax.legend(loc="best", fontsize=7)
+    axes[-1, 0].set_xlabel("time t [s]")
+    axes[0, 0].set_title(title)
+    return _save(fig, path)

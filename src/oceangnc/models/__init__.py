@@ -1,0 +1,1 @@
+"""Vehicle, cable and actuator models (continuous-time right-hand sides, compiled with numba)."""

@@ -1,0 +1,97 @@
+"""Thruster curves and actuator limits.
+
+USV thrusters (003 eq. 2.5, Minn Kota, 36.2 kgf rated): the printed 5th-order thrust-voltage
+polynomial over the 12-bit DAC range 0.05-4.68 V,
+
+    P(V) [kgf] = -0.4968 V^5 + 5.7702 V^4 - 21.755 V^3 + 29.0135 V^2 - 3.3987 V - 13.081,
+
+does not reproduce the text's own claims (it gives -13.18 / 29.22 kgf at the ends and -0.75..-3.3 kgf
+inside the 1.6-3.2 V dead zone). We impose them separately (SPEC.md, 003 notes): zero thrust on
+[1.6, 3.2] V, and on each branch the polynomial rescaled affinely so that it is 0 at the dead-zone
+edge and takes the printed end value (-13.83 kgf at 0.05 V, +29.12 kgf at 4.68 V). P is monotonic on
+both branches (its derivative's roots are 0.063, 1.645, 2.715, 4.87 V), so the mapping is invertible.
+
+UUV thrusters (003 eq. 2.18, Tecnadyne): ``T(V) = 0.002 V^5 + 0.03 V^4 + 0.356 V^3 + 0.47 V^2 +
+0.782 V`` printed without units; 85.2 at 5 V is plausible only in newtons (7.7 kgf = 75.5 N rated
+forward), so it is read in N, odd-symmetric for reverse, saturated at +7.7 / -3.2 kgf.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..units import KGF
+
+USV_POLY_KGF = np.array([-0.4968, 5.7702, -21.755, 29.0135, -3.3987, -13.081])  # highest power first
+USV_V_MIN, USV_V_MAX = 0.05, 4.68  # V, DAC range
+USV_DEAD_LO, USV_DEAD_HI = 1.6, 3.2  # V, dead zone
+USV_T_REV_KGF, USV_T_FWD_KGF = -13.83, 29.12  # kgf at the ends of the range
+USV_RATED_KGF = 36.2  # Minn Kota rated thrust, kgf
+
+UUV_POLY_N = np.array([0.002, 0.03, 0.356, 0.47, 0.782, 0.0])  # N vs V, highest power first
+UUV_T_FWD_N = 7.7 * KGF
+UUV_T_REV_N = -3.2 * KGF
+
+
+@njit(cache=True)
+def _polyval(c, x):
+    y = 0.0
+    for a in c:
+        y = y * x + a
+    return y
+
+
+@njit(cache=True)
+def usv_thrust_from_voltage(v):
+    """USV thruster thrust (N) from DAC voltage (V), 003 eq. 2.5 with dead zone and end values imposed."""
+    if v < USV_V_MIN:
+        v = USV_V_MIN
+    elif v > USV_V_MAX:
+        v = USV_V_MAX
+    if USV_DEAD_LO <= v <= USV_DEAD_HI:
+        return 0.0
+    if v > USV_DEAD_HI:
+        p0 = _polyval(USV_POLY_KGF, USV_DEAD_HI)
+        p1 = _polyval(USV_POLY_KGF, USV_V_MAX)
+        return USV_T_FWD_KGF * (_polyval(USV_POLY_KGF, v) - p0) / (p1 - p0) * KGF
+    p0 = _polyval(USV_POLY_KGF, USV_DEAD_LO)
+    p1 = _polyval(USV_POLY_KGF, USV_V_MIN)
+    return USV_T_REV_KGF * (_polyval(USV_POLY_KGF, v) - p0) / (p1 - p0) * KGF
+
+
+def usv_voltage_from_thrust(thrust_n: float) -> float:
+    """Inverse of :func:`usv_thrust_from_voltage` (V); 0 N maps to the dead zone's middle (2.4 V)."""
+    from scipy.optimize import brentq
+
+    t = float(thrust_n)
+    if t == 0.0:
+        return 0.5 * (USV_DEAD_LO + USV_DEAD_HI)
+    if t > 0:
+        if t >= USV_T_FWD_KGF * KGF:
+            return USV_V_MAX
+        return brentq(lambda v: usv_thrust_from_voltage(v) - t, USV_DEAD_HI, USV_V_MAX, xtol=1e-10)
+    if t <= USV_T_REV_KGF * KGF:
+        return USV_V_MIN
+    return brentq(lambda v: usv_thrust_from_voltage(v) - t, USV_V_MIN, USV_DEAD_LO, xtol=1e-10)
+
+
+@njit(cache=True)
+def uuv_thrust_from_voltage(v):
+    """UUV thruster thrust (N) from command voltage (V, -5..5), 003 eq. 2.18 read in N, saturated."""
+    a = abs(v)
+    if a > 5.0:
+        a = 5.0
+    t = _polyval(UUV_POLY_N, a)
+    t = t if v >= 0 else -t
+    if t > UUV_T_FWD_N:
+        t = UUV_T_FWD_N
+    elif t < UUV_T_REV_N:
+        t = UUV_T_REV_N
+    return t
+
+
+@njit(cache=True)
+def saturate(x, lo, hi):
+    """Clip x to [lo, hi]."""
+    return lo if x < lo else (hi if x > hi else x)
