@@ -55,8 +55,17 @@ class Scenario:
     Config: type[ScenarioConfig] = ScenarioConfig
     defaults: dict = {}
 
+    def build(self, cfg, rng: np.random.Generator):
+        """The scenario's :class:`~oceangnc.core.clock.Simulation`, ready to run (if it is one).
+
+        Scenarios built from one simulation implement this; the console steps it live, and the
+        default :meth:`run` simply runs it for ``cfg.sim.duration``.
+        """
+        raise NotImplementedError(f"scenario {self.name} has no single live simulation")
+
     def run(self, cfg, ctx: RunContext) -> dict:
-        raise NotImplementedError
+        ctx.simulate(self.build(cfg, ctx.rng), cfg.sim.duration)
+        return {}
 
     def summarize(self, df, cfg) -> dict:
         return {}

@@ -81,10 +81,8 @@ class USVOpenLoop(Scenario):
         self.defaults = defaults
         self.turning = turning
 
-    def run(self, cfg, ctx) -> dict:
-        sim = build_simulation(cfg, ctx.rng)
-        ctx.simulate(sim, cfg.sim.duration)
-        return {}
+    def build(self, cfg, rng):
+        return build_simulation(cfg, rng)
 
     def summarize(self, df, cfg) -> dict:
         w = df[df["t"] >= df["t"].iloc[-1] - cfg.analysis.window_s]

@@ -1,0 +1,1 @@
+"""System identification: first-order (Nomoto/speed) models from trials, augmented-state EKF."""
