@@ -1,0 +1,1 @@
+"""Controllers: anti-windup PID, USV/UUV loops, backstepping, pole placement, berthing, allocation."""

@@ -1,0 +1,73 @@
+"""Anti-windup PID with back-calculation (003 eq. 3.10).
+
+    v(t)  = K_p e + I + K_d e_dot
+    u(t)  = sat(v) in [u_min, u_max]
+    I'    = K_i e + K_w (u - v)          (back-calculation, K_w = 1 / K_p by default)
+
+When the output saturates, the integrator is driven back at rate K_w (u - v), so it does not wind
+up (Astrom & Hagglund 2006, sec. 3.5; 003 eq. 3.10 prints the same structure with K_w = 1/K_p).
+The integrator is advanced with the forward-Euler rule at the controller's own period, as on a
+microcontroller. The derivative uses the given rate (e.g. the measured yaw rate, avoiding
+derivative kick) or a backward difference of the error.
+
+The gains are plain attributes so that an operator console can change them while running.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class PID:
+    """Discrete anti-windup PID.
+
+    Parameters
+    ----------
+    kp, ki, kd : float
+        Gains (output units per error unit, per error unit and second, per error unit per second).
+    u_min, u_max : float
+        Output limits (output units); -inf/inf for none.
+    kw : float or None
+        Back-calculation gain (1/s); default ``1 / kp`` (003 eq. 3.10), or ``1`` when ``kp == 0``.
+    """
+
+    def __init__(self, kp: float, ki: float = 0.0, kd: float = 0.0, u_min: float = -math.inf,
+                 u_max: float = math.inf, kw: float | None = None):
+        if u_min > u_max:
+            raise ValueError(f"PID limits: u_min={u_min} > u_max={u_max}")
+        self.kp = float(kp)
+        self.ki = float(ki)
+        self.kd = float(kd)
+        self.u_min = float(u_min)
+        self.u_max = float(u_max)
+        self._kw = kw
+        self.reset()
+
+    @property
+    def kw(self) -> float:
+        if self._kw is not None:
+            return float(self._kw)
+        return 1.0 / self.kp if self.kp != 0.0 else 1.0
+
+    def reset(self, integral: float = 0.0) -> None:
+        """Clear the integrator (or set it) and the derivative memory."""
+        self.integral = float(integral)
+        self._e_prev: float | None = None
+        self.v = 0.0  # last unsaturated output
+        self.u = 0.0  # last saturated output
+
+    def step(self, e: float, dt: float, e_dot: float | None = None, feedforward: float = 0.0) -> float:
+        """One controller update with error ``e`` over period ``dt`` (s); returns the saturated output.
+
+        ``e_dot`` is the error rate if known (else a backward difference); ``feedforward`` is added
+        before saturation.
+        """
+        if e_dot is None:
+            e_dot = 0.0 if self._e_prev is None else (e - self._e_prev) / dt
+        self._e_prev = e
+        v = self.kp * e + self.integral + self.kd * e_dot + feedforward
+        u = min(self.u_max, max(self.u_min, v))
+        self.integral += dt * (self.ki * e + self.kw * (u - v))
+        self.v = v
+        self.u = u
+        return u
