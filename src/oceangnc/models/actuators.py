@@ -8,8 +8,10 @@ polynomial over the 12-bit DAC range 0.05-4.68 V,
 does not reproduce the text's own claims (it gives -13.18 / 29.22 kgf at the ends and -0.75..-3.3 kgf
 inside the 1.6-3.2 V dead zone). We impose them separately (SPEC.md, 003 notes): zero thrust on
 [1.6, 3.2] V, and on each branch the polynomial rescaled affinely so that it is 0 at the dead-zone
-edge and takes the printed end value (-13.83 kgf at 0.05 V, +29.12 kgf at 4.68 V). P is monotonic on
-both branches (its derivative's roots are 0.063, 1.645, 2.715, 4.87 V), so the mapping is invertible.
+edge and takes the printed end value (-13.83 kgf at the reverse end, +29.12 kgf at 4.68 V). P has a
+minimum at 0.0629 V (its derivative's roots are 0.0629, 1.645, 2.715, 4.87 V), so on 0.05-0.0629 V
+it would *decrease* the reverse thrust again; the reverse branch therefore saturates at that minimum
+(full reverse from 0.0629 V down). Both branches are then strictly monotonic and invertible.
 
 UUV thrusters (003 eq. 2.18, Tecnadyne): ``T(V) = 0.002 V^5 + 0.03 V^4 + 0.356 V^3 + 0.47 V^2 +
 0.782 V`` printed without units; 85.2 at 5 V is plausible only in newtons (7.7 kgf = 75.5 N rated
@@ -28,6 +30,8 @@ USV_V_MIN, USV_V_MAX = 0.05, 4.68  # V, DAC range
 USV_DEAD_LO, USV_DEAD_HI = 1.6, 3.2  # V, dead zone
 USV_T_REV_KGF, USV_T_FWD_KGF = -13.83, 29.12  # kgf at the ends of the range
 USV_RATED_KGF = 36.2  # Minn Kota rated thrust, kgf
+USV_V_REV_FULL = float(min((r.real for r in np.roots(np.polyder(USV_POLY_KGF)) if abs(r.imag) < 1e-12
+                           and USV_V_MIN <= r.real <= USV_DEAD_LO), default=USV_V_MIN))  # 0.0629 V
 
 UUV_POLY_N = np.array([0.002, 0.03, 0.356, 0.47, 0.782, 0.0])  # N vs V, highest power first
 UUV_T_FWD_N = 7.7 * KGF
@@ -55,8 +59,10 @@ def usv_thrust_from_voltage(v):
         p0 = _polyval(USV_POLY_KGF, USV_DEAD_HI)
         p1 = _polyval(USV_POLY_KGF, USV_V_MAX)
         return USV_T_FWD_KGF * (_polyval(USV_POLY_KGF, v) - p0) / (p1 - p0) * KGF
+    if v < USV_V_REV_FULL:
+        v = USV_V_REV_FULL
     p0 = _polyval(USV_POLY_KGF, USV_DEAD_LO)
-    p1 = _polyval(USV_POLY_KGF, USV_V_MIN)
+    p1 = _polyval(USV_POLY_KGF, USV_V_REV_FULL)
     return USV_T_REV_KGF * (_polyval(USV_POLY_KGF, v) - p0) / (p1 - p0) * KGF
 
 
@@ -72,8 +78,8 @@ def usv_voltage_from_thrust(thrust_n: float) -> float:
             return USV_V_MAX
         return brentq(lambda v: usv_thrust_from_voltage(v) - t, USV_DEAD_HI, USV_V_MAX, xtol=1e-10)
     if t <= USV_T_REV_KGF * KGF:
-        return USV_V_MIN
-    return brentq(lambda v: usv_thrust_from_voltage(v) - t, USV_V_MIN, USV_DEAD_LO, xtol=1e-10)
+        return USV_V_REV_FULL
+    return brentq(lambda v: usv_thrust_from_voltage(v) - t, USV_V_REV_FULL, USV_DEAD_LO, xtol=1e-10)
 
 
 @njit(cache=True)
