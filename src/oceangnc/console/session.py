@@ -1,0 +1,537 @@
+"""A live console session: one scenario's simulation stepped in a thread, paced to wall-clock time.
+
+Pacing. With ``speed`` the ratio of simulated to wall time, the loop (100 Hz) keeps
+
+    t_sim_target = t_sim(anchor) + speed * (t_wall - t_wall(anchor))
+
+and advances the simulation by whole clock ticks (``sim.tick * sim.dt``, so every block keeps its
+firing schedule) up to the target with ``sim.run``. The anchor is reset on resume and whenever the
+simulation falls more than ``max_lag`` s of simulated time behind (then the run is slower than asked
+and the page shows the measured real-time factor). Simulated time therefore tracks wall time to
+within one tick plus one loop period, independent of how long the run lasts.
+
+Commands (validated in :mod:`oceangnc.console.messages`) are queued by the web server and applied in
+the simulation thread between two chunks, by writing the shared bus keys with ``sim.inject``:
+``console.mode``, ``console.loop``, ``joystick.surge``, ``joystick.yaw``, ``console.waypoints``,
+``_estop``, and the logged flags ``console.failsafe``, ``console.estop``.
+
+Failsafe. In remote mode, if no client is connected or no stick message arrived for
+``stick_timeout`` (1 s), the stick is zeroed and the vehicle goes to its failsafe: thrust to zero
+(``_estop`` on the bus) unless the scenario says it can station-keep (``failsafe_station_keep``;
+then only ``console.failsafe`` is raised and the scenario holds position). The failsafe clears when
+the link is back *and* the stick is at neutral (so a stick held over during the outage cannot
+launch the vehicle), or when the operator switches to autonomous mode. The emergency stop is
+separate and latched: only an explicit reset clears it.
+
+Log. Every logged row goes both to ``log.parquet`` in the run folder (through
+:class:`oceangnc.io.logs.LogWriter`, closed when the run ends) and to column arrays in memory, from
+which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet file the page downloads.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tempfile
+import threading
+import time
+import traceback
+from array import array
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DivergenceError, OceanGNCError
+from ..io.logs import LogWriter
+from .messages import Rejected, check_gains
+from .view import infer_view
+
+NEUTRAL = 0.05  #: stick deflection below which the stick counts as centred (failsafe reset)
+
+
+class _TeeLog:
+    """Log sink for ``sim.run``: forwards rows to a LogWriter and keeps them as column arrays."""
+
+    def __init__(self, writer: LogWriter | None):
+        self.writer = writer
+        self.columns: list[str] | None = None
+        self.t = array("d")
+        self.data: dict[str, array] = {}
+
+    def append(self, t: float, row: dict) -> None:
+        if self.writer is not None:
+            self.writer.append(t, row)
+        if self.columns is None:
+            self.columns = list(row)
+            self.data = {c: array("d") for c in self.columns}
+        self.t.append(float(t))
+        for c in self.columns:
+            self.data[c].append(float(row.get(c, math.nan)))
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+
+def _finite(v):
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def collect_gains(sim) -> dict[str, dict]:
+    """Adjustable gains of a simulation's blocks: ``"<block>.<gain>" -> spec`` with a setter.
+
+    A block offering ``gain_specs()`` / ``set_gain(name, value)`` is asked; otherwise every
+    :class:`oceangnc.control.pid.PID` attribute of a block exposes its kp, ki, kd with the range
+    [0, max(10 |value|, 1)].
+    """
+    from ..control.pid import PID
+
+    out: dict[str, dict] = {}
+    for b in sim.blocks:
+        if hasattr(b, "gain_specs") and hasattr(b, "set_gain"):
+            for s in b.gain_specs():
+                name = f"{b.name}.{s['name']}"
+                spec = {k: s[k] for k in ("value", "min", "max") if k in s}
+                spec.update({"unit": s.get("unit", ""), "description": s.get("description", ""),
+                             "setter": (lambda v, b=b, n=s["name"]: b.set_gain(n, v)),
+                             "getter": (lambda b=b, n=s["name"]: next(
+                                 (x["value"] for x in b.gain_specs() if x["name"] == n), math.nan))})
+                out[name] = spec
+            continue
+        for attr, obj in vars(b).items():
+            if isinstance(obj, PID):
+                for g in ("kp", "ki", "kd"):
+                    v = getattr(obj, g)
+                    out[f"{b.name}.{attr}.{g}"] = {
+                        "value": v, "min": 0.0, "max": max(10 * abs(v), 1.0), "unit": "",
+                        "description": f"{attr} PID {g}",
+                        "setter": (lambda val, o=obj, g=g: setattr(o, g, float(val))),
+                        "getter": (lambda o=obj, g=g: getattr(o, g))}
+    return out
+
+
+class Session:
+    """One live console session (see the module docstring).
+
+    Parameters
+    ----------
+    scenario : str, optional
+        Scenario name (default: ``combined-survey`` when it runs live, else ``usv-remote``).
+    overrides : dict, optional
+        Config overrides (dotted keys) for every run of the session.
+    speed : float
+        Simulated seconds per wall-clock second (0 < speed <= 100).
+    out_root : path
+        Folder under which each run gets ``console-<scenario>-<time>/`` with ``log.parquet``.
+    stick_timeout : float
+        Seconds without a stick message (remote mode) before the failsafe trips.
+    """
+
+    def __init__(self, scenario: str | None = None, overrides: dict | None = None, speed: float = 1.0,
+                 out_root: str | Path = "runs", stick_timeout: float = 1.0, loop_hz: float = 100.0,
+                 max_lag: float = 0.5, write_log: bool = True):
+        if not (0 < speed <= 100 and math.isfinite(speed)):
+            from ..errors import InputError
+
+            raise InputError(f"--speed {speed}: allowed range 0 < speed <= 100 (simulated s per wall s)")
+        self.overrides = dict(overrides or {})
+        self.speed = float(speed)
+        self.out_root = Path(out_root)
+        self.stick_timeout = float(stick_timeout)
+        self.loop_period = 1.0 / loop_hz
+        self.max_lag = float(max_lag)
+        self.write_log = write_log
+        self.clock = time.perf_counter
+        self._lock = threading.RLock()
+        self._cmds: deque = deque()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self.events: deque = deque(maxlen=1000)
+        self._event_id = 0
+        self.clients = 0
+        self.run_id = 0
+        self.snapshot: dict = {}
+        self.snapshot_json = "{}"
+        self.hello: dict = {}
+        self.sim = None
+        self._tee = None
+        self.error: str | None = None
+        self._load(scenario or self.default_scenario())
+
+    # -- scenarios -------------------------------------------------------------------------------------
+    @staticmethod
+    def default_scenario() -> str:
+        from ..scenarios.base import registry
+
+        reg = registry()
+        return "combined-survey" if "combined-survey" in reg and _builds(reg["combined-survey"]) else "usv-remote"
+
+    @staticmethod
+    def live_scenarios() -> list[str]:
+        """Scenarios that build one live simulation (they override ``Scenario.build``)."""
+        from ..scenarios.base import registry
+
+        return [n for n, s in registry().items() if _builds(s)]
+
+    def _load(self, name: str) -> None:
+        """Build a new run of scenario ``name`` (raises ConfigError/InputError; keeps the old run then)."""
+        from ..api import new_run_dir, resolve_config
+        from ..io.config import dump_toml
+
+        sc, cfg = resolve_config(name, overrides=self.overrides)
+        if not _builds(sc):
+            from ..errors import InputError
+
+            raise InputError(f"scenario {name} has no live simulation; live scenarios: "
+                             f"{', '.join(self.live_scenarios())}")
+        sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+        self._close_run()
+        run_dir = None
+        writer = None
+        if self.write_log:
+            run_dir = new_run_dir(self.out_root, f"console-{sc.name}")
+            run_dir.mkdir(parents=True, exist_ok=True)
+            dump_toml(cfg, run_dir / "config.toml")
+            writer = LogWriter(run_dir / "log.parquet")
+        with self._lock:
+            self.scenario, self.cfg, self.sim = sc, cfg, sim
+            self.run_dir = run_dir
+            self._tee = _TeeLog(writer)
+            self.run_id += 1
+            self.mode = str(sim.bus.get("console.mode", "auto"))
+            if self.mode not in ("remote", "auto"):
+                self.mode = "auto"
+            self.loop = str(sim.bus.get("console.loop", "closed"))
+            self.estop = False
+            self.failsafe = False
+            self.failsafe_reason = ""
+            self.paused = False
+            self.ended = False
+            self.error = None
+            self.stick = (0.0, 0.0)
+            self.stick_source = "none"
+            self.t_stick = -math.inf
+            self.gains = collect_gains(sim)
+            self.station_keep = bool(getattr(sc, "failsafe_station_keep", False))
+            self.tick_s = sim.tick * sim.dt
+            self.view = infer_view(sc, cfg, sim.bus)
+            self.tracks = {b["name"]: deque(maxlen=4000) for b in self.view["bodies"]}
+            self._track_t = -math.inf
+            self._anchor = (self.clock(), sim.t)
+            self._rtf_ref = (self.clock(), sim.t)
+            self.rtf = 0.0
+            self._lag_events = 0
+            self._push_bus()
+            self._make_hello()
+            self._publish()
+        self.event("info", f"new run {self.run_id}: scenario {sc.name}"
+                           + (f", log {run_dir / 'log.parquet'}" if run_dir else ""))
+
+    def _close_run(self) -> None:
+        """Close the current run's log and write its summary."""
+        tee = self._tee
+        if tee is None or tee.writer is None:
+            return
+        tee.writer.close()
+        try:
+            if len(tee) > 1:
+                from ..io.logs import read_log
+
+                df = read_log(tee.writer.path)
+                s = self.scenario.summarize(df, self.cfg)
+                s = {"scenario": self.scenario.name, "source": "console", "duration_s": float(self.sim.t),
+                     **{k: _finite(v) if isinstance(v, (float, np.floating)) else v for k, v in s.items()}}
+                (tee.writer.path.parent / "summary.json").write_text(json.dumps(s, indent=2))
+        except Exception as e:  # summary is a convenience; never lose the session over it
+            self.event("warning", f"summary not written: {e}")
+        tee.writer = None
+
+    # -- events and snapshots --------------------------------------------------------------------------
+    def event(self, level: str, text: str) -> None:
+        """Record an event for the page's log (level info, warning, error, alarm)."""
+        with self._lock:
+            self._event_id += 1
+            t = float(self.sim.t) if self.sim is not None else 0.0
+            self.events.append({"id": self._event_id, "t": t, "level": level, "text": text,
+                                "wall": time.time()})
+
+    def events_since(self, last_id: int) -> list[dict]:
+        with self._lock:
+            return [e for e in self.events if e["id"] > last_id]
+
+    def _make_hello(self) -> None:
+        gains = {k: {kk: vv for kk, vv in v.items() if kk not in ("setter", "getter")}
+                 for k, v in self.gains.items()}
+        self.hello = {
+            "type": "hello", "run": self.run_id, "scenario": self.scenario.name,
+            "summary": self.scenario.summary, "scenarios": self.live_scenarios(), "view": self.view,
+            "gains": gains, "speed": self.speed, "stick_timeout": self.stick_timeout,
+            "tick_s": self.tick_s, "log_dir": str(self.run_dir) if self.run_dir else None,
+            "tracks": {k: [list(p) for p in v] for k, v in self.tracks.items()},
+            "station_keep": self.station_keep,
+        }
+
+    def hello_message(self) -> dict:
+        with self._lock:
+            self.hello["tracks"] = {k: [list(p) for p in v] for k, v in self.tracks.items()}
+            for k, g in self.hello["gains"].items():
+                g["value"] = _finite(self.gains[k]["getter"]())
+            return dict(self.hello)
+
+    def _publish(self) -> None:
+        """Build the state message from the bus (simulation thread, under the lock)."""
+        sim = self.sim
+        bus = sim.bus
+        sig = {}
+        for k, v in bus.items():
+            if k.startswith("_") or isinstance(v, (str, bytes)):
+                continue
+            if isinstance(v, (bool, np.bool_)):
+                sig[k] = bool(v)
+            elif isinstance(v, (int, float, np.floating, np.integer)):
+                sig[k] = _finite(v)
+            elif isinstance(v, (list, tuple, np.ndarray)) and k.startswith("cable"):
+                try:
+                    sig[k] = [_finite(x) for x in np.asarray(v, float).ravel()[:400]]
+                except (TypeError, ValueError):
+                    pass
+        if sim.t - self._track_t >= 0.25:
+            self._track_t = sim.t
+            for b, tr in self.tracks.items():
+                x, y = bus.get(f"{b}.x"), bus.get(f"{b}.y")
+                if x is not None and y is not None and math.isfinite(x) and math.isfinite(y):
+                    tr.append((round(float(x), 3), round(float(y), 3)))
+        now = self.clock()
+        age = now - self.t_stick
+        self.snapshot = {
+            "type": "state", "run": self.run_id, "t": float(sim.t), "mode": self.mode, "loop": self.loop,
+            "estop": self.estop, "failsafe": self.failsafe, "failsafe_reason": self.failsafe_reason,
+            "paused": self.paused, "ended": self.ended, "error": self.error, "speed": self.speed,
+            "rtf": self.rtf, "clients": self.clients,
+            "stick": {"surge": self.stick[0], "yaw": self.stick[1], "source": self.stick_source,
+                      "age": age if math.isfinite(age) else None},
+            "waypoints": [list(p) for p in bus.get("console.waypoints", ())] or None,
+            "signals": sig, "last_event": self._event_id,
+        }
+        self.snapshot_json = json.dumps(self.snapshot, separators=(",", ":"))
+
+    def state(self) -> dict:
+        with self._lock:
+            return json.loads(self.snapshot_json)
+
+    # -- commands (called from the web server's threads) ---------------------------------------------
+    def submit(self, msg) -> None:
+        """Queue a validated message for the simulation thread; semantic checks raise Rejected."""
+        kind = msg.type
+        if kind == "gains":
+            with self._lock:
+                check_gains(msg.gains, self.gains)
+        elif kind == "new_run" and msg.scenario is not None and msg.scenario not in self.live_scenarios():
+            raise Rejected(f"new_run: unknown or non-live scenario {msg.scenario!r}; live scenarios: "
+                           f"{', '.join(self.live_scenarios())}")
+        if kind == "stick":  # timestamp on arrival, so the watchdog sees the link, not the queue
+            with self._lock:
+                self.t_stick = self.clock()
+        self._cmds.append(msg)
+
+    def client_connected(self) -> None:
+        with self._lock:
+            self.clients += 1
+        self.event("info", f"operator connected ({self.clients} client(s))")
+
+    def client_disconnected(self) -> None:
+        with self._lock:
+            self.clients = max(0, self.clients - 1)
+        self.event("warning" if self.clients == 0 else "info",
+                   f"operator disconnected ({self.clients} client(s) left)")
+
+    def _apply(self, msg) -> None:
+        kind = msg.type
+        if kind == "stick":
+            self.stick = (float(msg.surge), float(msg.yaw))
+            self.stick_source = msg.source
+        elif kind == "mode":
+            if msg.mode != self.mode:
+                self.mode = msg.mode
+                self.event("info", f"mode: {msg.mode}")
+                if msg.mode == "remote":
+                    self.t_stick = max(self.t_stick, self.clock())  # 1 s grace for the first stick message
+                    self.stick = (0.0, 0.0)
+                elif self.failsafe:
+                    self._clear_failsafe("autonomous mode selected")
+        elif kind == "loop":
+            if msg.loop != self.loop:
+                self.loop = msg.loop
+                self.event("info", f"stick drives the {'actuators (open loop)' if msg.loop == 'open' else 'speed and yaw-rate loops (closed loop)'}")
+        elif kind == "estop":
+            if msg.engaged and not self.estop:
+                self.estop = True
+                self.event("alarm", "EMERGENCY STOP: all thrust zero (latched until reset)")
+            elif not msg.engaged and self.estop:
+                self.estop = False
+                self.stick = (0.0, 0.0)
+                self.event("info", "emergency stop reset")
+        elif kind == "gains":
+            for name, v in msg.gains.items():
+                self.gains[name]["setter"](v)
+                self.gains[name]["value"] = v
+                self.event("info", f"gain {name} = {v:g} {self.gains[name].get('unit', '')}".rstrip())
+        elif kind == "pause":
+            if msg.paused != self.paused:
+                self.paused = msg.paused
+                self._anchor = (self.clock(), self.sim.t)
+                self._rtf_ref = self._anchor
+                self.event("info", "paused" if msg.paused else "resumed")
+        elif kind == "waypoints":
+            self.sim.inject({"console.waypoints": tuple((float(a), float(b)) for a, b in msg.points)})
+            self.view["route"] = [[float(a), float(b)] for a, b in msg.points]
+            self.event("info", f"new route of {len(msg.points)} waypoint(s)")
+
+    def _trip_failsafe(self, reason: str) -> None:
+        self.failsafe = True
+        self.failsafe_reason = reason
+        self.stick = (0.0, 0.0)
+        what = "station-keeping" if self.station_keep else "thrust zero"
+        self.event("alarm", f"FAILSAFE ({reason}): {what}")
+
+    def _clear_failsafe(self, why: str) -> None:
+        self.failsafe = False
+        self.failsafe_reason = ""
+        self.event("info", f"failsafe cleared: {why}")
+
+    def _watchdog(self, now: float) -> None:
+        if self.mode != "remote" or self.paused or self.ended:
+            return
+        if self.clients == 0:
+            reason = "operator link lost"
+        elif now - self.t_stick > self.stick_timeout:
+            reason = f"no stick input for {self.stick_timeout:g} s"
+        else:
+            reason = ""
+        if reason and not self.failsafe:
+            self._trip_failsafe(reason)
+        elif not reason and self.failsafe:
+            if abs(self.stick[0]) <= NEUTRAL and abs(self.stick[1]) <= NEUTRAL:
+                self._clear_failsafe("link restored and stick centred")
+
+    def _push_bus(self) -> None:
+        surge, yaw = (0.0, 0.0) if (self.failsafe or self.estop) else self.stick
+        estop_bus = self.estop or (self.failsafe and not self.station_keep)
+        self.sim.inject({"console.mode": self.mode, "console.loop": self.loop, "joystick.surge": surge,
+                         "joystick.yaw": yaw, "_estop": estop_bus, "console.failsafe": float(self.failsafe),
+                         "console.estop": float(self.estop)})
+
+    # -- the loop ------------------------------------------------------------------------------------------
+    def step_once(self) -> None:
+        """One pass of the pacing loop: apply commands, watchdog, advance to the wall-clock target."""
+        now = self.clock()
+        with self._lock:
+            new_run = None
+            while self._cmds:
+                msg = self._cmds.popleft()
+                if msg.type == "new_run":
+                    new_run = msg.scenario or self.scenario.name
+                elif not self.ended or msg.type in ("pause",):
+                    try:
+                        self._apply(msg)
+                    except Exception as e:  # a command must never kill the run
+                        self.event("error", f"{msg.type} failed: {e}")
+        if new_run is not None:
+            try:
+                self._load(new_run)
+            except OceanGNCError as e:
+                self.event("error", f"new run refused: {e}")
+            except Exception as e:
+                self.event("error", f"new run failed: {type(e).__name__}: {e}")
+            return
+        with self._lock:
+            self._watchdog(now)
+            self._push_bus()
+            sim = self.sim
+            if not (self.paused or self.ended):
+                w0, s0 = self._anchor
+                lag = s0 + self.speed * (now - w0) - sim.t
+                if lag > self.max_lag:
+                    self._lag_events += 1
+                    if self._lag_events in (1, 10, 100) or self._lag_events % 1000 == 0:
+                        self.event("warning", f"simulation slower than {self.speed:g}x real time "
+                                              f"({self.rtf:.2f}x measured)")
+                    self._anchor = (now, sim.t)
+                    lag = self.max_lag
+                n = int(math.floor(lag / self.tick_s + 1e-9))
+                if n >= 1:
+                    try:
+                        sim.run(n * self.tick_s, log=self._tee)
+                    except DivergenceError as e:
+                        self._end(f"simulation diverged: {e}", "error")
+                    except Exception as e:
+                        traceback.print_exc()
+                        self._end(f"simulation failed: {type(e).__name__}: {e}", "error")
+                    else:
+                        if sim.bus.get("_stop", False):
+                            self._end(f"scenario finished at t = {sim.t:.1f} s", "info")
+            w_ref, s_ref = self._rtf_ref
+            if now - w_ref >= 1.0:
+                self.rtf = (sim.t - s_ref) / (now - w_ref) if not self.paused else 0.0
+                self._rtf_ref = (now, sim.t)
+            self._publish()
+
+    def _end(self, text: str, level: str) -> None:
+        self.ended = True
+        self.error = text if level == "error" else None
+        self.event(level, text + "; start a new run to continue")
+        self._close_run()
+
+    def _loop(self) -> None:
+        while not self._stop.is_set():
+            t0 = self.clock()
+            try:
+                self.step_once()
+            except Exception as e:  # keep the server alive whatever happens
+                traceback.print_exc()
+                self.event("error", f"console loop error: {type(e).__name__}: {e}")
+            dt = self.loop_period - (self.clock() - t0)
+            self._stop.wait(max(0.001, dt))
+
+    def start(self) -> None:
+        """Start the simulation thread."""
+        if self._thread is None:
+            with self._lock:
+                self._anchor = (self.clock(), self.sim.t)
+                self._rtf_ref = self._anchor
+            self._thread = threading.Thread(target=self._loop, name="oceangnc-console-sim", daemon=True)
+            self._thread.start()
+
+    def stop(self) -> None:
+        """Stop the thread and close the log."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+            self._thread = None
+        with self._lock:
+            self._close_run()
+
+    # -- log download -----------------------------------------------------------------------------------
+    def log_bytes(self) -> tuple[bytes, str]:
+        """The current run's log as Parquet bytes (same format as ``oceangnc run``) and a file name."""
+        with self._lock:
+            tee = self._tee
+            n = len(tee)
+            cols = list(tee.columns or [])
+            t = tee.t[:n]
+            data = {c: tee.data[c][:n] for c in cols}
+            name = f"{self.scenario.name}-run{self.run_id}.parquet"
+        with tempfile.TemporaryDirectory() as d:
+            p = Path(d) / "log.parquet"
+            w = LogWriter(p, flush_rows=20000)
+            for i in range(n):
+                w.append(t[i], {c: data[c][i] for c in cols})
+            w.close()
+            return p.read_bytes(), name
+
+
+def _builds(sc) -> bool:
+    from ..scenarios.base import Scenario
+
+    return type(sc).build is not Scenario.build
