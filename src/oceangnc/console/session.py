@@ -126,11 +126,13 @@ class Session:
         Folder under which each run gets ``console-<scenario>-<time>/`` with ``log.parquet``.
     stick_timeout : float
         Seconds without a stick message (remote mode) before the failsafe trips.
+    clock : callable
+        Wall clock in seconds (tests pass a fake one and call :meth:`step_once` themselves).
     """
 
     def __init__(self, scenario: str | None = None, overrides: dict | None = None, speed: float = 1.0,
                  out_root: str | Path = "runs", stick_timeout: float = 1.0, loop_hz: float = 100.0,
-                 max_lag: float = 0.5, write_log: bool = True):
+                 max_lag: float = 0.5, write_log: bool = True, clock=time.perf_counter):
         if not (0 < speed <= 100 and math.isfinite(speed)):
             from ..errors import InputError
 
@@ -142,7 +144,7 @@ class Session:
         self.loop_period = 1.0 / loop_hz
         self.max_lag = float(max_lag)
         self.write_log = write_log
-        self.clock = time.perf_counter
+        self.clock = clock
         self._lock = threading.RLock()
         self._cmds: deque = deque()
         self._stop = threading.Event()

@@ -6,7 +6,7 @@
 const $ = (id) => document.getElementById(id);
 const S = {
   ws: null, hello: null, state: null, lastStateWall: 0, tracks: {}, route: [], draft: [],
-  scenarioRoute: [], rejected: [], events: [], rtt: null, gaugeEls: {}, readoutEls: {},
+  scenarioRoute: [], rejected: [], recent: [], events: [], rtt: null, gaugeEls: {}, readoutEls: {},
   view: { cx: 0, cy: 0, scale: 5, auto: true },
   stick: { surge: 0, yaw: 0, source: "none" },
   kb: { surge: 0, yaw: 0, keys: new Set() }, touch: null, padEstopPrev: false, pingId: 0,
@@ -58,6 +58,7 @@ function onHello(h) {
 function onState(st) {
   S.state = st;
   S.lastStateWall = performance.now();
+  S.recent.push(st); if (S.recent.length > 200) S.recent.shift();
   if (st.waypoints) S.route = st.waypoints;
   for (const b of (S.hello ? S.hello.view.bodies : [])) {
     const x = st.signals[b.name + ".x"], y = st.signals[b.name + ".y"];
@@ -285,6 +286,7 @@ function resize() {
 }
 window.addEventListener("resize", resize);
 const toScreen = (n, e) => [cv.width / 2 + (e - S.view.cy) * S.view.scale, cv.height / 2 - (n - S.view.cx) * S.view.scale];
+S.toScreen = (n, e) => toScreen(n, e);
 const toWorld = (px, py) => [S.view.cx - (py - cv.height / 2) / S.view.scale, S.view.cy + (px - cv.width / 2) / S.view.scale];
 
 function fitView() {
