@@ -1,0 +1,244 @@
+r"""Backstepping leader-follower controller of the UUV (003 ch. 3.3.2, eq. 3.24-3.39, re-derived).
+
+The extracted equations (3.33)-(3.36) are garbled (SPEC.md), so the controller is derived here from
+the printed Lyapunov functions and the 3-DOF model (3.32) (with the ``d22 u`` typo read as
+``d22 v``, and the bow thruster's side force kept, since the plant has it):
+
+    m11 u' - m22 v r + d11 u = tau_u
+    m22 v' + m11 u r + d22 v = tau_r / B_f               (bow thrust T_b = tau_r / B_f also pushes sideways)
+    m33 r' + (m22 - m11) u v + d33 r = tau_r
+
+m11 = m - X_udot, m22 = m - Y_vdot, m33 = I_z - N_rdot, d11 = -X_u - X_u|u| |u|, d22 = -Y_v - Y_v|v| |v|,
+d33 = -N_r - N_r|r| |r| (003 under eq. 3.32; the coefficients come from the UUV model).
+
+**Errors (3.24)-(3.27).** Leader (USV) at p_l with heading psi_l, body velocities (u_l, v_l, r_l);
+follower (UUV) heading psi_f, velocities (u, v, r). The target is the offset c = (c_x, c_y) in the
+leader's frame; e_psi = psi_l - psi_f. The position error in the follower's frame is
+epsilon = R(psi_f)^T (p_h - p_t) = R(e_psi) e, e = R(psi_l)^T (p_h - p_l) - c (eq. 3.26 with
+the rotation R(e_psi)). Differentiating (our derivation; it reproduces the printed 3.27):
+
+    eps1' = u + zeta1 cos e_psi - zeta2 sin e_psi + r eps2            = u + a + r eps2
+    eps2' = v + h r + zeta1 sin e_psi + zeta2 cos e_psi - r eps1      = v + h r + b - r eps1
+    zeta1 = -u_l + r_l c_y,   zeta2 = -v_l - r_l c_x                  (printed under 3.27)
+
+**Why the printed second step cannot work, and the change we make.** The printed design keeps
+p_h = p_f (h = 0), so r does not appear in eps2' and the sway error v_e = v - v^v must be driven
+through the heading with V_2 = v_e^2/2 + 2 k_3 sin^2(e_psi/2) (3.35). Its derivative has the form
+V_2' = D(x) r + v_e H(x) with D = (m11/m22 - 1) a v_e - k_3 sin e_psi: on the surface D = 0 no
+choice of r makes V_2' <= 0 when v_e H != 0 (the sway direction is not actuated), which is why the
+printed (3.36) needs the sign-switching bound Theta and cannot certify V' <= 0 everywhere. We
+therefore regulate a *control point* at distance h ahead of the UUV's centre (the bow, where the
+bow thruster acts), p_h = p_f + R(psi_f) (h, 0), the classical "hand position" of underactuated
+formation control. Then r enters eps2' through h r and both position errors are actuated.
+
+**Step 1 (V_1 = (eps1^2 + eps2^2)/2, eq. 3.28).** V_1' = eps1 (u + a) + eps2 (v + h r + b) (the
+r eps terms cancel). Virtual controls (the analogue of 3.30):
+
+    alpha_u = -k1 eps1 - a,       alpha_r = (-k2 eps2 - b - v) / h
+
+and with u_e = u - alpha_u, r_e = r - alpha_r:  V_1' = -k1 eps1^2 - k2 eps2^2 + eps1 u_e + h eps2 r_e.
+
+**Step 2 (V_3 = u_e^2/2 (3.37), V_4 = r_e^2/2).** With alpha_u' = -k1 eps1' - a',
+a' = zeta1' cos e_psi - zeta2' sin e_psi - b (r_l - r), b' = zeta1' sin e_psi + zeta2' cos e_psi
++ a (r_l - r), alpha_r' = (-k2 eps2' - b' - v')/h and v' from the sway equation,
+
+    tau_u = m11 (alpha_u' - k6 u_e - eps1) - m22 v r + d11 u                      (cf. 3.38)
+    tau_r = [alpha_r0' - k7 r_e - h eps2 + ((m22 - m11) u v + d33 r)/m33]
+            / (1/m33 + 1/(h B_f m22))                                                 (cf. 3.39)
+
+where alpha_r0' is alpha_r' without the tau_r/(B_f m22) part of v' (solved for tau_r because the bow
+thrust enters both v' and r'). This gives u_e' = -k6 u_e - eps1 and r_e' = -k7 r_e - h eps2, so
+
+    V = V_1 + V_3 + V_4,     V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2 <= 0.
+
+**Heading (3.35).** On the zero dynamics (eps = 0, u_e = r_e = 0) behind a leader moving straight at
+speed U > 0, r = (U sin e_psi - v)/h and e_psi' = -(U/h) sin e_psi + v/h, so the heading term of
+(3.35), 2 k3 sin^2(e_psi/2), decays at the rate U/h: the UUV aligns with the USV (the relative angle
+goal of 3.9) as a consequence. The target of the control point is c = (l_x^d + h, l_y^d), so that
+once aligned the UUV's centre sits at the leader-follower offset (l_x^d, l_y^d).
+
+The leader's accelerations (zeta') are estimated in the block by a filtered difference of the
+leader's velocities (a test may pass them exactly). Saturating the thrusters breaks the proof;
+the block clips them anyway and reports V and V' (``uuv_bs.V``, ``uuv_bs.Vdot``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from pydantic import Field
+
+from ..core.blocks import Block
+from ..io.config import StrictModel
+from ..units import KGF
+
+
+class BacksteppingConfig(StrictModel):
+    """Gains of the backstepping controller (docs/combined-vehicle.md for the choice)."""
+
+    k1: float = Field(0.4, gt=0, le=100, description="surge position gain, 1/s")
+    k2: float = Field(0.4, gt=0, le=100, description="lateral position gain, 1/s")
+    k6: float = Field(1.5, gt=0, le=100, description="surge velocity gain, 1/s")
+    k7: float = Field(2.0, gt=0, le=100, description="yaw rate gain, 1/s")
+    h: float = Field(0.9, gt=0, le=10, description="control point ahead of the UUV's centre (the bow), m")
+    accel_cutoff_hz: float = Field(0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz")
+
+
+@dataclass(frozen=True)
+class Model3DOF:
+    """The 3-DOF UUV model (003 eq. 3.32) parameters (SI)."""
+
+    m11: float
+    m22: float
+    m33: float
+    Xu: float  # linear damping coefficients (<= 0)
+    Yv: float
+    Nr: float
+    Xuu: float  # quadratic coefficients (<= 0)
+    Yvv: float
+    Nrr: float
+    bow_arm: float  # B_f, m
+    sway_from_bow: float = 1.0  # 1: the bow thrust also pushes sideways (Y = T_b); 0: as printed (Y = 0)
+
+    def d11(self, u):
+        return -self.Xu - self.Xuu * abs(u)
+
+    def d22(self, v):
+        return -self.Yv - self.Yvv * abs(v)
+
+    def d33(self, r):
+        return -self.Nr - self.Nrr * abs(r)
+
+    def accel(self, u, v, r, tau_u, tau_r):
+        """(u', v', r') of eq. 3.32 (with the bow side force if ``sway_from_bow``)."""
+        du = (tau_u + self.m22 * v * r - self.d11(u) * u) / self.m11
+        dv = (self.sway_from_bow * tau_r / self.bow_arm - self.m11 * u * r - self.d22(v) * v) / self.m22
+        dr = (tau_r - (self.m22 - self.m11) * u * v - self.d33(r) * r) / self.m33
+        return du, dv, dr
+
+
+def model_from_uuv(uuv_cfg) -> Model3DOF:
+    """3-DOF parameters of :class:`oceangnc.models.uuv.UUVConfig` (003 under eq. 3.32)."""
+    mrb, ma = uuv_cfg.mass_matrices()
+    c = uuv_cfg.coefficients()
+    return Model3DOF(m11=mrb[0, 0] + ma[0, 0], m22=mrb[1, 1] + ma[1, 1], m33=mrb[5, 5] + ma[5, 5],
+                     Xu=uuv_cfg.X_u, Yv=uuv_cfg.Y_v, Nr=uuv_cfg.N_r,
+                     Xuu=c["X_uu"] * uuv_cfg.drag_scale, Yvv=c["Y_vv"] * uuv_cfg.drag_scale,
+                     Nrr=c["N_rr"] * uuv_cfg.drag_scale, bow_arm=uuv_cfg.bow_arm)
+
+
+def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
+    """(eps1, eps2, e_psi): control-point error in the follower frame (m) and psi_l - psi_f (rad)."""
+    cl, sl = math.cos(psil), math.sin(psil)
+    tn = xl + cl * cx - sl * cy
+    te = yl + sl * cx + cl * cy
+    cf, sf = math.cos(psif), math.sin(psif)
+    hn = xf + h * cf
+    he = yf + h * sf
+    dn, de = hn - tn, he - te
+    e_psi = (psil - psif + math.pi) % (2 * math.pi) - math.pi
+    return cf * dn + sf * de, -sf * dn + cf * de, e_psi
+
+
+def control_law(m: Model3DOF, g: BacksteppingConfig, eps1, eps2, e_psi, u, v, r, ul, vl, rl,
+                dul=0.0, dvl=0.0, drl=0.0, cx=0.0, cy=0.0):
+    """Backstepping law (module docstring). Returns a dict with tau_u (N), tau_r (N m), V, Vdot
+    (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e, alpha_u, alpha_r.
+
+    Inputs: errors from :func:`errors`; follower velocities u, v (m/s), r (rad/s); leader
+    velocities ul, vl, rl and their time derivatives dul, dvl, drl; c = (cx, cy) the control point's
+    target in the leader frame (m).
+    """
+    h = g.h
+    k1, k2, k6, k7 = g.k1, g.k2, g.k6, g.k7
+    cs, sn = math.cos(e_psi), math.sin(e_psi)
+    z1 = -ul + rl * cy
+    z2 = -vl - rl * cx
+    dz1 = -dul + drl * cy
+    dz2 = -dvl - drl * cx
+    a = z1 * cs - z2 * sn
+    b = z1 * sn + z2 * cs
+    de_psi = rl - r
+    da = dz1 * cs - dz2 * sn - b * de_psi
+    db = dz1 * sn + dz2 * cs + a * de_psi
+    deps1 = u + a + r * eps2
+    deps2 = v + h * r + b - r * eps1
+    alpha_u = -k1 * eps1 - a
+    alpha_r = (-k2 * eps2 - b - v) / h
+    u_e = u - alpha_u
+    r_e = r - alpha_r
+    d11, d22, d33 = m.d11(u), m.d22(v), m.d33(r)
+    dalpha_u = -k1 * deps1 - da
+    tau_u = m.m11 * (dalpha_u - k6 * u_e - eps1) - m.m22 * v * r + d11 * u
+    dv0 = (-m.m11 * u * r - d22 * v) / m.m22  # v' without the bow side force
+    dalpha_r0 = (-k2 * deps2 - db - dv0) / h
+    cb = m.sway_from_bow / (h * m.bow_arm * m.m22)  # alpha_r' = dalpha_r0 - cb * tau_r
+    tau_r = (dalpha_r0 - k7 * r_e - h * eps2 + ((m.m22 - m.m11) * u * v + d33 * r) / m.m33) / (1.0 / m.m33 + cb)
+    V = 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
+    Vdot = -k1 * eps1 * eps1 - k2 * eps2 * eps2 - k6 * u_e * u_e - k7 * r_e * r_e
+    return {"tau_u": tau_u, "tau_r": tau_r, "V": V, "Vdot": Vdot, "u_e": u_e, "r_e": r_e,
+            "alpha_u": alpha_u, "alpha_r": alpha_r}
+
+
+def lyapunov(eps1, eps2, u_e, r_e) -> float:
+    """V = (eps1^2 + eps2^2 + u_e^2 + r_e^2) / 2 (eq. 3.28 + 3.37 + V_4)."""
+    return 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
+
+
+class UUVBackstepping(Block):
+    """The backstepping law as a block; writes the UUV thruster commands (N).
+
+    Stern thrusters share tau_u (U_port = U_stbd = tau_u / 2, as eq. 3.13 shares the range command);
+    the bow thruster gives the yaw moment, T_b = tau_r / B_f. Reads leader/follower positions,
+    headings and body velocities from the bus keys in ``keys``; the leader's accelerations are a
+    low-passed difference of its velocities. Publishes ``uuv_bs.V``, ``uuv_bs.Vdot``, ``uuv_bs.eps1``,
+    ``uuv_bs.eps2``, ``uuv_bs.tau_u``, ``uuv_bs.tau_r`` and ``uuv_ctrl.psi_d`` (the leader's heading,
+    the relative-angle target of eq. 3.9).
+    """
+
+    name = "uuv_control"
+
+    def __init__(self, cfg: BacksteppingConfig, uuv_cfg, l_d: float, lambda_d: float, period: float = 0.05,
+                 keys=None):
+        self.cfg = cfg
+        self.period = float(period)
+        self.model = model_from_uuv(uuv_cfg)
+        self.hi = uuv_cfg.max_thrust_kgf * KGF
+        self.lo = -uuv_cfg.max_reverse_kgf * KGF
+        self.cx = l_d * math.cos(lambda_d) + cfg.h
+        self.cy = l_d * math.sin(lambda_d)
+        k = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
+             "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
+        k.update(keys or {})
+        self.keys = k
+        self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
+
+    def reset(self, rng) -> None:
+        self.prev = None
+        self.acc = [0.0, 0.0, 0.0]
+
+    def step(self, t: float, bus: dict) -> None:
+        g = {n: float(bus.get(k, 0.0)) for n, k in self.keys.items()}
+        lv = (g["ul"], g["vl"], g["rl"])
+        if self.prev is not None:
+            for i in range(3):
+                d = (lv[i] - self.prev[i]) / self.period
+                self.acc[i] += self.a_lp * (d - self.acc[i])
+        self.prev = lv
+        e1, e2, ep = errors(g["xl"], g["yl"], g["psil"], g["xf"], g["yf"], g["psif"], self.cx, self.cy,
+                            self.cfg.h)
+        out = control_law(self.model, self.cfg, e1, e2, ep, g["uf"], g["vf"], g["rf"], *lv, *self.acc,
+                          cx=self.cx, cy=self.cy)
+        ts = min(self.hi, max(self.lo, 0.5 * out["tau_u"]))
+        tb = min(self.hi, max(self.lo, out["tau_r"] / self.model.bow_arm))
+        bus["uuv.thrust_port_cmd"] = ts
+        bus["uuv.thrust_stbd_cmd"] = ts
+        bus["uuv.thrust_bow_cmd"] = tb
+        bus["uuv_bs.V"] = out["V"]
+        bus["uuv_bs.Vdot"] = out["Vdot"]
+        bus["uuv_bs.eps1"] = e1
+        bus["uuv_bs.eps2"] = e2
+        bus["uuv_bs.tau_u"] = out["tau_u"]
+        bus["uuv_bs.tau_r"] = out["tau_r"]
+        bus["uuv_ctrl.psi_d"] = g["psil"]

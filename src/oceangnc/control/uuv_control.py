@@ -1,0 +1,97 @@
+"""UUV leader-follower PID control (003 ch. 3.3.1, eq. 3.12-3.13).
+
+Three anti-windup PIDs (:class:`oceangnc.control.pid.PID`, eq. 3.10 with K_w = 1/K_p):
+
+* n = 1, *position*: the error is the distance to the target point (the leader-follower offset
+  l_x^d, l_y^d of eq. 3.8) along the UUV's own axis, e_1 = lf.e_x (m, positive when the target is
+  ahead). Both stern thrusters get the same command, U_port = U_stbd = U_f,1 (eq. 3.13).
+* n = 2, *relative angle*: e_2 = wrap(psi_usv - psi_uuv) (eq. 3.9), the UUV keeps the USV's heading.
+* n = 3, *heading to the USV*: e_3 = wrap(alpha - psi_uuv), alpha the LOS bearing from the UUV to
+  the USV (table 3-2), which brings the UUV back under the USV.
+
+The bow thruster follows n = 2 while the range l < R and n = 3 when l > R (eq. 3.13). In mode
+``relative-angle`` (003 fig. 4-6 (a)) it always follows n = 2. A bow thrust T_b > 0 pushes the bow to
+starboard (N = T_b B_f > 0), so a positive heading error gives a positive command. When the active
+heading loop switches, the newly active PID starts from the other's integral (bumpless transfer,
+our choice; 003 does not say).
+
+Derivatives: the range loop differentiates its error (backward difference at the loop period); the
+heading loops use the measured yaw rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
+"""
+
+from __future__ import annotations
+
+from pydantic import Field
+
+from ..core.blocks import Block
+from ..io.config import StrictModel
+from ..units import KGF
+from .pid import PID
+
+
+class UUVPIDConfig(StrictModel):
+    """Gains of the UUV PID loops (tuned by hand on the combined model; docs/combined-vehicle.md)."""
+
+    range_kp: float = Field(40.0, ge=0, le=1e5, description="position loop proportional gain, N/m")
+    range_ki: float = Field(4.0, ge=0, le=1e5, description="position loop integral gain, N/(m s)")
+    range_kd: float = Field(30.0, ge=0, le=1e5, description="position loop derivative gain, N s/m")
+    angle_kp: float = Field(40.0, ge=0, le=1e5, description="relative-angle loop proportional gain, N/rad")
+    angle_ki: float = Field(2.0, ge=0, le=1e5, description="relative-angle loop integral gain, N/(rad s)")
+    angle_kd: float = Field(25.0, ge=0, le=1e5, description="relative-angle loop derivative gain, N s/rad")
+    los_kp: float = Field(40.0, ge=0, le=1e5, description="heading-to-USV loop proportional gain, N/rad")
+    los_ki: float = Field(2.0, ge=0, le=1e5, description="heading-to-USV loop integral gain, N/(rad s)")
+    los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
+
+
+class UUVPIDController(Block):
+    """PID leader-follower controller of the UUV (module docstring).
+
+    Reads the leader-follower signals ``lf.*`` (:class:`oceangnc.guidance.leader_follower.LeaderFollower`)
+    and the yaw rates (bus keys ``meas["r_usv"]``, ``meas["r_uuv"]``); writes
+    ``uuv.thrust_port_cmd``, ``uuv.thrust_stbd_cmd``, ``uuv.thrust_bow_cmd`` (N),
+    ``uuv_ctrl.psi_d`` (rad, the heading the active loop follows) and ``uuv_ctrl.loop`` (2 or 3).
+    """
+
+    name = "uuv_control"
+
+    def __init__(self, cfg: UUVPIDConfig, uuv_cfg, period: float = 0.05, mode: str = "relative-angle-plus-heading",
+                 meas=None):
+        self.cfg = cfg
+        self.period = float(period)
+        self.mode = mode
+        hi = uuv_cfg.max_thrust_kgf * KGF
+        lo = -uuv_cfg.max_reverse_kgf * KGF
+        self.meas = {"r_usv": "usv.r", "r_uuv": "uuv.r", "psi_usv": "usv.psi", **(meas or {})}
+        self.pos = PID(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
+        self.ang = PID(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
+        self.los = PID(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
+
+    def reset(self, rng) -> None:
+        self.pos.reset()
+        self.ang.reset()
+        self.los.reset()
+        self.active = 2
+
+    def step(self, t: float, bus: dict) -> None:
+        h = self.period
+        e1 = bus.get("lf.e_x", 0.0)
+        u1 = self.pos.step(e1, h)
+        r_uuv = bus.get(self.meas["r_uuv"], 0.0)
+        outside = bus.get("lf.outside", 0.0) > 0.5 and self.mode != "relative-angle"
+        loop = 3 if outside else 2
+        if loop != self.active:
+            (self.los if loop == 3 else self.ang).integral = (self.ang if loop == 3 else self.los).integral
+            (self.los if loop == 3 else self.ang)._e_prev = None
+            self.active = loop
+        if loop == 2:
+            ub = self.ang.step(bus.get("lf.rel_heading_err", 0.0), h,
+                               e_dot=bus.get(self.meas["r_usv"], 0.0) - r_uuv)
+            psi_d = bus.get(self.meas["psi_usv"], 0.0)
+        else:
+            ub = self.los.step(bus.get("lf.los_err", 0.0), h, e_dot=-r_uuv)
+            psi_d = bus.get("lf.los", 0.0)
+        bus["uuv.thrust_port_cmd"] = u1
+        bus["uuv.thrust_stbd_cmd"] = u1
+        bus["uuv.thrust_bow_cmd"] = ub
+        bus["uuv_ctrl.psi_d"] = psi_d
+        bus["uuv_ctrl.loop"] = float(loop)

@@ -1,0 +1,118 @@
+"""Leader-follower geometry between the USV (leader) and the UUV (follower), 003 ch. 3.2, eq. 3.7-3.9.
+
+Relative position of the UUV in the USV's body frame (003 eq. 3.7, printed):
+
+    l_x = -(X_usv - X_uuv) cos psi_usv - (Y_usv - Y_uuv) sin psi_usv
+    l_y =  (X_usv - X_uuv) sin psi_usv - (Y_usv - Y_uuv) cos psi_usv
+
+i.e. (l_x, l_y) = R(psi_usv)^T (p_uuv - p_usv): l_x > 0 when the UUV is ahead of the USV, l_y > 0
+when it is to starboard. The relative range is l = |(l_x, l_y)| (horizontal, what the USBL gives
+after removing the relative depth) and the relative bearing lambda = atan2(l_y, l_x), measured
+from the USV's bow, clockwise; the follower must stay inside ``R >= l >= 0`` and behind,
+``lambda in (pi/2, 3 pi/2)``.
+
+Target offsets (003 eq. 3.8). The printed form ``l_x^d = l^d sin(lambda^d + phi_usv - pi/2)``,
+``l_y^d = l^d cos(lambda^d + phi_usv - pi/2)`` mixes the USV's heading into a body-frame offset
+and, with phi_usv = 0 and lambda^d = pi (directly astern), would put the target *ahead* of the
+USV. We use the reading consistent with (3.7) and with lambda measured from the bow:
+
+    l_x^d = l^d cos(lambda^d),   l_y^d = l^d sin(lambda^d)
+
+(constant in the USV frame), so lambda^d = pi puts the UUV l^d metres astern. The follower's goals
+(003 eq. 3.9) are l_x -> l_x^d, l_y -> l_y^d and a zero relative heading psi_usv - psi_uuv.
+
+LOS bearing alpha (table 3-2): the direction from the UUV to the USV, atan2(dY, dX) in NED; the
+UUV's "heading to the USV" used by the PID outside R (003 eq. 3.13).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..core.blocks import Block
+from .pure_pursuit import wrap
+
+
+def relative_position(x_l, y_l, psi_l, x_f, y_f):
+    """(l_x, l_y) of the follower in the leader's body frame (003 eq. 3.7), m."""
+    dx = x_l - x_f
+    dy = y_l - y_f
+    c = math.cos(psi_l)
+    s = math.sin(psi_l)
+    return -dx * c - dy * s, dx * s - dy * c
+
+
+def range_bearing(lx, ly):
+    """Relative range l (m) and bearing lambda from the leader's bow (rad, in [0, 2 pi))."""
+    return math.hypot(lx, ly), math.atan2(ly, lx) % (2.0 * math.pi)
+
+
+def target_offset(l_d, lambda_d):
+    """Target (l_x^d, l_y^d) in the leader frame (003 eq. 3.8, read as explained above), m."""
+    return l_d * math.cos(lambda_d), l_d * math.sin(lambda_d)
+
+
+def target_point(x_l, y_l, psi_l, lx_d, ly_d):
+    """Earth-frame (N, E) position of the target offset (l_x^d, l_y^d) of a leader at (x_l, y_l, psi_l)."""
+    c = math.cos(psi_l)
+    s = math.sin(psi_l)
+    return x_l + c * lx_d - s * ly_d, y_l + s * lx_d + c * ly_d
+
+
+def los_bearing(x_f, y_f, x_l, y_l):
+    """Bearing from the follower to the leader (rad, NED, from north): the UUV's heading to the USV."""
+    return math.atan2(y_l - y_f, x_l - x_f)
+
+
+class LeaderFollower(Block):
+    """Leader-follower guidance of the UUV: geometry, targets and the desired heading.
+
+    Reads the leader's and follower's positions and headings from the bus keys given (truth or
+    navigation estimates). Writes ``lf.lx``, ``lf.ly`` (m, eq. 3.7), ``lf.range`` (m),
+    ``lf.bearing`` (rad), ``lf.lx_d``, ``lf.ly_d`` (m, eq. 3.8), ``lf.target_n/e`` (m),
+    ``lf.e_x``, ``lf.e_y`` (m: target minus UUV position, in the UUV's body frame),
+    ``lf.rel_heading_err`` = wrap(psi_usv - psi_uuv) (rad, eq. 3.9), ``lf.los`` (rad),
+    ``lf.los_err`` = wrap(los - psi_uuv) (rad), ``lf.outside`` (1 when l > R) and ``lf.psi_d``
+    (rad): the UUV's desired heading, the USV's heading inside R and the LOS outside it (in
+    ``relative-angle`` mode always the USV's heading).
+    """
+
+    name = "leader_follower"
+
+    def __init__(self, l_d: float, lambda_d: float, R: float, period: float = 0.1,
+                 mode: str = "relative-angle-plus-heading", leader=("usv.x", "usv.y", "usv.psi"),
+                 follower=("uuv.x", "uuv.y", "uuv.psi")):
+        self.l_d = float(l_d)
+        self.lambda_d = float(lambda_d)
+        self.R = float(R)
+        self.period = float(period)
+        self.mode = mode
+        self.leader = leader
+        self.follower = follower
+        self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
+
+    def step(self, t: float, bus: dict) -> None:
+        xl, yl, psil = (bus.get(k, 0.0) for k in self.leader)
+        xf, yf, psif = (bus.get(k, 0.0) for k in self.follower)
+        lx, ly = relative_position(xl, yl, psil, xf, yf)
+        rng, lam = range_bearing(lx, ly)
+        tn, te = target_point(xl, yl, psil, self.lx_d, self.ly_d)
+        c, s = math.cos(psif), math.sin(psif)
+        dn, de = tn - xf, te - yf
+        los = los_bearing(xf, yf, xl, yl)
+        outside = rng > self.R and self.mode != "relative-angle"
+        bus["lf.lx"] = lx
+        bus["lf.ly"] = ly
+        bus["lf.range"] = rng
+        bus["lf.bearing"] = lam
+        bus["lf.lx_d"] = self.lx_d
+        bus["lf.ly_d"] = self.ly_d
+        bus["lf.target_n"] = tn
+        bus["lf.target_e"] = te
+        bus["lf.e_x"] = c * dn + s * de
+        bus["lf.e_y"] = -s * dn + c * de
+        bus["lf.rel_heading_err"] = wrap(psil - psif)
+        bus["lf.los"] = los
+        bus["lf.los_err"] = wrap(los - psif)
+        bus["lf.outside"] = 1.0 if outside else 0.0
+        bus["lf.psi_d"] = los if outside else psil

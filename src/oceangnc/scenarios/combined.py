@@ -1,0 +1,317 @@
+"""Combined USV-cable-UUV under guidance and control: document 003 ch. 4 and 6.2.
+
+* ``waypoints-square`` (003 fig. 4-6): waypoints (0,0) (50,0) (50,50) (0,50); the UUV follows the
+  relative angle only (``formation.mode = "relative-angle"``, fig. 4-6 (a)) or the relative angle
+  plus the heading to the USV outside R (``"relative-angle-plus-heading"``, fig. 4-6 (b)).
+* ``combined-survey`` (003 figs. 4-7 to 4-15; the flagship): 3 m cable, waypoints (0,0) (10,10)
+  (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv = "pid" | "backstepping"``.
+* ``field-test`` (003 ch. 6.2, figs. 6-13 to 6-19): waypoints (50,0) (50,-50) (0,-50) (0,0), USV
+  target 1.3 m/s, PID, sensors on (GPS, AHRS, USBL, depth sensor), guidance and control on the
+  measured signals.
+
+The chain each control period (blocks fire in this order): environment -> sensors (if on) -> USBL
+dropout hold and navigation -> pure pursuit (USV) and leader-follower (UUV) guidance -> USV loops
+and UUV controller -> thruster blocks (which honour ``_estop``). The run ends when the last
+waypoint is reached (``_stop``). With ``console.mode == "remote"`` on the bus the USV follows the
+joystick (see :mod:`oceangnc.control.usv_control`); the UUV keeps following the USV.
+
+Summary keys: ``usv.waypoints_reached`` (count, the start point included), ``usv.cross_track_rms_m``
+(true position to the active leg), ``uuv.rel_distance_mean_m`` / ``uuv.rel_distance_max_m`` (true
+horizontal USV-UUV distance), ``uuv.depth_final_m``, ``uuv.heading_error_rms_deg`` (UUV heading
+against the target of its active loop), ``usv.heading_error_rms_deg`` (USV heading against the
+pure-pursuit target), plus ``usv.waypoints_total``, ``t_end_s``, ``cable.top_tension_max_n`` and,
+with sensors, ``usbl.pings_lost`` and ``ahrs.gps_heading_diff_mean_deg``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import Field
+
+from ..control.backstepping import BacksteppingConfig, UUVBackstepping
+from ..control.usv_control import USVControlConfig, USVController
+from ..control.uuv_control import UUVPIDConfig, UUVPIDController
+from ..core.blocks import FunctionBlock
+from ..core.clock import Simulation
+from ..environment import EnvironmentConfig
+from ..errors import ConfigError
+from ..guidance.leader_follower import LeaderFollower
+from ..guidance.pure_pursuit import (PurePursuit, look_ahead_distance, usv_min_turning_radius,
+                                     uuv_turning_radius_at)
+from ..io.config import ScenarioConfig, StrictModel
+from ..io.plots import plot_signals, plot_track
+from ..models.cable import CableConfig
+from ..models.combined import CombinedPlant
+from ..models.usv import USVConfig, USVThrusters
+from ..models.uuv import UUVConfig, UUVThrusters
+from ..sensors import (AHRS, GPS, USBL, AHRSConfig, DepthSensor, DepthSensorConfig, DropoutHold, GPSConfig,
+                       USBLConfig)
+from ..units import KGF
+from ._common import environment_blocks
+from .base import Scenario
+
+DEG = 180.0 / math.pi
+
+
+class GuidanceConfig(StrictModel):
+    """Pure-pursuit guidance of the USV (003 ch. 3.1)."""
+
+    waypoints: list[tuple[float, float]] = Field([(0.0, 0.0), (10.0, 10.0), (20.0, 5.0)], min_length=2,
+                                                 description="waypoints (north, east), m")
+    look_ahead: float | None = Field(None, gt=0, le=1e3,
+                                     description="look-ahead l (default: 2 R_min from the models, eq. 3.6), m")
+    acceptance: float = Field(2.0, gt=0, le=100, description="waypoint acceptance radius, m")
+    rate: float = Field(10.0, gt=0, le=100, description="guidance rate, Hz")
+
+
+class FormationConfig(StrictModel):
+    """Leader-follower geometry (003 ch. 3.2)."""
+
+    l_d: float = Field(0.5, ge=0, le=50, description="target horizontal range l^d, m")
+    lambda_d_deg: float = Field(180.0, ge=90, le=270, description="target bearing lambda^d from the USV's bow, deg")
+    R: float = Field(1.0, gt=0, le=100, description="maximum range R before the UUV heads to the USV, m")
+    mode: Literal["relative-angle", "relative-angle-plus-heading"] = "relative-angle-plus-heading"
+
+
+class ControlConfig(StrictModel):
+    """Controllers and their rate."""
+
+    uuv: Literal["pid", "backstepping"] = "pid"
+    surge_speed: float = Field(0.6, gt=0, le=5, description="USV surge speed target, m/s")
+    rate: float = Field(20.0, gt=0, le=1000, description="control and thruster rate, Hz")
+    usv: USVControlConfig = USVControlConfig()
+    uuv_pid: UUVPIDConfig = UUVPIDConfig()
+    backstepping: BacksteppingConfig = BacksteppingConfig()
+
+
+class SensorsConfig(StrictModel):
+    """Sensors (003 ch. 6.1, appendix B); when enabled guidance and control use measured signals."""
+
+    enabled: bool = False
+    gps: GPSConfig = GPSConfig()
+    usv_ahrs: AHRSConfig = AHRSConfig()
+    uuv_ahrs: AHRSConfig = AHRSConfig()
+    usbl: USBLConfig = USBLConfig()
+    depth: DepthSensorConfig = DepthSensorConfig()
+
+
+class CombinedConfig(ScenarioConfig):
+    usv: USVConfig = USVConfig()
+    uuv: UUVConfig = UUVConfig()
+    cable: CableConfig = CableConfig()
+    environment: EnvironmentConfig = EnvironmentConfig()
+    guidance: GuidanceConfig = GuidanceConfig()
+    formation: FormationConfig = FormationConfig()
+    control: ControlConfig = ControlConfig()
+    sensors: SensorsConfig = SensorsConfig()
+
+
+def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
+    """(l, R_min_usv, R_min_uuv): the look-ahead l = 2 max(R_min) (003 eq. 3.6), from the models.
+
+    USV: :func:`oceangnc.guidance.pure_pursuit.usv_min_turning_radius`; UUV: its turning radius at
+    the speed it must hold, the surge target capped at the USV's top speed
+    (:func:`oceangnc.guidance.pure_pursuit.uuv_turning_radius_at`).
+    """
+    r_usv = usv_min_turning_radius(cfg.usv)
+    top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
+    r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
+    if cfg.guidance.look_ahead is not None:
+        return cfg.guidance.look_ahead, r_usv, r_uuv
+    return look_ahead_distance(r_usv, r_uuv), r_usv, r_uuv
+
+
+def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
+    """Plant, environment, sensors, navigation, guidance, control and thrusters (module docstring)."""
+    if cfg.sim.dt > 0.002:
+        pass  # the plant checks its own stability limit
+    h = 1.0 / cfg.control.rate
+    sens = cfg.sensors.enabled
+    blocks = [*environment_blocks(cfg.environment)]
+    if sens:
+        s = cfg.sensors
+        blocks += [GPS(s.gps, "usv"), AHRS(s.usv_ahrs, "usv"), AHRS(s.uuv_ahrs, "uuv"), USBL(s.usbl),
+                   DepthSensor(s.depth)]
+        blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
+                                  "nav.usbl"))
+
+        def nav(t, bus):
+            bus["nav.usv_x"] = bus.get("gps.x", 0.0)
+            bus["nav.usv_y"] = bus.get("gps.y", 0.0)
+            bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get("nav.usbl.dn", 0.0)
+            bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
+            bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
+
+        blocks.append(FunctionBlock("nav", h, nav))
+        usv_pos = ("nav.usv_x", "nav.usv_y")
+        usv_psi, usv_r, usv_u = "usv_ahrs.psi", "usv_ahrs.r", "nav.usv_u"
+        uuv_pos = ("nav.uuv_x", "nav.uuv_y")
+        uuv_psi, uuv_r = "uuv_ahrs.psi", "uuv_ahrs.r"
+    else:
+        usv_pos, usv_psi, usv_r, usv_u = ("usv.x", "usv.y"), "usv.psi", "usv.r", "usv.u"
+        uuv_pos, uuv_psi, uuv_r = ("uuv.x", "uuv.y"), "uuv.psi", "uuv.r"
+    l, _, _ = look_ahead_for(cfg)
+    g = cfg.guidance
+    blocks.append(PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi))
+    f = cfg.formation
+    lam = math.radians(f.lambda_d_deg)
+    blocks.append(LeaderFollower(f.l_d, lam, f.R, 1.0 / g.rate, mode=f.mode, leader=(*usv_pos, usv_psi),
+                                 follower=(*uuv_pos, uuv_psi)))
+    c = cfg.control
+    blocks.append(USVController(c.usv, cfg.usv, c.surge_speed, h, meas={"u": usv_u, "psi": usv_psi, "r": usv_r}))
+    if c.uuv == "pid":
+        blocks.append(UUVPIDController(c.uuv_pid, cfg.uuv, h, mode=f.mode,
+                                       meas={"r_usv": usv_r, "r_uuv": uuv_r, "psi_usv": usv_psi}))
+    else:
+        keys = {"xl": usv_pos[0], "yl": usv_pos[1], "psil": usv_psi, "ul": usv_u, "rl": usv_r,
+                "xf": uuv_pos[0], "yf": uuv_pos[1], "psif": uuv_psi, "rf": uuv_r}
+        if sens:
+            keys["vl"] = "_zero"  # no sway measurement on the USV: take v_l = 0
+        blocks.append(UUVBackstepping(c.backstepping, cfg.uuv, f.l_d, lam, h, keys=keys))
+    blocks += [USVThrusters(cfg.usv, h), UUVThrusters(cfg.uuv, h)]
+    plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
+    return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
+
+
+def _wrap(a):
+    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
+
+
+def cross_track(df, waypoints) -> np.ndarray:
+    """Signed distance (m) of the true USV position to its active leg (``guidance.leg``)."""
+    wp = np.asarray(waypoints, float)
+    k = np.clip(df["guidance.leg"].to_numpy().astype(int), 0, len(wp) - 2)
+    a, b = wp[k], wp[k + 1]
+    t = b - a
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    w = np.column_stack([df["usv.x"], df["usv.y"]]) - a
+    return -t[:, 1] * w[:, 0] + t[:, 0] * w[:, 1]
+
+
+def rel_distance(df) -> np.ndarray:
+    """True horizontal USV-UUV distance (m)."""
+    return np.hypot(df["usv.x"] - df["uuv.x"], df["usv.y"] - df["uuv.y"]).to_numpy()
+
+
+class CombinedScenario(Scenario):
+    Config = CombinedConfig
+
+    def __init__(self, name: str, summary: str, defaults: dict):
+        self.name = name
+        self.summary = summary
+        self.defaults = defaults
+
+    def build(self, cfg, rng):
+        return build_simulation(cfg, rng)
+
+    def summarize(self, df, cfg) -> dict:
+        wp = cfg.guidance.waypoints
+        xt = cross_track(df, wp)
+        rd = rel_distance(df)
+        e_usv = _wrap(df["guidance.psi_d"] - df["usv.psi"])
+        e_uuv = _wrap(df["uuv_ctrl.psi_d"] - df["uuv.psi"])
+        out = {
+            "usv.waypoints_reached": int(df["guidance.wp_reached"].max()),
+            "usv.waypoints_total": len(wp),
+            "usv.cross_track_rms_m": float(np.sqrt(np.mean(xt ** 2))),
+            "uuv.rel_distance_mean_m": float(rd.mean()),
+            "uuv.rel_distance_max_m": float(rd.max()),
+            "uuv.depth_final_m": float(df["uuv.z"].iloc[-1]),
+            "uuv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_uuv ** 2)))),
+            "usv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_usv ** 2)))),
+            "t_end_s": float(df["t"].iloc[-1]),
+            "cable.top_tension_max_n": float(df["cable.top_tension"].max()),
+        }
+        if "usbl.pings_lost" in df:
+            out["usbl.pings_lost"] = int(df["usbl.pings_lost"].iloc[-1])
+            moving = df["usv.speed"] > 0.3
+            d = np.degrees(np.abs(_wrap(df["usv_ahrs.psi"] - df["gps.cog"])))[moving]
+            out["ahrs.gps_heading_diff_mean_deg"] = float(d.mean()) if len(d) else float("nan")
+        return out
+
+    def plot(self, df, cfg, out_dir: Path) -> list[Path]:
+        out_dir = Path(out_dir)
+        df = df.copy()
+        df["rel.distance"] = rel_distance(df)
+        wp = cfg.guidance.waypoints
+        paths = [plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
+                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv})",
+                            waypoints=wp)]
+        paths.append(plot_signals(df, [
+            ("surge speed [m/s]", [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0),
+                                   ("uuv.u", "UUV u", 1.0)]),
+            ("sway speed [m/s]", [("usv.v", "USV v", 1.0), ("uuv.v", "UUV v", 1.0)]),
+            ("yaw rate [deg/s]", [("usv.r", "USV r", DEG), ("uuv.r", "UUV r", DEG)]),
+        ], out_dir / "speeds.png", title=f"{self.name}: speeds (cf. 003 fig 4-9)"))
+        paths.append(plot_signals(df, [
+            ("USV thrust [kgf]", [("usv.thrust_port", "port (L)", 1 / KGF), ("usv.thrust_stbd", "stbd (R)", 1 / KGF)]),
+            ("UUV thrust [N]", [("uuv.thrust_port", "port (L)", 1.0), ("uuv.thrust_stbd", "stbd (R)", 1.0),
+                                ("uuv.thrust_bow", "bow (F)", 1.0)]),
+        ], out_dir / "thrusts.png", title=f"{self.name}: thrusts (cf. 003 figs 4-10, 4-11)"))
+        for col in ("usv.psi", "guidance.psi_d", "uuv.psi", "uuv_ctrl.psi_d"):
+            df[col + "_deg"] = np.degrees(np.unwrap(df[col].to_numpy()))
+        paths.append(plot_signals(df, [
+            ("USV heading [deg]", [("usv.psi_deg", "psi", 1.0), ("guidance.psi_d_deg", "target", 1.0)]),
+            ("UUV heading [deg]", [("uuv.psi_deg", "psi", 1.0), ("uuv_ctrl.psi_d_deg", "target", 1.0)]),
+        ], out_dir / "headings.png", title=f"{self.name}: headings (cf. 003 figs 4-12, 4-13)"))
+        paths.append(plot_signals(df, [
+            ("UUV depth [m]", [("uuv.z", "true", 1.0), ("depth.z", "depth sensor (filtered)", 1.0)]),
+            ("rel. distance [m]", [("rel.distance", "true horizontal", 1.0), ("lf.range", "as measured", 1.0)]),
+            ("cable tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom", 1.0)]),
+        ], out_dir / "depth_distance.png", title=f"{self.name}: depth and distance (cf. 003 figs 4-14, 4-15)"))
+        return paths
+
+
+def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
+    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7)."""
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    ax.plot(df["usv.y"], df["usv.x"], 0 * df["usv.x"], label="USV")
+    ax.plot(df["uuv.y"], df["uuv.x"], -df["uuv.z"], label="UUV")
+    n = 0
+    while f"cable.x{n}" in df:
+        n += 1
+    if n:
+        for k in np.linspace(0, len(df) - 1, n_snap).astype(int):
+            row = df.iloc[k]
+            xs = [row[f"cable.x{i}"] for i in range(n)]
+            ys = [row[f"cable.y{i}"] for i in range(n)]
+            zs = [-row[f"cable.z{i}"] for i in range(n)]
+            ax.plot(ys, xs, zs, "k.-", lw=0.8, ms=2)
+    ax.set_xlabel("east y [m]")
+    ax.set_ylabel("north x [m]")
+    ax.set_zlabel("-depth [m]")
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+_SIM = {"dt": 0.001, "log_rate": 10.0}
+
+SCENARIOS = [
+    CombinedScenario(
+        "combined-survey",
+        "USV-cable-UUV through (0,0) (10,10) (20,5) at 0.6 m/s; UUV by PID or backstepping (003 figs 4-7..4-15)",
+        {"sim": {**_SIM, "duration": 150.0}, "control": {"uuv": "backstepping"}}),
+    CombinedScenario(
+        "waypoints-square",
+        "combined vehicle round a 50 m square; UUV on relative angle (+ heading to USV) (003 fig 4-6)",
+        {"sim": {**_SIM, "duration": 400.0},
+         "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, 50.0), (0.0, 50.0)]},
+         "control": {"surge_speed": 0.6}}),
+    CombinedScenario(
+        "field-test",
+        "sea trial of 003 ch. 6.2: (50,0) (50,-50) (0,-50) (0,0) at 1.3 m/s target, PID, sensors on",
+        {"sim": {**_SIM, "duration": 500.0},
+         "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, -50.0), (0.0, -50.0), (0.0, 0.0)]},
+         "control": {"surge_speed": 1.3, "uuv": "pid"}, "sensors": {"enabled": True}}),
+]

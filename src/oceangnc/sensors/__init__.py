@@ -1,0 +1,13 @@
+"""Sensors of the combined vehicle (003 ch. 6.1, appendix B): GPS, AHRS, USBL, depth; and filters.
+
+Each sensor is a :class:`~oceangnc.core.blocks.Block` drawing its noise from its own generator.
+"""
+
+from .ahrs import AHRS, AHRSConfig
+from .depth import DepthSensor, DepthSensorConfig
+from .filters import AngleLowPass, DropoutHold, LowPass
+from .gps import GPS, GPSConfig
+from .usbl import USBL, USBLConfig
+
+__all__ = ["AHRS", "AHRSConfig", "DepthSensor", "DepthSensorConfig", "AngleLowPass", "DropoutHold",
+           "LowPass", "GPS", "GPSConfig", "USBL", "USBLConfig"]

@@ -1,0 +1,115 @@
+"""Signal conditioning: first-order low-pass filters and dropout handling (hold last value, flag, recover).
+
+* :class:`LowPass` - first-order IIR low-pass, y_k = y_{k-1} + a (x_k - y_{k-1}) with
+  a = 1 - exp(-h / tau), tau = 1 / (2 pi f_c): the exact discretisation of tau y' + y = x with x
+  held over the sample. :func:`lowpass_array` applies it to a whole array (compiled).
+  003 ch. 6.1.3 says the depth sensor "shows a lot of oscillations ... it is necessary to design
+  and use a low-pass filter" without giving it; the cut-off is our choice (docs/combined-vehicle.md).
+* :class:`AngleLowPass` - the same on an angle, filtering the wrapped difference.
+* :class:`DropoutHold` - a Block that copies measured signals to navigation signals while the sensor's
+  ``valid`` flag is set, holds the last valid value while it is not, publishes a flag
+  (``<out>.ok``, 1/0) and the age of the held value (``<out>.age``, s), and resumes as soon as fixes
+  come back. This is how the guidance and control survive a USBL dropout.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..core.blocks import Block
+
+
+def lowpass_coefficient(cutoff_hz: float, period: float) -> float:
+    """a = 1 - exp(-2 pi f_c h) of the first-order low-pass (dimensionless)."""
+    return 1.0 - math.exp(-2.0 * math.pi * cutoff_hz * period)
+
+
+@njit(cache=True)
+def lowpass_array(x, a, y0):
+    """First-order low-pass of a sampled array x with coefficient a (see module docstring)."""
+    y = np.empty_like(x)
+    acc = y0
+    for k in range(x.size):
+        acc += a * (x[k] - acc)
+        y[k] = acc
+    return y
+
+
+class LowPass:
+    """Scalar first-order low-pass (state: the last output); the first sample initialises it."""
+
+    def __init__(self, cutoff_hz: float, period: float):
+        self.a = lowpass_coefficient(cutoff_hz, period)
+        self.y = None
+
+    def reset(self) -> None:
+        self.y = None
+
+    def __call__(self, x: float) -> float:
+        self.y = x if self.y is None else self.y + self.a * (x - self.y)
+        return self.y
+
+
+class AngleLowPass(LowPass):
+    """First-order low-pass of an angle (rad), output wrapped to (-pi, pi]."""
+
+    def __call__(self, x: float) -> float:
+        if self.y is None:
+            self.y = x
+        else:
+            d = (x - self.y + math.pi) % (2.0 * math.pi) - math.pi
+            self.y = (self.y + self.a * d + math.pi) % (2.0 * math.pi) - math.pi
+        return self.y
+
+
+class DropoutHold(Block):
+    """Hold-last-value dropout handling (module docstring).
+
+    Parameters
+    ----------
+    name : str
+        Block name; outputs are ``<out_prefix>.<signal>``.
+    period : float
+        Firing period, s (at least as fast as the sensor).
+    valid_key : str
+        Bus key of the sensor's validity flag (nonzero = fresh valid fix).
+    signals : dict
+        Output signal name -> input bus key.
+    out_prefix : str
+        Prefix of the output keys.
+    """
+
+    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str):
+        self.name = name
+        self.period = float(period)
+        self.valid_key = valid_key
+        self.signals = dict(signals)
+        self.out = out_prefix
+        self.reset(None)
+
+    def reset(self, rng) -> None:
+        self.held: dict | None = None
+        self.t_fix = 0.0
+        self.dropouts = 0
+        self._ok = True
+
+    def step(self, t: float, bus: dict) -> None:
+        valid = bool(bus.get(self.valid_key, 0.0))
+        if valid or self.held is None:
+            if all(k in bus for k in self.signals.values()):
+                self.held = {o: float(bus[k]) for o, k in self.signals.items()}
+                if valid:
+                    self.t_fix = t
+        ok = valid
+        if self._ok and not ok:
+            self.dropouts += 1
+        self._ok = ok
+        if self.held is not None:
+            for o, v in self.held.items():
+                bus[f"{self.out}.{o}"] = v
+        bus[f"{self.out}.ok"] = 1.0 if ok else 0.0
+        bus[f"{self.out}.age"] = t - self.t_fix
+        bus[f"{self.out}.dropouts"] = float(self.dropouts)
