@@ -1,0 +1,328 @@
+"""Vertical-plane (heave-pitch) submarine model of document 002 (Lee, Choi & Yang, ADD).
+
+Equations (``002_05c842517d8c1175.txt`` eq. 2.1-2.5, as reconstructed in SPEC.md section 002), all
+dimensional, constant forward speed ``U``, small angle of attack::
+
+    (m - Z_wdot) w' - (m x_G + Z_qdot) q' = A
+    -(m x_G + M_wdot) w' + (I_y - M_qdot) q' = B_m
+    A   = m U q + m z_G q^2 + (W - B) cos(theta) + Z_w w + Z_q q + Z_ds ds
+    B_m = M_w w + M_q q + M_ds ds - m x_G U q - m z_G w q - W z_G sin(theta) - W x_G cos(theta)
+    theta' = q,    z' = -U sin(theta) + w cos(theta)                       (eq. 2.3)
+
+The 2 x 2 system is solved for (w', q') by Cramer's rule (eq. 2.4-2.5). The rigid-body terms are
+those of the DTNSRDC standard equations (Feldman 1979, ref. [1] of 002; the same as Fossen's
+``m[w' - uq - z_G q^2 - x_G q']`` and ``I_y q' + m[z_G(u' + wq) - x_G(w' - uq)]`` with u' = 0).
+
+Non-dimensional coefficients (primes) are scaled with rho, L and U as in table 2.1 of 002:
+
+    ======== ================    ======== ==================
+    Z_w      rho/2 L^2 U         M_w      rho/2 L^3 U
+    Z_wdot   rho/2 L^3           M_wdot   rho/2 L^4
+    Z_q      rho/2 L^3 U         M_q      rho/2 L^4 U
+    Z_qdot   rho/2 L^4           M_qdot   rho/2 L^5
+    Z_ds     rho/2 L^2 U^2       M_ds     rho/2 L^3 U^2  (printed "U"; a moment needs U^2)
+    ======== ================    ======== ==================
+
+and ``I_y = I_y' rho/2 L^5``.
+
+Choices where 002 is silent or garbled (see ``docs/ekf-identification.md``):
+
+* **Vertical CG-CB offset.** Table 4.1 prints "Z_theta = -0.27414" among the physical constants. We
+  read it as the metacentric arm BG = 0.27414 m: the origin is at the centre of buoyancy (x_B = z_B
+  = 0, as in the DTNSRDC equations the paper's eq. 2.1-2.2 come from) and the centre of gravity lies
+  0.27414 m *below* it, ``z_G = +0.27414`` m (z down). The printed minus sign is that of the CB seen
+  from the CG (z_B - z_G). With this sign the restoring moment -W z_G sin(theta) is stabilising and
+  the vehicle is stable in open loop (eigenvalues -0.034 +/- 0.022j and -0.0097 1/s); with z_G =
+  -0.27414 m it would have a real eigenvalue of +0.0067 1/s (a vehicle that falls over in pitch).
+  Keeping the rigid-body terms m z_G q^2 and m z_G w q also matters for identification: with W = B
+  they are the only terms of the heave equation with a known coefficient, and without them the ten
+  coefficients are not all identifiable from (w, theta, q) (see the docs page).
+* **Sign of M_w.** Table 5.3 prints the true M_w' as -0.004059 while table 4.1 and both estimates
+  are positive; a positive (destabilising) Munk moment is the physical one, so M_w' = +0.004059.
+* x_G = 0 (the paper's eq. 2.1-2.2 carry x_G but table 4.1 gives none), W = B (table 4.1).
+
+Layouts: filter state ``x = [w, theta, q]`` (m/s, rad, rad/s) with input ``u = [ds]`` (rad), plant
+state ``[w, theta, q, z]``; parameters :data:`P_NAMES` (the ten primes, then m kg, I_y' (-), W N,
+B N, x_G m, z_G m, rho kg/m^3, L m, U m/s).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from pydantic import Field
+
+from ..core.blocks import Plant
+from ..io.config import StrictModel
+
+COEFF_NAMES = ("Zw", "Zwdot", "Zq", "Zqdot", "Zds", "Mw", "Mwdot", "Mq", "Mqdot", "Mds")
+CONST_NAMES = ("m", "Iy_nd", "W", "B", "xG", "zG", "rho", "L", "U")
+P_NAMES = COEFF_NAMES + CONST_NAMES
+FILTER_STATES = ("w", "theta", "q")
+STATE_NAMES = ("w", "theta", "q", "z")
+INPUT_NAMES = ("ds",)
+
+#: True non-dimensional coefficients, 002 tables 5.2 and 5.3 (M_w' with the physical + sign).
+TRUE_COEFFS = {"Zw": -0.01991, "Zwdot": -0.01258, "Zq": -0.006371, "Zqdot": -0.000016, "Zds": -0.008791,
+               "Mw": 0.004059, "Mwdot": -0.004970, "Mq": -0.002995, "Mqdot": -0.005198, "Mds": -0.003663}
+#: The truncated values of 002 table 4.1 (used as a possible set of initial guesses).
+TABLE41_COEFFS = {"Zw": -0.019, "Zwdot": -0.0125, "Zq": -0.0063, "Zqdot": -0.00001, "Zds": -0.0087,
+                  "Mw": 0.004, "Mwdot": -0.0049, "Mq": -0.0029, "Mqdot": -0.0051, "Mds": -0.0036}
+#: Published estimates, 002 tables 5.2/5.3: (5-5 zig-zag, 10-5 zig-zag).
+PUBLISHED_ESTIMATES = {"Zw": (-0.01989, -0.01990), "Zwdot": (-0.01256, -0.01250), "Zq": (-0.00634, -0.00629),
+                       "Zqdot": (-0.0000159, -0.0000154), "Zds": (-0.00874, -0.00871),
+                       "Mw": (0.004051, 0.004060), "Mwdot": (-0.004965, -0.004967),
+                       "Mq": (-0.002990, -0.002992), "Mqdot": (-0.005195, -0.005192), "Mds": (-0.003661, -0.00362)}
+#: Table 2.1 scale of each coefficient: (power of L, power of U) in rho/2 L^a U^b.
+SCALE_POWERS = {"Zw": (2, 1), "Zwdot": (3, 0), "Zq": (3, 1), "Zqdot": (4, 0), "Zds": (2, 2),
+                "Mw": (3, 1), "Mwdot": (4, 0), "Mq": (4, 1), "Mqdot": (5, 0), "Mds": (3, 2)}
+
+
+class SubmarineVerticalConfig(StrictModel):
+    """Constants of 002 table 4.1 and the true coefficients of tables 5.2/5.3 (non-dimensional)."""
+
+    U: float = Field(3.084, gt=0, le=30, description="constant forward speed, m/s")
+    m: float = Field(293160.0, gt=0, le=1e8, description="mass, kg")
+    Iy_nd: float = Field(0.0006088, gt=0, le=1, description="pitch inertia I_y / (rho/2 L^5), -")
+    W: float = Field(2872968.0, gt=0, le=1e9, description="weight, N")
+    B: float = Field(2872968.0, gt=0, le=1e9, description="buoyancy, N")
+    xG: float = Field(0.0, ge=-50, le=50, description="longitudinal CG position from the CB, m")
+    zG: float = Field(0.27414, ge=-5, le=5, description="vertical CG position below the CB (BG), m")
+    rho: float = Field(1025.9, gt=900, le=1100, description="water density, kg/m^3")
+    L: float = Field(63.955, gt=0, le=500, description="length, m")
+    Zw: float = Field(TRUE_COEFFS["Zw"], ge=-1, le=1, description="Z_w', -")
+    Zwdot: float = Field(TRUE_COEFFS["Zwdot"], ge=-1, le=1, description="Z_wdot', -")
+    Zq: float = Field(TRUE_COEFFS["Zq"], ge=-1, le=1, description="Z_q', -")
+    Zqdot: float = Field(TRUE_COEFFS["Zqdot"], ge=-1, le=1, description="Z_qdot', -")
+    Zds: float = Field(TRUE_COEFFS["Zds"], ge=-1, le=1, description="Z_ds', -")
+    Mw: float = Field(TRUE_COEFFS["Mw"], ge=-1, le=1, description="M_w' (Munk moment, positive), -")
+    Mwdot: float = Field(TRUE_COEFFS["Mwdot"], ge=-1, le=1, description="M_wdot', -")
+    Mq: float = Field(TRUE_COEFFS["Mq"], ge=-1, le=1, description="M_q', -")
+    Mqdot: float = Field(TRUE_COEFFS["Mqdot"], ge=-1, le=1, description="M_qdot', -")
+    Mds: float = Field(TRUE_COEFFS["Mds"], ge=-1, le=1, description="M_ds', -")
+    w0: float = Field(0.028, ge=-5, le=5, description="initial heave velocity (table 4.1), m/s")
+    theta0_deg: float = Field(0.0, ge=-90, le=90, description="initial pitch, deg")
+    q0_degps: float = Field(0.0, ge=-90, le=90, description="initial pitch rate, deg/s")
+    z0: float = Field(20.0, ge=0, le=1e4, description="initial depth (table 4.1), m")
+
+    def params(self) -> np.ndarray:
+        """Flat parameter array in the layout of :data:`P_NAMES`."""
+        return np.array([getattr(self, k) for k in P_NAMES], dtype=np.float64)
+
+    def x0(self) -> np.ndarray:
+        """Initial plant state [w, theta, q, z]."""
+        return np.array([self.w0, np.radians(self.theta0_deg), np.radians(self.q0_degps), self.z0])
+
+
+def default_params() -> np.ndarray:
+    """Parameters of 002 (table 4.1 constants, tables 5.2/5.3 coefficients)."""
+    return SubmarineVerticalConfig().params()
+
+
+def dimensional(p) -> dict[str, float]:
+    """Dimensional coefficients (SI: N s/m, kg, N s, kg m, N/rad, ...) and I_y (kg m^2) from ``p``."""
+    p = np.asarray(p, dtype=np.float64)
+    rho, L, U = p[16], p[17], p[18]
+    out = {}
+    for i, k in enumerate(COEFF_NAMES):
+        a, b = SCALE_POWERS[k]
+        out[k] = float(p[i] * 0.5 * rho * L ** a * U ** b)
+    out["Iy"] = float(p[11] * 0.5 * rho * L ** 5)
+    return out
+
+
+@njit(cache=True)
+def _accel(w, theta, q, ds, p):
+    """(w', q') of eq. 2.4-2.5 and the mass matrix; type-generic (real or complex, for complex step)."""
+    h = 0.5 * p[16]
+    L = p[17]
+    U = p[18]
+    L2 = L * L
+    L3 = L2 * L
+    L4 = L3 * L
+    L5 = L4 * L
+    m = p[10]
+    W = p[12]
+    Bf = p[13]
+    xG = p[14]
+    zG = p[15]
+    Zw = p[0] * h * L2 * U
+    Zwd = p[1] * h * L3
+    Zq = p[2] * h * L3 * U
+    Zqd = p[3] * h * L4
+    Zds = p[4] * h * L2 * U * U
+    Mw = p[5] * h * L3 * U
+    Mwd = p[6] * h * L4
+    Mq = p[7] * h * L4 * U
+    Mqd = p[8] * h * L5
+    Mds = p[9] * h * L3 * U * U
+    Iy = p[11] * h * L5
+    ct = np.cos(theta)
+    st = np.sin(theta)
+    A = m * U * q + m * zG * q * q + (W - Bf) * ct + Zw * w + Zq * q + Zds * ds
+    Bm = Mw * w + Mq * q + Mds * ds - m * xG * U * q - m * zG * w * q - W * zG * st - W * xG * ct
+    M11 = m - Zwd
+    M12 = -(m * xG + Zqd)
+    M21 = -(m * xG + Mwd)
+    M22 = Iy - Mqd
+    det = M11 * M22 - M12 * M21
+    wd = (M22 * A - M12 * Bm) / det
+    qd = (M11 * Bm - M21 * A) / det
+    return wd, qd
+
+
+@njit(cache=True)
+def sub_f(x, p, u, out):
+    """Filter model f(x, p, u): d/dt [w, theta, q] (002 eq. 2.3-2.5); u = [ds] (rad).
+
+    Written with numpy ufuncs only, so it also runs on complex arrays (complex-step Jacobians).
+    """
+    wd, qd = _accel(x[0], x[1], x[2], u[0], p)
+    out[0] = wd
+    out[1] = x[2]
+    out[2] = qd
+
+
+@njit(cache=True)
+def sub_h(x, p, out):
+    """Measurement model: w (m/s), theta (rad) and q (rad/s) are measured directly (002 ch. 4)."""
+    out[0] = x[0]
+    out[1] = x[1]
+    out[2] = x[2]
+
+
+@njit(cache=True)
+def sub_rhs(t, x, u, p, out):
+    """Plant right-hand side: d/dt [w, theta, q, z] (002 eq. 2.3-2.5), u = [ds] (rad)."""
+    wd, qd = _accel(x[0], x[1], x[2], u[0], p)
+    out[0] = wd
+    out[1] = x[2]
+    out[2] = qd
+    out[3] = -p[18] * np.sin(x[1]) + x[0] * np.cos(x[1])
+
+
+@njit(cache=True)
+def sub_jac(x, p, u, J):
+    """Analytic Jacobian of :func:`sub_f`: J[:, :3] = df/dx, J[:, 3 + j] = df/dp[j] (all 19 params).
+
+    With a = (w', q') = M^-1 r, r = (A, B_m): da/dy = M^-1 (dr/dy - (dM/dy) a) for every state or
+    parameter y; theta' = q gives the middle row.
+    """
+    w = x[0]
+    th = x[1]
+    q = x[2]
+    ds = u[0]
+    h = 0.5 * p[16]
+    L = p[17]
+    U = p[18]
+    m = p[10]
+    W = p[12]
+    Bf = p[13]
+    xG = p[14]
+    zG = p[15]
+    Ls = np.empty(6)
+    Ls[0] = 1.0
+    for i in range(1, 6):
+        Ls[i] = Ls[i - 1] * L
+    # scale s_j = h L^a U^b of each coefficient, its L and U powers
+    la = (2, 3, 3, 4, 2, 3, 4, 4, 5, 3)
+    ub = (1, 0, 1, 0, 2, 1, 0, 1, 0, 2)
+    s = np.empty(10)
+    D = np.empty(10)
+    for j in range(10):
+        s[j] = h * Ls[la[j]] * U ** ub[j]
+        D[j] = p[j] * s[j]
+    Iy = p[11] * h * Ls[5]
+    ct = np.cos(th)
+    st = np.sin(th)
+    M11 = m - D[1]
+    M12 = -(m * xG + D[3])
+    M21 = -(m * xG + D[6])
+    M22 = Iy - D[8]
+    det = M11 * M22 - M12 * M21
+    i11 = M22 / det
+    i12 = -M12 / det
+    i21 = -M21 / det
+    i22 = M11 / det
+    A = m * U * q + m * zG * q * q + (W - Bf) * ct + D[0] * w + D[2] * q + D[4] * ds
+    Bm = D[5] * w + D[7] * q + D[9] * ds - m * xG * U * q - m * zG * w * q - W * zG * st - W * xG * ct
+    wd = i11 * A + i12 * Bm
+    qd = i21 * A + i22 * Bm
+    ny = J.shape[1]
+    for k in range(ny):
+        J[0, k] = 0.0
+        J[1, k] = 0.0
+        J[2, k] = 0.0
+    J[1, 2] = 1.0
+    # derivative list: (dA, dB, dM11, dM12, dM21, dM22) for each y
+    d = np.zeros((22, 6))
+    d[0, 0] = D[0]                                   # w
+    d[0, 1] = D[5] - m * zG * q
+    d[1, 0] = -(W - Bf) * st                         # theta
+    d[1, 1] = -W * zG * ct + W * xG * st
+    d[2, 0] = m * U + 2.0 * m * zG * q + D[2]        # q
+    d[2, 1] = D[7] - m * xG * U - m * zG * w
+    d[3, 0] = s[0] * w                               # Zw
+    d[4, 2] = -s[1]                                  # Zwdot
+    d[5, 0] = s[2] * q                               # Zq
+    d[6, 3] = -s[3]                                  # Zqdot
+    d[7, 0] = s[4] * ds                              # Zds
+    d[8, 1] = s[5] * w                               # Mw
+    d[9, 4] = -s[6]                                  # Mwdot
+    d[10, 1] = s[7] * q                              # Mq
+    d[11, 5] = -s[8]                                 # Mqdot
+    d[12, 1] = s[9] * ds                             # Mds
+    d[13, 0] = U * q + zG * q * q                    # m
+    d[13, 1] = -xG * U * q - zG * w * q
+    d[13, 2] = 1.0
+    d[13, 3] = -xG
+    d[13, 4] = -xG
+    d[14, 5] = h * Ls[5]                             # Iy_nd
+    d[15, 0] = ct                                    # W
+    d[15, 1] = -zG * st - xG * ct
+    d[16, 0] = -ct                                   # B
+    d[17, 1] = -m * U * q - W * ct                   # xG
+    d[17, 3] = -m
+    d[17, 4] = -m
+    d[18, 0] = m * q * q                             # zG
+    d[18, 1] = -m * w * q - W * st
+    # rho: every scaled term is proportional to rho
+    d[19, 0] = (D[0] * w + D[2] * q + D[4] * ds) / p[16]
+    d[19, 1] = (D[5] * w + D[7] * q + D[9] * ds) / p[16]
+    d[19, 2] = -D[1] / p[16]
+    d[19, 3] = -D[3] / p[16]
+    d[19, 4] = -D[6] / p[16]
+    d[19, 5] = (Iy - D[8]) / p[16]
+    # L: d(D_j)/dL = a_j D_j / L
+    d[20, 0] = (2 * D[0] * w + 3 * D[2] * q + 2 * D[4] * ds) / L
+    d[20, 1] = (3 * D[5] * w + 4 * D[7] * q + 3 * D[9] * ds) / L
+    d[20, 2] = -3 * D[1] / L
+    d[20, 3] = -4 * D[3] / L
+    d[20, 4] = -4 * D[6] / L
+    d[20, 5] = 5 * (Iy - D[8]) / L
+    # U: d(D_j)/dU = b_j D_j / U, plus the rigid-body m U q terms
+    d[21, 0] = m * q + (D[0] * w + D[2] * q + 2 * D[4] * ds) / U
+    d[21, 1] = (D[5] * w + D[7] * q + 2 * D[9] * ds) / U - m * xG * q
+    for k in range(min(22, ny)):  # column k: states 0-2, then parameter k - 3
+        ra = d[k, 0] - (d[k, 2] * wd + d[k, 3] * qd)
+        rb = d[k, 1] - (d[k, 4] * wd + d[k, 5] * qd)
+        J[0, k] = i11 * ra + i12 * rb
+        J[2, k] = i21 * ra + i22 * rb
+
+
+def eigenvalues(p, ds: float = 0.0) -> np.ndarray:
+    """Eigenvalues (1/s) of the (w, theta, q) dynamics linearised at rest: the open-loop modes."""
+    J = np.zeros((3, 3 + len(P_NAMES)))
+    sub_jac(np.zeros(3), np.asarray(p, dtype=np.float64), np.array([ds]), J)
+    return np.linalg.eigvals(J[:, :3])
+
+
+class SubmarineVerticalPlant(Plant):
+    """The heave-pitch submarine as a plant: state ``[w, theta, q, z]``, input ``<name>.ds`` (rad).
+
+    Publishes ``<name>.w`` (m/s), ``<name>.theta`` (rad), ``<name>.q`` (rad/s), ``<name>.z`` (m).
+    """
+
+    def __init__(self, cfg: SubmarineVerticalConfig, name: str = "sub"):
+        super().__init__(name, sub_rhs, cfg.x0(), cfg.params(), STATE_NAMES, [f"{name}.ds"], state_bound=1e6)
+        self.cfg = cfg
