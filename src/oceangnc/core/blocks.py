@@ -21,7 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..errors import DivergenceError
-from .integrators import rk4_advance, rk4_workspace
+from .integrators import rk4_stepper, rk4_workspace
 
 
 class Block:
@@ -91,6 +91,7 @@ class Plant:
         self.work = rk4_workspace(self.x.size)
         self.state_bound = float(state_bound)
         self.max_dt = max_dt
+        self._advance = rk4_stepper(rhs)
 
     def reset(self) -> None:
         """Restore the initial state."""
@@ -103,13 +104,12 @@ class Plant:
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """Integrate ``n`` RK4 steps of ``dt`` s from time ``t``; raises :class:`DivergenceError`."""
-        t_new = rk4_advance(self.rhs, t, self.x, self.u, self.p, dt, n, self.work)
+        t_new = self._advance(t, self.x, self.u, self.p, dt, n, self.work, self.state_bound)
         if t_new < 0.0:
             k = int(-t_new - 1.0)
-            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict())
-        if np.max(np.abs(self.x)) > self.state_bound:
-            raise DivergenceError(t_new, self.name, self.state_dict(),
-                                  reason=f"|state| above {self.state_bound:g}")
+            finite = bool(np.all(np.isfinite(self.x)))
+            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict(),
+                                  reason=f"|state| above {self.state_bound:g}" if finite else "non-finite state")
         return t_new
 
     def state_dict(self) -> dict[str, float]:

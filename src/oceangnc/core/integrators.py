@@ -5,9 +5,17 @@ A right-hand side is a numba-compiled function ``f(t, x, u, p, out)`` that write
 hold from the discrete blocks), ``p`` the flat parameter array. :func:`rk4_advance` takes ``n``
 classical Runge-Kutta steps of size ``dt`` in place, which is the only integrator document 003 names
 ("Runge-Kutta"); it is fourth-order accurate (tested in ``tests/test_core.py``).
+
+The integrators take the right-hand side as a first-class function argument and are therefore
+compiled once per process and per right-hand side, without numba's disk cache: the cache index of
+a function taking dispatchers keeps references to every dispatcher it was specialised for, which
+breaks across processes ("underlying object has vanished"). The right-hand sides themselves are
+cached.
 """
 
 from __future__ import annotations
+
+import functools
 
 import numpy as np
 from numba import njit
@@ -18,7 +26,7 @@ def rk4_workspace(n_states: int) -> np.ndarray:
     return np.zeros((5, n_states))
 
 
-@njit(cache=True)
+@njit(cache=False)  # no disk cache: its index would hold references to every rhs it met (see below)
 def rk4_advance(f, t, x, u, p, dt, n, work):
     """Advance ``x`` in place by ``n`` RK4 steps of ``dt`` seconds; returns the new time (s).
 
@@ -53,7 +61,7 @@ def rk4_advance(f, t, x, u, p, dt, n, work):
     return t
 
 
-@njit(cache=True)
+@njit(cache=False)
 def euler_advance(f, t, x, u, p, dt, n, work):
     """Advance ``x`` in place by ``n`` explicit Euler steps (first order; for convergence tests)."""
     k1 = work[0]
@@ -64,3 +72,45 @@ def euler_advance(f, t, x, u, p, dt, n, work):
             x[i] += dt * k1[i]
         t += dt
     return t
+
+
+@functools.lru_cache(maxsize=None)
+def rk4_stepper(rhs):
+    """A compiled ``advance(t, x, u, p, dt, n, work, bound)`` specialised to one right-hand side.
+
+    Same scheme as :func:`rk4_advance`, but with ``rhs`` bound at compile time, so a call costs a
+    plain numba dispatch (passing a function as an argument costs ~25 us per call in numba's type
+    machinery). Returns the new time, or ``-1 - k`` when step ``k`` produced a non-finite state or
+    a component above ``bound`` in magnitude. Built once per process and right-hand side.
+    """
+
+    @njit(cache=False)
+    def advance(t, x, u, p, dt, n, work, bound):
+        k1 = work[0]
+        k2 = work[1]
+        k3 = work[2]
+        k4 = work[3]
+        xt = work[4]
+        m = x.size
+        for s in range(n):
+            rhs(t, x, u, p, k1)
+            for i in range(m):
+                xt[i] = x[i] + 0.5 * dt * k1[i]
+            rhs(t + 0.5 * dt, xt, u, p, k2)
+            for i in range(m):
+                xt[i] = x[i] + 0.5 * dt * k2[i]
+            rhs(t + 0.5 * dt, xt, u, p, k3)
+            for i in range(m):
+                xt[i] = x[i] + dt * k3[i]
+            rhs(t + dt, xt, u, p, k4)
+            ok = True
+            for i in range(m):
+                x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+                if not (abs(x[i]) <= bound):  # also catches NaN
+                    ok = False
+            t += dt
+            if not ok:
+                return -1.0 - s
+        return t
+
+    return advance
