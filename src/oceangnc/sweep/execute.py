@@ -13,8 +13,9 @@
   atomically after every batch of completions. A run that raises (``ConfigError``,
   ``DivergenceError``, anything) becomes a row with ``status`` ``diverged`` or ``failed`` and its error;
   the sweep goes on. A task lost with its worker is recorded the same way.
-* Numba-compiled functions are loaded from the on-disk cache (``cache=True``) once per worker
-  process, so each worker's first run is slower; ``wall_time_s`` of those rows includes it.
+* Numba-compiled functions are compiled (or loaded from numba's on-disk cache) once per worker
+  process, so each worker's first run is slower; ``wall_time_s`` of those rows includes it. Workers
+  are long-lived processes, so that cost is paid once per worker, not once per run.
 """
 
 from __future__ import annotations
@@ -79,21 +80,6 @@ def run_one(task: dict) -> dict:
                 "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
                 "out_dir": str(out_dir) if task.get("keep", True) else ""})
     return row
-
-
-def warm_up(scenario: str, overrides: dict | None = None) -> float:
-    """Run ``scenario`` briefly (no output kept) to load numba code in this process; returns s taken."""
-    import tempfile
-
-    from .. import api
-
-    t0 = time.perf_counter()
-    with tempfile.TemporaryDirectory() as d:
-        try:
-            api.run(scenario, overrides=overrides, out=d, plots=False)
-        except Exception:  # noqa: BLE001 - warming up is best effort
-            pass
-    return time.perf_counter() - t0
 
 
 def validate_design(design: Design) -> list[RunSpec]:
@@ -192,7 +178,7 @@ def _start_client(workers: int, scheduler: str | None):
 
 def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str | None = None,
               resume: bool = False, retry_failed: bool = False, plots: bool = False, keep: bool = True,
-              progress: bool = True, warm: bool = False) -> SweepResult:
+              progress: bool = True) -> SweepResult:
     """Validate, then run every run of ``design`` not yet in ``out``'s table; see the module docstring.
 
     Parameters
@@ -212,8 +198,6 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
         Draw each run's PNG plots; keep each run's folder (log, summary, config).
     progress : bool
         tqdm progress bar (runs done, failed, estimated time left) on stderr.
-    warm : bool
-        Before timing, load the scenario's compiled code once in every worker (benchmarks).
     """
     t_start = time.perf_counter()
     if scheduler is None and not 0 <= workers <= 512:
@@ -254,12 +238,10 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
 
     try:
         if todo and scheduler is None and workers == 0:
-            if warm:
-                warm_up(design.scenario, {**design.fixed, "sim.duration": 0.1})
             for r in todo:
                 record([run_one(task(r))])
         elif todo:
-            _run_dask(todo, task, record, workers, scheduler, design if warm else None)
+            _run_dask(todo, task, record, workers, scheduler)
     finally:
         if bar is not None:
             bar.close()
@@ -268,14 +250,12 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
     return SweepResult(out, table.frame(), executed, skipped, time.perf_counter() - t_start)
 
 
-def _run_dask(todo, task, record, workers, scheduler, warm_design) -> None:
+def _run_dask(todo, task, record, workers, scheduler) -> None:
     from distributed import as_completed
 
     client, cluster = _start_client(workers, scheduler)
     futures = []
     try:
-        if warm_design is not None:
-            client.run(warm_up, warm_design.scenario, {**warm_design.fixed, "sim.duration": 0.1})
         by_key = {}
         token = uuid.uuid4().hex[:8]  # task keys unique to this call, even on a shared cluster
         for r in todo:
