@@ -1,0 +1,210 @@
+"""First-order USV model of document 000: speed and yaw-rate lags with speed-dependent coefficients.
+
+Equations (000_709eacce50bfa23e.txt eq. 8 and 15) and the kinematics of eq. 1 without sway
+(the identified model has no sway state)::
+
+    T_v(u) u' + u = K_v(u) delta_T          speed u (m/s), shaft speed delta_T (rev/min)
+    T_r(u) r' + r = K_r(u) delta_S          yaw rate r (rad/s), rudder delta_S (rad)
+    x' = u cos(psi),  y' = u sin(psi),  psi' = r      (NED)
+
+Coefficients (000 table 2, least squares over 9 straight and 6 turning sea trials)::
+
+    K_v = 0.0004 u + 0.0014   (m/s)/rpm        T_v = 1.1737 u - 2.2474   s
+    K_r = -0.0113 u + 0.7176  1/s              T_r = -0.1534 u + 2.6341  s
+
+Units. K_v is per rev/min, as the paper's delta_T [rpm] (nomenclature). K_r is a rate ratio in 1/s:
+it assumes delta_S in rad with r in rad/s (identically, delta_S in deg with r in deg/s). With
+delta_S in deg and r in rad/s it would be 57.3 times smaller; at 6 m/s and 10 deg of rudder our
+reading gives r = 6.5 deg/s (a 53 m turning radius), which fits a fast ~10 m USV, while the other
+reading would give 0.11 deg/s (a 3 km circle), so the rad/rad reading is the one the trials support.
+
+Clamping the schedule (SPEC.md 000 notes). The laws are only valid over the trial ranges,
+4.87-16.02 m/s straight (K_v, T_v) and 4.02-8.74 m/s turning (K_r, T_r). T_v would be negative
+below 1.915 m/s (an unstable model), yet the paper's figs 18 and 21 start from rest. We therefore
+evaluate each coefficient at the speed clipped to its trial range, ``f(clip(u, lo, hi))``: from rest
+the boat accelerates with T_v(4.87) = 3.47 s and K_v(4.87) = 0.00335 (m/s)/rpm, and above the range
+the last identified values are held. The plant publishes ``usv.schedule_clamped`` (1 while the
+speed is outside either range) and warns once (``RuntimeWarning``) the first time it happens.
+
+Operating-speed variant. 000 sec. 4.1 says the model "depends on the specific speed u_0": each
+trial identifies a *linear* model at its speed. With ``schedule = "operating"`` the coefficients are
+evaluated at an operating speed read from the bus (``usv.u_op``, e.g. a trial's target speed), so
+the plant is exactly that linear model; with the default ``"speed"`` they follow the instantaneous
+speed, which makes the speed loop nonlinear (near equilibrium its time constant is
+T_v / (1 - 0.0004 delta_T), about 4 T_v at 12 m/s) and a straight run from rest is then no
+longer a first-order lag with T_v(U).
+
+State ``x = [x_n, y_e, psi, u, r]`` (m, m, rad, m/s, rad/s); inputs ``[usv.rpm, usv.delta_s, usv.u_op]``
+(rev/min, rad, m/s); parameters :data:`P_NAMES`.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+from numba import njit
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ..core.blocks import Block, Plant
+from ..io.config import StrictModel
+
+VEHICLE = "usv-first-order"
+STATE_NAMES = ("x", "y", "psi", "u", "r")
+INPUT_NAMES = ("usv.rpm", "usv.delta_s", "usv.u_op")
+P_NAMES = ("kv_slope", "kv_intercept", "tv_slope", "tv_intercept", "kr_slope", "kr_intercept", "tr_slope",
+           "tr_intercept", "straight_lo", "straight_hi", "turn_lo", "turn_hi", "use_operating_speed")
+
+
+class FirstOrderConfig(StrictModel):
+    """The first-order USV (000 table 2) and its actuator limits and initial state."""
+
+    kv_slope: float = Field(0.0004, ge=-1.0, le=1.0, description="K_v = kv_slope u + kv_intercept: slope, (m/s)/rpm per m/s")
+    kv_intercept: float = Field(0.0014, ge=-1.0, le=1.0, description="K_v intercept, (m/s)/rpm")
+    tv_slope: float = Field(1.1737, ge=-100, le=100, description="T_v = tv_slope u + tv_intercept: slope, s per m/s")
+    tv_intercept: float = Field(-2.2474, ge=-1000, le=1000, description="T_v intercept, s")
+    kr_slope: float = Field(-0.0113, ge=-10, le=10, description="K_r = kr_slope u + kr_intercept: slope, 1/s per m/s")
+    kr_intercept: float = Field(0.7176, ge=-10, le=10, description="K_r intercept (delta_S in rad, r in rad/s), 1/s")
+    tr_slope: float = Field(-0.1534, ge=-100, le=100, description="T_r = tr_slope u + tr_intercept: slope, s per m/s")
+    tr_intercept: float = Field(2.6341, ge=-1000, le=1000, description="T_r intercept, s")
+    straight_lo_mps: float = Field(4.87, ge=0, le=100, description="lowest speed of the straight trials, m/s")
+    straight_hi_mps: float = Field(16.02, ge=0, le=100, description="highest speed of the straight trials, m/s")
+    turn_lo_mps: float = Field(4.02, ge=0, le=100, description="lowest speed of the turning trials, m/s")
+    turn_hi_mps: float = Field(8.74, ge=0, le=100, description="highest speed of the turning trials, m/s")
+    rudder_limit_deg: float = Field(35.0, gt=0, le=90, description="rudder angle limit, deg")
+    schedule: Literal["speed", "operating"] = Field(
+        "speed", description="coefficients at the instantaneous speed ('speed') or at the operating speed u_0 "
+                             "read from the bus key usv.u_op ('operating', the linear model of a trial)")
+    rpm_max: float = Field(2100.0, gt=0, le=1e5, description="largest shaft speed, rpm")
+    rpm_min: float = Field(0.0, ge=0, le=1e5, description="smallest shaft speed (no reverse), rpm")
+    x0: float = Field(0.0, ge=-1e7, le=1e7, description="initial north position, m")
+    y0: float = Field(0.0, ge=-1e7, le=1e7, description="initial east position, m")
+    psi0_deg: float = Field(0.0, ge=-360, le=360, description="initial heading, deg")
+    u0: float = Field(0.0, ge=0, le=50, description="initial speed, m/s")
+    r0_degps: float = Field(0.0, ge=-90, le=90, description="initial yaw rate, deg/s")
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.straight_lo_mps > self.straight_hi_mps:
+            raise ValueError("straight_lo_mps must be <= straight_hi_mps")
+        if self.turn_lo_mps > self.turn_hi_mps:
+            raise ValueError("turn_lo_mps must be <= turn_hi_mps")
+        if self.rpm_min > self.rpm_max:
+            raise ValueError("rpm_min must be <= rpm_max")
+        for name, lo, hi in (("T_v", self.straight_lo_mps, self.straight_hi_mps),
+                             ("T_r", self.turn_lo_mps, self.turn_hi_mps)):
+            for u in (lo, hi):
+                T = self.coefficients(u)[name]
+                if not T > 0.0:
+                    raise ValueError(f"{name}({u:g} m/s) = {T:.4g} s: time constants must be > 0 over the trial range")
+        return self
+
+    def params(self) -> np.ndarray:
+        """Flat parameter array in the layout of :data:`P_NAMES`."""
+        return np.array([self.kv_slope, self.kv_intercept, self.tv_slope, self.tv_intercept, self.kr_slope,
+                         self.kr_intercept, self.tr_slope, self.tr_intercept, self.straight_lo_mps,
+                         self.straight_hi_mps, self.turn_lo_mps, self.turn_hi_mps,
+                         1.0 if self.schedule == "operating" else 0.0])
+
+    def coefficients(self, u: float) -> dict:
+        """K_v ((m/s)/rpm), T_v (s), K_r (1/s), T_r (s) at speed ``u`` (m/s), with the clamped schedule."""
+        kv, tv, kr, tr = schedule(float(u), self.params())
+        return {"K_v": kv, "T_v": tv, "K_r": kr, "T_r": tr}
+
+    def trim_rpm(self, u: float) -> float:
+        """Shaft speed (rpm) holding the steady speed ``u`` (m/s): u = K_v(u) n."""
+        return float(u) / self.coefficients(u)["K_v"]
+
+    def max_dt(self) -> float:
+        """RK4 stability limit (s): 2.5 times the smallest time constant over the trial ranges."""
+        ts = [self.coefficients(u)[k] for u in (self.straight_lo_mps, self.straight_hi_mps, self.turn_lo_mps,
+                                                self.turn_hi_mps) for k in ("T_v", "T_r")]
+        return 2.5 * min(ts)
+
+
+@njit(cache=True)
+def schedule(u, p):
+    """(K_v, T_v, K_r, T_r) at speed ``u`` (m/s), each law evaluated at u clipped to its trial range."""
+    us = min(max(u, p[8]), p[9])
+    ut = min(max(u, p[10]), p[11])
+    return (p[0] * us + p[1], p[2] * us + p[3], p[4] * ut + p[5], p[6] * ut + p[7])
+
+
+@njit(cache=True)
+def first_order_rhs(t, x, u, p, out):
+    """dx/dt of the first-order USV (000 eq. 8, 15 and 1); layouts in the module docstring."""
+    psi = x[2]
+    uu = x[3]
+    r = x[4]
+    kv, tv, kr, tr = schedule(u[2] if p[12] > 0.5 else uu, p)
+    out[0] = uu * math.cos(psi)
+    out[1] = uu * math.sin(psi)
+    out[2] = r
+    out[3] = (kv * u[0] - uu) / tv
+    out[4] = (kr * u[1] - r) / tr
+
+
+class FirstOrderUSV(Plant):
+    """The first-order USV as a plant; publishes ``usv.<x,y,psi,u,r>``, ``usv.speed``, ``usv.schedule_clamped``.
+
+    ``usv.psi`` is wrapped to (-pi, pi]. A ``RuntimeWarning`` is issued once per plant the first time
+    the speed leaves a trial range (the coefficients are then held at the range's end).
+    """
+
+    def __init__(self, cfg: FirstOrderConfig, name: str = "usv"):
+        x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, math.radians(cfg.r0_degps)])
+        inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
+        super().__init__(name, first_order_rhs, x0, cfg.params(), STATE_NAMES, inputs, max_dt=cfg.max_dt())
+        self.cfg = cfg
+        self._warned = False
+
+    def publish(self, bus: dict) -> None:
+        super().publish(bus)
+        x = self.x
+        c = self.cfg
+        bus[f"{self.name}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
+        bus[f"{self.name}.speed"] = float(abs(x[3]))
+        u = float(x[3])
+        if c.schedule == "operating":
+            u = bus.get(f"{self.name}.u_op", u)
+        out = not (c.straight_lo_mps <= u <= c.straight_hi_mps and c.turn_lo_mps <= u <= c.turn_hi_mps)
+        bus[f"{self.name}.schedule_clamped"] = 1.0 if out else 0.0
+        if out and not self._warned:
+            self._warned = True
+            warnings.warn(f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
+                          f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
+                          f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends", RuntimeWarning,
+                          stacklevel=2)
+
+
+class FirstOrderActuators(Block):
+    """Rudder and engine: commands -> saturated inputs of the first-order USV.
+
+    Reads ``usv.delta_s_cmd`` (rad) and ``usv.rpm_cmd`` (rev/min); writes ``usv.delta_s`` limited to
+    +-``rudder_limit_deg`` and ``usv.rpm`` limited to [rpm_min, rpm_max]; also ``usv.delta_s_deg``
+    for plots. An emergency stop (``_estop``) zeroes both.
+    """
+
+    name = "usv_actuators"
+
+    def __init__(self, cfg: FirstOrderConfig, period: float = 0.05, body: str = "usv"):
+        self.period = float(period)
+        self.body = body
+        self.dmax = math.radians(cfg.rudder_limit_deg)
+        self.nmin = cfg.rpm_min
+        self.nmax = cfg.rpm_max
+
+    def step(self, t: float, bus: dict) -> None:
+        b = self.body
+        d = bus.get(f"{b}.delta_s_cmd", 0.0)
+        n = bus.get(f"{b}.rpm_cmd", 0.0)
+        if bus.get("_estop", False):
+            d, n = 0.0, 0.0
+        d = min(self.dmax, max(-self.dmax, d))
+        n = min(self.nmax, max(self.nmin, n))
+        bus[f"{b}.delta_s"] = d
+        bus[f"{b}.rpm"] = n
+        bus[f"{b}.delta_s_deg"] = math.degrees(d)

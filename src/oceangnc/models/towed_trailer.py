@@ -1,0 +1,134 @@
+"""Towed UUV as a trailer of the USV (document 000 eq. 2-7, tractor-trailer model).
+
+Assumptions of 000 sec. 2.1: planar motion, taut cable of length L, the UUV's heading equal to the
+cable's direction. With phi = psi_UUV - psi_USV (000 eq. 5)::
+
+    u_UUV = u_USV cos(phi)                          (000 eq. 3)
+    r_UUV = -u_USV sin(phi) / L                     (000 eq. 4)
+    phi'  = r_UUV - r_USV = -u_USV sin(phi)/L - r_USV   (000 eq. 6-7; the printed (7) lost the minus)
+
+and the UUV sits a cable length behind the USV along its own heading,
+``p_UUV = p_USV - L (cos psi_UUV, sin psi_UUV)`` (NED), which is consistent with (3)-(4): the
+UUV then moves along its heading at u_USV cos(phi) with no sideslip. Eq. 2's rotation matrix is the
+standard planar one (the printed second row has a sign misprint).
+
+The plant integrates the UUV heading ``psi_UUV' = -u_USV sin(psi_UUV - psi_USV) / L`` (the same
+equation as (7), but without the Dirac that a jump of psi_USV would put into r_USV), reading the
+USV's ``u``, ``psi`` from the bus, and publishes the UUV's position, heading, speed and phi.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..core.blocks import Plant
+
+
+@njit(cache=True)
+def trailer_rates(u_usv, r_usv, phi, L):
+    """(u_UUV, r_UUV, phi') from the USV's surge speed (m/s), yaw rate (rad/s), phi (rad), L (m); 000 eq. 3-7."""
+    r_uuv = -u_usv * math.sin(phi) / L
+    return u_usv * math.cos(phi), r_uuv, r_uuv - r_usv
+
+
+@njit(cache=True)
+def trailer_rhs(t, x, u, p, out):
+    """d psi_UUV/dt; x = [psi_UUV], u = [u_USV (m/s), psi_USV (rad)], p = [L (m)]."""
+    out[0] = -u[0] * math.sin(x[0] - u[1]) / p[0]
+
+
+@njit(cache=True)
+def _interp(tq, t, y):
+    n = t.size
+    if tq <= t[0]:
+        return y[0]
+    if tq >= t[n - 1]:
+        return y[n - 1]
+    lo = 0
+    hi = n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if t[mid] <= tq:
+            lo = mid
+        else:
+            hi = mid
+    w = (tq - t[lo]) / (t[hi] - t[lo])
+    return y[lo] + w * (y[hi] - y[lo])
+
+
+@njit(cache=True)
+def simulate_trailer(t, u_usv, psi_usv, L, psi_uuv0, substeps):
+    """UUV heading history (rad) driven by a sampled USV motion (RK4, inputs linearly interpolated).
+
+    ``psi_usv`` must be unwrapped (continuous, jumps allowed). Returns psi_UUV at the times ``t``.
+    """
+    n = t.size
+    out = np.empty(n)
+    x = psi_uuv0
+    out[0] = x
+    for k in range(n - 1):
+        h = (t[k + 1] - t[k]) / substeps
+        tk = t[k]
+        for s in range(substeps):
+            ta = tk + s * h
+            tb = ta + 0.5 * h
+            tc = ta + h
+            ua, pa = _interp(ta, t, u_usv), _interp(ta, t, psi_usv)
+            ub, pb = _interp(tb, t, u_usv), _interp(tb, t, psi_usv)
+            uc, pc = _interp(tc, t, u_usv), _interp(tc, t, psi_usv)
+            k1 = -ua * math.sin(x - pa) / L
+            k2 = -ub * math.sin(x + 0.5 * h * k1 - pb) / L
+            k3 = -ub * math.sin(x + 0.5 * h * k2 - pb) / L
+            k4 = -uc * math.sin(x + h * k3 - pc) / L
+            x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        out[k + 1] = x
+    return out
+
+
+def uuv_position(x_usv, y_usv, psi_uuv, L):
+    """UUV position (m, NED) a cable length behind the USV along the UUV heading (arrays or floats)."""
+    return x_usv - L * np.cos(psi_uuv), y_usv - L * np.sin(psi_uuv)
+
+
+class TowedTrailer(Plant):
+    """The towed UUV as a trailer plant (000 eq. 2-7).
+
+    State ``[psi]`` (UUV heading, rad, unwrapped); inputs ``<usv>.u`` (m/s) and ``<usv>.psi_unwrapped``
+    (rad; a USV plant publishing only the wrapped heading is handled by unwrapping here). Publishes
+    ``uuv.x``, ``uuv.y`` (m), ``uuv.psi`` (wrapped), ``uuv.u`` (m/s), ``uuv.r`` (rad/s) and ``uuv.phi``
+    (psi_UUV - psi_USV, rad, wrapped). The USV must be published on the bus before this plant
+    (list it after the USV plant).
+    """
+
+    def __init__(self, cable_length: float, psi0: float = 0.0, name: str = "uuv", usv: str = "usv"):
+        if not cable_length > 0:
+            raise ValueError(f"cable length must be > 0 m, got {cable_length}")
+        self.usv = usv
+        self.L = float(cable_length)
+        super().__init__(name, trailer_rhs, np.array([psi0]), np.array([self.L]), ["psi"],
+                         [f"{usv}.u", f"_{usv}.psi_cont"])
+
+    def read_inputs(self, bus: dict) -> None:
+        self.u[0] = bus.get(f"{self.usv}.u", 0.0)
+        psi = bus.get(f"{self.usv}.psi", 0.0)
+        # bring the USV heading within pi of the UUV heading (the sine is 2 pi periodic anyway)
+        self.u[1] = self.x[0] + ((psi - self.x[0] + math.pi) % (2 * math.pi) - math.pi)
+
+    def publish(self, bus: dict) -> None:
+        psi = float(self.x[0])
+        xs = bus.get(f"{self.usv}.x", 0.0)
+        ys = bus.get(f"{self.usv}.y", 0.0)
+        us = bus.get(f"{self.usv}.u", 0.0)
+        rs = bus.get(f"{self.usv}.r", 0.0)
+        phi = (psi - bus.get(f"{self.usv}.psi", 0.0) + math.pi) % (2 * math.pi) - math.pi
+        uu, ru, _ = trailer_rates(us, rs, phi, self.L)
+        n = self.name
+        bus[f"{n}.x"] = xs - self.L * math.cos(psi)
+        bus[f"{n}.y"] = ys - self.L * math.sin(psi)
+        bus[f"{n}.psi"] = (psi + math.pi) % (2 * math.pi) - math.pi
+        bus[f"{n}.u"] = uu
+        bus[f"{n}.r"] = ru
+        bus[f"{n}.phi"] = phi
