@@ -7,14 +7,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend, imported on first use (it costs ~1 s at start-up)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
 
 
 def _save(fig, path: Path) -> Path:
+    plt = pyplot()
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -23,6 +30,7 @@ def _save(fig, path: Path) -> Path:
 
 def plot_track(df, bodies: list[str], path: Path, title: str = "", waypoints=None, extra=None) -> Path:
     """Plan view of the bodies' tracks (east right, north up), with optional waypoints (N, E)."""
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 6))
     for b in bodies:
         if f"{b}.x" in df and f"{b}.y" in df:
@@ -45,6 +53,7 @@ def plot_track(df, bodies: list[str], path: Path, title: str = "", waypoints=Non
 
 def plot_signals(df, groups: list[tuple[str, list[tuple[str, str, float]]]], path: Path, title: str = "") -> Path:
     """Stacked time plots. ``groups`` = [(ylabel, [(column, label, scale), ...]), ...]."""
+    plt = pyplot()
     groups = [(lab, [c for c in cols if c[0] in df]) for lab, cols in groups]
     groups = [g for g in groups if g[1]]
     if not groups:
