@@ -177,3 +177,35 @@ def test_existing_folder_needs_resume(gusty_sweep, capsys):
     assert rc == 0 and "2 run(s) done now, 6 already in the table" in out
     t = read_results(gusty_sweep.out_dir)
     assert len(t) == 8 and t["run_id"].is_unique and sorted(t["seed"].unique()) == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize("dist", ["uniform(0,1)", "loguniform(0.01,1)", "normal(0,1)", "randint(0,9)",
+                                  "choice(\"a\",\"b\",\"c\")"])
+def test_fewer_samples_are_the_first_draws_of_more(dist):
+    """N draws are the first N of a longer series (a sweep can be extended with --samples)."""
+    from oceangnc.sweep.design import Design, parse_random
+
+    def draws(n):
+        return [p["k.x"] for p in Design("usv-turn", random=parse_random({"k.x": dist}), samples=n).points()]
+
+    assert draws(7) == draws(50)[:7]
+
+
+def test_random_sweep_report_and_resume_guard(tmp_path, capsys):
+    """Monte Carlo: 24 draws, in-process; the report bins the draws; --resume refuses another config."""
+    out = tmp_path / "mc"
+    base = ["sweep", "usv-turn-current", "--random", "environment.current.direction_deg=uniform(0,360)",
+            "--random", "command.mode=choice(\"thrust\")", "--samples", "24", "--duration", "2",
+            "--workers", "0", "--quiet", "--out", str(out)]
+    assert main(base) == 0
+    t = read_results(out)
+    assert len(t) == 24 and t["point_id"].nunique() == 24 and (t["param.command.mode"] == "thrust").all()
+    assert main(["sweep-report", str(out), "--quiet"]) == 0
+    pts = pd.read_csv(out / "report" / "points.csv")
+    assert len(pts) == 24 and (pts["usv.turn_radius_m.n"] == 1).all() and pts["usv.turn_radius_m.std"].isna().all()
+    assert (out / "report" / "usv.turn_radius_m.png").exists()
+    capsys.readouterr()
+    assert main([*base[:-2], "--out", str(out), "--resume", "--duration", "3"]) == 2
+    assert "--resume needs the same command" in capsys.readouterr().err
+    assert main(["sweep-report", str(tmp_path / "nothing")]) == 2
+    assert "no sweep results table" in capsys.readouterr().err
