@@ -347,3 +347,38 @@ def test_cli_rejects_bad_options(capsys):
     assert "--host" in capsys.readouterr().err
     assert main(["console", "no-such-scenario"]) == 2
     assert "unknown scenario 'no-such-scenario'" in capsys.readouterr().err
+
+
+# -- other scenarios through the shared bus protocol ------------------------------------------------------
+
+
+def test_usv_remote_offline_autopilot_completes_the_route(tmp_path):
+    """``oceangnc run usv-remote``: the pure-pursuit autopilot goes round the 50 m square."""
+    from oceangnc.api import run
+
+    res = run("usv-remote", duration=300.0, plots=False, out=tmp_path)
+    assert res.summary["guidance.waypoints_reached"] == 4
+    assert res.summary["guidance.cross_track_rms_m"] < 1.0
+    df = res.df
+    assert math.hypot(df["usv.x"].iloc[-1], df["usv.y"].iloc[-1]) < 4.0  # back at the start corner
+
+
+def test_berthing_pilot_is_silenced_in_remote_mode(tmp_path):
+    """berthing-dock: in auto the scripted pilot holds the stick; in remote the console's stick wins."""
+    pytest.importorskip("oceangnc.scenarios.berthing", reason="berthing scenarios not present")
+    clk = FakeClock()
+    s = Session("berthing-dock", out_root=tmp_path, clock=clk, write_log=False, speed=10.0)
+    s.clients = 1
+    s.fake = clk
+    try:
+        advance(s, 3.0)  # 30 s of ship time, scripted pilot
+        assert s.sim.bus["joystick.surge"] > 0.1  # the pilot's cruise stick
+        send(s, type="mode", mode="remote")
+        advance(s, 3.0, stick=(-0.5, 0.25))
+        assert s.sim.bus["joystick.surge"] == -0.5 and s.sim.bus["joystick.yaw"] == 0.25
+        assert s.sim.bus["joystick.surge_f"] < 0  # the joystick filter (001 eq. 26) sees it
+        polys = {p["name"] for p in s.view["polylines"]}
+        assert {"quay", "berth"} <= polys and len(s.view["route"]) == 3
+        assert s.view["bodies"][0]["length"] == s.cfg.ship.length
+    finally:
+        s.stop()

@@ -188,6 +188,7 @@ class Session:
             raise InputError(f"scenario {name} has no live simulation; live scenarios: "
                              f"{', '.join(self.live_scenarios())}")
         sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+        gate_pilots(sim)
         self._close_run()
         run_dir = None
         writer = None
@@ -272,6 +273,7 @@ class Session:
             "tick_s": self.tick_s, "log_dir": str(self.run_dir) if self.run_dir else None,
             "tracks": {k: [list(p) for p in v] for k, v in self.tracks.items()},
             "station_keep": self.station_keep,
+            "loop_switch": bool(getattr(self.scenario, "console_loop_switch", False)),
         }
 
     def hello_message(self) -> dict:
@@ -418,11 +420,16 @@ class Session:
                 self._clear_failsafe("link restored and stick centred")
 
     def _push_bus(self) -> None:
-        surge, yaw = (0.0, 0.0) if (self.failsafe or self.estop) else self.stick
+        """Write the console's keys; the stick only in remote mode (in auto a scenario's own pilot may
+        write ``joystick.*``, as the scripted berthing pilot does)."""
         estop_bus = self.estop or (self.failsafe and not self.station_keep)
-        self.sim.inject({"console.mode": self.mode, "console.loop": self.loop, "joystick.surge": surge,
-                         "joystick.yaw": yaw, "_estop": estop_bus, "console.failsafe": float(self.failsafe),
-                         "console.estop": float(self.estop)})
+        vals = {"console.mode": self.mode, "console.loop": self.loop, "_estop": estop_bus,
+                "console.failsafe": float(self.failsafe), "console.estop": float(self.estop)}
+        if self.mode == "remote":
+            surge, yaw = (0.0, 0.0) if (self.failsafe or self.estop) else self.stick
+            vals["joystick.surge"] = surge
+            vals["joystick.yaw"] = yaw
+        self.sim.inject(vals)
 
     # -- the loop ------------------------------------------------------------------------------------------
     def step_once(self) -> None:
@@ -531,6 +538,39 @@ class Session:
                 w.append(t[i], {c: data[c][i] for c in cols})
             w.close()
             return p.read_bytes(), name
+
+
+class _RemoteGate:
+    """Wraps a scenario's own pilot block (one that writes ``joystick.*``): it is silent while
+    ``console.mode == "remote"``, so that the operator's stick, not the pilot's, reaches the vehicle."""
+
+    def __init__(self, block):
+        self.block = block
+        self.name = block.name
+        self.period = block.period
+
+    def reset(self, rng) -> None:
+        self.block.reset(rng)
+
+    def step(self, t: float, bus: dict) -> None:
+        if bus.get("console.mode") != "remote":
+            self.block.step(t, bus)
+
+    def __getattr__(self, item):
+        return getattr(self.block, item)
+
+
+def gate_pilots(sim) -> int:
+    """Gate the pilot blocks of a built simulation (see :class:`_RemoteGate`); returns how many.
+
+    A pilot block is one flagged ``console_pilot = True`` or the scripted berthing pilot.
+    """
+    n = 0
+    for i, b in enumerate(sim.blocks):
+        if getattr(b, "console_pilot", False) or type(b).__name__ == "ScriptedPilot":
+            sim.blocks[i] = _RemoteGate(b)
+            n += 1
+    return n
 
 
 def _builds(sc) -> bool:

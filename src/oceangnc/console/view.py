@@ -52,6 +52,13 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
                     length = 2.0 if shape != "ship" else 100.0
                     bodies.append({"name": p, "label": p.upper(), "length": length, "beam": length / 3,
                                    "shape": shape})
+        for b in bodies:  # dimensions from the body's config section when it has them
+            bc = getattr(cfg, b["name"], None)
+            length = getattr(bc, "length_oa", None) or getattr(bc, "length", None)
+            beam = getattr(bc, "beam", None) or getattr(bc, "diameter", None)
+            if length:
+                b["length"] = float(length)
+                b["beam"] = float(beam) if beam else float(length) / 3
         view["bodies"] = bodies
     if "route" not in view:
         wps = getattr(getattr(cfg, "guidance", None), "waypoints", None)
@@ -64,14 +71,7 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
                 geo = fn(cfg) or {}
             except Exception:
                 geo = {}
-            for name, pts in geo.items():
-                try:
-                    pts = [[float(p[0]), float(p[1])] for p in pts]
-                except (TypeError, ValueError, IndexError):
-                    continue
-                style = "berth" if "berth" in name else ("channel" if "channel" in name or "bank" in name
-                                                         else "shore")
-                polys.append({"name": name, "points": pts, "style": style})
+            polys.extend(_geometry_polylines(geo, view))
     view["polylines"] = polys
     if "cable" not in view:
         xs = sorted((k for k in keys if re.fullmatch(r"cable\.x\d+", k)), key=lambda s: int(s[7:]))
@@ -79,19 +79,7 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
             idx = [k[7:] for k in xs]
             view["cable"] = {"x": xs, "y": [f"cable.y{i}" for i in idx], "z": [f"cable.z{i}" for i in idx]}
     if "gauges" not in view:
-        gauges = []
-        for k in keys:
-            leaf = k.split(".", 1)[-1]
-            if leaf.endswith("_cmd") or leaf.endswith("_d"):
-                continue
-            if "thrust" in leaf:
-                gauges.append({"key": k, "label": k, "unit": "kgf", "scale": 1 / KGF, "min": -40, "max": 40})
-            elif "rudder" in leaf or leaf == "delta":
-                gauges.append({"key": k, "label": k, "unit": "deg", "scale": 180 / math.pi, "min": -35, "max": 35})
-            elif leaf in ("n", "rpm", "n_prop", "prop_rpm") or "rpm" in leaf:
-                gauges.append({"key": k, "label": k, "unit": "rpm" if "rpm" in leaf else "rps", "scale": 1.0,
-                               "min": -200, "max": 200})
-        view["gauges"] = gauges
+        view["gauges"] = [g for g in (_gauge(k, cfg) for k in keys) if g is not None]
     if "readouts" not in view:
         ro = []
         for b in view["bodies"]:
@@ -110,3 +98,77 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
         view["sensors"] = [{"key": k, "label": k.rsplit(".", 1)[0]} for k in keys
                            if k.endswith(".valid") or k.endswith(".ok")]
     return view
+
+
+def _pts(p) -> list[list[float]] | None:
+    try:
+        out = [[float(q[0]), float(q[1])] for q in p]
+    except (TypeError, ValueError, IndexError):
+        return None
+    return out if len(out) >= 2 else None
+
+
+def _geometry_polylines(geo: dict, view: dict) -> list[dict]:
+    """Polylines from a scenario's ``geometry(cfg)`` (berthing: route, banks, quay, berth, ship)."""
+    polys = []
+    for name, val in geo.items():
+        if name == "route":
+            pts = _pts(val)
+            if pts and not view.get("route"):
+                view["route"] = pts
+            continue
+        if name == "banks":
+            for i, bank in enumerate(val or []):
+                pts = _pts(bank)
+                if pts:
+                    polys.append({"name": f"bank {i}", "points": pts, "style": "channel"})
+            continue
+        if name == "quay":
+            pts = _pts(val)
+            if pts:
+                polys.append({"name": "quay", "points": pts, "style": "shore"})
+            continue
+        pts = _pts(val)
+        if pts:
+            style = "berth" if "berth" in name else ("channel" if "channel" in name or "bank" in name else "shore")
+            polys.append({"name": name, "points": pts, "style": style})
+    ship = geo.get("ship") if isinstance(geo.get("ship"), dict) else None
+    berth = geo.get("berth")
+    if ship:
+        for b in view.get("bodies", []):
+            if b["name"] == "ship":
+                b["length"], b["beam"] = float(ship["length"]), float(ship["beam"])
+    if ship and isinstance(berth, (list, tuple)) and len(berth) == 2:
+        # the berth: the ship's outline where it should end up, at the berth heading
+        L, B = float(ship["length"]), float(ship["beam"])
+        h = math.radians(float(geo.get("berth_heading_deg", 0.0)))
+        c, s = math.cos(h), math.sin(h)
+        n0, e0 = float(berth[0]), float(berth[1])
+        box = [(L / 2, -B / 2), (L / 2, B / 2), (-L / 2, B / 2), (-L / 2, -B / 2), (L / 2, -B / 2)]
+        polys.append({"name": "berth", "style": "berth",
+                      "points": [[n0 + x * c - y * s, e0 + x * s + y * c] for x, y in box]})
+    return polys
+
+
+def _gauge(key: str, cfg) -> dict | None:
+    """An actuator gauge for a bus key naming thrust, rudder or shaft speed; ranges from the body's
+    config section (``max_thrust_kgf``, ``max_reverse_kgf``, ``rudder_max_deg``, ``n_max_rpm``,
+    ``thruster_rpm_max``) when it has them."""
+    if "." not in key:
+        return None
+    body, leaf = key.split(".", 1)
+    if leaf.endswith("_cmd") or leaf.endswith("_d") or "." in leaf:
+        return None
+    bc = getattr(cfg, body, None)
+    label = f"{body} {leaf.replace('_', ' ')}"
+    if leaf.startswith("thrust"):
+        hi = getattr(bc, "max_thrust_kgf", 40.0)
+        lo = -getattr(bc, "max_reverse_kgf", hi)
+        return {"key": key, "label": label, "unit": "kgf", "scale": 1 / KGF, "min": lo, "max": hi}
+    if leaf in ("rudder", "delta"):
+        m = getattr(bc, "rudder_max_deg", 35.0)
+        return {"key": key, "label": label, "unit": "deg", "scale": 180 / math.pi, "min": -m, "max": m}
+    if leaf.startswith("rpm"):
+        m = getattr(bc, "n_max_rpm", 200.0) if "prop" in leaf else getattr(bc, "thruster_rpm_max", 200.0)
+        return {"key": key, "label": label, "unit": "rpm", "scale": 1.0, "min": -m, "max": m}
+    return None

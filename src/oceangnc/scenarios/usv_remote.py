@@ -14,16 +14,18 @@ protocol):
   so that nothing has wound up when the stop is reset).
 
 Remote, closed loop: ``u_d = surge * u_max`` (``surge * u_rev`` astern) and ``r_d = yaw * r_max``.
-Autonomous: line-of-sight guidance along the legs of the route (Fossen 2011, *Handbook of Marine
-Craft Hydrodynamics and Motion Control*, sec. 10.3.2, lookahead-based steering):
+Autonomous: pure pursuit along the legs of the route (003 ch. 3.1, table 3-1, with the geometry of
+:mod:`oceangnc.guidance.pure_pursuit`): the target heading points at the look-ahead point G on the
+current leg at distance ``l`` from the vehicle (turning radius R = l^2 / (2 d), 003 eq. 3.5). The
+next waypoint is taken within the acceptance radius or past the end of the leg; the first leg starts
+where the vehicle is when the route is set (a route clicked on the console's map starts there). A
+proportional heading law gives ``r_d = sat(k_psi wrap(psi_d - psi), r_max)`` and the speed setpoint
+is the cruise speed times max(0, cos(heading error)), so the boat turns before it speeds off.
 
-    psi_d = alpha_k + atan(-e / Delta)
-
-with alpha_k the leg's direction, e the cross-track error (m, positive to starboard of the leg) and
-Delta the lookahead distance (m); the next waypoint is taken when the vehicle is within the
-acceptance radius or past the end of the leg. A proportional heading law gives
-``r_d = sat(k_psi wrap(psi_d - psi), r_max)`` and the speed setpoint is the cruise speed, reduced
-by cos of the heading error so the boat turns before it speeds off.
+003 eq. 3.6 ties the look-ahead to the minimum turning radius, l = 2 R_min; this boat alone turns
+in R_min = 0.36 m (one thruster full, the other off), so l would be 0.73 m, shorter than the boat,
+and the 5 cm GPS noise would swing the target heading by several degrees. We take l = 6 m (two
+boat lengths; about 8 s of travel at the cruise speed).
 
 Inner loops (both modes): anti-windup PIDs (003 eq. 3.10) on the surge speed and the yaw rate, with
 the steady-state feedforwards of the linear model (003 eq. 2.3): ``U_speed = d11 u_d / 2 + PID``
@@ -34,7 +36,7 @@ the steady-state feedforwards of the linear model (003 eq. 2.3): ``U_speed = d11
 A yaw to starboard needs port thrust above starboard thrust, N = (T_p - T_s) B / 2 (003 eq. 2.4).
 
 A GPS block (10 Hz, Gaussian noise, configurable outage windows) publishes ``gps.x``, ``gps.y`` and
-``gps.valid`` (0/1); the LOS guidance steers on the GPS fix and holds the last fix through an outage,
+``gps.valid`` (0/1); the guidance steers on the GPS fix and holds the last fix through an outage,
 so the console's sensor-failure lamp has something real to show.
 
 Run it offline with ``oceangnc run usv-remote`` (autonomous mode around the route), or live with
@@ -53,6 +55,7 @@ from pydantic import Field
 from ..control.pid import PID
 from ..core.blocks import Block
 from ..core.clock import Simulation
+from ..guidance.pure_pursuit import closest_point, look_ahead_point, pursuit_command
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
@@ -86,13 +89,13 @@ class RemoteConfig(StrictModel):
 
 
 class GuidanceConfig(StrictModel):
-    """Route and LOS guidance of the autonomous mode."""
+    """Route and pure-pursuit guidance of the autonomous mode."""
 
     waypoints: list[tuple[float, float]] = Field(
         [(50.0, 0.0), (50.0, 50.0), (0.0, 50.0), (0.0, 0.0)], min_length=1, max_length=200,
         description="route, list of (north, east) points, m")
     speed: float = Field(0.7, gt=0, le=5, description="cruise speed, m/s")
-    lookahead: float = Field(6.0, gt=0, le=1000, description="LOS lookahead distance Delta, m")
+    lookahead: float = Field(6.0, gt=0, le=1000, description="pure-pursuit look-ahead distance l (003 eq. 3.5), m")
     accept_radius: float = Field(3.0, gt=0, le=1000, description="waypoint acceptance radius, m")
     heading_gain: float = Field(0.8, gt=0, le=20, description="heading error -> yaw-rate setpoint gain k_psi, 1/s")
 
@@ -152,7 +155,7 @@ class GPSSensor(Block):
 
 
 class USVPilot(Block):
-    """Remote (stick) or autonomous (LOS) guidance, speed / yaw-rate PIDs and 003 eq. 3.11 mixing.
+    """Remote (stick) or autonomous (pure-pursuit) guidance, speed / yaw-rate PIDs and 003 eq. 3.11 mixing.
 
     Writes ``usv.thrust_port_cmd`` / ``usv.thrust_stbd_cmd`` (N), the setpoints ``usv.u_d`` (m/s)
     and ``usv.r_d`` (rad/s), and ``guidance.psi_d`` (rad), ``guidance.cross_track`` (m),
@@ -191,7 +194,7 @@ class USVPilot(Block):
             {"name": "cruise_speed", "value": self.cruise_speed, "min": 0.05, "max": 1.2, "unit": "m/s",
              "description": "autonomous cruise speed"},
             {"name": "lookahead", "value": self.lookahead, "min": 0.5, "max": 100.0, "unit": "m",
-             "description": "LOS lookahead distance"},
+             "description": "pure-pursuit look-ahead distance"},
         ]
 
     def set_gain(self, name: str, value: float) -> None:
@@ -214,27 +217,35 @@ class USVPilot(Block):
         self.leg_start: tuple[float, float] | None = None
         self.route_done = False
 
-    def _los(self, x: float, y: float) -> tuple[float, float, float]:
-        """LOS guidance on the current leg: (psi_d rad, cross-track error m, distance to waypoint m)."""
+    def _los(self, x: float, y: float, psi: float) -> tuple[float, float, float]:
+        """Pure pursuit on the current leg (003 table 3-1, :mod:`oceangnc.guidance.pure_pursuit`).
+
+        Returns (psi_d rad, cross-track error m, distance to the waypoint m); psi_d is NaN once the
+        route is complete. The first leg starts where the vehicle is when the route is (re)set.
+        """
         g = self.cfg.guidance
+        p = (x, y)
         while True:
             if self.leg_start is None:
-                self.leg_start = (x, y)
-            xn, yn = self.route[self.wp]
-            x0, y0 = self.leg_start
-            alpha = math.atan2(yn - y0, xn - x0)
-            leg = math.hypot(xn - x0, yn - y0)
-            along = (x - x0) * math.cos(alpha) + (y - y0) * math.sin(alpha)
-            e = -(x - x0) * math.sin(alpha) + (y - y0) * math.cos(alpha)
-            dist = math.hypot(xn - x, yn - y)
-            if dist < g.accept_radius or (leg > 0 and along > leg):
-                self.leg_start = (xn, yn)
+                self.leg_start = p
+            b = self.route[self.wp]
+            a = self.leg_start
+            leg = math.hypot(b[0] - a[0], b[1] - a[1])
+            dist = math.hypot(b[0] - x, b[1] - y)
+            along = 0.0
+            if leg > 1e-9:
+                _, along, _ = closest_point(p, a, b)
+            if dist < g.accept_radius or leg <= 1e-9 or along > leg:
+                self.leg_start = b
                 self.wp += 1
                 if self.wp >= len(self.route):
                     self.route_done = True
                     return math.nan, 0.0, 0.0
                 continue
-            return alpha + math.atan2(-e, self.lookahead), e, dist
+            last = self.wp == len(self.route) - 1
+            target, _, e = look_ahead_point(p, a, b, self.lookahead, clamp_end=last)
+            psi_d = pursuit_command(p, psi, target)[0]
+            return psi_d, e, dist
 
     def step(self, t: float, bus: dict) -> None:
         cfg = self.cfg
@@ -263,7 +274,7 @@ class USVPilot(Block):
             if self.route_done:
                 u_d, r_d = 0.0, 0.0
             else:
-                psi_d, xte, _ = self._los(bus.get("gps.x", bus["usv.x"]), bus.get("gps.y", bus["usv.y"]))
+                psi_d, xte, _ = self._los(bus.get("gps.x", bus["usv.x"]), bus.get("gps.y", bus["usv.y"]), psi)
                 if self.route_done:
                     u_d, r_d = 0.0, 0.0
                 else:
@@ -307,11 +318,13 @@ class USVRemote(Scenario):
     """See the module docstring."""
 
     name = "usv-remote"
-    summary = "USV for the operator console: stick (speed / yaw-rate PIDs) or LOS waypoint autopilot"
+    summary = "USV for the operator console: stick (speed / yaw-rate PIDs) or pure-pursuit waypoint autopilot"
     Config = USVRemoteConfig
     defaults = {"sim": {"duration": 400.0, "dt": 0.002}}
     #: the console's failsafe cannot station-keep this underactuated boat: it zeroes the thrust
     failsafe_station_keep = False
+    #: the pilot reads ``console.loop``: the page may switch the stick between closed and open loop
+    console_loop_switch = True
 
     def build(self, cfg, rng):
         return build_simulation(cfg, rng)

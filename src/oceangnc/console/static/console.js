@@ -50,6 +50,10 @@ function onHello(h) {
   for (const n of h.scenarios) {
     const o = document.createElement("option"); o.value = n; o.textContent = n; if (n === h.scenario) o.selected = true; sel.appendChild(o);
   }
+  for (const id of ["loop-closed", "loop-open"]) {
+    $(id).disabled = !h.loop_switch;
+    if (!h.loop_switch) $(id).title = "this scenario fixes its controller in its config";
+  }
   buildReadouts(h.view.readouts || []);
   buildGauges(h.view.gauges || []);
   buildGains(h.gains || {});
