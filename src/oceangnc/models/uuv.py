@@ -109,9 +109,9 @@ class UUVConfig(StrictModel):
     weight_in_water_kgf: float = Field(12.0, ge=-1e3, le=1e4,
                                        description="submerged weight W - B (003 table 2-5; > 0 sinks), kgf")
     zg: float = Field(0.02, ge=0.0, le=1.0, description="centre of gravity below the centre of buoyancy, m")
-    Ixx: float | None = Field(None, gt=0, le=1e4, description="roll inertia (default: uniform cylinder), kg m2")
-    Iyy: float | None = Field(None, gt=0, le=1e5, description="pitch inertia (default: uniform cylinder), kg m2")
-    Izz: float | None = Field(None, gt=0, le=1e5, description="yaw inertia (default: uniform cylinder), kg m2")
+    Ixx: float | None = Field(None, gt=0, le=1e4, description="roll inertia about the CG (default: uniform cylinder), kg m2")
+    Iyy: float | None = Field(None, gt=0, le=1e5, description="pitch inertia about the CG (default: uniform cylinder), kg m2")
+    Izz: float | None = Field(None, gt=0, le=1e5, description="yaw inertia about the CG (default: uniform cylinder), kg m2")
     X_u: float = Field(-1.0, ge=-1e4, le=0, description="linear surge damping X_u, N s/m")
     Y_v: float = Field(-10.0, ge=-1e4, le=0, description="linear sway damping Y_v, N s/m")
     Z_w: float = Field(-10.0, ge=-1e4, le=0, description="linear heave damping Z_w, N s/m")
@@ -150,11 +150,12 @@ class UUVConfig(StrictModel):
         return {n: v * k for n, v in c.items()}
 
     def mass_matrices(self):
-        """(M_RB, M_A) 6x6 (003 A-7, A-9)."""
+        """(M_RB, M_A) 6x6 (003 A-7, A-9); the inertias are taken about the CG and moved to the CB
+        (the origin) by the parallel-axis theorem, I_b = I_g - m S(r_g)^2."""
         m = self.mass
         zg = self.zg
         ixx, iyy, izz = self.inertias()
-        mrb = np.diag([m, m, m, ixx, iyy, izz]).astype(float)
+        mrb = np.diag([m, m, m, ixx + m * zg * zg, iyy + m * zg * zg, izz]).astype(float)
         mrb[0, 4] = mrb[4, 0] = m * zg
         mrb[1, 3] = mrb[3, 1] = -m * zg
         c = self.coefficients()
@@ -459,8 +460,11 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
 def uuv_min_turning_radius(cfg: UUVConfig) -> float:
     """Minimum turning radius (m) of the UUV: steady turn at full differential stern and full bow thrust.
 
-    Port stern thruster at +max forward, starboard at -max reverse, bow thruster at +max (all
-    turning to starboard); radius = U / |r| of the steady planar turn (:func:`uuv_steady_planar`).
+    Port stern thruster at +max forward, starboard at -max reverse, bow thruster at +max (all turning
+    to starboard); radius = U / |r| of the steady turn in the horizontal plane with roll and pitch
+    held level (:func:`uuv_steady_planar`). The level attitude is what the cable and the low centre
+    of gravity give in operation; the free, neutrally buoyant 6-DOF vehicle at full thrust is
+    pitch-unstable (the Munk moment exceeds W z_G) and spirals down, which is no turning circle.
     Used by the pure-pursuit look-ahead l = 2 R_min (003 eq. 3.6).
     """
     hi = cfg.max_thrust_kgf * KGF
