@@ -173,11 +173,11 @@ def _trapz_cum(t, y):
 
 
 def _smooth(y, m):
+    """Centred moving average over m samples; the window shrinks at the ends (no padding)."""
     if m <= 1:
         return y
-    from scipy.ndimage import uniform_filter1d
-
-    return uniform_filter1d(y, size=m, mode="nearest")
+    k = np.ones(m)
+    return np.convolve(y, k, mode="same") / np.convolve(np.ones_like(y), k, mode="same")
 
 
 def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, label: str = "trial",
@@ -207,7 +207,7 @@ def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, 
     if not abs(dy) > 5 * sig + 1e-12:
         raise InputError(f"{label}: the {out_name} does not respond to the input step (change {dy:.3g}, "
                          f"noise {sig:.3g})")
-    tol = settle_tol * abs(dy) + 4.0 * sig / math.sqrt(m)
+    tol = settle_tol * abs(dy) + 5.0 * sig / math.sqrt(max(1, m // 2))
     off = np.nonzero(np.abs(ys[i1:] - yf) > tol)[0]
     i2 = i1 + (int(off[-1]) + 1 if off.size else 1)
     i3 = n - 1
@@ -224,6 +224,16 @@ def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, 
     return i1, i2, i3, m, sig
 
 
+def _local(t, y, i, win):
+    """Value of y at sample i from a straight-line fit over the sample window [a, b) (noise averaging)."""
+    a, b = win
+    if b - a < 3:
+        return float(y[i])
+    tt = t[a:b] - t[i]
+    c = np.polyfit(tt, y[a:b], 1)
+    return float(c[1])
+
+
 def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint"):
     """(K, T) from the integral relations over the intervals (1, 2) and (2, 3) (000 eq. 11-14, 18-21).
 
@@ -236,18 +246,20 @@ def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint")
     iw12 = _zoh_integral(t, w, i1, i2)
     if iw23 == 0.0:
         raise InputError("steady interval has zero input integral; cannot compute K (eq. 12/19)")
-    y1 = float(np.mean(y[max(0, i1 - m + 1):i1 + 1]))
+    w1 = (max(0, i1 - m + 1), i1 + 1)
     h2 = max(1, m // 2)
-    y2 = float(np.mean(y[max(0, i2 - h2):min(y.size, i2 + h2 + 1)]))
-    y3 = float(np.mean(y[max(i2 + 1, i3 - m + 1):i3 + 1]))
+    w2 = (max(i1 + 1, i2 - h2), min(i3, i2 + h2 + 1))
+    w3 = (max(i2 + 1, i3 - m + 1), i3 + 1)
+    y1, y2, y3 = (_local(t, y, i, w) for i, w in ((i1, w1), (i2, w2), (i3, w3)))
+    Y1, Y2, Y3 = (_local(t, Y, i, w) for i, w in ((i1, w1), (i2, w2), (i3, w3)))
     if y2 == y1:
         raise InputError("the output does not change over the transient interval; cannot compute T (eq. 14/21)")
     if method == "paper":
-        K = (Y[i3] - Y[i2]) / iw23
-        T = (K * iw12 - (Y[i2] - Y[i1])) / (y2 - y1)
+        K = (Y3 - Y2) / iw23
+        T = (K * iw12 - (Y2 - Y1)) / (y2 - y1)
         return float(K), float(T)
     A = np.array([[iw23, -(y3 - y2)], [iw12, -(y2 - y1)]])
-    b = np.array([Y[i3] - Y[i2], Y[i2] - Y[i1]])
+    b = np.array([Y3 - Y2, Y2 - Y1])
     K, T = np.linalg.solve(A, b)
     return float(K), float(T)
 

@@ -320,10 +320,20 @@ class TowConfig(StrictModel):
     waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3, description="time between USV waypoints sampled from the plan, s")
 
 
+class StartPose(StrictModel):
+    """Where the USV (and the UUV, aligned a cable length behind it) start, relative to the UUV plan's start."""
+
+    behind_m: float = Field(150.0, ge=-1e4, le=1e4, description="distance behind the plan's start along its first leg, m")
+    port_m: float = Field(80.0, ge=-1e4, le=1e4, description="distance to port (left) of the first leg's line, m")
+    heading_deg: float = Field(90.0, ge=-360, le=360, description="initial heading of USV and UUV, deg")
+    speed_mps: float = Field(0.0, ge=0, le=16, description="initial USV speed, m/s")
+
+
 class ProfilePlanConfig(ClosedLoopConfig):
     guidance: GuidanceConfig = GuidanceConfig()
     profile: ProfileConfig = ProfileConfig()
     tow: TowConfig = TowConfig()
+    start: StartPose = StartPose()
 
 
 def _plan(cfg):
@@ -346,21 +356,37 @@ class UUVProfilePlan(Scenario):
         from ..models.towed_trailer import TowedTrailer
 
         prof, plan, wp, sp = _plan(cfg)
-        # start pose: USV on its planned start with the planned heading and speed, UUV aligned behind it
-        usv = cfg.usv.model_copy(update={"x0": float(plan.x[0]), "y0": float(plan.y[0]),
-                                         "psi0_deg": math.degrees(plan.psi[0]), "u0": float(plan.u[0])})
+        st = cfg.start
+        a = float(prof.psi[0])
+        # start pose: behind the USV plan's start along the first leg and to port, UUV aligned behind the USV
+        x0 = plan.x[0] - st.behind_m * math.cos(a) + st.port_m * math.sin(a)
+        y0 = plan.y[0] - st.behind_m * math.sin(a) - st.port_m * math.cos(a)
+        usv = cfg.usv.model_copy(update={"x0": float(x0), "y0": float(y0), "psi0_deg": st.heading_deg,
+                                         "u0": st.speed_mps})
         cfg_u = cfg.model_copy(update={"usv": usv})
         g = _guidance(cfg.guidance, wp, speeds=sp)
-        plants = [FirstOrderUSV(usv), TowedTrailer(cfg.tow.cable_length_m, float(prof.psi[0]))]
+        plants = [FirstOrderUSV(usv), TowedTrailer(cfg.tow.cable_length_m, math.radians(st.heading_deg))]
         return Simulation(plants, closed_loop_blocks(cfg_u, [g]), cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
         from ..guidance.los import distance_to_polyline
 
         prof, plan, wp, sp = _plan(cfg)
-        eu = distance_to_polyline(df["uuv.x"].to_numpy(), df["uuv.y"].to_numpy(), prof.x, prof.y)
-        es = distance_to_polyline(df["usv.x"].to_numpy(), df["usv.y"].to_numpy(), plan.x, plan.y)
-        return {"uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
+        a = float(prof.psi[0])
+        c, s = math.cos(a), math.sin(a)
+
+        def joined(body, px, py):
+            # samples from the moment the body comes abreast of its plan's start (along-track >= 0)
+            x, y = df[f"{body}.x"].to_numpy(), df[f"{body}.y"].to_numpy()
+            k = np.nonzero(c * (x - px) + s * (y - py) >= 0.0)[0]
+            k0 = int(k[0]) if k.size else x.size - 1
+            return x[k0:], y[k0:], float(df["t"].iloc[k0])
+
+        ux, uy, tu = joined("uuv", prof.x[0], prof.y[0])
+        sx, sy, ts = joined("usv", plan.x[0], plan.y[0])
+        eu = distance_to_polyline(ux, uy, prof.x, prof.y)
+        es = distance_to_polyline(sx, sy, plan.x, plan.y)
+        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,"uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
                 "usv.path_error_rms_m": float(np.sqrt(np.mean(es ** 2))), "usv.path_error_max_m": float(np.max(es)),
                 "plan.waypoints": float(len(wp)), "plan.phi_max_deg": float(np.max(np.abs(plan.phi)) * RAD2DEG),
                 "plan.usv_speed_max_mps": float(np.max(plan.u))}
