@@ -82,6 +82,7 @@ class BacksteppingConfig(StrictModel):
     k6: float = Field(1.5, gt=0, le=100, description="surge velocity gain, 1/s")
     k7: float = Field(2.0, gt=0, le=100, description="yaw rate gain, 1/s")
     h: float = Field(0.9, gt=0, le=10, description="control point ahead of the UUV's centre (the bow), m")
+    bow_side_force: bool = Field(True, description="design model includes the bow thruster's side force (False: eq. 3.32 as printed)")
     accel_cutoff_hz: float = Field(0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz")
 
 
@@ -203,7 +204,9 @@ class UUVBackstepping(Block):
                  keys=None):
         self.cfg = cfg
         self.period = float(period)
-        self.model = model_from_uuv(uuv_cfg)
+        import dataclasses
+
+        self.model = dataclasses.replace(model_from_uuv(uuv_cfg), sway_from_bow=1.0 if cfg.bow_side_force else 0.0)
         self.hi = uuv_cfg.max_thrust_kgf * KGF
         self.lo = -uuv_cfg.max_reverse_kgf * KGF
         self.cx = l_d * math.cos(lambda_d) + cfg.h

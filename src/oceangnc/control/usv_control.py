@@ -35,6 +35,14 @@ from ..units import KGF
 from .pid import PID
 
 
+def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
+    """PID of eq. 3.10 read literally: U = K_p e + K_I int(e + K_w (sat U - U)) + K_D e', K_w = 1/K_p,
+    i.e. a back-calculation rate K_I K_w = K_I / K_p on the PID class's integrator (tracking time
+    constant T_t = T_i). The integrator then settles at the limit instead of growing by K_I e per
+    second (with a rate of 1/K_p alone, a 600 N/(m/s) speed loop would wind up by thousands of N)."""
+    return PID(kp, ki, kd, lo, hi, kw=(ki / kp if kp > 0 and ki > 0 else 1.0))
+
+
 def _wrap(a: float) -> float:
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
@@ -83,9 +91,9 @@ class USVController(Block):
         self.d11 = usv_cfg.d11
         self.meas = {"u": "usv.u", "psi": "usv.psi", "r": "usv.r", **(meas or {})}
         hmax = cfg.heading_share * self.t_max
-        self.speed = PID(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)
-        self.heading = PID(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
-        self.yaw_rate = PID(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
+        self.speed = aw_pid(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)
+        self.heading = aw_pid(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
+        self.yaw_rate = aw_pid(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
 
     def reset(self, rng) -> None:
         self.speed.reset()

@@ -15,8 +15,9 @@ starboard (N = T_b B_f > 0), so a positive heading error gives a positive comman
 heading loop switches, the newly active PID starts from the other's integral (bumpless transfer,
 our choice; 003 does not say).
 
-Derivatives: the range loop differentiates its error (backward difference at the loop period); the
-heading loops use the measured yaw rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
+Derivatives: the range loop differentiates its error by a backward difference passed through a
+first-order low-pass (``range_d_cutoff_hz``: the USBL updates the error in steps of 0.5 s, and the
+raw difference would turn each step into a thrust spike); the heading loops use the measured yaw rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
 """
 
 from __future__ import annotations
@@ -26,7 +27,9 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..io.config import StrictModel
 from ..units import KGF
-from .pid import PID
+from ..sensors.filters import LowPass
+from .usv_control import aw_pid
+
 
 
 class UUVPIDConfig(StrictModel):
@@ -35,6 +38,7 @@ class UUVPIDConfig(StrictModel):
     range_kp: float = Field(40.0, ge=0, le=1e5, description="position loop proportional gain, N/m")
     range_ki: float = Field(4.0, ge=0, le=1e5, description="position loop integral gain, N/(m s)")
     range_kd: float = Field(30.0, ge=0, le=1e5, description="position loop derivative gain, N s/m")
+    range_d_cutoff_hz: float = Field(1.0, gt=0, le=100, description="low-pass cut-off of the range error rate, Hz")
     angle_kp: float = Field(40.0, ge=0, le=1e5, description="relative-angle loop proportional gain, N/rad")
     angle_ki: float = Field(2.0, ge=0, le=1e5, description="relative-angle loop integral gain, N/(rad s)")
     angle_kd: float = Field(25.0, ge=0, le=1e5, description="relative-angle loop derivative gain, N s/rad")
@@ -62,20 +66,24 @@ class UUVPIDController(Block):
         hi = uuv_cfg.max_thrust_kgf * KGF
         lo = -uuv_cfg.max_reverse_kgf * KGF
         self.meas = {"r_usv": "usv.r", "r_uuv": "uuv.r", "psi_usv": "usv.psi", **(meas or {})}
-        self.pos = PID(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
-        self.ang = PID(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
-        self.los = PID(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
+        self.pos = aw_pid(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
+        self.ang = aw_pid(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
+        self.los = aw_pid(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
 
     def reset(self, rng) -> None:
         self.pos.reset()
         self.ang.reset()
         self.los.reset()
         self.active = 2
+        self.e1_prev = None
+        self.e1_rate = LowPass(self.cfg.range_d_cutoff_hz, self.period)
 
     def step(self, t: float, bus: dict) -> None:
         h = self.period
         e1 = bus.get("lf.e_x", 0.0)
-        u1 = self.pos.step(e1, h)
+        d = 0.0 if self.e1_prev is None else (e1 - self.e1_prev) / h
+        self.e1_prev = e1
+        u1 = self.pos.step(e1, h, e_dot=self.e1_rate(d))
         r_uuv = bus.get(self.meas["r_uuv"], 0.0)
         outside = bus.get("lf.outside", 0.0) > 0.5 and self.mode != "relative-angle"
         loop = 3 if outside else 2

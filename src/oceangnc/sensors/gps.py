@@ -8,7 +8,7 @@ Position error = a slowly varying bias + white jitter, both per horizontal axis:
 HDOP times the user equivalent range error (UERE) is the horizontal RMS error (the usual DOP
 definition); UERE = 0.17 m makes the 2DRMS (about 95 %) error 2 * 0.9 * 0.17 = 0.3 m at the measured
 mean HDOP 0.9 (003 fig. 6-1), the SBAS/DGPS horizontal accuracy of table C-1. The bias is
-Gauss-Markov with a 60 s correlation time (our choice), and the jitter sigma_j = 0.01 m, so a
+Gauss-Markov with a 300 s correlation time (our choice; satellite-geometry and atmospheric errors change over minutes), and the jitter sigma_j = 0.01 m, so a
 standing receiver wanders by centimetres over seconds, as 003 fig. 6-3 shows ("very accurate in cm").
 
 Heading from the track: the course over ground atan2(dE, dN) of the position change over the last
@@ -33,7 +33,7 @@ class GPSConfig(StrictModel):
     rate: float = Field(10.0, gt=0, le=100, description="fix rate, Hz")
     hdop: float = Field(0.9, gt=0, le=50, description="horizontal dilution of precision (003 fig 6-1: 0.9)")
     uere: float = Field(0.17, ge=0, le=50, description="user equivalent range error, m")
-    bias_time_constant: float = Field(60.0, gt=0, le=1e5, description="correlation time of the position bias, s")
+    bias_time_constant: float = Field(300.0, gt=0, le=1e5, description="correlation time of the position bias, s")
     jitter: float = Field(0.01, ge=0, le=10, description="white position jitter per axis, m")
     track_window: float = Field(1.0, gt=0, le=60, description="time span of the track used for course and speed, s")
     min_track: float = Field(0.2, ge=0, le=100, description="least distance moved for a valid course, m")
