@@ -45,7 +45,7 @@ def test_same_results_on_1_and_2_workers_and_an_external_cluster(tmp_path):
     one = _sweep(tmp_path, "w1", "--workers", "1")
     two = _sweep(tmp_path, "w2", "--workers", "2")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None) as cluster:
+                      dashboard_address="127.0.0.1:0") as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
         ext = _sweep(tmp_path, "ext", "--scheduler", cluster.scheduler_address)
     assert len(one) == 8 and (one["status"] == "ok").all()

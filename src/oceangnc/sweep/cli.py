@@ -22,9 +22,19 @@ def _cmd_sweep(args) -> int:
                           seeds=args.seeds, base_seed=args.base_seed, design_seed=args.design_seed,
                           overrides=flatten(parse_sets(args.set)), duration=args.duration, config=args.config)
     out = args.out or new_run_dir("runs", f"sweep-{design.scenario}")
-    res = run_sweep(design, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
-                    retry_failed=args.retry_failed, plots=args.plots, keep=not args.no_keep,
-                    progress=not args.quiet)
+    try:
+        res = run_sweep(design, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+                        retry_failed=args.retry_failed, plots=args.plots, keep=not args.no_keep,
+                        progress=not args.quiet)
+    except KeyboardInterrupt:
+        from pathlib import Path
+
+        from .table import ResultsTable
+
+        n = len(ResultsTable(Path(out))) if Path(out).is_dir() else 0
+        print(f"interrupted: {n} finished run(s) are in {Path(out) / 'results.parquet'}; "
+              f"continue with the same command plus --resume --out {out}", file=sys.stderr)
+        return 130
     df = res.table
     n_ok = int((df["status"] == "ok").sum())
     n_bad = len(df) - n_ok

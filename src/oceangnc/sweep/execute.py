@@ -33,7 +33,7 @@ import pandas as pd
 
 from ..errors import ConfigError, DivergenceError, InputError
 from .design import Design, RunSpec
-from .table import PARAM, ResultsTable
+from .table import FIXED_COLUMNS, PARAM, ResultsTable
 
 SPEC_FILE = "sweep.json"
 
@@ -70,6 +70,8 @@ def run_one(task: dict) -> dict:
     for k, v in summary.items():
         if k in ("scenario", "status", "error", "wall_time_s"):
             continue
+        if k in FIXED_COLUMNS or k.startswith(PARAM):
+            k = f"metric.{k}"  # never let a metric overwrite a bookkeeping column
         row[k] = v if isinstance(v, (int, float, str, bool)) or v is None else json.dumps(v)
     if not task.get("keep", True):
         import shutil
@@ -170,8 +172,10 @@ def _start_client(workers: int, scheduler: str | None):
             raise InputError(f"cannot reach the Dask scheduler at {scheduler}: {_one_line(e, 200)}") from None
     import logging
 
+    # no dashboard; the scheduler's small HTTP server on a free port (not 8787, which may be taken)
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=None, silence_logs=logging.ERROR,
+                           scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
                            env={"NUMBA_NUM_THREADS": os.environ.get("NUMBA_NUM_THREADS", "1")})
     return Client(cluster), cluster
 
