@@ -1,0 +1,286 @@
+"""Cable of 003 ch. 2.3 and the coupled USV + cable + UUV plant: statics, energy, stability, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+import oceangnc
+from oceangnc.api import resolve_config
+from oceangnc.core.clock import Simulation
+from oceangnc.errors import ConfigError, DivergenceError
+from oceangnc.models.cable import (CableConfig, atan_ratio, axial_stability_limit, cable_loads,
+                                   loading_functions, stable_step)
+from oceangnc.models.combined import CombinedPlant
+from oceangnc.models.usv import USVConfig
+from oceangnc.models.uuv import UUVConfig
+from oceangnc.units import G
+
+
+def _run(name, tmp_path, **over):
+    return oceangnc.run(name, overrides=over, out=tmp_path / name, plots=False).summary
+
+
+# --- statics ---------------------------------------------------------------------------------------
+
+def test_hanging_top_tension_is_submerged_weight(tmp_path):
+    """Still water: the hanging cable + UUV settles with the top tension equal to the submerged weight
+    of the cable plus the UUV (within 1 %), vertical."""
+    s = _run("cable-current", tmp_path, **{"environment.current.speed": 0.0})
+    w = CableConfig().weight_per_length * 3.0 + 12.0 * G
+    assert s["cable.top_tension_N"] == pytest.approx(w, rel=0.01)
+    assert s["cable.bottom_tension_N"] == pytest.approx(12.0 * G + 0.5 * CableConfig().weight_per_length * 0.15,
+                                                        rel=0.01)
+    assert s["cable.angle_deg"] < 0.5
+    assert s["uuv.offset_m"] < 0.02
+
+
+def _quasi_static(current: float, theta_hint: float):
+    """Independent equilibrium of the UUV hanging in a current on the continuous cable (not lumped).
+
+    1. The UUV (facing the current, heading 180 deg, at rest) feels its own steady hydrodynamic force
+       at pitch theta (Prestero/Fossen terms re-written here from the config's coefficients: drag,
+       lift and the Munk moment (X_udot - Z_wdot) u_r w_r), its net weight, and the cable force at the
+       tow point. The pitch is found by shooting on the pitch-moment balance (brentq), the root nearest
+       the hint.
+    2. The cable force at the tow point starts the continuous catenary-with-drag equations in the
+       unstretched arc length s (from the bottom up): dT/ds = -(w z_hat + drag(T_hat)),
+       dr/ds = T_hat (1 + |T| / EA), drag from 003 eq. 2.24-2.25 per unit length; integrated with an
+       adaptive Runge-Kutta (solve_ivp) to s = L.
+    Returns top tension (N), bottom tension (N), angle of the top-to-bottom line from vertical (deg),
+    UUV pitch (deg).
+    """
+    uc = UUVConfig(psi0_deg=180.0)
+    cc = CableConfig()
+    c = uc.coefficients()
+    lf = uc.lift_coefficients()
+    W, B = uc.weight, uc.buoyancy
+    rc = np.array(cc.tow_point)
+    vc = np.array([current, 0.0, 0.0])
+
+    def rot(theta):  # R_b^n for psi = pi, phi = 0
+        ct, st = math.cos(theta), math.sin(theta)
+        Ry = np.array([[ct, 0, st], [0, 1, 0], [-st, 0, ct]])
+        Rz = np.array([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1]])
+        return Rz @ Ry
+
+    def loads(theta):
+        R = rot(theta)
+        ur, vr, wr = R.T @ (-vc)
+        au = abs(ur)
+        X = uc.X_u * ur + uc.X_uu_total * ur * au
+        Z = uc.Z_w * wr + c["Z_ww"] * wr * abs(wr) + lf["Z_uw"] * au * wr
+        M = lf["M_uw"] * au * wr + (c["X_udot"] - c["Z_wdot"]) * ur * wr - uc.zg * W * math.sin(theta)
+        f_hyd_n = R @ np.array([X, 0.0, Z]) + np.array([0.0, 0.0, W - B])
+        f_cable_n = -f_hyd_n  # the cable holds the UUV
+        fb = R.T @ f_cable_n
+        m_cable = rc[2] * fb[0] - rc[0] * fb[2]
+        return M + m_cable, f_cable_n
+
+    grid = np.radians(np.linspace(-85, 85, 341))
+    res = [loads(t)[0] for t in grid]
+    roots = [brentq(lambda t: loads(t)[0], a, b) for a, b, fa, fb in
+             zip(grid[:-1], grid[1:], res[:-1], res[1:]) if fa * fb < 0]
+    theta = min(roots, key=lambda t: abs(t - theta_hint))
+    _, T0 = loads(theta)
+    w = cc.weight_per_length
+    k = 0.5 * cc.rho_water * cc.cd * cc.diameter
+    EA = cc.EA
+
+    def f(s, y):
+        T = y[:3]
+        tn = np.linalg.norm(T)
+        t = T / tn
+        V = -vc
+        vq = V @ t
+        Vp = V - vq * t
+        vp = np.linalg.norm(Vp)
+        v2 = V @ V
+        eta = math.atan2(vp, abs(vq))
+        fp, fq = loading_functions(eta)
+        drag = -k * v2 * (fp * (Vp / vp if vp > 0 else 0 * Vp) + fq * np.sign(vq) * t)
+        dT = -(np.array([0.0, 0.0, w]) + drag)
+        dr = t * (1 + tn / EA)
+        return np.concatenate([dT, dr])
+
+    sol = solve_ivp(f, (0.0, cc.length), np.concatenate([T0, np.zeros(3)]), rtol=1e-10, atol=1e-10)
+    T_top = sol.y[:3, -1]
+    d = sol.y[3:, -1]  # from the tow point to the top
+    angle = math.degrees(math.atan2(math.hypot(d[0], d[1]), -d[2]))
+    return float(np.linalg.norm(T_top)), float(np.linalg.norm(T0)), angle, math.degrees(theta)
+
+
+@pytest.mark.parametrize("current", [0.25, 0.5, 1.0])
+def test_equilibrium_in_current_matches_quasi_static_solution(tmp_path, current):
+    """Settled lumped-mass equilibrium in a current matches the independent continuous quasi-static
+    solution (shooting on the UUV's pitch balance + catenary-with-drag ODE): 5 % on tensions, 2 deg on
+    the cable angle and on the UUV pitch (measured agreement: 5 significant digits). 003 fig 2-10: the
+    cable is pushed back by the current."""
+    s = _run("cable-current", tmp_path, **{"environment.current.speed": current})
+    assert s["cable.settled"]
+    top, bottom, angle, pitch = _quasi_static(current, math.radians(s["uuv.pitch_deg"]))
+    assert s["cable.top_tension_N"] == pytest.approx(top, rel=0.05)
+    assert s["cable.bottom_tension_N"] == pytest.approx(bottom, rel=0.05)
+    assert s["cable.angle_deg"] == pytest.approx(angle, abs=2.0)
+    assert s["uuv.pitch_deg"] == pytest.approx(pitch, abs=2.0)
+    assert s["cable.angle_deg"] > 1.0  # pushed back
+
+
+# --- energy ------------------------------------------------------------------------------------------
+
+def _conservative_plant(x_off=0.6, **cable):
+    """Top fixed, still water, no drag, no damping, no added mass on the cable, UUV damping off; the
+    UUV 0.6 m aside with the cable just taut (3.1 m between the ends), so it swings and bounces."""
+    cc = CableConfig(drag_on=False, damping=0.0, added_mass_coeff=0.0, **cable)
+    uc = UUVConfig(damping_on=False, x0=x_off, z0=3.166)
+    return CombinedPlant(USVConfig(), uc, cc, top="fixed")
+
+
+def test_energy_conserved_without_drag_and_damping():
+    """Cable + UUV with drag, damping and cable added mass off conserve mechanical energy to RK4's
+    accuracy: the largest energy error over 10 s of a swinging, bouncing pendulum is below 1e-5 of the
+    energy of its initial 0.6 m swing at 20 % of the stability limit, and falls by more than 8x when the
+    step is halved (fourth-order RK4: 16x asymptotically). The cable's added
+    mass (003 eq. 2.28) is off because a mass matrix that turns with the segment is not derived from a
+    Lagrangian: with it the lumped model is not exactly conservative."""
+    errs = []
+    for frac in (0.2, 0.1):
+        pl = _conservative_plant()
+        dt = frac * pl.stability_limit
+        e0 = pl.energy()
+        es = []
+        t = 0.0
+        for _ in range(100):
+            t = pl.advance(t, dt, int(round(0.1 / dt)))
+            es.append(pl.energy())
+        errs.append(max(abs(np.array(es) - e0)))
+    scale = 12.0 * G * 0.6  # potential energy of the UUV's initial 0.6 m swing, order of the motion
+    assert errs[0] < 1e-5 * scale
+    assert errs[0] / errs[1] > 8.0
+
+
+def test_energy_only_decreases_with_drag_and_damping():
+    """With drag, axial damping and UUV damping on (cable added mass off, see above), energy never rises."""
+    cc = CableConfig(added_mass_coeff=0.0)
+    pl = CombinedPlant(USVConfig(), UUVConfig(x0=0.6, z0=2.9), cc, top="fixed")
+    dt = 0.8 * pl.stability_limit
+    e_prev = pl.energy()
+    e0 = e_prev
+    t = 0.0
+    for _ in range(200):
+        t = pl.advance(t, dt, int(round(0.05 / dt)))
+        e = pl.energy()
+        assert e <= e_prev + 1e-6 * abs(e0)
+        e_prev = e
+    assert e_prev < e0 - 1.0  # and it did dissipate
+
+
+# --- tension only, stability --------------------------------------------------------------------------
+
+def test_slack_cable_has_no_compression():
+    """Nodes closer than l0 (slack) and even approaching each other give no axial force at all."""
+    n = 4
+    l0 = 0.5
+    pos = np.zeros(3 * (n + 1))
+    pos[2::3] = np.linspace(0.0, 1.2, n + 1)  # 0.3 m spacing < 0.5 m
+    vel = np.zeros(3 * (n + 1))
+    vel[2::3] = -np.linspace(0.0, 1.0, n + 1)  # closing up
+    F = np.zeros(3 * (n + 1))
+    Mn = np.zeros(6 * (n + 1))
+    cable_loads(pos, vel, F, Mn, n, l0, 1e4, 100.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert np.all(F == 0.0)
+    # stretched but closing fast: the damping may cancel tension but never push
+    pos[2::3] = np.linspace(0.0, 2.04, n + 1)  # spacing 0.51 m: 2 % strain
+    vel[2::3] = -np.linspace(0.0, 10.0, n + 1)
+    cable_loads(pos, vel, F, Mn, n, l0, 1e4, 100.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert np.all(F == 0.0)
+    vel[:] = 0.0
+    cable_loads(pos, vel, F, Mn, n, l0, 1e4, 100.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert F[2] == pytest.approx(1e4 * 0.02)  # at rest: EA * strain pulls the top node down
+
+
+def test_slack_cable_carries_no_tension_in_simulation():
+    """A UUV released 1 m above the taut position free-falls with zero bottom tension until taut."""
+    pl = CombinedPlant(USVConfig(), UUVConfig(z0=2.0), CableConfig(), top="fixed")
+    bus = {}
+    t = 0.0
+    dt = stable_step(pl.stability_limit)
+    t = pl.advance(t, dt, int(round(0.2 / dt)))
+    pl.publish(bus)
+    assert bus["cable.bottom_tension"] < 0.5 * CableConfig().weight_per_length * 0.15 + 1e-6
+    assert bus["uuv.w"] > 0.1  # falling
+
+
+def test_stability_limit_is_real():
+    """The computed RK4 limit is sharp: at 0.97x the hanging cable settles (node speeds of cm/s after
+    5 s), at 1.05x the highest axial mode grows until segments go slack and the cable chatters (node
+    speeds 5x larger; tension-only caps the growth, so it chatters instead of diverging)."""
+    limit = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(), top="fixed").stability_limit
+    assert 1e-3 < limit < 3e-3  # ~1.9 ms for table 2-6 (overdamped highest axial mode)
+    n = CableConfig().segments
+    speeds = []
+    for frac in (0.97, 1.05):
+        pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.2), CableConfig(), top="fixed")
+        try:
+            pl.advance(0.0, frac * limit, int(5.0 / (frac * limit)))
+            speeds.append(float(np.max(np.abs(pl.x[6 + 3 * (n - 1):6 + 6 * (n - 1)]))))
+        except DivergenceError:
+            speeds.append(math.inf)
+    assert speeds[0] < 0.1
+    assert speeds[1] > 5 * speeds[0]
+
+
+def test_stability_limit_scales_with_stiffness():
+    """Undamped chain: the limit is 2.785 / omega_max with omega_max -> 2 sqrt(k/m) (RK4 on the imaginary
+    axis); stiffer cable -> smaller step, proportional to 1/sqrt(EA)."""
+    cc = CableConfig(damping=0.0)
+    h = axial_stability_limit(cc, end_mass=None)
+    k, m = cc.EA / cc.l0, cc.segment_mass
+    n = cc.segments
+    w_max = 2 * math.sqrt(k / m) * math.sin((n - 1) * math.pi / (2 * n))
+    assert h == pytest.approx(2 * math.sqrt(2) / w_max, rel=1e-3)
+    h4 = axial_stability_limit(CableConfig(damping=0.0, E=4 * 7.5e6), end_mass=None)
+    assert h4 == pytest.approx(h / 2, rel=1e-6)
+
+
+def test_step_above_limit_is_refused():
+    """sim.dt above the cable's stability limit is a ConfigError naming sim.dt and the limit."""
+    pl = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(), top="fixed")
+    with pytest.raises(ConfigError, match=r"sim\.dt.*stability limit"):
+        Simulation([pl], [], 0.01, 0.1)
+    with pytest.raises(ConfigError, match=r"sim\.dt"):
+        oceangnc.run("cable-current", overrides={"sim.dt": 0.005}, out="/tmp/oceangnc_refused", plots=False)
+
+
+@pytest.mark.parametrize("key,val", [("cable.segments", 0), ("cable.length", 0.0), ("cable.diameter", -0.01),
+                                     ("cable.E", 0.0), ("cable.density", 0.0), ("uuv.mass", -1.0)])
+def test_bad_cable_config_is_a_config_error(key, val):
+    """Segments < 1, non-positive length, diameter, modulus (hence EA) or mass: one-line ConfigError."""
+    with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
+        resolve_config("cable-current", overrides={key: val})
+
+
+# --- pieces --------------------------------------------------------------------------------------------
+
+def test_loading_functions_limits():
+    """003 eq. 2.25: f_p = 0 along the flow and 1 across it; f_q = 0.02 along and ~0 across."""
+    fp0, fq0 = loading_functions(0.0)
+    fp1, fq1 = loading_functions(math.pi / 2)
+    assert fp0 == pytest.approx(0.0, abs=1e-12) and fp1 == pytest.approx(1.0)
+    assert fq0 == pytest.approx(0.02008) and fq1 == pytest.approx(0.0, abs=1e-4)
+    for y, x in ((0.3, 1.0), (1.0, 0.2), (0.0, 1.0), (2.0, 2.0)):
+        assert atan_ratio(y, x) == pytest.approx(math.atan2(y, x), abs=5e-8)
+
+
+def test_tow_straight_depth_change_figs_4_2_to_4_5(tmp_path):
+    """003 figs 4-2 to 4-5: USV at 0.5 m/s with the UUV commanded 0.27 m/s: the UUV is dragged up by
+    a large depth change (> 0.3 m); with 0.48 m/s the change is small (< 0.15 m, and < 1/4 of the other)."""
+    slow = _run("tow-straight", tmp_path / "a", **{"command.uuv_speed": 0.27, "sim.duration": 60.0})
+    fast = _run("tow-straight", tmp_path / "b", **{"command.uuv_speed": 0.48, "sim.duration": 60.0})
+    assert slow["usv.speed_final_mps"] == pytest.approx(0.5, abs=0.02)
+    assert slow["uuv.depth_change_max_m"] > 0.3
+    assert fast["uuv.depth_change_max_m"] < 0.15
+    assert fast["uuv.depth_change_max_m"] < 0.25 * slow["uuv.depth_change_max_m"]
+    assert slow["uuv.depth_final_m"] < fast["uuv.depth_final_m"]  # the slow UUV rides higher
