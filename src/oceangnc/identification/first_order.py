@@ -101,7 +101,8 @@ class ZigzagFit:
 
     trial: int
     speed: float
-    amplitude_deg: float
+    amplitude_deg: float  # heading change at the rudder reversals, deg (10 for a 10/10 zig-zag)
+    rudder: float  # rudder amplitude, steer units (rad for an angle)
     K: float
     T: float
     K_std: float
@@ -141,9 +142,10 @@ class Report:
                              f"{f.residual_rms:9.2g} {f.n:3d}")
         if self.zigzags:
             lines.append("")
-            lines.append(f"{'trial':>5} {'zig-zag':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} {'+-T':>8} {'rms psi':>8}")
+            lines.append(f"{'trial':>5} {'psi amp':>8} {'rudder':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} "
+                         f"{'+-T':>8} {'rms psi':>8}")
             for z in self.zigzags:
-                lines.append(f"{z.trial:>5d} {z.amplitude_deg:5.0f}/{z.amplitude_deg:<2.0f} {z.speed:7.3f} {z.K:9.5g} "
+                lines.append(f"{z.trial:>5d} {z.amplitude_deg:7.1f}d {z.rudder:8.4g} {z.speed:7.3f} {z.K:9.5g} "
                              f"{z.K_std:8.2g} {z.T:8.4f} {z.T_std:8.2g} {z.heading_rms_deg:7.3f}d")
         if self.units:
             lines.append("")
@@ -397,9 +399,12 @@ def fit_nomoto_zigzag(t, delta, psi, r0: float = 0.0, trial: int = 0, speed: flo
         ks, ts = math.sqrt(max(cov[0, 0], 0.0)), math.sqrt(max(cov[1, 1], 0.0))
     except np.linalg.LinAlgError:
         ks = ts = float("nan")
-    amp = math.degrees(float(np.max(np.abs(delta))))
-    return ZigzagFit(trial, speed, round(amp, 1), float(sol.x[0]), float(sol.x[1]), ks, ts,
-                     math.degrees(math.sqrt(float(np.mean(res ** 2)))))
+    # the zig-zag's heading amplitude: heading change at the rudder reversals (ITTC: equals the rudder angle)
+    rev = np.nonzero(np.diff(np.sign(delta)) != 0)[0] + 1
+    rev = rev[np.abs(delta[rev - 1]) > 0]
+    amp = math.degrees(float(np.mean(np.abs(y[rev])))) if rev.size else float("nan")
+    return ZigzagFit(trial, speed, round(amp, 1), float(np.max(np.abs(delta))), float(sol.x[0]), float(sol.x[1]),
+                     ks, ts, math.degrees(math.sqrt(float(np.mean(res ** 2)))))
 
 
 # -- logs ------------------------------------------------------------------------------------------------

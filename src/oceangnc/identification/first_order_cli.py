@@ -17,6 +17,17 @@ _OPTS = {"time": "--time", "steer": "--steer", "thrust": "--thrust", "speed": "-
          "yaw_rate": "--yaw-rate", "trial": "--trial"}
 
 
+def _finite(v):
+    """NaN/inf -> None so that identification.json is valid JSON."""
+    if isinstance(v, dict):
+        return {k: _finite(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_finite(x) for x in v]
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v
+
+
 def register(methods) -> None:
     p = methods.add_parser("first-order", help="first-order speed/Nomoto models by the integral method (000 eq. 8-21)",
                            description=__doc__)
@@ -65,6 +76,6 @@ def _handler(args) -> int:
     data["log"] = str(src)
     data["columns"] = vars(cols)
     path = out / "identification.json"
-    path.write_text(json.dumps(data, indent=2, default=lambda v: None))
+    path.write_text(json.dumps(_finite(data), indent=2))
     print(f"wrote {path}")
     return 0

@@ -36,8 +36,12 @@ def trailer_rates(u_usv, r_usv, phi, L):
 
 @njit(cache=True)
 def trailer_rhs(t, x, u, p, out):
-    """d psi_UUV/dt; x = [psi_UUV], u = [u_USV (m/s), psi_USV (rad)], p = [L (m)]."""
-    out[0] = -u[0] * math.sin(x[0] - u[1]) / p[0]
+    """d psi_UUV/dt; x = [psi_UUV], u = [u_USV (m/s), psi_USV (rad), r_USV (rad/s), t_ref (s)], p = [L (m)].
+
+    The USV heading inside the step is ``psi_USV + r_USV (t - t_ref)`` (first-order hold about the
+    sample time t_ref), which removes the lag a plain zero-order hold of the heading would add.
+    """
+    out[0] = -u[0] * math.sin(x[0] - u[1] - u[2] * (t - u[3])) / p[0]
 
 
 @njit(cache=True)
@@ -96,8 +100,9 @@ def uuv_position(x_usv, y_usv, psi_uuv, L):
 class TowedTrailer(Plant):
     """The towed UUV as a trailer plant (000 eq. 2-7).
 
-    State ``[psi]`` (UUV heading, rad, unwrapped); inputs ``<usv>.u`` (m/s) and ``<usv>.psi_unwrapped``
-    (rad; a USV plant publishing only the wrapped heading is handled by unwrapping here). Publishes
+    State ``[psi]`` (UUV heading, rad, unwrapped); inputs ``<usv>.u`` (m/s), ``<usv>.psi`` (rad,
+    unwrapped here next to the UUV heading) and ``<usv>.r`` (rad/s), read after the USV plant has
+    advanced (list this plant after the USV) and held to first order over the interval. Publishes
     ``uuv.x``, ``uuv.y`` (m), ``uuv.psi`` (wrapped), ``uuv.u`` (m/s), ``uuv.r`` (rad/s) and ``uuv.phi``
     (psi_UUV - psi_USV, rad, wrapped). The USV must be published on the bus before this plant
     (list it after the USV plant).
@@ -109,13 +114,20 @@ class TowedTrailer(Plant):
         self.usv = usv
         self.L = float(cable_length)
         super().__init__(name, trailer_rhs, np.array([psi0]), np.array([self.L]), ["psi"],
-                         [f"{usv}.u", f"_{usv}.psi_cont"])
+                         [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"])
 
     def read_inputs(self, bus: dict) -> None:
         self.u[0] = bus.get(f"{self.usv}.u", 0.0)
         psi = bus.get(f"{self.usv}.psi", 0.0)
         # bring the USV heading within pi of the UUV heading (the sine is 2 pi periodic anyway)
         self.u[1] = self.x[0] + ((psi - self.x[0] + math.pi) % (2 * math.pi) - math.pi)
+        self.u[2] = bus.get(f"{self.usv}.r", 0.0)
+
+    def advance(self, t: float, dt: float, n: int) -> float:
+        # listed after the USV, this plant reads the USV's state at the END of the interval: hold it
+        # to first order backwards in time from there
+        self.u[3] = t + n * dt
+        return super().advance(t, dt, n)
 
     def publish(self, bus: dict) -> None:
         psi = float(self.x[0])

@@ -663,9 +663,10 @@ class Trials(Scenario):
             out[f"fit.{k}_slope"] = f.slope
             out[f"fit.{k}_intercept"] = f.intercept
             out[f"fit.{k}_residual_rms"] = f.residual_rms
-        for z in rep.zigzags:
+        zz = [a for k, a in self._trial_list(cfg) if k == "zigzag"]
+        for z, amp in zip(rep.zigzags, zz):
             tk = truth.loc[z.trial]
-            tag = f"{z.amplitude_deg:.0f}_{z.amplitude_deg:.0f}"
+            tag = f"{amp:.0f}_{amp:.0f}"
             out[f"zigzag.{tag}.K_r_err_pct"] = abs(z.K / tk["trial.true_k"] - 1) * 100
             out[f"zigzag.{tag}.T_r_err_pct"] = abs(z.T / tk["trial.true_t"] - 1) * 100
         return out
