@@ -1,0 +1,447 @@
+"""3-DOF low-speed manoeuvring model of a container ship with rudder, propeller and bow/stern thrusters.
+
+Model structure: document 001 (``001_7b3de4f47de6bfb9.txt``) eq. 1-25. Coefficients: the S-175
+container ship (L = 175 m, B = 25.4 m, T = 8.5 m, displacement 21 222 m^3) of Son & Nomoto (1981,
+J. Soc. Nav. Arch. Japan 150; also Son & Nomoto 1982, Naval Arch. Ocean Eng. 20:73-83), whose
+hydrodynamic derivatives, rudder and propeller constants are tabulated in the paper (and in Fossen's
+MSS ``container.m``). Cross-coupling added masses Y_rdot, N_vdot from Clarke, Gedling & Hine (1983)
+empirical formulas; cross-flow drag, thrusters, lags and windage are chosen (docs/berthing.md).
+
+Velocities relative to the water nu_r = nu - R(psi)^T v_c (uniform current, earth-fixed); for such a
+current the rigid-body terms can be written in nu_r (Fossen 2011, Prop. 8.1), so with
+u_r = u - u_c, v_r = v - v_c:
+
+    (m - X_udot) u_r'              = m (v_r r + x_G r^2) + X_h + X_R + X_P + X_W          (4), (27)
+    M1 [v_r', r']^T = [-m u_r r + Y_h + Y_R + Y_T + Y_W, -m x_G u_r r + N_h + N_R + N_T + N_W]^T  (5, 6, 28)
+    M1 = [[m - Y_vdot, m x_G - Y_rdot], [m x_G - N_vdot, I_zz - N_rdot]]                      (35)
+    u' = u_r' + r v_c,   v' = v_r' - r u_c;   x' = u cos psi - v sin psi, y' = u sin psi + v cos psi, psi' = r  (1-3)
+
+(eq. 5 printed ``x_G r``, read ``x_G r'``; SPEC.md 001 notes).
+
+Hull forces (7-11), our reading (the printed forms omit the dynamic pressure; the drift-angle terms
+are written with U^2 = u_r^2 + v_r^2 so that they vanish at rest), with the drift angle
+beta = atan2(-v_r, u_r) (10) over all quadrants and the modified drift angle
+alpha = beta - sgn(beta) alpha_0 (11), alpha_0 the drift angle of zero hull yaw moment:
+
+    X_h = X_|u|u u_r|u_r| + X_vr v_r r + X_vv v_r^2 + X_rr r^2
+    Y_h = Y_v |u_r| v_r + Y_r |u_r| r - m_x u_r r
+          - rho/2 T C_D int_{-L/2}^{L/2} (v_r + C_Yr r x)|v_r + C_Yr r x| dx                    (8)
+    N_h = rho/2 L^3 U^2 (-N'_v) (alpha_0/pi) sgn(beta) sin(2 phi(alpha)) + N_r |u_r| r
+          - rho/2 T C_D int_{-L/2}^{L/2} (v_r + C_Nr r x)|v_r + C_Nr r x| x dx                  (9)
+
+``Y_v |u_r| v_r`` is the lift (Y'_v v'U^2 with the forward speed |u_r|, so it keeps its sign astern,
+which is what the modified drift angle does in 001). The drift moment is the Son-Nomoto N'_v v' U^2
+for small beta, and over the whole circle a shape that is zero at beta = 0, +-alpha_0 and 180 deg:
+phi maps |beta| in [0, alpha_0] to [0, pi/2] and [alpha_0, pi] to [pi/2, pi] linearly (so phi is
+linear in alpha on each side). The cross-flow integrals (8, 9) are evaluated in closed form
+(:func:`crossflow_integrals`), with the small-yaw limit where the closed form would cancel; 001
+subtracts the pure-sway part ``L|v|v`` in (8) because its Y_|beta| term carries it; here the cubic
+sway terms are not used and the whole integral is kept (Fossen 2011 sec. 6.4 cross-flow drag).
+
+Rudder (12-15): F_N = rho/2 A_R f_alpha U_R^2 sin(alpha_R), f_alpha = 6.13 Lambda / (Lambda + 2.25),
+alpha_R = delta + atan2(v_R, u_R) (001 prints delta + v_R/u_R, the small-angle form; atan2 also
+covers astern flow), u_R^2 = eps^2 (u_P^2 + 8 kappa K_T n^2 D^2 / pi) ahead (the propeller race,
+Son & Nomoto; 0 race for n <= 0), v_R = gamma_R v_r + c_Rr L r, and
+
+    X_R = -(1 - t_R) F_N sin delta,  Y_R = -(1 + a_H) F_N cos delta,  N_R = -(x_R + a_H x_H) F_N cos delta.
+
+Positive delta turns the ship to starboard (r > 0). Propeller (16, 17):
+X_P = (1 - t_p) rho n|n| D^4 K_T(J), K_T = a1 + a2 J + a3 J^2, J = u_P / (|n| D),
+u_P = (1 - w_p) u_r, expanded as rho (1-t_p)(a1 n|n| D^4 + a2 n u_P D^3 + a3 sgn(n) u_P^2 D^2) so it
+is defined at n = 0. Thrusters (18-21): Y_Tb = b_B n_B|n_B|, Y_Ts = b_S n_S|n_S|,
+N_T = x_TB Y_Tb + x_TS Y_Ts. Actuators (22-25): first-order lags of the clipped commands; the
+rudder rate is also limited. Wind: relative wind loads (003 eq. 2.6-2.9 form,
+:func:`oceangnc.models.usv.wind_load`) with container-ship windage areas.
+
+State ``[x, y, psi, u, v, r, delta, n, n_B, n_S]`` (m, m, rad, m/s, m/s, rad/s, rad, rev/s x3);
+inputs ``[delta_c, n_c, n_Bc, n_Sc, Vc_n, Vc_e, Vw_n, Vw_e]`` (rad, rev/s x3, m/s x4).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from pydantic import Field
+
+from ..core.blocks import Plant
+from ..io.config import StrictModel
+from ..units import RHO_AIR, RHO_WATER
+from .usv import wind_load
+
+STATE_NAMES = ("x", "y", "psi", "u", "v", "r", "delta", "n", "n_bow", "n_stern")
+INPUT_NAMES = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd",
+               "env.current_n", "env.current_e", "env.wind_n", "env.wind_e")
+
+#: parameter layout of :meth:`ShipConfig.params`
+P_NAMES = (
+    "L", "T", "rho", "m", "xG", "m11", "M1_11", "M1_12", "M1_21", "M1_22",          # 0-9
+    "X_uu", "X_vr", "X_vv", "X_rr", "Y_v", "Y_r", "m_x", "Nv_drift", "N_r", "alpha0",  # 10-19
+    "C_D", "C_Yr", "C_Nr", "A_R", "f_alpha", "t_R", "a_H", "x_H", "x_R", "gamma_R",   # 20-29
+    "c_Rr", "eps", "kappa", "D", "t_p", "w_p", "a1", "a2", "a3", "b_B",             # 30-39
+    "b_S", "x_TB", "x_TS", "tau_p", "tau_d", "tau_tb", "tau_ts", "n_max", "delta_max",  # 40-48
+    "delta_rate", "nB_max", "nS_max", "rho_air", "A_F", "A_L", "L_oa", "c_x", "c_y", "c_n",  # 49-58
+)
+P = {k: i for i, k in enumerate(P_NAMES)}
+
+
+class ShipConfig(StrictModel):
+    """S-175 container ship (Son & Nomoto 1981) with thrusters, lags and limits; see docs/berthing.md."""
+
+    length: float = Field(175.0, gt=10, le=500, description="length between perpendiculars L, m")
+    beam: float = Field(25.4, gt=1, le=80, description="beam B, m")
+    draft: float = Field(8.5, gt=0.5, le=30, description="mean draft T, m")
+    displacement: float = Field(21222.0, gt=10, le=1e6, description="displacement volume, m3")
+    x_g: float = Field(0.0, ge=-20, le=20, description="longitudinal centre of gravity from midship, m")
+    rho: float = Field(RHO_WATER, gt=900, le=1100, description="water density, kg/m3")
+    # Son & Nomoto (1981) non-dimensional (prime) coefficients, forces on rho/2 L^2 U^2,
+    # moments on rho/2 L^3 U^2, masses on rho/2 L^3, inertias on rho/2 L^5
+    mx_p: float = Field(0.000238, ge=0, le=0.1, description="surge added mass m_x' = -X_udot', -")
+    my_p: float = Field(0.007049, ge=0, le=0.1, description="sway added mass m_y' = -Y_vdot', -")
+    iz_p: float = Field(0.000456, gt=0, le=0.1, description="yaw inertia I_z', -")
+    jz_p: float = Field(0.000419, ge=0, le=0.1, description="added yaw inertia J_z' = -N_rdot', -")
+    yrdot_p: float = Field(-0.000502, ge=-0.01, le=0.01, description="Y_rdot' (Clarke et al. 1983), -")
+    nvdot_p: float = Field(-0.000275, ge=-0.01, le=0.01, description="N_vdot' (Clarke et al. 1983), -")
+    xuu_p: float = Field(-0.0004226, ge=-0.1, le=0, description="X'_uu resistance, -")
+    xvr_p: float = Field(-0.00311, ge=-0.1, le=0.1, description="X'_vr, -")
+    xvv_p: float = Field(-0.00386, ge=-0.1, le=0.1, description="X'_vv, -")
+    xrr_p: float = Field(0.00020, ge=-0.1, le=0.1, description="X'_rr, -")
+    yv_p: float = Field(-0.0116, ge=-0.1, le=0, description="Y'_v, -")
+    yr_p: float = Field(0.00242, ge=-0.1, le=0.1, description="Y'_r, -")
+    nv_p: float = Field(-0.0038545, ge=-0.1, le=0.1, description="N'_v, -")
+    nr_p: float = Field(-0.00222, ge=-0.1, le=0, description="N'_r, -")
+    alpha0_deg: float = Field(85.0, gt=45, lt=135, description="drift angle of zero hull yaw moment alpha_0, deg")
+    c_d: float = Field(1.0, ge=0, le=2, description="cross-flow drag coefficient C_Dv, -")
+    c_yr: float = Field(1.0, ge=0, le=2, description="yaw factor C_Yr in the sway cross-flow integral, -")
+    c_nr: float = Field(1.0, ge=0, le=2, description="yaw factor C_Nr in the yaw cross-flow integral, -")
+    # rudder (Son & Nomoto)
+    rudder_area: float = Field(33.0376, gt=0, le=500, description="rudder area A_R, m2")
+    rudder_aspect: float = Field(1.8219, gt=0.2, le=6, description="rudder aspect ratio Lambda, -")
+    t_r: float = Field(0.29, ge=0, lt=1, description="steering resistance deduction t_R (1 - 0.71), -")
+    a_h: float = Field(0.237, ge=0, le=1, description="rudder force increase factor a_H, -")
+    x_h_p: float = Field(-0.48, ge=-1, le=0, description="x'_H, acting point of the hull-induced force / L, -")
+    x_r_p: float = Field(-0.5, ge=-1, le=0, description="x'_R, rudder position / L, -")
+    gamma_r: float = Field(0.088, ge=0, le=1, description="flow straightening of sway at the rudder gamma_R, -")
+    c_rr: float = Field(-0.156, ge=-1, le=1, description="yaw term of the rudder inflow c_Rr, -")
+    epsilon: float = Field(0.921, gt=0, le=2, description="wake ratio at rudder/propeller epsilon, -")
+    kappa: float = Field(0.631, ge=0, le=2, description="propeller race factor kappa, -")
+    # propeller (Son & Nomoto): K_T = 0.527 - 0.455 J
+    prop_diameter: float = Field(6.533, gt=0.1, le=15, description="propeller diameter D, m")
+    t_p: float = Field(0.175, ge=0, lt=1, description="thrust deduction t_p, -")
+    w_p: float = Field(0.184, ge=0, lt=1, description="wake fraction w_p, -")
+    kt_a1: float = Field(0.527, gt=0, le=1, description="K_T = a1 + a2 J + a3 J^2: a1, -")
+    kt_a2: float = Field(-0.455, ge=-2, le=0, description="K_T coefficient a2, -")
+    kt_a3: float = Field(0.0, ge=-2, le=2, description="K_T coefficient a3, -")
+    n_max_rpm: float = Field(160.0, gt=0, le=1000, description="propeller shaft speed limit, rpm")
+    # thrusters (chosen: ~20 tf tunnel thrusters of ~1500 kW)
+    thruster_force_kn: float = Field(200.0, gt=0, le=2000, description="bow/stern thruster force at full rpm, kN")
+    thruster_rpm_max: float = Field(250.0, gt=0, le=3000, description="thruster speed limit, rpm")
+    x_tb: float = Field(73.5, ge=0, le=250, description="bow thruster position from midship x_TB, m")
+    x_ts: float = Field(-73.5, ge=-250, le=0, description="stern thruster position from midship x_TS, m")
+    # actuator lags and limits
+    tau_prop: float = Field(6.0, ge=0.01, le=100, description="propeller time constant tau_P, s")
+    tau_rudder: float = Field(1.0, ge=0.01, le=100, description="rudder time constant tau_delta, s")
+    tau_thruster: float = Field(3.0, ge=0.01, le=100, description="thruster time constants tau_tB = tau_tS, s")
+    rudder_max_deg: float = Field(35.0, gt=0, le=45, description="rudder angle limit, deg")
+    rudder_rate_degps: float = Field(2.32, gt=0, le=100, description="rudder rate limit (IMO 35-30 deg in 28 s), deg/s")
+    # windage
+    rho_air: float = Field(RHO_AIR, gt=0, le=2, description="air density, kg/m3")
+    area_front: float = Field(500.0, gt=0, le=1e4, description="frontal windage area A_F, m2")
+    area_side: float = Field(2500.0, gt=0, le=1e5, description="lateral windage area A_L, m2")
+    c_x: float = Field(0.7, ge=0, le=2, description="wind surge coefficient, -")
+    c_y: float = Field(0.85, ge=0, le=2, description="wind sway coefficient, -")
+    c_n: float = Field(0.10, ge=0, le=1, description="wind yaw coefficient, -")
+    # initial state
+    x0: float = Field(0.0, ge=-1e6, le=1e6, description="initial north position, m")
+    y0: float = Field(0.0, ge=-1e6, le=1e6, description="initial east position, m")
+    psi0_deg: float = Field(0.0, ge=-360, le=360, description="initial heading, deg")
+    u0: float = Field(0.0, ge=-5, le=15, description="initial surge speed, m/s")
+    n0_rpm: float = Field(0.0, ge=-1000, le=1000, description="initial propeller speed, rpm")
+
+    @property
+    def mass(self) -> float:
+        """Ship mass rho * displacement, kg."""
+        return self.rho * self.displacement
+
+    def params(self) -> np.ndarray:
+        """Flat parameter array in the layout :data:`P_NAMES` (dimensional, SI)."""
+        L, T, rho = self.length, self.draft, self.rho
+        q2, q3, q4, q5 = 0.5 * rho * L ** 2, 0.5 * rho * L ** 3, 0.5 * rho * L ** 4, 0.5 * rho * L ** 5
+        m = self.mass
+        mx = self.mx_p * q3
+        my = self.my_p * q3
+        iz = self.iz_p * q5
+        jz = self.jz_p * q5
+        yrdot = self.yrdot_p * q4
+        nvdot = self.nvdot_p * q4
+        lam = self.rudder_aspect
+        nmax = self.n_max_rpm / 60.0
+        ntmax = self.thruster_rpm_max / 60.0
+        b = self.thruster_force_kn * 1e3 / ntmax ** 2
+        p = np.zeros(len(P_NAMES))
+        vals = {
+            "L": L, "T": T, "rho": rho, "m": m, "xG": self.x_g, "m11": m + mx,
+            "M1_11": m + my, "M1_12": m * self.x_g - yrdot, "M1_21": m * self.x_g - nvdot, "M1_22": iz + jz,
+            "X_uu": self.xuu_p * q2, "X_vr": (self.xvr_p + self.my_p) * q3, "X_vv": self.xvv_p * q2,
+            "X_rr": self.xrr_p * q4, "Y_v": self.yv_p * q2, "Y_r": self.yr_p * q3, "m_x": mx,
+            "Nv_drift": self.nv_p * q3, "N_r": self.nr_p * q4, "alpha0": math.radians(self.alpha0_deg),
+            "C_D": self.c_d, "C_Yr": self.c_yr, "C_Nr": self.c_nr, "A_R": self.rudder_area,
+            "f_alpha": 6.13 * lam / (lam + 2.25), "t_R": self.t_r, "a_H": self.a_h,
+            "x_H": self.x_h_p * L, "x_R": self.x_r_p * L, "gamma_R": self.gamma_r, "c_Rr": self.c_rr,
+            "eps": self.epsilon, "kappa": self.kappa, "D": self.prop_diameter, "t_p": self.t_p,
+            "w_p": self.w_p, "a1": self.kt_a1, "a2": self.kt_a2, "a3": self.kt_a3, "b_B": b, "b_S": b,
+            "x_TB": self.x_tb, "x_TS": self.x_ts, "tau_p": self.tau_prop, "tau_d": self.tau_rudder,
+            "tau_tb": self.tau_thruster, "tau_ts": self.tau_thruster, "n_max": nmax,
+            "delta_max": math.radians(self.rudder_max_deg), "delta_rate": math.radians(self.rudder_rate_degps),
+            "nB_max": ntmax, "nS_max": ntmax, "rho_air": self.rho_air, "A_F": self.area_front,
+            "A_L": self.area_side, "L_oa": L, "c_x": self.c_x, "c_y": self.c_y, "c_n": self.c_n,
+        }
+        for k, v in vals.items():
+            p[P[k]] = v
+        return p
+
+
+# -- force components ------------------------------------------------------------------------------
+
+@njit(cache=True)
+def _g3(w):
+    return w * w * abs(w) / 3.0
+
+
+@njit(cache=True)
+def _g4(w):
+    return w * w * w * abs(w) / 4.0
+
+
+@njit(cache=True)
+def crossflow_integrals(a, b, L):
+    """Closed-form I0 = int (a + b x)|a + b x| dx and I1 = int x (a + b x)|a + b x| dx over [-L/2, L/2].
+
+    With w = a + b x: I0 = [w^2|w|/3] / b and I1 = [w^3|w|/4 - a w^2|w|/3] / b^2 between the ends.
+    For |b| L tiny against |a| the differences cancel; then the first-order limits
+    I0 = L a|a|, I1 = |a| b L^3 / 6 are exact to O((bL/a)^2) (switch at |b| L/2 < 1e-4 |a|).
+    """
+    h = 0.5 * L
+    if abs(b) * h <= 1e-4 * abs(a) or b == 0.0:
+        return L * a * abs(a), abs(a) * b * L ** 3 / 6.0
+    w1 = a + b * h
+    w0 = a - b * h
+    i0 = (_g3(w1) - _g3(w0)) / b
+    i1 = ((_g4(w1) - _g4(w0)) - a * (_g3(w1) - _g3(w0))) / (b * b)
+    return i0, i1
+
+
+@njit(cache=True)
+def _drift_shape(beta, alpha0):
+    """sgn(beta) sin(2 phi): zero at beta = 0, +-alpha0, +-pi; slope pi/alpha0 at beta = 0."""
+    ab = abs(beta)
+    if ab <= alpha0:
+        phi = 0.5 * math.pi * ab / alpha0
+    else:
+        phi = 0.5 * math.pi + 0.5 * math.pi * (ab - alpha0) / (math.pi - alpha0)
+    s = math.sin(2.0 * phi)
+    return s if beta >= 0.0 else -s
+
+
+@njit(cache=True)
+def hull_forces(ur, vr, r, p):
+    """Hull forces without added-mass terms (X_h, Y_h, N_h) of 001 eq. 7-11 (our reading), N, N, N m."""
+    L = p[0]
+    T = p[1]
+    rho = p[2]
+    U2 = ur * ur + vr * vr
+    X = p[10] * ur * abs(ur) + p[11] * vr * r + p[12] * vr * vr + p[13] * r * r
+    i0, _ = crossflow_integrals(vr, p[21] * r, L)
+    _, i1 = crossflow_integrals(vr, p[22] * r, L)
+    qcd = 0.5 * rho * T * p[20]
+    Y = p[14] * abs(ur) * vr + p[15] * abs(ur) * r - p[16] * ur * r - qcd * i0
+    N = p[18] * abs(ur) * r - qcd * i1
+    if U2 > 0.0:
+        beta = math.atan2(-vr, ur)  # (10) over all quadrants
+        alpha0 = p[19]
+        N += -p[17] * U2 * (alpha0 / math.pi) * _drift_shape(beta, alpha0)
+    return X, Y, N
+
+
+@njit(cache=True)
+def prop_thrust_coef(n, up, p):
+    """n|n| D^4 K_T(J) expanded (defined at n = 0), with J = u_P/(|n| D): rev^2/s^2 m^4."""
+    D = p[33]
+    sg = 1.0 if n > 0.0 else (-1.0 if n < 0.0 else 0.0)
+    return p[36] * n * abs(n) * D ** 4 + p[37] * n * up * D ** 3 + p[38] * sg * up * up * D * D
+
+
+@njit(cache=True)
+def propeller_thrust(n, ur, p):
+    """X_P = (1 - t_p) rho n|n| D^4 K_T(J) (001 eq. 16, 17), N."""
+    up = (1.0 - p[35]) * ur
+    return (1.0 - p[34]) * p[2] * prop_thrust_coef(n, up, p)
+
+
+@njit(cache=True)
+def rudder_inflow(ur, vr, r, n, p):
+    """Rudder inflow (u_R, v_R) in m/s: propeller race ahead (Son & Nomoto), flow straightening."""
+    up = (1.0 - p[35]) * ur
+    D = p[33]
+    eps = p[31]
+    race = 0.0
+    if n > 0.0:
+        kt2 = prop_thrust_coef(n, up, p) / D ** 4  # K_T n^2
+        if kt2 > 0.0:
+            race = 8.0 * p[32] * kt2 * D * D / math.pi
+    uR2 = eps * eps * (up * up + race)
+    uR = math.sqrt(uR2)
+    if up < 0.0 and race < up * up:
+        uR = -uR
+    vR = p[29] * vr + p[30] * p[0] * r
+    return uR, vR
+
+
+@njit(cache=True)
+def rudder_normal_force(delta, ur, vr, r, n, p):
+    """F_N = rho/2 A_R f_alpha U_R^2 sin(alpha_R), alpha_R = delta + atan2(v_R, u_R) (001 eq. 15), N."""
+    uR, vR = rudder_inflow(ur, vr, r, n, p)
+    UR2 = uR * uR + vR * vR
+    if UR2 == 0.0:
+        return 0.0
+    return 0.5 * p[2] * p[23] * p[24] * UR2 * math.sin(delta + math.atan2(vR, uR))
+
+
+@njit(cache=True)
+def rudder_forces(delta, ur, vr, r, n, p):
+    """(X_R, Y_R, N_R) of 001 eq. 12-14, N and N m."""
+    fn = rudder_normal_force(delta, ur, vr, r, n, p)
+    c = math.cos(delta)
+    return (-(1.0 - p[25]) * fn * math.sin(delta), -(1.0 + p[26]) * fn * c,
+            -(p[28] + p[26] * p[27]) * fn * c)
+
+
+@njit(cache=True)
+def thruster_forces(nb, ns, p):
+    """(Y_T, N_T) of 001 eq. 18-21, N and N m."""
+    yb = p[39] * nb * abs(nb)
+    ys = p[40] * ns * abs(ns)
+    return yb + ys, p[41] * yb + p[42] * ys
+
+
+@njit(cache=True)
+def _clip(x, lo, hi):
+    return lo if x < lo else (hi if x > hi else x)
+
+
+@njit(cache=True)
+def ship_rhs(t, x, u, p, out):
+    """dx/dt of the ship (layouts in the module docstring)."""
+    psi = x[2]
+    uu = x[3]
+    vv = x[4]
+    r = x[5]
+    delta = x[6]
+    n = x[7]
+    nb = x[8]
+    ns = x[9]
+    c = math.cos(psi)
+    s = math.sin(psi)
+    uc = c * u[4] + s * u[5]
+    vc = -s * u[4] + c * u[5]
+    ur = uu - uc
+    vr = vv - vc
+    m = p[3]
+    xg = p[4]
+    Xh, Yh, Nh = hull_forces(ur, vr, r, p)
+    XR, YR, NR = rudder_forces(delta, ur, vr, r, n, p)
+    XP = propeller_thrust(n, ur, p)
+    YT, NT = thruster_forces(nb, ns, p)
+    XW, YW, NW = wind_load(uu, vv, psi, u[6], u[7], p[52], p[53], p[54], p[55], p[56], p[57], p[58])
+    FX = m * (vr * r + xg * r * r) + Xh + XR + XP + XW
+    FY = -m * ur * r + Yh + YR + YT + YW
+    FN = -m * xg * ur * r + Nh + NR + NT + NW
+    a11 = p[6]
+    a12 = p[7]
+    a21 = p[8]
+    a22 = p[9]
+    det = a11 * a22 - a12 * a21
+    dvr = (a22 * FY - a12 * FN) / det
+    dr = (-a21 * FY + a11 * FN) / det
+    out[0] = c * uu - s * vv
+    out[1] = s * uu + c * vv
+    out[2] = r
+    out[3] = FX / p[5] + r * vc
+    out[4] = dvr - r * uc
+    out[5] = dr
+    dmax = p[48]
+    rate = p[49]
+    dd = (_clip(u[0], -dmax, dmax) - delta) / p[44]
+    out[6] = _clip(dd, -rate, rate)
+    out[7] = (_clip(u[1], -p[47], p[47]) - n) / p[43]
+    out[8] = (_clip(u[2], -p[50], p[50]) - nb) / p[45]
+    out[9] = (_clip(u[3], -p[51], p[51]) - ns) / p[46]
+
+
+def inverse_mass(p) -> tuple[float, float, float, float]:
+    """Entries (a, b, c, d) of M1^{-1} (001 eq. 35); c, d are the (2,1), (2,2) entries used in (34)."""
+    a11, a12, a21, a22 = p[P["M1_11"]], p[P["M1_12"]], p[P["M1_21"]], p[P["M1_22"]]
+    det = a11 * a22 - a12 * a21
+    return a22 / det, -a12 / det, -a21 / det, a11 / det
+
+
+class ShipPlant(Plant):
+    """The ship as a continuous plant.
+
+    Publishes ``ship.x, ship.y`` (m, NED), ``ship.psi`` (rad, wrapped), ``ship.u, ship.v`` (m/s, over
+    ground, body axes), ``ship.r`` (rad/s), ``ship.rudder`` (rad), ``ship.rpm_prop``,
+    ``ship.rpm_bow``, ``ship.rpm_stern`` (rpm), ``ship.speed`` (m/s over ground) and
+    ``ship.u_r, ship.v_r`` (m/s through the water).
+    """
+
+    def __init__(self, cfg: ShipConfig, name: str = "ship"):
+        x0 = np.zeros(len(STATE_NAMES))
+        x0[:] = [cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0, 0.0, cfg.n0_rpm / 60.0, 0.0, 0.0]
+        inputs = [k.replace("ship.", f"{name}.") for k in INPUT_NAMES]
+        tau_min = min(cfg.tau_prop, cfg.tau_rudder, cfg.tau_thruster)
+        super().__init__(name, ship_rhs, x0, cfg.params(), STATE_NAMES, inputs, state_bound=1e8,
+                         max_dt=min(1.0, 2.5 * tau_min))
+        self.cfg = cfg
+
+    def publish(self, bus: dict) -> None:
+        x = self.x
+        b = self.name
+        bus[f"{b}.x"] = float(x[0])
+        bus[f"{b}.y"] = float(x[1])
+        bus[f"{b}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
+        bus[f"{b}.u"] = float(x[3])
+        bus[f"{b}.v"] = float(x[4])
+        bus[f"{b}.r"] = float(x[5])
+        bus[f"{b}.rudder"] = float(x[6])
+        bus[f"{b}.rpm_prop"] = float(x[7] * 60.0)
+        bus[f"{b}.rpm_bow"] = float(x[8] * 60.0)
+        bus[f"{b}.rpm_stern"] = float(x[9] * 60.0)
+        bus[f"{b}.speed"] = float(math.hypot(x[3], x[4]))
+        c, s = math.cos(x[2]), math.sin(x[2])
+        cn, ce = bus.get("env.current_n", 0.0), bus.get("env.current_e", 0.0)
+        bus[f"{b}.u_r"] = float(x[3] - (c * cn + s * ce))
+        bus[f"{b}.v_r"] = float(x[4] - (-s * cn + c * ce))
+
+
+def simulate_open(cfg: ShipConfig, duration: float, cmds, dt: float = 0.1, env=(0.0, 0.0, 0.0, 0.0),
+                  x0=None) -> np.ndarray:
+    """Integrate the ship alone with constant commands ``cmds = (delta_c rad, n_c, n_Bc, n_Sc rev/s)``.
+
+    Returns the state history (k+1, 10) at every ``dt``; one compiled call per sample (for checks and
+    tests; the scenarios run the plant through the Simulation clock).
+    """
+    from ..core.integrators import rk4_advance, rk4_workspace
+
+    p = cfg.params()
+    x = np.array(x0, float) if x0 is not None else ShipPlant(cfg).x.copy()
+    u = np.array([*cmds, *env], float)
+    work = rk4_workspace(x.size)
+    k = int(round(duration / dt))
+    out = np.empty((k + 1, x.size))
+    out[0] = x
+    t = 0.0
+    for i in range(k):
+        t = rk4_advance(ship_rhs, t, x, u, p, dt, 1, work)
+        out[i + 1] = x
+    return out
