@@ -293,9 +293,10 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     nz = len(model.measurement_names)
     na = idx.size
     n = ns + na
-    t = np.ascontiguousarray(t, dtype=np.float64)
-    Z = np.ascontiguousarray(np.atleast_2d(np.asarray(Z, dtype=np.float64)))
-    U = np.ascontiguousarray(np.asarray(U, dtype=np.float64).reshape(t.size, -1))
+    # fresh, writeable, C-contiguous copies: one compiled signature whatever the caller passes
+    t = np.array(t, dtype=np.float64, order="C", copy=True).ravel()
+    Z = np.array(np.atleast_2d(np.asarray(Z, dtype=np.float64)), order="C", copy=True)
+    U = np.array(np.asarray(U, dtype=np.float64).reshape(t.size, -1), order="C", copy=True)
     if t.ndim != 1 or t.size < 2:
         raise InputError("need at least two samples")
     if Z.shape != (t.size, nz):
@@ -326,7 +327,7 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     p = np.array(model.params if params is None else params, dtype=np.float64)
     if p.size != len(model.param_names):
         raise InputError(f"params: expected {len(model.param_names)} values, got {p.size}")
-    X0 = np.concatenate([x0, alpha0])
+    X0 = np.array(np.concatenate([x0, alpha0]), order="C")
     bound = np.full(n, float(model.bound))
     Xout = np.full((t.size, n), np.nan)
     Sout = np.full((t.size, n), np.nan)

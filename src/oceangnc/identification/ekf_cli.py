@@ -1,0 +1,169 @@
+"""``oceangnc identify ekf LOG --model submarine-vertical --estimate Zw,Zwdot,...``.
+
+Reads a Parquet (or CSV) log with a time column ``t``, the model's measurement columns
+``<prefix>.<name>`` (for ``submarine-vertical``: ``sub.w`` m/s, ``sub.theta`` rad, ``sub.q`` rad/s)
+and input columns (``sub.ds`` rad, held over each sample interval), runs the augmented-state EKF
+(:mod:`oceangnc.identification.ekf`) and prints a table of the estimates with their 1-sigma; writes
+the same as JSON (``--out``, default ``<log folder>/ekf_<model>.json``).
+
+Tuning defaults: measurement sigma estimated from the log (second differences: for white noise
+e_k, Var(e_k+1 - 2 e_k + e_k-1) = 6 sigma^2; floor 1e-5 x the channel's RMS), initial state = first
+sample with 2-sigma uncertainty, initial guesses = the model's nominal values (``--initial`` to
+change), P0 = (``--p0-rel`` x |guess|)^2, Q = ``--q-rel`` x R per second on the states, 0 on the
+parameters.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ConfigError, InputError
+from .ekf import MODELS, get_model, resolve_estimate, run_ekf
+
+
+def _parse_kv(text: str | None, what: str) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for item in (text or "").split(","):
+        item = item.strip()
+        if not item:
+            continue
+        if "=" not in item:
+            raise InputError(f"{what}: expected name=value pairs, got {item!r}")
+        k, v = item.split("=", 1)
+        try:
+            out[k.strip()] = float(v)
+        except ValueError:
+            raise InputError(f"{what}: {item!r} is not a number") from None
+    return out
+
+
+def noise_sigma_from_data(z: np.ndarray) -> np.ndarray:
+    """White-noise sigma of each column of ``z`` from second differences (floor 1e-5 x RMS)."""
+    out = np.zeros(z.shape[1])
+    for i in range(z.shape[1]):
+        c = z[:, i]
+        c = c[np.isfinite(c)]
+        if c.size < 5:
+            raise InputError(f"measurement column {i} has fewer than 5 finite samples")
+        d2 = c[2:] - 2.0 * c[1:-1] + c[:-2]
+        rms = float(np.sqrt(np.mean(c * c)))
+        out[i] = max(float(np.std(d2)) / np.sqrt(6.0), 1e-5 * rms, 1e-12)
+    return out
+
+
+def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: dict | None = None,
+                 initial_scale: float = 1.0, p0_rel: float = 0.3, r_sigma=None, q_rel: float = 5e-5,
+                 passes: int = 1, substeps: int = 1, jacobian: str | None = None) -> dict:
+    """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring)."""
+    from ..io.logs import read_log
+
+    model = get_model(model_name)
+    idx = resolve_estimate(model, estimate)
+    names = [model.param_names[i] for i in idx]
+    zcols = [f"{prefix}.{k}" for k in model.measurement_names]
+    ucols = [f"{prefix}.{k}" for k in model.input_names]
+    df = read_log(path)
+    missing = [c for c in ["t", *zcols, *ucols] if c not in df.columns]
+    if missing:
+        raise InputError(f"log {path} has no column(s) {', '.join(missing)} needed by model {model.name} "
+                         f"(prefix '{prefix}'); it has: {', '.join(map(str, df.columns[:12]))}"
+                         f"{' ...' if len(df.columns) > 12 else ''}")
+    if len(df) < 3:
+        raise InputError(f"log {path} has {len(df)} rows; need at least 3")
+    t = df["t"].to_numpy(dtype=float)
+    Z = df[zcols].to_numpy(dtype=float)
+    U = df[ucols].to_numpy(dtype=float)
+    if not np.all(np.isfinite(Z[0])):
+        raise InputError("the first sample must hold every measurement (it is the initial state)")
+    if not (initial_scale > 0):
+        raise ConfigError("--initial-scale must be positive")
+    if not (p0_rel > 0):
+        raise ConfigError("--p0-rel must be positive")
+    if q_rel < 0:
+        raise ConfigError("--q-rel must be >= 0")
+    if passes < 1 or substeps < 1:
+        raise ConfigError("--passes and --substeps must be >= 1")
+    init = dict(initial or {})
+    bad = [k for k in init if k not in names]
+    if bad:
+        raise InputError(f"--initial names {', '.join(bad)} are not estimated (estimating {', '.join(names)})")
+    a0 = np.array([init.get(k, model.params[i] * initial_scale) for k, i in zip(names, idx)])
+    if r_sigma is None:
+        sd = noise_sigma_from_data(Z)
+    else:
+        sd = np.asarray(r_sigma, dtype=float)
+        if sd.size != len(zcols):
+            raise InputError(f"--r-sigma needs {len(zcols)} values ({', '.join(zcols)})")
+        if not np.all(sd > 0):
+            raise ConfigError("R is not positive definite: every --r-sigma value must be > 0")
+    R = sd ** 2
+    P0 = np.concatenate([(2.0 * sd) ** 2, (p0_rel * np.abs(a0)) ** 2])
+    Q = np.concatenate([q_rel * R, np.zeros(len(names))])
+    if np.any(a0 == 0):
+        zero = [k for k, v in zip(names, a0) if v == 0]
+        raise ConfigError(f"P0 is not positive definite: initial guess 0 for {', '.join(zero)} gives a zero "
+                          "variance; give a non-zero --initial")
+    x0 = Z[0]
+    t0 = time.perf_counter()
+    a = a0
+    res = None
+    for _ in range(passes):
+        res = run_ekf(model, t, Z, U, names, x0, a, P0, Q, R, substeps=substeps, jacobian=jacobian)
+        a = res.X[-1, len(model.state_names):]
+    wall = time.perf_counter() - t0
+    fin = res.final()
+    return {
+        "model": model.name, "log": str(path), "samples": int(t.size), "duration_s": float(t[-1] - t[0]),
+        "measurement_sigma": {c: float(s) for c, s in zip(zcols, sd)}, "passes": passes,
+        "wall_time_s": wall, "mean_nis": float(np.nanmean(res.nis)), "nis_dof": len(zcols),
+        "parameters": {k: {"initial": float(a0[i]), "estimate": fin[k][0], "sigma": fin[k][1]}
+                       for i, k in enumerate(names)},
+    }
+
+
+def _cmd(args) -> int:
+    r_sigma = None
+    if args.r_sigma:
+        try:
+            r_sigma = [float(v) for v in args.r_sigma.split(",")]
+        except ValueError:
+            raise InputError(f"--r-sigma {args.r_sigma!r}: expected comma-separated numbers") from None
+    out = identify_log(args.log, args.model, args.estimate, prefix=args.prefix,
+                       initial=_parse_kv(args.initial, "--initial"), initial_scale=args.initial_scale,
+                       p0_rel=args.p0_rel, r_sigma=r_sigma, q_rel=args.q_rel, passes=args.passes,
+                       substeps=args.substeps, jacobian=args.jacobian)
+    print(f"model {out['model']}: {out['samples']} samples over {out['duration_s']:.2f} s, "
+          f"filter {out['wall_time_s']:.2f} s, mean NIS {out['mean_nis']:.2f} (expect {out['nis_dof']})")
+    print(f"  {'parameter':<10} {'initial':>13} {'estimate':>13} {'1-sigma':>11} {'sigma/|est|':>11}")
+    for k, v in out["parameters"].items():
+        rel = v["sigma"] / abs(v["estimate"]) if v["estimate"] != 0 else float("inf")
+        print(f"  {k:<10} {v['initial']:>13.6g} {v['estimate']:>13.6g} {v['sigma']:>11.3g} {rel:>10.2%}")
+    log = Path(args.log)
+    dest = Path(args.out) if args.out else (log if log.is_dir() else log.parent) / f"ekf_{out['model']}.json"
+    dest.write_text(json.dumps(out, indent=2))
+    print(f"wrote {dest}")
+    return 0
+
+
+def register(sub) -> None:
+    p = sub.add_parser("ekf", help="hydrodynamic coefficients by augmented-state EKF (document 002)",
+                       description="Identify model parameters from a log with the continuous-discrete "
+                                   "augmented-state extended Kalman filter.")
+    p.add_argument("log", help="log.parquet / .csv, or a run folder holding log.parquet")
+    p.add_argument("--model", default="submarine-vertical", help=f"model name ({', '.join(MODELS)})")
+    p.add_argument("--estimate", required=True, help="comma-separated parameter names, e.g. Zw,Zwdot,Mq")
+    p.add_argument("--prefix", default="sub", help="column prefix of measurements and inputs (default sub)")
+    p.add_argument("--initial", help="initial guesses name=value,... (default: model nominal values)")
+    p.add_argument("--initial-scale", type=float, default=1.0, help="multiply the nominal guesses by this")
+    p.add_argument("--p0-rel", type=float, default=0.3, help="initial 1-sigma relative to each guess")
+    p.add_argument("--r-sigma", help="measurement sigmas (SI, comma-separated); default estimated from the log")
+    p.add_argument("--q-rel", type=float, default=5e-5, help="state process noise, units of R per second")
+    p.add_argument("--passes", type=int, default=1, help="passes over the record")
+    p.add_argument("--substeps", type=int, default=1, help="RK4 steps per sample interval")
+    p.add_argument("--jacobian", choices=["analytic", "complex-step", "finite-difference"])
+    p.add_argument("--out", help="JSON output path")
+    p.set_defaults(func=_cmd)
