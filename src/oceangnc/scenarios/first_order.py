@@ -61,25 +61,22 @@ class ClosedLoopConfig(ScenarioConfig):
     speed_control: SpeedDesign = SpeedDesign()
     control_rate: float = Field(20.0, gt=0, le=1000, description="autopilot and actuator rate, Hz")
 
-    @model_validator(mode="after")
-    def _design(self):
-        # refuse a design with 2 zeta w_n T <= 1 anywhere in the trial ranges (000 eq. 26/31)
-        from ..control.pole_placement import heading_gains, speed_gain
 
-        u = self.usv
-        for s in (u.turn_lo_mps, u.turn_hi_mps):
-            c = u.coefficients(s)
+def check_design(cfg) -> None:
+    """Refuse a design with 2 zeta w_n T <= 1 anywhere in the trial ranges (000 eq. 26/31), naming the key."""
+    from ..control.pole_placement import heading_gains, speed_gain
+
+    u = cfg.usv
+    for sec, law, fn, speeds in (("heading", ("K_r", "T_r"), heading_gains, (u.turn_lo_mps, u.turn_hi_mps)),
+                                 ("speed_control", ("K_v", "T_v"), speed_gain, (u.straight_lo_mps, u.straight_hi_mps))):
+        d = getattr(cfg, sec)
+        for sp in speeds:
+            c = u.coefficients(sp)
             try:
-                heading_gains(c["K_r"], c["T_r"], self.heading.zeta, self.heading.wn)
+                fn(c[law[0]], c[law[1]], d.zeta, d.wn)
             except ConfigError as e:
-                raise ValueError(f"at {s:g} m/s: {e}") from None
-        for s in (u.straight_lo_mps, u.straight_hi_mps):
-            c = u.coefficients(s)
-            try:
-                speed_gain(c["K_v"], c["T_v"], self.speed_control.zeta, self.speed_control.wn)
-            except ConfigError as e:
-                raise ValueError(f"at {s:g} m/s: {e}") from None
-        return self
+                raise ConfigError(f"config error: {sec}.wn = {d.wn:g} / {sec}.zeta = {d.zeta:g}: at {sp:g} m/s "
+                                  f"{str(e).split(': ', 1)[1]}") from None
 
 
 def _nomoto(cfg):
@@ -98,6 +95,7 @@ def _speedlaw(cfg):
 
 def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None):
     """Guidance/command blocks, heading PD, speed P (or a fixed rpm) and the actuators."""
+    check_design(cfg)
     h = 1.0 / cfg.control_rate
     blocks = list(guidance_blocks)
     blocks.append(HeadingAutopilot(_nomoto(cfg), cfg.heading.zeta, cfg.heading.wn, h))
