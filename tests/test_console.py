@@ -163,8 +163,10 @@ def test_estop_zeroes_thrust_at_once_and_is_latched(session):
     advance(s, 5.0)  # autonomous: cruising
     assert min(thrust(s)) > 10.0
     send(s, type="estop", engaged=True)
-    advance(s, 0.05)  # one console update
-    assert thrust(s) == (0.0, 0.0)
+    t_sim = s.sim.t
+    s.step_once()  # the next console pass, wall clock not advanced: no simulated time passes
+    assert s.sim.t == t_sim
+    assert thrust(s) == (0.0, 0.0)  # zero at once, not one actuator period later
     assert s.state()["estop"] is True and s.state()["signals"]["usv.thrust_port"] == 0.0
     send(s, type="mode", mode="remote")  # switching modes does not clear a latched stop
     advance(s, 5.0, stick=(1.0, 0.0))

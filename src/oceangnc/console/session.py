@@ -21,7 +21,9 @@ Failsafe. In remote mode, if no client is connected or no stick message arrived 
 then only ``console.failsafe`` is raised and the scenario holds position). The failsafe clears when
 the link is back *and* the stick is at neutral (so a stick held over during the outage cannot
 launch the vehicle), or when the operator switches to autonomous mode. The emergency stop is
-separate and latched: only an explicit reset clears it.
+separate and latched: only an explicit reset clears it. When either sets ``_estop``, the session
+fires the scenario's blocks once at that instant, so the actuator blocks' outputs are zero before the
+next integration step and in the very next state message (not one actuator period later).
 
 Log. Every logged row goes both to ``log.parquet`` in the run folder (through
 :class:`oceangnc.io.logs.LogWriter`, closed when the run ends) and to column arrays in memory, from
@@ -218,6 +220,8 @@ class Session:
             self.gains = collect_gains(sim)
             self.station_keep = bool(getattr(sc, "failsafe_station_keep", False))
             self.tick_s = sim.tick * sim.dt
+            self._push_bus()
+            sim.run(0.0, log=self._tee)  # fire the blocks at t = 0 (first log row) so their outputs exist
             self.view = infer_view(sc, cfg, sim.bus)
             self.tracks = {b["name"]: deque(maxlen=4000) for b in self.view["bodies"]}
             self._track_t = -math.inf
@@ -456,16 +460,22 @@ class Session:
             return
         with self._lock:
             self._watchdog(now)
+            was_stopped = bool(self.sim.bus.get("_estop", False))
             self._push_bus()
             sim = self.sim
+            if self.sim.bus["_estop"] and not was_stopped:
+                # all thrust to zero at once: fire the blocks now with _estop set, so the actuators'
+                # outputs are zero before the next integration step (not one actuator period later)
+                for b in sim.blocks:
+                    b.step(sim.t, sim.bus)
             if not (self.paused or self.ended):
                 w0, s0 = self._anchor
                 lag = s0 + self.speed * (now - w0) - sim.t
                 if lag > self.max_lag:
                     self._lag_events += 1
                     if self._lag_events in (1, 10, 100) or self._lag_events % 1000 == 0:
-                        self.event("warning", f"simulation slower than {self.speed:g}x real time "
-                                              f"({self.rtf:.2f}x measured)")
+                        self.event("warning", f"simulation fell {lag:.2f} s behind the {self.speed:g}x wall "
+                                              f"clock (machine busy); it continues from here")
                     self._anchor = (now, sim.t)
                     lag = self.max_lag
                 n = int(math.floor(lag / self.tick_s + 1e-9))
