@@ -359,6 +359,7 @@ def submarine_vertical_model(params=None) -> EKFModel:
     return EKFModel(name="submarine-vertical", f=sub_f, h=sub_h, jac=sub_jac, state_names=FILTER_STATES,
                     param_names=P_NAMES, input_names=("ds",), measurement_names=("w", "theta", "q"),
                     params=default_params() if params is None else np.asarray(params, dtype=np.float64),
+                    bound=100.0,  # |w| > 100 m/s, |theta| > 100 rad, |q| > 100 rad/s or |coef'| > 100: diverged
                     description="002 heave-pitch submarine: states w, theta, q; input stern plane ds")
 
 
