@@ -47,6 +47,7 @@ INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.curre
 
 # parameter layout: header, USV params, UUV params, scratch
 H_N, H_TOP, H_FIX, H_ATT, H_L0, H_EA, H_CV, H_MC, H_MA, H_WSEG, H_KDRAG = 0, 1, 2, 5, 8, 9, 10, 11, 12, 13, 14
+H_CVE = 15  # axial damping inside the RHS (C_v for "rk4"; 0 for "rk4-split", except the last segment)
 P_USV = 20
 N_USV = 15
 P_UUV = 40
@@ -140,8 +141,8 @@ def combined_rhs(t, x, u, p, out):
         for k in range(6):
             out[k] = 0.0
     pos, vel, F, Mn = _gather(x, p, n)
-    cable_loads(pos, vel, F, Mn, n, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG],
-                u[2], u[3])
+    cable_loads(pos, vel, F, Mn, n, p[H_L0], p[H_EA], p[H_CVE], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG],
+                u[2], u[3], p[H_CV])
     vo = 6 + 3 * (n - 1)
     for i in range(1, n):
         k = 3 * i
@@ -179,6 +180,191 @@ def cable_state(x, p, nodes, ends):
         ends[3 + k] = F[b + k]
 
 
+@njit(cache=True)
+def _inv3(a, o, out, q):
+    """Inverse of the general 3x3 matrix a[o:o+9] (row-major) into out[q:q+9]."""
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a[o], a[o + 1], a[o + 2], a[o + 3], a[o + 4], a[o + 5], a[o + 6], a[o + 7], a[o + 8]
+    c0 = a4 * a8 - a5 * a7
+    c1 = a5 * a6 - a3 * a8
+    c2 = a3 * a7 - a4 * a6
+    det = a0 * c0 + a1 * c1 + a2 * c2
+    d = 1.0 / det
+    out[q] = c0 * d
+    out[q + 1] = (a2 * a7 - a1 * a8) * d
+    out[q + 2] = (a1 * a5 - a2 * a4) * d
+    out[q + 3] = c1 * d
+    out[q + 4] = (a0 * a8 - a2 * a6) * d
+    out[q + 5] = (a2 * a3 - a0 * a5) * d
+    out[q + 6] = c2 * d
+    out[q + 7] = (a1 * a6 - a0 * a7) * d
+    out[q + 8] = (a0 * a4 - a1 * a3) * d
+
+
+@njit(cache=True)
+def damping_substep(x, p, h):
+    """Backward-Euler step of length ``h`` of the axial damping alone on the interior node velocities.
+
+    Solves (M + h C) v+ = M v for the block-tridiagonal damping matrix C of the stretched segments
+    (C_v t t^T per segment, 003 eq. 2.23) of segments 1..n-1 by the block Thomas algorithm, the top
+    node's velocity held (the USV is not loaded by the cable). The last segment's damper stays in the
+    explicit RHS, so its reaction acts on the UUV. Unconditionally stable and dissipative.
+    """
+    n = int(p[H_N])
+    cv = p[H_CV]
+    if n < 2 or cv == 0.0:
+        return
+    pos, vel, F, Mn = _gather(x, p, n)
+    m3 = 3 * (n + 1)
+    base = P_SCR + 15 * (n + 1)
+    T = p[base:base + m3]  # tangents of segments 1..n at T[3 i - 3 ...], taut flag folded in (0 vector)
+    D = p[base + m3:base + m3 + 9 * (n + 1)]  # inverted modified diagonal blocks
+    R = p[base + m3 + 9 * (n + 1):base + m3 + 12 * (n + 1)]  # modified right-hand sides
+    W = p[base + m3 + 12 * (n + 1):base + m3 + 21 * (n + 1)]  # work 3x3 blocks
+    l0 = p[H_L0]
+    mt = 0.5 * (p[H_MC] + p[H_MA])
+    ha = 0.5 * p[H_MA]
+    for i in range(1, n + 1):
+        a = 3 * (i - 1)
+        b = 3 * i
+        dx = pos[b] - pos[a]
+        dy = pos[b + 1] - pos[a + 1]
+        dz = pos[b + 2] - pos[a + 2]
+        ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+        k = 3 * (i - 1)
+        if ln > l0 and i < n:  # the last segment's damper stays explicit (its reaction acts on the UUV)
+            T[k] = dx / ln
+            T[k + 1] = dy / ln
+            T[k + 2] = dz / ln
+        else:
+            T[k] = 0.0
+            T[k + 1] = 0.0
+            T[k + 2] = 0.0
+    hc = h * cv
+    # forward sweep over interior nodes i = 1..n-1; segment i joins nodes i-1, i
+    for i in range(1, n):
+        ka = 3 * (i - 1)  # segment i (above)
+        kb = 3 * i  # segment i+1 (below)
+        tax, tay, taz = T[ka], T[ka + 1], T[ka + 2]
+        tbx, tby, tbz = T[kb], T[kb + 1], T[kb + 2]
+        # node mass matrix (both adjacent segments, eq. 2.28), with the *current* tangents
+        # (slack segments use a zero tangent above; their mass still counts isotropically)
+        A = W
+        ta = (tax, tay, taz)
+        tb = (tbx, tby, tbz)
+        for r in range(3):
+            for c in range(3):
+                mm = (2.0 * mt if r == c else 0.0) - ha * (ta[r] * ta[c] + tb[r] * tb[c])
+                A[3 * r + c] = mm + hc * (ta[r] * ta[c] + tb[r] * tb[c])
+        vi0 = vel[3 * i]
+        vi1 = vel[3 * i + 1]
+        vi2 = vel[3 * i + 2]
+        r0 = 0.0
+        r1 = 0.0
+        r2 = 0.0
+        vv = (vi0, vi1, vi2)
+        for r in range(3):
+            acc = 0.0
+            for c in range(3):
+                acc += ((2.0 * mt if r == c else 0.0) - ha * (ta[r] * ta[c] + tb[r] * tb[c])) * vv[c]
+            if r == 0:
+                r0 = acc
+            elif r == 1:
+                r1 = acc
+            else:
+                r2 = acc
+        if i == 1:  # top node velocity held: + h c t t^T v_0
+            v0 = vel[0] * tax + vel[1] * tay + vel[2] * taz
+            r0 += hc * tax * v0
+            r1 += hc * tay * v0
+            r2 += hc * taz * v0
+        if i > 1:
+            # L = A_{i,i-1} D_{i-1}^{-1} with A_{i,i-1} = -hc ta ta^T; A' = A - L A_{i-1,i} (= -hc ta ta^T)
+            q = 9 * (i - 1)
+            # u = D^{-1} ta ; s = ta . D^{-1} ta ; L v = -hc ta (ta^T D^{-1} v)
+            u0 = D[q] * tax + D[q + 1] * tay + D[q + 2] * taz
+            u1 = D[q + 3] * tax + D[q + 4] * tay + D[q + 5] * taz
+            u2 = D[q + 6] * tax + D[q + 7] * tay + D[q + 8] * taz
+            w0 = tax * D[q] + tay * D[q + 3] + taz * D[q + 6]
+            w1 = tax * D[q + 1] + tay * D[q + 4] + taz * D[q + 7]
+            w2 = tax * D[q + 2] + tay * D[q + 5] + taz * D[q + 8]
+            sdot = tax * u0 + tay * u1 + taz * u2
+            g = hc * hc * sdot
+            for r in range(3):
+                for c in range(3):
+                    A[3 * r + c] -= g * ta[r] * ta[c]
+            rp = 3 * (i - 1)
+            proj = w0 * R[rp] + w1 * R[rp + 1] + w2 * R[rp + 2]
+            r0 += hc * tax * proj
+            r1 += hc * tay * proj
+            r2 += hc * taz * proj
+        _inv3(A, 0, D, 9 * i)
+        R[3 * i] = r0
+        R[3 * i + 1] = r1
+        R[3 * i + 2] = r2
+    # back substitution: v_i = D_i^{-1} (R_i - A_{i,i+1} v_{i+1}), A_{i,i+1} = -hc tb tb^T
+    vo = 6 + 3 * (n - 1)
+    nx0 = 0.0
+    nx1 = 0.0
+    nx2 = 0.0
+    for i in range(n - 1, 0, -1):
+        kb = 3 * i
+        tbx, tby, tbz = T[kb], T[kb + 1], T[kb + 2]
+        b0 = R[3 * i]
+        b1 = R[3 * i + 1]
+        b2 = R[3 * i + 2]
+        if i < n - 1:
+            pr = tbx * nx0 + tby * nx1 + tbz * nx2
+            b0 += hc * tbx * pr
+            b1 += hc * tby * pr
+            b2 += hc * tbz * pr
+        q = 9 * i
+        nx0 = D[q] * b0 + D[q + 1] * b1 + D[q + 2] * b2
+        nx1 = D[q + 3] * b0 + D[q + 4] * b1 + D[q + 5] * b2
+        nx2 = D[q + 6] * b0 + D[q + 7] * b1 + D[q + 8] * b2
+        j = vo + 3 * (i - 1)
+        x[j] = nx0
+        x[j + 1] = nx1
+        x[j + 2] = nx2
+
+
+@njit(cache=True)
+def split_advance(t, x, u, p, dt, nsteps, work):
+    """Strang splitting: damping(dt/2, implicit) - RK4(dt, everything else) - damping(dt/2, implicit).
+
+    The closing and opening half steps of consecutive steps are fused into one backward-Euler step of
+    dt (exact for the first-order damping flow up to O(dt^2), like the splitting itself). Second order; removes the overdamped axial mode (lambda ~ -C_v 4 / m_c) from the explicit
+    part, whose limit is then that of the axial springs alone. Returns the new time, or -1 - k if the
+    state became non-finite at step k.
+    """
+    k1 = work[0]
+    k2 = work[1]
+    k3 = work[2]
+    k4 = work[3]
+    xt = work[4]
+    m = x.size
+    damping_substep(x, p, 0.5 * dt)
+    for s in range(nsteps):
+        combined_rhs(t, x, u, p, k1)
+        for i in range(m):
+            xt[i] = x[i] + 0.5 * dt * k1[i]
+        combined_rhs(t + 0.5 * dt, xt, u, p, k2)
+        for i in range(m):
+            xt[i] = x[i] + 0.5 * dt * k2[i]
+        combined_rhs(t + 0.5 * dt, xt, u, p, k3)
+        for i in range(m):
+            xt[i] = x[i] + dt * k3[i]
+        combined_rhs(t + dt, xt, u, p, k4)
+        for i in range(m):
+            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        # the closing half step of this step and the opening half step of the next are fused
+        damping_substep(x, p, dt if s < nsteps - 1 else 0.5 * dt)
+        t += dt
+        for i in range(m):
+            if not np.isfinite(x[i]):
+                return -1.0 - s
+    return t
+
+
 def _check(cable: CableConfig, uuv: UUVConfig) -> None:
     if cable.segments < 1:
         raise ConfigError(f"cable.segments = {cable.segments}: allowed range 1 <= value")
@@ -200,9 +386,13 @@ class CombinedPlant(Plant):
     """
 
     def __init__(self, usv_cfg: USVConfig, uuv_cfg: UUVConfig, cable_cfg: CableConfig, top: str = "usv",
-                 name: str = "combined"):
+                 name: str = "combined", integrator: str | None = None):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
+        integrator = integrator or cable_cfg.integrator
+        if integrator not in ("rk4", "rk4-split"):
+            raise ConfigError(f"cable.integrator = {integrator!r}: allowed values 'rk4', 'rk4-split'")
+        self.integrator = integrator
         _check(cable_cfg, uuv_cfg)
         self.usv_cfg = usv_cfg
         self.uuv_cfg = uuv_cfg
@@ -211,7 +401,7 @@ class CombinedPlant(Plant):
         n = cable_cfg.segments
         self.n = n
         c = cable_cfg
-        p = np.zeros(P_SCR + 15 * (n + 1))
+        p = np.zeros(P_SCR + 15 * (n + 1) + 25 * (n + 1))
         p[H_N] = n
         p[H_TOP] = 1.0 if top == "fixed" else 0.0
         psi0 = math.radians(usv_cfg.psi0_deg)
@@ -222,6 +412,7 @@ class CombinedPlant(Plant):
         p[H_L0] = c.l0
         p[H_EA] = c.EA
         p[H_CV] = c.damping
+        p[H_CVE] = c.damping if integrator == "rk4" else 0.0
         p[H_MC] = c.segment_mass
         p[H_MA] = c.segment_added_mass
         p[H_WSEG] = c.weight_per_length * c.l0
@@ -250,12 +441,28 @@ class CombinedPlant(Plant):
         mrb = p[P_UUV + P_MRB:P_UUV + P_MRB + 36].reshape(6, 6)
         ma = p[P_UUV + P_MA:P_UUV + P_MA + 36].reshape(6, 6)
         end_mass = float(mrb[0, 0] + ma[0, 0])
-        self.stability_limit = axial_stability_limit(c, end_mass=end_mass)
+        self.stability_limit = axial_stability_limit(c, end_mass=end_mass,
+                                                     last_damper_only=(integrator == "rk4-split"))
         super().__init__(name, combined_rhs, x0, p, names, INPUT_NAMES, state_bound=1e6,
                          max_dt=self.stability_limit)
         self._nodes = np.zeros(3 * (n + 1))
         self._ends = np.zeros(8)
         self.o_uuv = 6 + 6 * (n - 1)
+        self._usv_keys = [f"usv.{s}" for s in USV_STATES]
+        self._uuv_keys = [f"uuv.{s}" for s in UUV_STATES]
+        self._node_keys = [f"cable.{a}{i}" for i in range(n + 1) for a in "xyz"]
+
+    def advance(self, t: float, dt: float, n: int) -> float:
+        """RK4 steps, or for ``integrator="rk4-split"`` Strang-split steps (see :func:`split_advance`)."""
+        if self.integrator == "rk4":
+            return super().advance(t, dt, n)
+        t_new = split_advance(t, self.x, self.u, self.p, dt, n, self.work)
+        if t_new < 0.0:
+            from ..errors import DivergenceError
+
+            k = int(-t_new - 1.0)
+            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict())
+        return t_new
 
     # -- outputs -----------------------------------------------------------------------------------
     def cable_snapshot(self):
@@ -266,25 +473,27 @@ class CombinedPlant(Plant):
         return self._nodes.reshape(-1, 3), self._ends[0:3], self._ends[3:6]
 
     def publish(self, bus: dict) -> None:
-        x = self.x
-        for k, s in enumerate(USV_STATES):
-            bus[f"usv.{s}"] = float(x[k])
-        bus["usv.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
-        bus["usv.speed"] = float(math.hypot(x[3], x[4]))
+        """Write the vehicles' states, tensions, cable angle and node positions (one compiled call)."""
         o = self.o_uuv
-        for k, s in enumerate(UUV_STATES):
-            bus[f"uuv.{s}"] = float(x[o + k])
-        bus["uuv.psi"] = float((x[o + 5] + math.pi) % (2 * math.pi) - math.pi)
-        bus["uuv.speed"] = float(math.sqrt(x[o + 6] ** 2 + x[o + 7] ** 2 + x[o + 8] ** 2))
+        x = self.x[:6].tolist() + [0.0] * (o - 6) + self.x[o:o + 12].tolist()
+        bus.update(zip(self._usv_keys, x[:6]))
+        bus.update(zip(self._uuv_keys, x[o:o + 12]))
+        bus["usv.psi"] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+        bus["usv.speed"] = math.hypot(x[3], x[4])
+        bus["uuv.psi"] = (x[o + 5] + math.pi) % (2 * math.pi) - math.pi
+        bus["uuv.speed"] = math.sqrt(x[o + 6] ** 2 + x[o + 7] ** 2 + x[o + 8] ** 2)
         nodes, ftop, fbot = self.cable_snapshot()
-        bus["cable.top_tension"] = float(math.sqrt(ftop @ ftop))
-        bus["cable.bottom_tension"] = float(math.sqrt(fbot @ fbot))
-        d = nodes[-1] - nodes[0]
-        bus["cable.angle_deg"] = float(math.degrees(math.atan2(math.hypot(d[0], d[1]), d[2])))
-        for i in range(self.n + 1):
-            bus[f"cable.x{i}"] = float(nodes[i, 0])
-            bus[f"cable.y{i}"] = float(nodes[i, 1])
-            bus[f"cable.z{i}"] = float(nodes[i, 2])
+        ft = ftop.tolist()
+        fb = fbot.tolist()
+        bus["cable.top_tension"] = math.sqrt(ft[0] ** 2 + ft[1] ** 2 + ft[2] ** 2)
+        bus["cable.bottom_tension"] = math.sqrt(fb[0] ** 2 + fb[1] ** 2 + fb[2] ** 2)
+        flat = self._nodes.tolist()
+        n3 = 3 * self.n
+        dx = flat[n3] - flat[0]
+        dy = flat[n3 + 1] - flat[1]
+        dz = flat[n3 + 2] - flat[2]
+        bus["cable.angle_deg"] = math.degrees(math.atan2(math.hypot(dx, dy), dz))
+        bus.update(zip(self._node_keys, flat))
 
     # -- diagnostics -------------------------------------------------------------------------------
     def energy(self) -> float:
