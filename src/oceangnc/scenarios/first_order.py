@@ -642,9 +642,13 @@ class Trials(Scenario):
         return {"trials.count": float(len(self._trial_list(cfg)))}
 
     def summarize(self, df, cfg) -> dict:
+        from ..errors import InputError
         from ..identification.first_order import Columns, identify_log
 
-        rep = identify_log(df, Columns(), n_mc=50, seed=cfg.sim.seed)
+        try:
+            rep = identify_log(df, Columns(), n_mc=50, seed=cfg.sim.seed)
+        except InputError as e:  # the log is still good; say why it cannot be identified as it is
+            return {"ident.error": str(e)}
         out: dict = {}
         truth = df.groupby("trial.id")[["trial.true_k", "trial.true_t"]].first()
         for kind, names in (("straight", ("K_v", "T_v")), ("turn", ("K_r", "T_r"))):
@@ -675,7 +679,12 @@ class Trials(Scenario):
         from ..identification.first_order import Columns, identify_log
         from ..io.plots import _save
 
-        rep = identify_log(df, Columns(), n_mc=20)
+        from ..errors import InputError
+
+        try:
+            rep = identify_log(df, Columns(), n_mc=20)
+        except InputError:
+            return []
         truth = df.groupby("trial.id")[["trial.true_k", "trial.true_t"]].first()
         fig, axes = plt.subplots(2, 2, figsize=(9, 6))
         for col, (kind, names) in enumerate((("straight", ("K_v", "T_v")), ("turn", ("K_r", "T_r")))):
