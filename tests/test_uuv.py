@@ -162,3 +162,16 @@ def test_bad_uuv_config_is_a_config_error(key, val):
     """Non-positive mass or size is refused with a one-line error naming the key."""
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
         resolve_config("cable-current", overrides={key: val})
+
+
+def test_steady_planar_straight_branch():
+    """Equal stern thrusts and no bow thrust: the planar steady state is straight ahead (v = r = 0), at
+    the drag-balance speed, although the vehicle is directionally unstable (spiral equilibria exist)."""
+    from oceangnc.models.uuv import uuv_steady_planar
+
+    cfg = UUVConfig()
+    for T in (2.0, 20.0, 75.0):
+        u, v, r = uuv_steady_planar(cfg, T, T, 0.0)
+        a, b = -cfg.X_uu_total, -cfg.X_u
+        assert u == pytest.approx((-b + math.sqrt(b * b + 8 * a * T)) / (2 * a), rel=1e-6)
+        assert v == 0.0 and r == 0.0

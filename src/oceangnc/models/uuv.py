@@ -451,7 +451,11 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
         return [tau[0], tau[1], tau[5]]
 
     u_guess = math.sqrt(max(abs(t_port + t_stbd), 1e-3) / max(1e-6, -cfg.X_uu_total))
-    z, info, ier, msg = fsolve(f, [u_guess, 0.0, 0.1], full_output=True, xtol=1e-12)
+    moment = (t_port - t_stbd) * 0.5 * cfg.stern_spacing + t_bow * cfg.bow_arm
+    # no yaw moment: start on the straight-ahead branch (the vehicle is directionally unstable, so
+    # spurious spiral equilibria exist; the symmetric start keeps Newton on v = r = 0)
+    r_guess = 0.0 if moment == 0.0 else math.copysign(0.1, moment)
+    z, info, ier, msg = fsolve(f, [u_guess, 0.0, r_guess], full_output=True, xtol=1e-12)
     if ier != 1:
         raise RuntimeError(f"uuv_steady_planar: no steady turn found ({msg})")
     return float(z[0]), float(z[1]), float(z[2])

@@ -175,6 +175,13 @@ def cable_plots(df, cfg, out_dir: Path, name: str, n_shapes: int = 6) -> list[Pa
         col = cmap(j / max(1, len(idx) - 1))
         ax.plot(ys, xs, zs, "-o", ms=2, color=col, label=f"t = {row['t']:.0f} s")
         ax.plot([row["uuv.y"]], [row["uuv.x"]], [row["uuv.z"]], "s", color=col, ms=6)
+    cols = [f"cable.{a}{i}" for i in range(n + 1) for a in "xy"]
+    span = max(1.0, float(np.nanmax(df[cols].to_numpy()) - np.nanmin(df[cols].to_numpy())))
+    xs_all = df[[f"cable.x{i}" for i in range(n + 1)]].to_numpy()
+    ys_all = df[[f"cable.y{i}" for i in range(n + 1)]].to_numpy()
+    cx, cy = 0.5 * (np.nanmax(xs_all) + np.nanmin(xs_all)), 0.5 * (np.nanmax(ys_all) + np.nanmin(ys_all))
+    ax.set_xlim(cy - span / 2, cy + span / 2)
+    ax.set_ylim(cx - span / 2, cx + span / 2)
     ax.set_xlabel("east y [m]")
     ax.set_ylabel("north x [m]")
     ax.set_zlabel("depth z [m]")
