@@ -6,6 +6,9 @@ person:
 
 * **looks ahead** along the route's centre line: the aim point lies ``lookahead_m`` ahead of the
   ship's projection on the polyline (extended beyond its end), the wanted heading points at it;
+* **steers the track**: like a person watching the ship's track vector on the screen, the pilot
+  aims the course over ground chi = psi + atan2(v, u) at the aim point, so the ship crabs into a
+  cross current or wind by itself;
 * **perceives with errors and reacts with a delay**: heading, speed and yaw rate are read with
   slowly varying Gaussian errors (first-order Gauss-Markov, correlation time ``noise_time_s``) and
   acted on ``reaction_s`` later (per-run jitter), all drawn from the block's own generator;
@@ -65,6 +68,7 @@ class PilotConfig(StrictModel):
     k_speed_open: float = Field(3.0, ge=0, le=100, description="open loop: surge stick per speed error, s/m")
     brake_decel: float = Field(0.0015, gt=0, le=1, description="planned deceleration toward the end, m/s2")
     k_stop: float = Field(0.01, gt=0, le=1, description="speed per remaining distance near the end, 1/s")
+    steer_course: bool = Field(True, description="aim the course over ground (track vector) rather than the heading at the look-ahead point")
     stop_at_end: bool = Field(False, description="slow down and stop at the end of the route")
     stop_when_done: bool = Field(True, description="end the run once stopped at the end (or past it, without stop)")
 
@@ -151,11 +155,13 @@ class ScriptedPilot(Block):
 
     def _decide(self, obs):
         c = self.cfg
-        n, e, psi, u, r = obs
+        n, e, psi, u, r, v = obs
         s, cross, _ = self.route.project(n, e)
         aim = self.route.point_at(s + c.lookahead_m)
         psi_des = math.atan2(aim[1] - e, aim[0] - n)
-        e_psi = (psi_des - psi + math.pi) % (2 * math.pi) - math.pi
+        # steer the track, not the bow: course over ground (the crab in current / wind comes free)
+        course = psi + math.atan2(v, u) if c.steer_course and math.hypot(u, v) > 0.1 else psi
+        e_psi = (psi_des - course + math.pi) % (2 * math.pi) - math.pi
         s_rem = self.route.length - s
         u_cruise = c.cruise_kn * KNOT
         if c.stop_at_end:
@@ -191,7 +197,8 @@ class ScriptedPilot(Block):
         a = math.exp(-self.period / c.noise_time_s)
         self.err = a * self.err + math.sqrt(1 - a * a) * self.sig * self.rng.standard_normal(3)
         obs = (bus.get("ship.x", 0.0), bus.get("ship.y", 0.0), bus.get("ship.psi", 0.0) + self.err[0],
-               bus.get("ship.u", 0.0) + self.err[1], bus.get("ship.r", 0.0) + self.err[2])
+               bus.get("ship.u", 0.0) + self.err[1], bus.get("ship.r", 0.0) + self.err[2],
+               bus.get("ship.v", 0.0))
         self.memory.append((t, obs))
         while len(self.memory) > 1 and self.memory[1][0] <= t - self.delay + 1e-9:
             self.memory.popleft()

@@ -23,12 +23,14 @@ are written with U^2 = u_r^2 + v_r^2 so that they vanish at rest), with the drif
 beta = atan2(-v_r, u_r) (10) over all quadrants and the modified drift angle
 alpha = beta - sgn(beta) alpha_0 (11), alpha_0 the drift angle of zero hull yaw moment:
 
-    X_h = X_|u|u u_r|u_r| + X_vr v_r r + X_vv v_r^2 + X_rr r^2
+    X_h = X_|u|u u_r|u_r| + X_vr v_r r + X_vv v_r^2 cos^2(beta) + X_rr r^2
     Y_h = Y_v |u_r| v_r + Y_r |u_r| r - m_x u_r r
           - rho/2 T C_D int_{-L/2}^{L/2} (v_r + C_Yr r x)|v_r + C_Yr r x| dx                    (8)
     N_h = rho/2 L^3 U^2 (-N'_v) (alpha_0/pi) sgn(beta) sin(2 phi(alpha)) + N_r |u_r| r
           - rho/2 T C_D int_{-L/2}^{L/2} (v_r + C_Nr r x)|v_r + C_Nr r x| x dx                  (9)
 
+The drift resistance X_vv v^2 is given the factor cos^2(beta) (1 for small drift, as in Son &
+Nomoto) so that pure sway, beta = +-90 deg, gives no surge force on the fore-aft symmetric model.
 ``Y_v |u_r| v_r`` is the lift (Y'_v v'U^2 with the forward speed |u_r|, so it keeps its sign astern,
 which is what the modified drift angle does in 001). The drift moment is the Son-Nomoto N'_v v' U^2
 for small beta, and over the whole circle a shape that is zero at beta = 0, +-alpha_0 and 180 deg:
@@ -251,7 +253,9 @@ def hull_forces(ur, vr, r, p):
     T = p[1]
     rho = p[2]
     U2 = ur * ur + vr * vr
-    X = p[10] * ur * abs(ur) + p[11] * vr * r + p[12] * vr * vr + p[13] * r * r
+    X = p[10] * ur * abs(ur) + p[11] * vr * r + p[13] * r * r
+    if U2 > 0.0:
+        X += p[12] * vr * vr * ur * ur / U2  # X_vv v^2 cos^2(beta): zero in pure sway
     i0, _ = crossflow_integrals(vr, p[21] * r, L)
     _, i1 = crossflow_integrals(vr, p[22] * r, L)
     qcd = 0.5 * rho * T * p[20]

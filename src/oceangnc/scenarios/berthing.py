@@ -73,13 +73,13 @@ class BerthingConfig(ScenarioConfig):
 def speed_per_rps(ship: ShipConfig) -> float:
     """Steady straight-ahead speed per propeller rev/s in calm water (m/s per rev/s).
 
-    Resistance X_uu u^2 balances (1 - t_p) rho D^4 n^2 K_T(J); with J = (1 - w_p) u/(n D) both sides
+    Resistance (X_uu - rho_a/2 C_X A_F) u^2 (water and still air) balances (1 - t_p) rho D^4 n^2 K_T(J); with J = (1 - w_p) u/(n D) both sides
     are quadratic in (u, n), so u = k n exactly, k the positive root of
     X_uu k^2 + (1 - t_p) rho (a1 D^4 + a2 (1 - w_p) D^3 k + a3 (1 - w_p)^2 D^2 k^2) = 0.
     """
     p = ship.params()
     D, tp, wp, rho = ship.prop_diameter, ship.t_p, ship.w_p, ship.rho
-    xuu = p[10]
+    xuu = p[10] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
     a = xuu + (1 - tp) * rho * ship.kt_a3 * (1 - wp) ** 2 * D ** 2
     b = (1 - tp) * rho * ship.kt_a2 * (1 - wp) * D ** 3
     c = (1 - tp) * rho * ship.kt_a1 * D ** 4
