@@ -384,3 +384,15 @@ def test_berthing_pilot_is_silenced_in_remote_mode(tmp_path):
         assert s.view["bodies"][0]["length"] == s.cfg.ship.length
     finally:
         s.stop()
+
+
+def test_fixed_route_scenarios_refuse_clicked_waypoints(tmp_path):
+    """A scenario whose guidance does not read ``console.waypoints`` refuses a route, with a reason."""
+    pytest.importorskip("oceangnc.scenarios.berthing", reason="berthing scenarios not present")
+    s = Session("berthing-channel", out_root=tmp_path, write_log=False)
+    try:
+        with pytest.raises(Rejected, match="flies a fixed route"):
+            send(s, type="waypoints", points=[[10.0, 0.0]])
+        assert s.hello["route_edit"] is False and s.hello["loop_switch"] is False
+    finally:
+        s.stop()

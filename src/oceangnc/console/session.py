@@ -278,6 +278,7 @@ class Session:
             "tracks": {k: [list(p) for p in v] for k, v in self.tracks.items()},
             "station_keep": self.station_keep,
             "loop_switch": bool(getattr(self.scenario, "console_loop_switch", False)),
+            "route_edit": bool(getattr(self.scenario, "console_route_edit", False)),
         }
 
     def hello_message(self) -> dict:
@@ -335,6 +336,9 @@ class Session:
         if kind == "gains":
             with self._lock:
                 check_gains(msg.gains, self.gains)
+        elif kind == "waypoints" and not getattr(self.scenario, "console_route_edit", False):
+            raise Rejected(f"waypoints: scenario {self.scenario.name} flies a fixed route; "
+                           f"start a scenario that takes a route from the console (usv-remote)")
         elif kind == "new_run" and msg.scenario is not None and msg.scenario not in self.live_scenarios():
             raise Rejected(f"new_run: unknown or non-live scenario {msg.scenario!r}; live scenarios: "
                            f"{', '.join(self.live_scenarios())}")

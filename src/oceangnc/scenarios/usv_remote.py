@@ -325,6 +325,8 @@ class USVRemote(Scenario):
     failsafe_station_keep = False
     #: the pilot reads ``console.loop``: the page may switch the stick between closed and open loop
     console_loop_switch = True
+    #: the pilot reads ``console.waypoints``: routes clicked on the console's map are flown
+    console_route_edit = True
 
     def build(self, cfg, rng):
         return build_simulation(cfg, rng)

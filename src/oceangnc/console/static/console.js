@@ -54,6 +54,8 @@ function onHello(h) {
     $(id).disabled = !h.loop_switch;
     if (!h.loop_switch) $(id).title = "this scenario fixes its controller in its config";
   }
+  for (const id of ["route-send", "route-clear", "route-scenario"]) $(id).disabled = !h.route_edit;
+  $("routehint").textContent = h.route_edit ? "Auto mode: click the map to add waypoints" : "this scenario flies a fixed route";
   buildReadouts(h.view.readouts || []);
   buildGauges(h.view.gauges || []);
   buildGains(h.gains || {});
@@ -171,7 +173,8 @@ function updatePanels() {
   const lamp = (txt, ok, title) => { const s = document.createElement("span"); s.className = "lamp " + (ok === true ? "ok" : ok === false ? "bad" : "warn"); s.textContent = txt; if (title) s.title = title; sens.appendChild(s); return s; };
   const age = st.stick.age;
   lamp(`stick ${st.stick.source}${age != null ? " " + fmt(age, 1) + " s" : ""}`, st.mode !== "remote" ? null : (age != null && age < 1.0), "age of the last stick message at the server");
-  lamp(`sim ${fmt(st.rtf, 2)}× (target ${st.speed}×)`, st.paused ? null : Math.abs(st.rtf - st.speed) < 0.1 * st.speed);
+  lamp(st.ended ? "sim ended" : `sim ${fmt(st.rtf, 2)}× (target ${st.speed}×)`,
+       st.paused || st.ended ? null : Math.abs(st.rtf - st.speed) < 0.1 * st.speed, "measured real-time factor");
   lamp(`RTT ${S.rtt == null ? "—" : fmt(S.rtt, 0) + " ms"}`, S.rtt == null ? null : S.rtt < 200);
   for (const s of (S.hello ? S.hello.view.sensors : [])) {
     const v = sig[s.key]; const ok = v != null && v >= 0.5;
@@ -401,7 +404,7 @@ cv.addEventListener("mousemove", (e) => {
   if (drag.moved) { S.view.auto = false; S.view.cy -= dx * d / S.view.scale; S.view.cx += dy * d / S.view.scale; drag.x = e.clientX; drag.y = e.clientY; }
 });
 cv.addEventListener("mouseup", (e) => {
-  if (drag && !drag.moved && S.state && S.state.mode === "auto") {
+  if (drag && !drag.moved && S.state && S.state.mode === "auto" && S.hello && S.hello.route_edit) {
     const d = window.devicePixelRatio || 1, r = cv.getBoundingClientRect();
     const [n, ea] = toWorld((e.clientX - r.left) * d, (e.clientY - r.top) * d);
     S.draft.push([Math.round(n * 10) / 10, Math.round(ea * 10) / 10]);
