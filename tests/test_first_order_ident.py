@@ -192,3 +192,20 @@ def test_points_override():
     assert man.K == pytest.approx(auto.K, rel=1e-3) and man.t2 == pytest.approx(25.0)
     with pytest.raises(InputError, match="t1 < t2 < t3"):
         identify_step(t, w, y, Y, points=(20.0, 10.0, 30.0), n_mc=0)
+
+
+def test_cli_points_need_one_trial(clean, tmp_path, capsys):
+    """--points on a multi-trial log is refused; with --select-trial it sets that trial's intervals."""
+    log = str(clean.out_dir / "log.parquet")
+    assert main(["identify", "first-order", log, "--points", "1", "2", "3", "--out", str(tmp_path)]) == 2
+    assert "--select-trial" in capsys.readouterr().err
+    df = clean.df
+    tid = 4  # a turning trial
+    t = df.loc[df["trial.id"] == tid, "t"].to_numpy()
+    t1, t2, t3 = t[0] + 4.95, t[0] + 20.0, t[-1]
+    assert main(["identify", "first-order", log, "--select-trial", str(tid), "--points", str(t1), str(t2), str(t3),
+                 "--out", str(tmp_path)]) == 0
+    data = json.loads((tmp_path / "identification.json").read_text())
+    (tr,) = data["trials"]
+    assert tr["trial"] == tid and tr["t2"] == pytest.approx(t2, abs=0.03)
+    assert tr["T"] == pytest.approx(df.loc[df["trial.id"] == tid, "trial.true_t"].iloc[0], rel=1e-3)

@@ -1,7 +1,6 @@
 """First-order USV (000 table 2, eq. 8/15), towed trailer (000 eq. 2-7) and planning from the UUV (eq. 32-34)."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest

@@ -41,10 +41,12 @@ def register(methods) -> None:
     p.add_argument("--trial", default="trial.id", help="trial id column splitting the log (absent: one trial)")
     p.add_argument("--kind", default="trial.kind", help="trial kind column, 0 straight 1 turn 2 zig-zag "
                                                         "(absent: detected from the inputs)")
+    p.add_argument("--select-trial", type=int, metavar="ID", help="identify only the trial with this id")
     p.add_argument("--steer-deg", action="store_true", help="the steer column is in degrees")
     p.add_argument("--heading-deg", action="store_true", help="heading in deg and yaw rate in deg/s")
     p.add_argument("--points", nargs=3, type=float, metavar=("T1", "T2", "T3"),
-                   help="override the detected transient (T1-T2) and steady (T2-T3) intervals, s")
+                   help="override the detected transient (T1-T2) and steady (T2-T3) intervals, s "
+                        "(log time; one trial: use with --select-trial on multi-trial logs)")
     p.add_argument("--settle-tol", type=float, default=0.01, help="settling band, fraction of the step (default 0.01)")
     p.add_argument("--min-steady", type=float, default=3.0, help="shortest steady interval accepted, s (default 3)")
     p.add_argument("--method", choices=("joint", "paper"), default="joint",
@@ -63,6 +65,16 @@ def _handler(args) -> int:
     if not (args.min_steady >= 0 and math.isfinite(args.min_steady)):
         raise InputError(f"--min-steady {args.min_steady}: must be >= 0 s")
     df = read_log(args.log)
+    if args.trial in df.columns:
+        if args.select_trial is not None:
+            df = df[df[args.trial] == args.select_trial]
+            if df.empty:
+                raise InputError(f"--select-trial {args.select_trial}: no rows with {args.trial} = {args.select_trial}")
+        elif args.points is not None and df[args.trial].nunique() > 1:
+            raise InputError(f"--points sets the intervals of one trial but the log holds "
+                             f"{df[args.trial].nunique()} trials; pick one with --select-trial ID")
+    elif args.select_trial is not None:
+        raise InputError(f"--select-trial needs the trial column '{args.trial}' (--trial)")
     cols = Columns(time=args.time, steer=args.steer, thrust=args.thrust, speed=args.speed, heading=args.heading,
                    yaw_rate=args.yaw_rate, trial=args.trial, kind=args.kind)
     rep = identify_log(df, cols, points=args.points, steer_deg=args.steer_deg, heading_deg=args.heading_deg,
