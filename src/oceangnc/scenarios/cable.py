@@ -1,8 +1,11 @@
 """Cable and towed-UUV scenarios of document 003 (ch. 2.3 fig 2-10, ch. 4 figs 4-2 to 4-5).
 
 * ``cable-current``: the cable's top node held fixed at the surface, the UUV hanging below with its
-  thrusters off, a uniform current ``environment.current.speed`` (m/s) switched on at t = 0
-  (003 fig 2-10: the cable is pushed back, the tension peaks and settles). Summary:
+  thrusters off, facing the current (heading 180 deg, current toward 0 deg), a uniform current
+  ``environment.current.speed`` (m/s) switched on at t = 0 (003 fig 2-10: the cable is pushed back,
+  the tension peaks and settles). The UUV starts 3.25 m deep: the straight cable is then stretched
+  about as much as in the still-water hanging equilibrium (3.23 m), so the transient is the
+  current's, not that of a dropped UUV. Summary:
   ``cable.top_tension_N``, ``cable.bottom_tension_N``, ``cable.angle_deg`` (angle from vertical of
   the top-to-bottom line), ``uuv.offset_m`` (horizontal offset of the UUV's CB from the top point),
   ``uuv.depth_m``, ``cable.settled`` (the last 10 s of these change by less than 1 %, or by less
@@ -208,7 +211,7 @@ class CableCurrent(Scenario):
     Config = CableCurrentConfig
     defaults = {"sim": {"duration": 60.0, "log_rate": 10.0},
                 "environment": {"current": {"speed": 0.5, "direction_deg": 0.0}},
-                "uuv": {"psi0_deg": 180.0}}
+                "uuv": {"psi0_deg": 180.0, "z0": 3.25}}
 
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed")
