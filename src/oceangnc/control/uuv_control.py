@@ -40,10 +40,10 @@ class UUVPIDConfig(StrictModel):
     range_kd: float = Field(30.0, ge=0, le=1e5, description="position loop derivative gain, N s/m")
     range_d_cutoff_hz: float = Field(1.0, gt=0, le=100, description="low-pass cut-off of the range error rate, Hz")
     angle_kp: float = Field(40.0, ge=0, le=1e5, description="relative-angle loop proportional gain, N/rad")
-    angle_ki: float = Field(2.0, ge=0, le=1e5, description="relative-angle loop integral gain, N/(rad s)")
+    angle_ki: float = Field(0.0, ge=0, le=1e5, description="relative-angle loop integral gain, N/(rad s)")
     angle_kd: float = Field(25.0, ge=0, le=1e5, description="relative-angle loop derivative gain, N s/rad")
     los_kp: float = Field(40.0, ge=0, le=1e5, description="heading-to-USV loop proportional gain, N/rad")
-    los_ki: float = Field(2.0, ge=0, le=1e5, description="heading-to-USV loop integral gain, N/(rad s)")
+    los_ki: float = Field(0.0, ge=0, le=1e5, description="heading-to-USV loop integral gain, N/(rad s)")
     los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
 
 
