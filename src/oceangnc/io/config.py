@@ -161,6 +161,8 @@ def describe_allowed(model: type[BaseModel], loc: tuple) -> str:
     choices = _literal_choices(info.annotation)
     if choices:
         return "allowed values: " + ", ".join(repr(c) for c in choices)
+    if isinstance(info.annotation, type) and issubclass(info.annotation, BaseModel):
+        return ""  # a whole section: a model-level validator's own message says what is wrong
     if lo is not None or hi is not None:
         left = f"{lo:g} {lo_s} " if isinstance(lo, (int, float)) else ""
         right = f" {hi_s} {hi:g}" if isinstance(hi, (int, float)) else ""
