@@ -163,6 +163,10 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
     for k in range(6 * (n + 1)):
         Mn[k] = 0.0
     half_w = 0.5 * w_seg
+    half_k = 0.5 * kdrag
+    ea_l0 = ea / l0
+    mt = 0.5 * (m_c + m_a)
+    ha = 0.5 * m_a
     for i in range(1, n + 1):
         a = 3 * (i - 1)
         b = 3 * i
@@ -171,9 +175,10 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
         dz = pos[b + 2] - pos[a + 2]
         ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         if ln > 0.0:
-            tx = dx / ln
-            ty = dy / ln
-            tz = dz / ln
+            il = 1.0 / ln
+            tx = dx * il
+            ty = dy * il
+            tz = dz * il
         else:
             tx = 0.0
             ty = 0.0
@@ -183,13 +188,13 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
         if ln > l0:
             rel = (vel[b] - vel[a]) * tx + (vel[b + 1] - vel[a + 1]) * ty + (vel[b + 2] - vel[a + 2]) * tz
             c_i = cv_last if (i == n and cv_last >= 0.0) else cv
-            fax = ea * (ln - l0) / l0 + c_i * rel
+            fax = ea_l0 * (ln - l0) + c_i * rel
             if fax < 0.0:
                 fax = 0.0
-        fx = fax * tx
-        fy = fax * ty
-        fz = fax * tz
-        # drag (eq. 2.24-2.25) on the relative velocity at the segment centre
+        hx = 0.0
+        hy = 0.0
+        hz = 0.0
+        # drag (eq. 2.24-2.25) on the relative velocity at the segment centre, half to each node
         if kdrag > 0.0:
             Vx = 0.5 * (vel[a] + vel[b]) - vcn
             Vy = 0.5 * (vel[a + 1] + vel[b + 1]) - vce
@@ -198,40 +203,49 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
             px = Vx - vq * tx
             py = Vy - vq * ty
             pz = Vz - vq * tz
-            vp = math.sqrt(px * px + py * py + pz * pz)
-            v2 = vq * vq + vp * vp
+            vp2 = px * px + py * py + pz * pz
+            v2 = vq * vq + vp2
             if v2 > 0.0:
+                vp = math.sqrt(vp2)
+                avq = abs(vq)
                 ivn = 1.0 / math.sqrt(v2)
-                fp, fq = _loading(abs(vq) * ivn, vp * ivn, atan_ratio(vp, abs(vq)))
-                cn = -kdrag * v2 * fp / vp if vp > 0.0 else 0.0
-                ct = -kdrag * v2 * fq * (1.0 if vq > 0.0 else (-1.0 if vq < 0.0 else 0.0))
-                hx = 0.5 * (cn * px + ct * tx)
-                hy = 0.5 * (cn * py + ct * ty)
-                hz = 0.5 * (cn * pz + ct * tz)
-                F[a] += hx
-                F[a + 1] += hy
-                F[a + 2] += hz
-                F[b] += hx
-                F[b + 1] += hy
-                F[b + 2] += hz
+                fp, fq = _loading(avq * ivn, vp * ivn, atan_ratio(vp, avq))
+                cn = -half_k * v2 * fp / vp if vp > 0.0 else 0.0
+                ct = -half_k * v2 * fq * (1.0 if vq > 0.0 else (-1.0 if vq < 0.0 else 0.0))
+                hx = cn * px + ct * tx
+                hy = cn * py + ct * ty
+                hz = cn * pz + ct * tz
         # tension pulls node i-1 toward i and node i toward i-1; weight minus buoyancy down (+z)
-        F[a] += fx
-        F[a + 1] += fy
-        F[a + 2] += fz + half_w
-        F[b] -= fx
-        F[b + 1] -= fy
-        F[b + 2] += -fz + half_w
+        fx = fax * tx
+        fy = fax * ty
+        fz = fax * tz
+        F[a] += hx + fx
+        F[a + 1] += hy + fy
+        F[a + 2] += hz + fz + half_w
+        F[b] += hx - fx
+        F[b + 1] += hy - fy
+        F[b + 2] += hz - fz + half_w
         # node mass matrices (eq. 2.27-2.28): 1/2 [(m_c + m_a) I - m_a t t^T] to each end
-        mt = 0.5 * (m_c + m_a)
-        ha = 0.5 * m_a
-        for node in (i - 1, i):
-            c = 6 * node
-            Mn[c] += mt - ha * tx * tx
-            Mn[c + 1] -= ha * tx * ty
-            Mn[c + 2] -= ha * tx * tz
-            Mn[c + 3] += mt - ha * ty * ty
-            Mn[c + 4] -= ha * ty * tz
-            Mn[c + 5] += mt - ha * tz * tz
+        mxx = mt - ha * tx * tx
+        mxy = -ha * tx * ty
+        mxz = -ha * tx * tz
+        myy = mt - ha * ty * ty
+        myz = -ha * ty * tz
+        mzz = mt - ha * tz * tz
+        ca = 6 * (i - 1)
+        cb = 6 * i
+        Mn[ca] += mxx
+        Mn[ca + 1] += mxy
+        Mn[ca + 2] += mxz
+        Mn[ca + 3] += myy
+        Mn[ca + 4] += myz
+        Mn[ca + 5] += mzz
+        Mn[cb] += mxx
+        Mn[cb + 1] += mxy
+        Mn[cb + 2] += mxz
+        Mn[cb + 3] += myy
+        Mn[cb + 4] += myz
+        Mn[cb + 5] += mzz
 
 
 @njit(cache=True)
