@@ -8,8 +8,8 @@ the sweep through ``oceangnc.sweep.run_sweep`` into a fresh folder and prints
   compile, every run, table writes);
 * ``warm``: runs finished after every worker had finished its first run, divided by the time from
   that moment to the last run (the steady rate once each process has its compiled code);
-* ``first run``: mean wall time of each worker's first run (import + numba) and the mean of the
-  others (per-run cost).
+* ``first run``: mean wall and CPU time of each worker's first run (import + numba compilation)
+  and of the others (the per-run cost; CPU time does not depend on how loaded the machine is).
 
 Usage: ``NUMBA_NUM_THREADS=1 python benchmarks/bench_sweep.py [--runs 200] [--workers 1 2]
 [--scenario NAME] [--duration S]``
@@ -50,6 +50,8 @@ def measure(scenario: str, key: str, values: list, seeds: int, workers: int, dur
             "wall_s": wall, "end_to_end_rpm": 60 * len(df) / wall,
             "warm_rpm": 60 * len(after) / span if span > 0 and len(after) else float("nan"),
             "first_run_s": float(first["wall_time_s"].mean()), "other_run_s": float(rest["wall_time_s"].mean()),
+            "first_cpu_s": float(first["cpu_time_s"].mean()), "other_cpu_s": float(rest["cpu_time_s"].mean()),
+            "cpu_total_s": float(df["cpu_time_s"].sum()),
             "workers_used": df["worker"].nunique()}
 
 
@@ -77,7 +79,8 @@ def main(argv=None) -> int:
         rows.append(r)
         print(f"workers {w}: {r['runs']} runs ({r['ok']} ok) in {r['wall_s']:.1f} s -> end-to-end "
               f"{r['end_to_end_rpm']:.1f} runs/min, warm {r['warm_rpm']:.1f} runs/min; first run per worker "
-              f"{r['first_run_s']:.2f} s, other runs {r['other_run_s']:.2f} s; workers used {r['workers_used']}; "
+              f"{r['first_run_s']:.2f} s wall / {r['first_cpu_s']:.2f} s CPU, other runs {r['other_run_s']:.2f} s wall / "
+              f"{r['other_cpu_s']:.2f} s CPU (sum of run CPU {r['cpu_total_s']:.0f} s); workers used {r['workers_used']}; "
               f"load average now {os.getloadavg()[0]:.2f}", flush=True)
     if len(rows) > 1:
         base = rows[0]

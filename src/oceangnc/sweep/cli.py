@@ -69,7 +69,7 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n"
         "  oceangnc sweep usv-turn --grid command.thrust_stbd_kgf=10,15,20 --seeds 3 --duration 30\n"
-        "  oceangnc sweep usv-turn-current --grid environment.current.speed=linspace(0,0.3,4) \\\n"
+        "  oceangnc sweep usv-turn-current --grid 'environment.current.speed=linspace(0,0.3,4)' \\\n"
         "      --random environment.current.direction_deg='uniform(0,360)' --samples 5 --workers 2\n"
         "  oceangnc sweep usv-turn --grid command.thrust_stbd_kgf=10,20 --out runs/s1 --resume\n"
         "  oceangnc sweep-report runs/s1")

@@ -51,7 +51,7 @@ def run_one(task: dict) -> dict:
     """
     from .. import api
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     row = dict(task["row"])
     out_dir = Path(task["out_dir"])
     status, error, summary = "ok", "", {}
@@ -78,6 +78,7 @@ def run_one(task: dict) -> dict:
 
         shutil.rmtree(out_dir, ignore_errors=True)
     row.update({"status": status, "error": error, "wall_time_s": time.perf_counter() - t0,
+                "cpu_time_s": time.process_time() - c0,
                 "worker": f"{socket.gethostname()}:{os.getpid()}",
                 "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
                 "out_dir": str(out_dir) if task.get("keep", True) else ""})
@@ -275,7 +276,7 @@ def _run_dask(todo, task, record, workers, scheduler) -> None:
                 except Exception as e:  # noqa: BLE001 - worker lost, task cancelled: record it
                     row = task(by_key[fut.key])["row"]
                     row.update({"status": "failed", "error": _one_line(f"{type(e).__name__}: {e}"),
-                                "wall_time_s": float("nan"), "worker": "", "out_dir": "",
+                                "wall_time_s": float("nan"), "cpu_time_s": float("nan"), "worker": "", "out_dir": "",
                                 "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds")})
                     rows.append(row)
                 fut.release()

@@ -5,7 +5,8 @@ Columns
 ``run_id``, ``point_id`` (stable hashes, see :mod:`oceangnc.sweep.design`), ``index`` (position in
 the design), ``point``, ``seed`` (``sim.seed`` of the run), ``param.<key>`` (the swept values),
 ``status`` (``ok``, ``diverged`` or ``failed``), ``error`` (one line, empty when ok),
-``wall_time_s`` (wall-clock time of the run on its worker, s), ``worker`` (``host:pid``),
+``wall_time_s`` (wall-clock time of the run on its worker, s), ``cpu_time_s`` (CPU time of the
+worker process during the run, s: the run's cost independent of the machine's load), ``worker`` (``host:pid``),
 ``finished_at`` (UTC, ISO 8601), ``out_dir`` (the run's folder), then every metric of the run's
 ``summary.json`` under its own key (SI units as the scenario documents them; ``duration_s`` is the
 simulated time reached).
@@ -27,7 +28,7 @@ import pyarrow.parquet as pq
 
 PARAM = "param."
 FIXED_COLUMNS = ("run_id", "point_id", "index", "point", "seed", "status", "error", "wall_time_s",
-                 "worker", "finished_at", "out_dir")
+                 "cpu_time_s", "worker", "finished_at", "out_dir")
 RESULTS = "results.parquet"
 
 
