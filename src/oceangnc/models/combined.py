@@ -170,14 +170,17 @@ def cable_state(x, p, nodes, ends):
     """
     n = int(p[H_N])
     pos, vel, F, Mn = _gather(x, p, n)
-    cable_loads(pos, vel, F, Mn, n, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG],
-                ends[6], ends[7])
     for k in range(3 * (n + 1)):
         nodes[k] = pos[k]
-    b = 3 * n
+    # only the two end segments matter: run the segment loads on one-segment views
+    args = (p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], ends[6], ends[7])
+    cable_loads(pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, *args)
     for k in range(3):
         ends[k] = F[k]
-        ends[3 + k] = F[b + k]
+    b = 3 * (n - 1)
+    cable_loads(pos[b:b + 6], vel[b:b + 6], F[0:6], Mn[0:12], 1, *args)
+    for k in range(3):
+        ends[3 + k] = F[3 + k]
 
 
 @njit(cache=True)
@@ -475,13 +478,14 @@ class CombinedPlant(Plant):
     def publish(self, bus: dict) -> None:
         """Write the vehicles' states, tensions, cable angle and node positions (one compiled call)."""
         o = self.o_uuv
-        x = self.x[:6].tolist() + [0.0] * (o - 6) + self.x[o:o + 12].tolist()
-        bus.update(zip(self._usv_keys, x[:6]))
-        bus.update(zip(self._uuv_keys, x[o:o + 12]))
-        bus["usv.psi"] = (x[2] + math.pi) % (2 * math.pi) - math.pi
-        bus["usv.speed"] = math.hypot(x[3], x[4])
-        bus["uuv.psi"] = (x[o + 5] + math.pi) % (2 * math.pi) - math.pi
-        bus["uuv.speed"] = math.sqrt(x[o + 6] ** 2 + x[o + 7] ** 2 + x[o + 8] ** 2)
+        xs = self.x[:6].tolist()
+        xu = self.x[o:o + 12].tolist()
+        bus.update(zip(self._usv_keys, xs))
+        bus.update(zip(self._uuv_keys, xu))
+        bus["usv.psi"] = (xs[2] + math.pi) % (2 * math.pi) - math.pi
+        bus["usv.speed"] = math.hypot(xs[3], xs[4])
+        bus["uuv.psi"] = (xu[5] + math.pi) % (2 * math.pi) - math.pi
+        bus["uuv.speed"] = math.sqrt(xu[6] ** 2 + xu[7] ** 2 + xu[8] ** 2)
         nodes, ftop, fbot = self.cable_snapshot()
         ft = ftop.tolist()
         fb = fbot.tolist()
@@ -504,6 +508,7 @@ class CombinedPlant(Plant):
         """
         n = self.n
         nodes, _, _ = self.cable_snapshot()
+        combined_rhs(0.0, self.x, self.u, self.p, np.zeros_like(self.x))  # fills node velocities and masses
         p = self.p
         m = 3 * (n + 1)
         vel = p[P_SCR + m:P_SCR + 2 * m].reshape(-1, 3)
