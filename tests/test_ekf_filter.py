@@ -67,7 +67,7 @@ def test_nees_consistent_over_20_seeds():
         Z = d.x_true[:, :3] + rng.standard_normal((d.t.size, 3)) * sd
         a0 = TRUE * (1 + 0.2 * rng.standard_normal(10))
         P0 = np.concatenate([(2 * sd) ** 2, (0.2 * TRUE) ** 2])
-        Q = np.concatenate([5e-5 * sd ** 2, np.zeros(10)])
+        Q = np.concatenate([2.5e-5 * sd ** 2, np.zeros(10)])
         res = run_ekf(model, d.t, Z, d.ds[:, None], COEFF_NAMES, Z[0], a0, P0, Q, sd ** 2)
         vals.append(nees(res.X[-1, 3:] - TRUE, res.P[3:, 3:]))
     n = 20

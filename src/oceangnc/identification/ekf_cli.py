@@ -56,7 +56,7 @@ def noise_sigma_from_data(z: np.ndarray) -> np.ndarray:
 
 
 def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: dict | None = None,
-                 initial_scale: float = 1.0, p0_rel: float = 0.3, r_sigma=None, q_rel: float = 5e-5,
+                 initial_scale: float = 1.0, p0_rel: float = 0.3, r_sigma=None, q_rel: float = 2.5e-5,
                  passes: int = 1, substeps: int = 1, jacobian: str | None = None) -> dict:
     """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring)."""
     from ..io.logs import read_log
@@ -161,7 +161,7 @@ def register(sub) -> None:
     p.add_argument("--initial-scale", type=float, default=1.0, help="multiply the nominal guesses by this")
     p.add_argument("--p0-rel", type=float, default=0.3, help="initial 1-sigma relative to each guess")
     p.add_argument("--r-sigma", help="measurement sigmas (SI, comma-separated); default estimated from the log")
-    p.add_argument("--q-rel", type=float, default=5e-5, help="state process noise, units of R per second")
+    p.add_argument("--q-rel", type=float, default=2.5e-5, help="state process noise, units of R per second")
     p.add_argument("--passes", type=int, default=1, help="passes over the record")
     p.add_argument("--substeps", type=int, default=1, help="RK4 steps per sample interval")
     p.add_argument("--jacobian", choices=["analytic", "complex-step", "finite-difference"])

@@ -58,7 +58,7 @@ class FilterTuning(StrictModel):
     p0_state_scale: float = Field(2.0, gt=0, le=1e3, description="initial state 1-sigma in measurement sigmas, -")
     r_scale: float | None = Field(None, gt=0, le=1e3, description="measurement sigma assumed by the filter, "
                                   "in nominal sensor sigmas (default: noise, or 1e-3 if noise = 0), -")
-    q_rel: float = Field(5e-5, ge=0, le=1, description="state process noise density in units of R per second, 1/s")
+    q_rel: float = Field(2.5e-5, ge=0, le=1, description="state process noise density in units of R per second, 1/s")
     q_param_rel: float = Field(0.0, ge=0, le=1, description="coefficient process noise density in units of "
                                "its P0 variance per second, 1/s")
     passes: int = Field(1, ge=1, le=10, description="passes over the record (each restarts from the last estimate)")
