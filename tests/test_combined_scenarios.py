@@ -115,6 +115,8 @@ def test_bad_controller_name_is_a_config_error():
         resolve_config("combined-survey", overrides={"control.uuv": "lqr"})
     with pytest.raises(ConfigError, match="formation.R"):
         resolve_config("combined-survey", overrides={"formation.R": -1.0})
+    with pytest.raises(ConfigError, match="guidance.waypoints.*coincide"):
+        resolve_config("combined-survey", overrides={"guidance.waypoints": [[0, 0], [0, 0], [5, 5]]})
 
 
 def test_default_run_is_the_flagship_with_summary_and_plots(tmp_path):

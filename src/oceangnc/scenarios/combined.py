@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from ..control.backstepping import BacksteppingConfig, UUVBackstepping
 from ..control.usv_control import USVControlConfig, USVController
@@ -66,6 +66,14 @@ class GuidanceConfig(StrictModel):
                                      description="look-ahead l (default: 2 R_min from the models, eq. 3.6), m")
     acceptance: float = Field(2.0, gt=0, le=100, description="waypoint acceptance radius, m")
     rate: float = Field(10.0, gt=0, le=100, description="guidance rate, Hz")
+
+    @field_validator("waypoints")
+    @classmethod
+    def _distinct(cls, wp):
+        for i in range(len(wp) - 1):
+            if wp[i] == wp[i + 1]:
+                raise ValueError(f"waypoints {i} and {i + 1} coincide at {wp[i]}")
+        return wp
 
 
 class FormationConfig(StrictModel):
