@@ -65,7 +65,8 @@ def point_stats(df: pd.DataFrame, metrics: list[str]) -> pd.DataFrame:
             v = ok[m].astype(float).dropna() if m in ok else pd.Series(dtype=float)
             row[f"{m}.n"] = len(v)
             row[f"{m}.mean"] = float(v.mean()) if len(v) else math.nan
-            row[f"{m}.std"] = float(v.std(ddof=1)) if len(v) > 1 else math.nan
+            # identical values have exactly zero spread (not the rounding error of the mean)
+            row[f"{m}.std"] = (0.0 if v.min() == v.max() else float(v.std(ddof=1))) if len(v) > 1 else math.nan
             row[f"{m}.min"] = float(v.min()) if len(v) else math.nan
             row[f"{m}.max"] = float(v.max()) if len(v) else math.nan
         rows.append(row)
