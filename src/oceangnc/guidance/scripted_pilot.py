@@ -6,6 +6,8 @@ person:
 
 * **looks ahead** along the route's centre line: the aim point lies ``lookahead_m`` ahead of the
   ship's projection on the polyline (extended beyond its end), the wanted heading points at it;
+  when berthing the look-ahead shrinks to 50 m + half the remaining distance (not below
+  ``lookahead_min_m``), as the eye comes to the berth;
 * **steers the track**: like a person watching the ship's track vector on the screen, the pilot
   aims the course over ground chi = psi + atan2(v, u) at the aim point, so the ship crabs into a
   cross current or wind by itself;
@@ -55,6 +57,7 @@ class PilotConfig(StrictModel):
     reaction_s: float = Field(1.0, ge=0, le=10, description="mean reaction delay, s")
     reaction_jitter_s: float = Field(0.3, ge=0, le=5, description="per-run reaction delay spread (uniform +-), s")
     lookahead_m: float = Field(250.0, gt=1, le=5000, description="look-ahead distance along the route, m")
+    lookahead_min_m: float = Field(80.0, gt=1, le=5000, description="berthing: shortest look-ahead near the berth, m")
     cruise_kn: float = Field(1.3, gt=0, le=10, description="wanted cruise speed (001: mean 1.3 kn), kn")
     stick_step: float = Field(0.1, gt=0, le=2, description="largest stick move per update, stick units")
     stick_quantum: float = Field(0.02, ge=0, le=0.5, description="stick resolution, stick units")
@@ -157,7 +160,10 @@ class ScriptedPilot(Block):
         c = self.cfg
         n, e, psi, u, r, v = obs
         s, cross, _ = self.route.project(n, e)
-        aim = self.route.point_at(s + c.lookahead_m)
+        look = c.lookahead_m
+        if c.stop_at_end:  # closing the berth, the eye comes nearer: 50 m + half the remaining distance
+            look = min(look, max(c.lookahead_min_m, 50.0 + 0.5 * (self.route.length - s)))
+        aim = self.route.point_at(s + look)
         psi_des = math.atan2(aim[1] - e, aim[0] - n)
         # steer the track, not the bow: course over ground (the crab in current / wind comes free)
         course = psi + math.atan2(v, u) if c.steer_course and math.hypot(u, v) > 0.1 else psi

@@ -55,7 +55,7 @@ class DockConfig(StrictModel):
 
     approach_m: float = Field(700.0, gt=0, le=20000, description="length of the first (oblique) approach leg, m")
     offset_m: float = Field(80.0, ge=-2000, le=2000, description="lateral offset of the start (to port), m")
-    final_m: float = Field(350.0, gt=50, le=10000, description="final leg parallel to the quay, m")
+    final_m: float = Field(500.0, gt=50, le=10000, description="final leg parallel to the quay, m")
     quay_clearance_m: float = Field(2.0, ge=0, le=100, description="gap between the ship's side and the quay at the berth, m")
 
 

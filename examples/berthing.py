@@ -1,0 +1,143 @@
+"""Joystick berthing (document 001): the five-trial channel comparison and a berth approach.
+
+Runs ``berthing-channel`` with the open-loop, PID and nonlinear joystick controllers (``--runs``
+trials each, 001: 5), optionally in a steady current and wind, prints the comparison table and draws
+bar charts like 001 figs 8-10 and the tracks; then berths the ship with each controller.
+
+    python examples/berthing.py                 # calm water, 5 runs, writes docs/img/berthing_*.png
+    python examples/berthing.py --disturbed     # 0.2 m/s cross current and 10 m/s beam wind
+    python examples/berthing.py --runs 2 --out /tmp/berthing
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import oceangnc  # noqa: E402
+
+MODES = ("open", "pid", "nonlinear")
+DISTURBANCE = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
+               "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--disturbed", action="store_true", help="steady cross current and beam wind")
+    ap.add_argument("--modes", default=",".join(MODES))
+    ap.add_argument("--out", default="runs/berthing-example")
+    ap.add_argument("--img", default="docs/img", help="folder for the PNG figures")
+    ap.add_argument("--no-dock", action="store_true")
+    a = ap.parse_args()
+    tag = "disturbed" if a.disturbed else "calm"
+    out = Path(a.out) / tag
+    img = Path(a.img)
+    img.mkdir(parents=True, exist_ok=True)
+    modes = a.modes.split(",")
+    res = {}
+    for m in modes:
+        over = {"control.mode": m, "runs": a.runs, **(DISTURBANCE if a.disturbed else {})}
+        r = oceangnc.run("berthing-channel", overrides=over, out=out / m, plots=True)
+        res[m] = r
+        print(m, json.dumps({k: round(v, 4) for k, v in r.summary.items() if isinstance(v, float)}))
+    keys = [("error_index", "error index (44) [m^2]", 1.0), ("rudder_index_deg", "rudder index [deg]", 1.0),
+            ("bow_thruster_index_rpm", "bow thruster index [rpm]", 1.0),
+            ("propeller_index_rpm", "propeller index [rpm]", 1.0)]
+    print(f"\n| controller ({tag}, {a.runs} runs) | " + " | ".join(k[1] for k in keys)
+          + " | min margin [m] | mean speed [kn] |")
+    print("|---" * (len(keys) + 3) + "|")
+    for m in modes:
+        s = res[m].summary
+        print(f"| {m} | " + " | ".join(f"{s[k]:.4g}" for k, _, _ in keys)
+              + f" | {s['min_channel_margin_m']:.1f} | {s['mean_speed_kn']:.2f} |")
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
+    colors = {"open": "tab:red", "pid": "tab:blue", "nonlinear": "tab:green"}
+    for ax, (k, lab, _) in zip(axes, keys[:3]):
+        vals = [res[m].summary[k] for m in modes]
+        ax.bar(modes, vals, color=[colors.get(m, "gray") for m in modes])
+        if k == "error_index":
+            for i, m in enumerate(modes):
+                runs = res[m].summary.get("error_index_runs") or []
+                ax.plot([i] * len(runs), runs, "k.", ms=4)
+        ax.set_title(lab, fontsize=9)
+        ax.grid(True, axis="y", alpha=0.3)
+    fig.suptitle(f"berthing-channel, {tag}: mean of {a.runs} runs (cf. 001 figs 8-10)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(img / f"berthing_bars_{tag}.png", dpi=100)
+    plt.close(fig)
+    # tracks of every run, all controllers
+    from oceangnc.api import resolve_config
+
+    sc, cfg = resolve_config("berthing-channel")
+    g = sc.geometry(cfg)
+    fig, axes = plt.subplots(1, len(modes), figsize=(3.3 * len(modes), 5.2), sharey=True)
+    for ax, m in zip(np.atleast_1d(axes), modes):
+        for bank in g["banks"]:
+            b = np.array(bank)
+            ax.plot(b[:, 1], b[:, 0], color="saddlebrown", lw=1.5)
+        rt = np.array(g["route"])
+        ax.plot(rt[:, 1], rt[:, 0], "k--", lw=0.7)
+        df = res[m].df
+        for run, d in df.groupby("run"):
+            ax.plot(d["ship.y"], d["ship.x"], lw=0.9)
+        ax.set_title(m, fontsize=9)
+        ax.set_aspect("equal")
+        ax.set_xlabel("east [m]")
+        ax.grid(True, alpha=0.3)
+    np.atleast_1d(axes)[0].set_ylabel("north [m]")
+    fig.suptitle(f"tracks in the Z channel ({tag}, {a.runs} runs each)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(img / f"berthing_tracks_{tag}.png", dpi=100)
+    plt.close(fig)
+    if a.no_dock:
+        return
+    print("\n| controller | final distance [m] | final speed [m/s] | heading error [deg] | time [s] |")
+    print("|---|---|---|---|---|")
+    dock = {}
+    for m in modes:
+        r = oceangnc.run("berthing-dock", overrides={"control.mode": m, **(DISTURBANCE if a.disturbed else {})},
+                         out=out / f"dock-{m}", plots=True)
+        s = r.summary
+        dock[m] = r
+        print(f"| {m} | {s['final_distance_m']:.2f} | {s['final_speed_mps']:.3f} | "
+              f"{s['final_heading_error_deg']:.2f} | {s['time_to_berth_s']:.0f} |")
+    fig, ax = plt.subplots(figsize=(5, 6))
+    sc, cfg = resolve_config("berthing-dock")
+    g = sc.geometry(cfg)
+    q = np.array(g["quay"])
+    ax.plot(q[:, 1], q[:, 0], color="saddlebrown", lw=3, label="quay")
+    rt = np.array(g["route"])
+    ax.plot(rt[:, 1], rt[:, 0], "k--", lw=0.7, label="route")
+    for m, r in dock.items():
+        d = r.df
+        ax.plot(d["ship.y"], d["ship.x"], lw=1, label=m, color=colors.get(m))
+        last = d.iloc[-1]
+        L, B = cfg.ship.length, cfg.ship.beam
+        c, s_ = math.cos(last["ship.psi"]), math.sin(last["ship.psi"])
+        hull = np.array([[L / 2, 0], [L / 2 - 15, B / 2], [-L / 2, B / 2], [-L / 2, -B / 2], [L / 2 - 15, -B / 2],
+                         [L / 2, 0]])
+        ax.plot(last["ship.y"] + hull[:, 0] * s_ + hull[:, 1] * c, last["ship.x"] + hull[:, 0] * c - hull[:, 1] * s_,
+                color=colors.get(m), lw=0.8)
+    ax.plot(0, 0, "kx", ms=8, label="berth")
+    ax.set_aspect("equal")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_xlabel("east [m]")
+    ax.set_ylabel("north [m]")
+    ax.set_title(f"berthing-dock ({tag})", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(img / f"berthing_dock_{tag}.png", dpi=100)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,97 @@
+"""berthing-channel and berthing-dock scenarios (001 sec. 4, figs 6-10)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import oceangnc
+from oceangnc.api import resolve_config
+from oceangnc.errors import ConfigError
+from oceangnc.guidance.scripted_pilot import ScriptedPilot
+
+SHORT = {"channel.leg1_m": 400.0, "channel.leg2_m": 300.0, "channel.leg3_m": 400.0}
+
+
+def test_external_pilot_live_simulation_and_geometry():
+    """pilot.kind = external: no scripted pilot; the console's joystick.* keys drive the ship."""
+    sc, cfg = resolve_config("berthing-dock", overrides={"pilot.kind": "external", "control.mode": "pid"})
+    sim = sc.build(cfg, np.random.default_rng(0))
+    assert not any(isinstance(b, ScriptedPilot) for b in sim.blocks)
+    sim.inject({"joystick.surge": 0.8, "joystick.yaw": 0.5})
+    u0 = sim.bus["ship.u"]
+    sim.run(90.0)
+    b = sim.bus
+    for k in ("ship.x", "ship.y", "ship.psi", "ship.u", "ship.v", "ship.r", "ship.rudder", "ship.rpm_prop",
+              "ship.rpm_bow", "ship.rpm_stern"):
+        assert k in b and math.isfinite(b[k])
+    assert b["ship.u"] > u0 + 0.05  # surge stick ahead speeds the ship up
+    assert b["ship.r"] > 0.0  # yaw stick to starboard turns it to starboard
+    g = sc.geometry(cfg)
+    assert g["berth"] == [0.0, 0.0] and len(g["quay"]) == 2 and len(g["route"]) == 3
+    _, ccfg = resolve_config("berthing-channel")
+    gc = oceangnc.api.get_scenario("berthing-channel").geometry(ccfg)
+    banks = np.array(gc["banks"])
+    assert banks.shape == (2, 4, 2)
+    # banks are half a width from the centre line on the straight legs
+    assert abs(banks[0, 0, 1] - banks[1, 0, 1]) == pytest.approx(ccfg.channel.width_m)
+
+
+def test_bad_config_is_one_line_error():
+    with pytest.raises(ConfigError, match="control.mode"):
+        resolve_config("berthing-channel", overrides={"control.mode": "fuzzy"})
+    with pytest.raises(ConfigError, match="pilot.kind"):
+        resolve_config("berthing-dock", overrides={"pilot.kind": "robot"})
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mode", ["open", "pid", "nonlinear"])
+def test_dock_berths_with_every_controller(mode, tmp_path):
+    """The scripted pilot stops the ship within 5 m of the berth at under 0.1 m/s (issue 8)."""
+    r = oceangnc.run("berthing-dock", overrides={"control.mode": mode}, out=tmp_path, plots=False)
+    s = r.summary
+    assert s["final_distance_m"] < 5.0
+    assert s["final_speed_mps"] < 0.1
+    assert s["final_heading_error_deg"] < 5.0
+
+
+@pytest.fixture(scope="module")
+def channel_runs(tmp_path_factory):
+    out = {}
+    for mode in ("open", "pid", "nonlinear"):
+        d = tmp_path_factory.mktemp(mode)
+        out[mode] = oceangnc.run("berthing-channel", overrides={**SHORT, "runs": 2, "control.mode": mode},
+                                 out=d, plots=False)
+    return out
+
+
+@pytest.mark.slow
+def test_closed_loop_beats_open_loop(channel_runs):
+    """001 figs 8-10: PID and nonlinear beat the open loop on the error index (44) and on the rudder
+    and bow thruster indices (43); without disturbances PID and nonlinear are close (within 30 %)."""
+    s = {m: r.summary for m, r in channel_runs.items()}
+    for m in ("pid", "nonlinear"):
+        assert s[m]["error_index"] < s["open"]["error_index"]
+        assert s[m]["rudder_index"] < s["open"]["rudder_index"]
+        assert s[m]["bow_thruster_index"] < s["open"]["bow_thruster_index"]
+        assert s[m]["min_channel_margin_m"] > 0
+    a, b = s["pid"]["error_index"], s["nonlinear"]["error_index"]
+    assert abs(a - b) < 0.3 * max(a, b)
+    df = channel_runs["pid"].df
+    assert sorted(df["run"].unique()) == [0.0, 1.0]
+    assert 1.0 < s["pid"]["mean_speed_kn"] < 1.6
+
+
+@pytest.mark.slow
+def test_nonlinear_tracks_commands_better_in_current_and_wind(tmp_path):
+    """With a steady cross current and wind the model-based controller keeps the joystick's yaw-rate
+    and speed commands far more closely than the PID (rms errors at least halved)."""
+    env = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
+           "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0, **SHORT}
+    rms = {}
+    for mode in ("pid", "nonlinear"):
+        df = oceangnc.run("berthing-channel", overrides={**env, "control.mode": mode}, out=tmp_path / mode,
+                          plots=False).df
+        rms[mode] = (float(np.sqrt(np.mean(df["ctrl.e_r"] ** 2))), float(np.sqrt(np.mean(df["ctrl.e_u"] ** 2))))
+    assert rms["nonlinear"][0] < 0.5 * rms["pid"][0]
+    assert rms["nonlinear"][1] < 0.5 * rms["pid"][1]
