@@ -459,12 +459,14 @@ class CombinedPlant(Plant):
         """RK4 steps, or for ``integrator="rk4-split"`` Strang-split steps (see :func:`split_advance`)."""
         if self.integrator == "rk4":
             return super().advance(t, dt, n)
+        from ..errors import DivergenceError
+
         t_new = split_advance(t, self.x, self.u, self.p, dt, n, self.work)
         if t_new < 0.0:
-            from ..errors import DivergenceError
-
             k = int(-t_new - 1.0)
             raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict())
+        if np.max(np.abs(self.x)) > self.state_bound:
+            raise DivergenceError(t_new, self.name, self.state_dict(), reason=f"|state| above {self.state_bound:g}")
         return t_new
 
     # -- outputs -----------------------------------------------------------------------------------
