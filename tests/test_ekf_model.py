@@ -120,3 +120,51 @@ def test_truth_rk4_converges():
     e1 = np.abs(zigzag(c.params(), c.x0(), "10-5", dt_truth=4.0, **kw).x_true[-1] - ref).max()
     e2 = np.abs(zigzag(c.params(), c.x0(), "10-5", dt_truth=2.0, **kw).x_true[-1] - ref).max()
     assert 10 < e1 / e2 < 22
+
+
+def _equivalent_coefficients(p, g11, g21):
+    """Coefficients giving M~ = G M, Theta~ = (G - I) K + G Theta with G = [[g11, 0], [g21, 1]]
+    (K = the known terms m U q, -W z_G sin(theta)): the same (w', q') whenever the rigid-body
+    coupling terms m z_G q^2 and m z_G w q are absent."""
+    d = dimensional(p)
+    m, U = p[P_NAMES.index("m")], p[P_NAMES.index("U")]
+    new = {
+        "Zw": g11 * d["Zw"], "Mw": g21 * d["Zw"] + d["Mw"],
+        "Zq": g11 * d["Zq"] + (g11 - 1) * m * U, "Mq": g21 * (d["Zq"] + m * U) + d["Mq"],
+        "Zds": g11 * d["Zds"], "Mds": g21 * d["Zds"] + d["Mds"],
+        "Zwdot": m - g11 * (m - d["Zwdot"]), "Zqdot": g11 * d["Zqdot"],
+        "Mwdot": d["Mwdot"] - g21 * (m - d["Zwdot"]), "Mqdot": d["Mqdot"] + g21 * d["Zqdot"],
+    }
+    q = p.copy()
+    unit = {k: d[k] / p[i] for i, k in enumerate(COEFF_NAMES)}
+    for i, k in enumerate(COEFF_NAMES):
+        q[i] = new[k] / unit[k]
+    return q
+
+
+@pytest.mark.parametrize("zG, identifiable", [(0.0, False), (0.27414, True)])
+def test_identifiability_rests_on_cg_coupling(zG, identifiable):
+    """With W = B the heave equation has no known-coefficient term but m z_G q^2: without it a
+    two-parameter family of coefficient sets (G = [[1.1, 0], [0.05, 1]] here, coefficients changed by
+    up to 10 %) gives exactly the same motion; with z_G = 0.27414 m the family differs where q != 0."""
+    p = default_params()
+    p[P_NAMES.index("zG")] = zG
+    p2 = _equivalent_coefficients(p, 1.1, 0.05)
+    assert np.abs(p2[:10] / p[:10] - 1).max() > 0.05
+    rng = np.random.default_rng(3)
+    o1, o2 = np.zeros(3), np.zeros(3)
+    diff = 0.0
+    for _ in range(20):
+        x = rng.uniform(-1, 1, 3) * np.array([0.2, 0.2, 0.01])
+        u = rng.uniform(-1, 1, 1) * 0.17
+        sub_f(x, p, u, o1)
+        sub_f(x, p2, u, o2)
+        diff = max(diff, np.abs(o2 - o1).max() / np.abs(o1).max())
+        x[2] = 0.0  # without pitch rate the coupling terms vanish: always indistinguishable
+        sub_f(x, p, u, o1)
+        sub_f(x, p2, u, o2)
+        assert np.abs(o2 - o1).max() <= 1e-9 * np.abs(o1).max()
+    if identifiable:
+        assert diff > 1e-5
+    else:
+        assert diff < 1e-9
