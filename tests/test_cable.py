@@ -252,14 +252,14 @@ def test_stability_limit_scales_with_stiffness():
     assert h4 == pytest.approx(h / 2, rel=1e-6)
 
 
-def test_step_above_limit_is_refused():
+def test_step_above_limit_is_refused(tmp_path):
     """sim.dt above the cable's stability limit is a ConfigError naming sim.dt and the limit."""
     pl = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(), top="fixed")
     assert pl.max_dt == pl.stability_limit
     with pytest.raises(ConfigError, match=r"sim\.dt.*stability limit"):
         Simulation([pl], [], 0.01, 0.1)
     with pytest.raises(ConfigError, match=r"sim\.dt"):
-        oceangnc.run("cable-current", overrides={"sim.dt": 0.01}, out="/tmp/oceangnc_refused", plots=False)
+        oceangnc.run("cable-current", overrides={"sim.dt": 0.01}, out=tmp_path / "refused", plots=False)
 
 
 @pytest.mark.parametrize("key,val", [("cable.segments", 0), ("cable.length", 0.0), ("cable.diameter", -0.01),
