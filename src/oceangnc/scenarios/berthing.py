@@ -12,7 +12,7 @@
   hull corner to a bank over all runs; negative = outside the channel).
 * ``berthing-dock``: approach a berth (a dog-leg route ending on a line parallel to the quay) and stop
   alongside; summary ``final_distance_m`` (midship to berth point), ``final_speed_mps``,
-  ``final_heading_error_deg`` (to the quay direction).
+  ``final_heading_error_deg`` (to the quay direction); with several runs, the worst run's values.
 
 ``pilot.kind = "external"`` leaves the stick to the console (bus keys ``joystick.surge``,
 ``joystick.yaw``); :meth:`BerthingScenario.geometry` gives the route, banks, berth and quay as
@@ -321,16 +321,21 @@ def channel_metrics(df, cfg, pts) -> dict:
 
 
 def dock_metrics(df, cfg) -> dict:
-    out = {}
+    """Final state of each run; with several runs the worst run's value of each metric."""
+    per = []
     for run, d in df.groupby("run"):
         last = d.iloc[-1]
-        dist = math.hypot(last["ship.x"], last["ship.y"])
-        speed = math.hypot(last["ship.u"], last["ship.v"])
-        herr = abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi))
-        out = {"final_distance_m": dist, "final_speed_mps": speed, "final_heading_error_deg": herr,
-               "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
-               "time_to_berth_s": float(last["t"]),
-               "berthed": float(last.get("pilot.done", float("nan")))}
+        per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
+                    "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
+                    "final_heading_error_deg": abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
+                    "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
+                    "time_to_berth_s": float(last["t"])})
+    if len(per) == 1:
+        return per[0]
+    out = {k: max(p[k] for p in per) for k in ("final_distance_m", "final_speed_mps", "final_heading_error_deg",
+                                                "time_to_berth_s")}
+    out["final_lateral_m"] = max((p["final_lateral_m"] for p in per), key=abs)
+    out["final_longitudinal_m"] = max((p["final_longitudinal_m"] for p in per), key=abs)
     return out
 
 
