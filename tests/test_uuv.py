@@ -175,3 +175,29 @@ def test_steady_planar_straight_branch():
         a, b = -cfg.X_uu_total, -cfg.X_u
         assert u == pytest.approx((-b + math.sqrt(b * b + 8 * a * T)) / (2 * a), rel=1e-6)
         assert v == 0.0 and r == 0.0
+
+
+def test_turning_circle_drifts_with_the_current():
+    """A steady turn in a uniform current (0.2 m/s toward east) is the calm-water turn carried by the
+    current: the fitted circle's centre drifts at 0.2 m/s toward 90 deg (within 3 % / 3 deg) and the
+    radius is unchanged (1 %). Checks nu_r and the M_A (omega x v_c) term of the current model."""
+    from oceangnc.scenarios._common import circle_fit_drifting
+
+    cfg = UUVConfig(weight_in_water_kgf=0.0, zg=0.5)
+    hi = cfg.max_thrust_kgf * KGF
+    res = []
+    for vce in (0.0, 0.2):
+        u = np.array([5.0, 5.0, hi, 0.0, vce])
+        x, p = _run(cfg, u, 60.0)
+        w = rk4_workspace(12)
+        track = []
+        for k in range(400):
+            rk4_advance(uuv_rhs, 0.0, x, u, p, 0.01, 10, w)
+            track.append((k * 0.1, x[0], x[1], x[5]))
+        t, xs, ys, psi = np.array(track).T
+        res.append(circle_fit_drifting(t, xs, ys, psi))
+    (r0, d0, _, _), (r1, d1, dir1, _) = res
+    assert d0 < 1e-3
+    assert d1 == pytest.approx(0.2, rel=0.03)
+    assert dir1 == pytest.approx(90.0, abs=3.0)
+    assert r1 == pytest.approx(r0, rel=0.01)
