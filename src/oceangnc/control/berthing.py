@@ -27,7 +27,8 @@ plus ``ctrl.e_u`` (m/s) and ``ctrl.e_r`` (rad/s). An emergency stop (``_estop``)
   u_d', r_d' the laws need (a stepping stick has no derivative). The rudder turns at 2.3 deg/s
   (IMO) while 001's allocation would swing it from stop to stop at every sign change of u_rd, so
   by default (``rate_aware_rudder``) the optimisation (38) is done over the angles the rudder can
-  reach by the next update and the thrusters make up the rest from the rudder angle actually there. With ideal actuators the closed loops obey
+  reach by the next update and the thrusters make up the rest from the rudder angle actually there.
+  With ideal actuators the closed loops obey
   e_u' + lambda1 e_u = 0 (30) and e_r' + lambda2 e_r = 0 (33). The model terms use the velocity
   through the water and the wind load, from the measured current and wind (``env.*``) when
   ``use_disturbance = True`` (what makes it better than the PID in current and wind; 001 only
@@ -61,8 +62,10 @@ class ControlConfig(StrictModel):
     period: float = Field(0.1, gt=0, le=5, description="controller period (001: 100 ms joystick cycle), s")
     # open loop
     n_open_rpm: float = Field(40.0, gt=0, le=1000, description="open loop: propeller rpm at full surge stick, rpm")
-    delta_open_deg: float = Field(35.0, ge=0, le=45, description="open loop: rudder limit reached at rudder_open_stick, deg")
-    rudder_open_stick: float = Field(0.5, gt=0, le=1, description="open loop: yaw stick deflection giving the full open-loop rudder, stick units")
+    delta_open_deg: float = Field(35.0, ge=0, le=45,
+                                  description="open loop: rudder reached at rudder_open_stick, deg")
+    rudder_open_stick: float = Field(0.5, gt=0, le=1,
+                                     description="open loop: yaw stick giving the full open-loop rudder, stick units")
     thruster_open: float = Field(1.0, ge=0, le=1, description="open loop: thruster fraction at full yaw stick, -")
     # PID gains, SI: rev/s per m/s, rad per rad/s, rev/s per rad/s (and per s / times s)
     kp_prop: float = Field(4.0, ge=0, le=1e4, description="k_P,P, rev/s per m/s")
@@ -78,8 +81,10 @@ class ControlConfig(StrictModel):
     lambda1: float = Field(0.1, gt=0, le=10, description="surge error decay rate lambda1 (30), 1/s")
     lambda2: float = Field(0.1, gt=0, le=10, description="yaw-rate error decay rate lambda2 (33), 1/s")
     u_switch: float = Field(0.4, ge=0, le=5, description="allocation switch speed (001: 0.4 m/s), m/s")
-    t_ref: float = Field(10.0, ge=0, le=100, description="nonlinear: time constant of the setpoint filter giving u_d(s), r_d(s) and their rates, s")
-    rate_aware_rudder: bool = Field(True, description="nonlinear: search the rudder angle only within the rate-limited reach of the next period")
+    t_ref: float = Field(10.0, ge=0, le=100,
+                         description="nonlinear: setpoint filter time constant for u_d(s), r_d(s) and rates, s")
+    rate_aware_rudder: bool = Field(True, description="nonlinear: search the rudder angle only within its "
+                                                      "rate-limited reach by the next update")
     use_disturbance: bool = Field(True, description="nonlinear: use the measured current and wind in the model")
     n_limit_rpm: float = Field(100.0, gt=0, le=1000, description="closed loop: propeller command limit, rpm")
 

@@ -71,7 +71,7 @@ class PilotConfig(StrictModel):
     k_speed_open: float = Field(3.0, ge=0, le=100, description="open loop: surge stick per speed error, s/m")
     brake_decel: float = Field(0.0015, gt=0, le=1, description="planned deceleration toward the end, m/s2")
     k_stop: float = Field(0.01, gt=0, le=1, description="speed per remaining distance near the end, 1/s")
-    steer_course: bool = Field(True, description="aim the course over ground (track vector) rather than the heading at the look-ahead point")
+    steer_course: bool = Field(True, description="aim the course over ground (track vector), not the heading")
     stop_at_end: bool = Field(False, description="slow down and stop at the end of the route")
     stop_when_done: bool = Field(True, description="end the run once stopped at the end (or past it, without stop)")
 

@@ -56,7 +56,7 @@ class DockConfig(StrictModel):
     approach_m: float = Field(700.0, gt=0, le=20000, description="length of the first (oblique) approach leg, m")
     offset_m: float = Field(80.0, ge=-2000, le=2000, description="lateral offset of the start (to port), m")
     final_m: float = Field(500.0, gt=50, le=10000, description="final leg parallel to the quay, m")
-    quay_clearance_m: float = Field(2.0, ge=0, le=100, description="gap between the ship's side and the quay at the berth, m")
+    quay_clearance_m: float = Field(2.0, ge=0, le=100, description="gap between ship's side and quay at the berth, m")
 
 
 class BerthingConfig(ScenarioConfig):
@@ -73,7 +73,8 @@ class BerthingConfig(ScenarioConfig):
 def speed_per_rps(ship: ShipConfig) -> float:
     """Steady straight-ahead speed per propeller rev/s in calm water (m/s per rev/s).
 
-    Resistance (X_uu - rho_a/2 C_X A_F) u^2 (water and still air) balances (1 - t_p) rho D^4 n^2 K_T(J); with J = (1 - w_p) u/(n D) both sides
+    Resistance (X_uu - rho_a/2 C_X A_F) u^2 (water and still air) balances (1 - t_p) rho D^4 n^2 K_T(J);
+    with J = (1 - w_p) u/(n D) both sides
     are quadratic in (u, n), so u = k n exactly, k the positive root of
     X_uu k^2 + (1 - t_p) rho (a1 D^4 + a2 (1 - w_p) D^3 k + a3 (1 - w_p)^2 D^2 k^2) = 0.
     """
@@ -327,7 +328,8 @@ def dock_metrics(df, cfg) -> dict:
         last = d.iloc[-1]
         per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
                     "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
-                    "final_heading_error_deg": abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
+                    "final_heading_error_deg":
+                        abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
                     "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
                     "time_to_berth_s": float(last["t"])})
     if len(per) == 1:
