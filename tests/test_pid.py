@@ -28,15 +28,15 @@ def test_integral_action_removes_steady_error():
 
 def test_back_calculation_stops_windup_under_saturation():
     """With the output saturated at 0.5 (< setpoint 1) a plain PI integrator grows without bound;
-    with back-calculation it settles where K_i e + K_w (u - v) = 0."""
+    with back-calculation (003 eq. 3.10) it settles where e + K_w (u - v) = 0."""
     plain = PID(kp=2.0, ki=1.0, u_min=-0.5, u_max=0.5, kw=0.0)
     aw = PID(kp=2.0, ki=1.0, u_min=-0.5, u_max=0.5)
     i_plain, _ = _run_plant(plain, 60.0)
     i_aw, y = _run_plant(aw, 60.0)
     assert i_plain[-1] > 25.0  # winds up: ~ K_i * e * t
-    # equilibrium of the integrator: ki*e + kw*(u - v) = 0 with e = 0.5, u = 0.5, v = kp*e + I
+    # equilibrium of the integrator: e + kw*(u - v) = 0 with u = 0.5, v = kp*e + I
     e = 1.0 - y
-    i_expected = (aw.ki * e / aw.kw) + aw.u_max - aw.kp * e
+    i_expected = (e / aw.kw) + aw.u_max - aw.kp * e
     assert i_aw[-1] == pytest.approx(i_expected, rel=1e-3)
     assert aw.kw == pytest.approx(1.0 / aw.kp)
 

@@ -1,11 +1,14 @@
 """Anti-windup PID with back-calculation (003 eq. 3.10).
 
+003 eq. 3.10: ``U = K_p e + K_I int(e + K_w (sat(U) - U)) dt + K_D e_dot``, i.e.
+
     v(t)  = K_p e + I + K_d e_dot
     u(t)  = sat(v) in [u_min, u_max]
-    I'    = K_i e + K_w (u - v)          (back-calculation, K_w = 1 / K_p by default)
+    I'    = K_i (e + K_w (u - v))        (back-calculation, K_w = 1 / K_p by default)
 
-When the output saturates, the integrator is driven back at rate K_w (u - v), so it does not wind
-up (Astrom & Hagglund 2006, sec. 3.5; 003 eq. 3.10 prints the same structure with K_w = 1/K_p).
+When the output saturates, the integrator is driven back at rate K_i K_w = K_i / K_p = 1 / T_i, so
+it does not wind up: the tracking time constant equals the integral time, a standard choice
+(Astrom & Hagglund 2006, sec. 3.5).
 The integrator is advanced with the forward-Euler rule at the controller's own period, as on a
 microcontroller. The derivative uses the given rate (e.g. the measured yaw rate, avoiding
 derivative kick) or a backward difference of the error.
@@ -28,7 +31,8 @@ class PID:
     u_min, u_max : float
         Output limits (output units); -inf/inf for none.
     kw : float or None
-        Back-calculation gain (1/s); default ``1 / kp`` (003 eq. 3.10), or ``1`` when ``kp == 0``.
+        Back-calculation gain inside the integral (dimensionless ratio error/output); default
+        ``1 / kp`` (003 eq. 3.10), or ``1`` when ``kp == 0``.
     """
 
     def __init__(self, kp: float, ki: float = 0.0, kd: float = 0.0, u_min: float = -math.inf,
@@ -67,7 +71,7 @@ class PID:
         self._e_prev = e
         v = self.kp * e + self.integral + self.kd * e_dot + feedforward
         u = min(self.u_max, max(self.u_min, v))
-        self.integral += dt * (self.ki * e + self.kw * (u - v))
+        self.integral += dt * self.ki * (e + self.kw * (u - v))
         self.v = v
         self.u = u
         return u

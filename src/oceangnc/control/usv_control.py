@@ -36,11 +36,10 @@ from .pid import PID
 
 
 def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
-    """PID of eq. 3.10 read literally: U = K_p e + K_I int(e + K_w (sat U - U)) + K_D e', K_w = 1/K_p,
-    i.e. a back-calculation rate K_I K_w = K_I / K_p on the PID class's integrator (tracking time
-    constant T_t = T_i). The integrator then settles at the limit instead of growing by K_I e per
-    second (with a rate of 1/K_p alone, a 600 N/(m/s) speed loop would wind up by thousands of N)."""
-    return PID(kp, ki, kd, lo, hi, kw=(ki / kp if kp > 0 and ki > 0 else 1.0))
+    """PID of eq. 3.10 (U = K_p e + K_I int(e + K_w (sat U - U)) + K_D e', K_w = 1/K_p), the
+    :class:`~oceangnc.control.pid.PID` default: back-calculation rate K_I / K_p (tracking time
+    constant T_t = T_i), so the integrator settles at the limit instead of growing by K_I e per s."""
+    return PID(kp, ki, kd, lo, hi)
 
 
 def _wrap(a: float) -> float:
