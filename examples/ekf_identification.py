@@ -49,12 +49,17 @@ model = EKFModel(name="pendulum", f=f, h=h, state_names=("angle", "rate"), param
                  input_names=("torque",), measurement_names=("angle",), params=np.array([2.0, 0.3, 1.0]))
 t = np.arange(0.0, 40.0, 0.02)
 U = np.where((t // 5) % 2 == 0, 1.0, -1.0)[:, None]
-x, X, k1 = np.zeros(2), np.zeros((t.size, 2)), np.zeros(2)
-for i in range(t.size):  # simple Euler truth at 1 ms (fine for an example)
+x, X = np.zeros(2), np.zeros((t.size, 2))
+k1, k2, k3, k4 = (np.zeros(2) for _ in range(4))
+h = 0.001
+for i in range(t.size):  # truth: RK4 at 1 ms, input held over each 20 ms sample
     X[i] = x
     for _ in range(20):
         f(x, model.params, U[i], k1)
-        x = x + 0.001 * k1
+        f(x + 0.5 * h * k1, model.params, U[i], k2)
+        f(x + 0.5 * h * k2, model.params, U[i], k3)
+        f(x + h * k3, model.params, U[i], k4)
+        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 rng = np.random.default_rng(0)
 Z = X[:, :1] + 0.002 * rng.standard_normal((t.size, 1))
 r = run_ekf(model, t, Z, U, "k,c", x0=[0.0, 0.0], alpha0=[1.0, 0.5], P0=[1e-4, 1e-2, 1.0, 0.25],
