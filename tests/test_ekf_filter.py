@@ -176,3 +176,18 @@ def test_diverging_filter_is_reported():
         run_ekf(m, d.t, d.z_meas, d.ds[:, None], "Mq", d.z_meas[0], [0.05], [1e-12, 1e-12, 1e-12, 1e-14], 0.0,
                 [1e12, 1e12, 1e12])
     assert isinstance(e.value, InputError) and "\n" not in str(e.value)
+
+
+@njit(cache=True)
+def osc_f_real_only(x, p, u, out):
+    out[0] = x[1]
+    out[1] = (u[0] - p[1] * x[1] - p[0] * math.sin(x[0])) / p[2]  # math.sin: no complex arithmetic
+
+
+def test_model_not_complex_step_safe_is_reported():
+    """A user f written with math.sin cannot be complex-stepped: one-line InputError, not a traceback;
+    the message names the alternatives."""
+    m, t, X, U = _osc_data(T=2.0)
+    m.f = osc_f_real_only
+    with pytest.raises(InputError, match="complex arithmetic.*finite-difference"):
+        run_ekf(m, t, X[:, :1], U, "k", [0.0, 0.0], [1.5], [1e-6, 1e-2, 1.0], 0.0, [1e-8])

@@ -339,7 +339,7 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     except Exception as e:  # numba typing errors: a model that cannot run in complex arithmetic
         if type(e).__module__.startswith("numba") and mode == "complex-step":
             raise InputError(f"model {model.name}: f/h cannot be evaluated in complex arithmetic "
-                             "(use numpy functions such as np.sin, or give an analytic jac)") from None
+                             "(use numpy functions such as np.sin, give an analytic jac, or use jacobian='finite-difference')") from None
         raise
     if status != 0:
         why = {1: "non-finite estimate", 2: "covariance no longer positive definite",
