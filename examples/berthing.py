@@ -37,12 +37,15 @@ def main() -> None:
     ap.add_argument("--out", default="runs/berthing-example")
     ap.add_argument("--img", default="docs/img", help="folder for the PNG figures")
     ap.add_argument("--no-dock", action="store_true")
+    ap.add_argument("--dock-only", action="store_true")
     a = ap.parse_args()
     tag = "disturbed" if a.disturbed else "calm"
     out = Path(a.out) / tag
     img = Path(a.img)
     img.mkdir(parents=True, exist_ok=True)
     modes = a.modes.split(",")
+    if a.dock_only:
+        return dock(a, modes, out, img, tag)
     res = {}
     for m in modes:
         over = {"control.mode": m, "runs": a.runs, **(DISTURBANCE if a.disturbed else {})}
@@ -98,42 +101,55 @@ def main() -> None:
     fig.tight_layout()
     fig.savefig(img / f"berthing_tracks_{tag}.png", dpi=100)
     plt.close(fig)
-    if a.no_dock:
-        return
+    if not a.no_dock:
+        dock(a, modes, out, img, tag)
+
+
+def dock(a, modes, out, img, tag) -> None:
+    """Berth with every controller; table and a figure (whole approach and a zoom on the berth)."""
+    from oceangnc.api import resolve_config
+
+    colors = {"open": "tab:red", "pid": "tab:blue", "nonlinear": "tab:green"}
     print("\n| controller | final distance [m] | final speed [m/s] | heading error [deg] | time [s] |")
     print("|---|---|---|---|---|")
-    dock = {}
+    dock_runs = {}
     for m in modes:
         r = oceangnc.run("berthing-dock", overrides={"control.mode": m, **(DISTURBANCE if a.disturbed else {})},
                          out=out / f"dock-{m}", plots=True)
         s = r.summary
-        dock[m] = r
+        dock_runs[m] = r
         print(f"| {m} | {s['final_distance_m']:.2f} | {s['final_speed_mps']:.3f} | "
               f"{s['final_heading_error_deg']:.2f} | {s['time_to_berth_s']:.0f} |")
-    fig, ax = plt.subplots(figsize=(5, 6))
     sc, cfg = resolve_config("berthing-dock")
     g = sc.geometry(cfg)
-    q = np.array(g["quay"])
-    ax.plot(q[:, 1], q[:, 0], color="saddlebrown", lw=3, label="quay")
-    rt = np.array(g["route"])
-    ax.plot(rt[:, 1], rt[:, 0], "k--", lw=0.7, label="route")
-    for m, r in dock.items():
-        d = r.df
-        ax.plot(d["ship.y"], d["ship.x"], lw=1, label=m, color=colors.get(m))
-        last = d.iloc[-1]
-        L, B = cfg.ship.length, cfg.ship.beam
-        c, s_ = math.cos(last["ship.psi"]), math.sin(last["ship.psi"])
-        hull = np.array([[L / 2, 0], [L / 2 - 15, B / 2], [-L / 2, B / 2], [-L / 2, -B / 2], [L / 2 - 15, -B / 2],
-                         [L / 2, 0]])
-        ax.plot(last["ship.y"] + hull[:, 0] * s_ + hull[:, 1] * c, last["ship.x"] + hull[:, 0] * c - hull[:, 1] * s_,
-                color=colors.get(m), lw=0.8)
-    ax.plot(0, 0, "kx", ms=8, label="berth")
-    ax.set_aspect("equal")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    ax.set_xlabel("east [m]")
-    ax.set_ylabel("north [m]")
-    ax.set_title(f"berthing-dock ({tag})", fontsize=10)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 5.5), gridspec_kw={"width_ratios": [1, 1.6]})
+    for k, ax in enumerate(axes):
+        q = np.array(g["quay"])
+        ax.plot(q[:, 1], q[:, 0], color="saddlebrown", lw=3, label="quay")
+        rt = np.array(g["route"])
+        ax.plot(rt[:, 1], rt[:, 0], "k--", lw=0.7, label="route")
+        for m, r in dock_runs.items():
+            d = r.df
+            ax.plot(d["ship.y"], d["ship.x"], lw=1, label=m, color=colors.get(m))
+            if k == 1:
+                last = d.iloc[-1]
+                L, B = cfg.ship.length, cfg.ship.beam
+                c, s_ = math.cos(last["ship.psi"]), math.sin(last["ship.psi"])
+                hull = np.array([[L / 2, 0], [L / 2 - 15, B / 2], [-L / 2, B / 2], [-L / 2, -B / 2],
+                                 [L / 2 - 15, -B / 2], [L / 2, 0]])
+                ax.plot(last["ship.y"] + hull[:, 0] * s_ + hull[:, 1] * c,
+                        last["ship.x"] + hull[:, 0] * c - hull[:, 1] * s_, color=colors.get(m), lw=0.8)
+        ax.plot(0, 0, "kx", ms=8, label="berth")
+        ax.grid(True, alpha=0.3)
+        ax.set_xlabel("east [m]")
+    axes[0].set_ylabel("north [m]")
+    axes[0].set_title("approach", fontsize=9)
+    axes[1].set_xlim(-60, 40)
+    axes[1].set_ylim(-160, 130)
+    axes[1].set_aspect("equal")
+    axes[1].set_title("at the berth (final hull outlines)", fontsize=9)
+    axes[1].legend(fontsize=7, loc="lower left")
+    fig.suptitle(f"berthing-dock ({tag})", fontsize=10)
     fig.tight_layout()
     fig.savefig(img / f"berthing_dock_{tag}.png", dpi=100)
     plt.close(fig)
