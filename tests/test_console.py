@@ -396,3 +396,28 @@ def test_fixed_route_scenarios_refuse_clicked_waypoints(tmp_path):
         assert s.hello["route_edit"] is False and s.hello["loop_switch"] is False
     finally:
         s.stop()
+
+
+def test_gps_outage_shows_as_a_sensor_failure(tmp_path):
+    """A configured GPS outage drops ``gps.valid`` to 0 in the streamed state (the page's FAIL lamp);
+    the autopilot keeps going on the last fix and recovers when the fix returns."""
+    clk = FakeClock()
+    s = Session("usv-remote", overrides={"gps.outages": [[2.0, 4.0]]}, out_root=tmp_path, clock=clk,
+                write_log=False)
+    s.clients = 1
+    s.fake = clk
+    try:
+        assert {"key": "gps.valid", "label": "GPS"} in s.hello["view"]["sensors"]
+        advance(s, 1.5)
+        assert s.state()["signals"]["gps.valid"] == 1.0
+        advance(s, 1.5)  # t = 3 s: inside the outage
+        st = s.state()["signals"]
+        assert st["gps.valid"] == 0.0 and st["usv.u"] > 0.5
+        held = (st["gps.x"], st["gps.y"])
+        advance(s, 0.5)
+        assert (s.state()["signals"]["gps.x"], s.state()["signals"]["gps.y"]) == held  # last fix held
+        advance(s, 1.5)  # t = 5 s: back
+        st = s.state()["signals"]
+        assert st["gps.valid"] == 1.0 and abs(st["gps.x"] - st["usv.x"]) < 0.3
+    finally:
+        s.stop()
