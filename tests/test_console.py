@@ -421,3 +421,25 @@ def test_gps_outage_shows_as_a_sensor_failure(tmp_path):
         assert st["gps.valid"] == 1.0 and abs(st["gps.x"] - st["usv.x"]) < 0.3
     finally:
         s.stop()
+
+
+def test_combined_vehicle_follows_the_stick_and_tows_the_uuv(tmp_path):
+    """combined-survey through the shared protocol: in remote mode the stick turns the USV to
+    starboard and the UUV, on its 3 m cable, stays with it; the e-stop zeroes all five thrusters."""
+    pytest.importorskip("oceangnc.scenarios.combined", reason="combined scenarios not present")
+    clk = FakeClock()
+    s = Session("combined-survey", out_root=tmp_path, clock=clk, write_log=False)
+    s.clients = 1
+    s.fake = clk
+    try:
+        send(s, type="mode", mode="remote")
+        advance(s, 8.0, stick=(0.8, 0.6), period=0.1)
+        b = s.sim.bus
+        assert b["usv.r"] > 0.05 and b["usv.u"] > 0.2
+        assert math.hypot(b["usv.x"] - b["uuv.x"], b["usv.y"] - b["uuv.y"]) < 3.5
+        send(s, type="estop", engaged=True)
+        s.step_once()
+        assert all(b[f"{v}.thrust_{k}"] == 0.0 for v, k in
+                   [("usv", "port"), ("usv", "stbd"), ("uuv", "port"), ("uuv", "stbd"), ("uuv", "bow")])
+    finally:
+        s.stop()
