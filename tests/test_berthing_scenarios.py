@@ -27,6 +27,13 @@ def test_external_pilot_live_simulation_and_geometry():
         assert k in b and math.isfinite(b[k])
     assert b["ship.u"] > u0 + 0.05  # surge stick ahead speeds the ship up
     assert b["ship.r"] > 0.0  # yaw stick to starboard turns it to starboard
+    # emergency stop: every actuator command goes to zero and the shaft/thrusters spin down
+    sim.inject({"_estop": True})
+    sim.run(30.0)
+    b = sim.bus
+    assert b["ship.rudder_cmd"] == 0.0 and b["ship.n_prop_cmd"] == 0.0
+    assert b["ship.n_bow_cmd"] == 0.0 and b["ship.n_stern_cmd"] == 0.0
+    assert abs(b["ship.rpm_bow"]) < 0.01 * 250 and abs(b["ship.rpm_prop"]) < 1.0
     g = sc.geometry(cfg)
     assert g["berth"] == [0.0, 0.0] and len(g["quay"]) == 2 and len(g["route"]) == 3
     _, ccfg = resolve_config("berthing-channel")
