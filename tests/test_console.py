@@ -443,3 +443,17 @@ def test_combined_vehicle_follows_the_stick_and_tows_the_uuv(tmp_path):
                    [("usv", "port"), ("usv", "stbd"), ("uuv", "port"), ("uuv", "stbd"), ("uuv", "bow")])
     finally:
         s.stop()
+
+
+def test_first_run_waits_for_the_first_operator(tmp_path):
+    clk = FakeClock()
+    s = Session("usv-remote", out_root=tmp_path, clock=clk, write_log=False, start_on_connect=True)
+    s.fake = clk
+    try:
+        advance(s, 2.0)
+        assert s.sim.t == 0.0 and s.state()["paused"] is True
+        s.client_connected()
+        advance(s, 1.0)
+        assert s.sim.t == pytest.approx(0.95, abs=2 * s.tick_s) and not s.paused
+    finally:
+        s.stop()

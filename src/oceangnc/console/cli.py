@@ -38,7 +38,8 @@ def _cmd_console(args) -> int:
         raise InputError(f"the console needs the optional package '{e.name}'; install with "
                          f"pip install 'oceangnc[console]'") from None
     overrides = flatten(parse_sets(args.set))
-    session = Session(args.scenario, overrides=overrides, speed=args.speed, out_root=args.out)
+    session = Session(args.scenario, overrides=overrides, speed=args.speed, out_root=args.out,
+                      start_on_connect=True)
     _check_port(args.host, args.port)
     serve(session, args.host, args.port, stream_hz=args.stream_hz,
           ready=lambda srv: main_banner(args.host, args.port, session))

@@ -46,7 +46,7 @@ import numpy as np
 
 from ..errors import DivergenceError, OceanGNCError
 from ..io.logs import LogWriter
-from .messages import Rejected, check_gains
+from .messages import Pause, Rejected, check_gains
 from .view import infer_view
 
 NEUTRAL = 0.05  #: stick deflection below which the stick counts as centred (failsafe reset)
@@ -130,11 +130,15 @@ class Session:
         Seconds without a stick message (remote mode) before the failsafe trips.
     clock : callable
         Wall clock in seconds (tests pass a fake one and call :meth:`step_once` themselves).
+    start_on_connect : bool
+        Hold the first run paused at t = 0 until the first operator connects (the command line
+        does this, so that a route is not over before anyone watches).
     """
 
     def __init__(self, scenario: str | None = None, overrides: dict | None = None, speed: float = 1.0,
                  out_root: str | Path = "runs", stick_timeout: float = 1.0, loop_hz: float = 100.0,
-                 max_lag: float = 0.5, write_log: bool = True, clock=time.perf_counter):
+                 max_lag: float = 0.5, write_log: bool = True, clock=time.perf_counter,
+                 start_on_connect: bool = False):
         if not (0 < speed <= 100 and math.isfinite(speed)):
             from ..errors import InputError
 
@@ -162,6 +166,10 @@ class Session:
         self._tee = None
         self.error: str | None = None
         self._load(scenario or self.default_scenario())
+        self._await_operator = bool(start_on_connect)
+        if self._await_operator:
+            self.paused = True
+            self._publish()
 
     # -- scenarios -------------------------------------------------------------------------------------
     @staticmethod
@@ -350,7 +358,11 @@ class Session:
     def client_connected(self) -> None:
         with self._lock:
             self.clients += 1
+            first = self._await_operator
+            self._await_operator = False
         self.event("info", f"operator connected ({self.clients} client(s))")
+        if first:
+            self._cmds.append(Pause(type="pause", paused=False))
 
     def client_disconnected(self) -> None:
         with self._lock:
