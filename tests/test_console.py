@@ -457,3 +457,21 @@ def test_first_run_waits_for_the_first_operator(tmp_path):
         assert s.sim.t == pytest.approx(0.95, abs=2 * s.tick_s) and not s.paused
     finally:
         s.stop()
+
+
+def test_overrides_stay_with_their_scenario(tmp_path):
+    """``--set`` keys of the starting scenario are not forced on another scenario's new run."""
+    clk = FakeClock()
+    s = Session("usv-remote", overrides={"gps.sigma": 0.0}, out_root=tmp_path, clock=clk, write_log=False)
+    s.clients = 1
+    s.fake = clk
+    try:
+        assert s.cfg.gps.sigma == 0.0
+        send(s, type="new_run", scenario="usv-straight")  # has no gps section
+        advance(s, 0.05)
+        assert s.scenario.name == "usv-straight" and s.run_id == 2
+        send(s, type="new_run", scenario="usv-remote")
+        advance(s, 0.05)
+        assert s.cfg.gps.sigma == 0.0
+    finally:
+        s.stop()

@@ -121,7 +121,8 @@ class Session:
     scenario : str, optional
         Scenario name (default: ``combined-survey`` when it runs live, else ``usv-remote``).
     overrides : dict, optional
-        Config overrides (dotted keys) for every run of the session.
+        Config overrides (dotted keys) for every run of the first scenario (other scenarios started
+        with "new run" get their defaults).
     speed : float
         Simulated seconds per wall-clock second (0 < speed <= 100).
     out_root : path
@@ -191,7 +192,9 @@ class Session:
         from ..api import new_run_dir, resolve_config
         from ..io.config import dump_toml
 
-        sc, cfg = resolve_config(name, overrides=self.overrides)
+        if not hasattr(self, "_override_scenario"):
+            self._override_scenario = name  # --set overrides belong to the scenario named at start
+        sc, cfg = resolve_config(name, overrides=self.overrides if name == self._override_scenario else None)
         if not _builds(sc):
             from ..errors import InputError
 
