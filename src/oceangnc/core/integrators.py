@@ -26,38 +26,44 @@ def rk4_workspace(n_states: int) -> np.ndarray:
     return np.zeros((5, n_states))
 
 
-@njit(cache=False)  # no disk cache: its index would hold references to every rhs it met (see below)
-def rk4_advance(f, t, x, u, p, dt, n, work):
-    """Advance ``x`` in place by ``n`` RK4 steps of ``dt`` seconds; returns the new time (s).
-
-    Stops early and returns ``-1 - k`` (k the step index) if the state becomes non-finite, so that the
-    caller can report where the simulation diverged without wasting the remaining steps.
-    """
+@njit(cache=False)  # no disk cache: its index would hold references to every rhs it met (see above)
+def rk4_step(f, t, x, u, p, dt, work, bound):
+    """One classical RK4 step of ``dt`` in place; False if a component became non-finite or above ``bound``."""
     k1 = work[0]
     k2 = work[1]
     k3 = work[2]
     k4 = work[3]
     xt = work[4]
     m = x.size
+    f(t, x, u, p, k1)
+    for i in range(m):
+        xt[i] = x[i] + 0.5 * dt * k1[i]
+    f(t + 0.5 * dt, xt, u, p, k2)
+    for i in range(m):
+        xt[i] = x[i] + 0.5 * dt * k2[i]
+    f(t + 0.5 * dt, xt, u, p, k3)
+    for i in range(m):
+        xt[i] = x[i] + dt * k3[i]
+    f(t + dt, xt, u, p, k4)
+    ok = True
+    for i in range(m):
+        x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        if not (abs(x[i]) <= bound):  # also catches NaN
+            ok = False
+    return ok
+
+
+@njit(cache=False)
+def rk4_advance(f, t, x, u, p, dt, n, work):
+    """Advance ``x`` in place by ``n`` RK4 steps of ``dt`` seconds; returns the new time (s).
+
+    Stops early and returns ``-1 - k`` (k the step index) if the state becomes non-finite, so that the
+    caller can report where the simulation diverged without wasting the remaining steps.
+    """
     for s in range(n):
-        f(t, x, u, p, k1)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k1[i]
-        f(t + 0.5 * dt, xt, u, p, k2)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k2[i]
-        f(t + 0.5 * dt, xt, u, p, k3)
-        for i in range(m):
-            xt[i] = x[i] + dt * k3[i]
-        f(t + dt, xt, u, p, k4)
-        ok = True
-        for i in range(m):
-            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-            if not np.isfinite(x[i]):
-                ok = False
-        t += dt
-        if not ok:
+        if not rk4_step(f, t, x, u, p, dt, work, np.inf):
             return -1.0 - s
+        t += dt
     return t
 
 
@@ -86,31 +92,10 @@ def rk4_stepper(rhs):
 
     @njit(cache=False)
     def advance(t, x, u, p, dt, n, work, bound):
-        k1 = work[0]
-        k2 = work[1]
-        k3 = work[2]
-        k4 = work[3]
-        xt = work[4]
-        m = x.size
         for s in range(n):
-            rhs(t, x, u, p, k1)
-            for i in range(m):
-                xt[i] = x[i] + 0.5 * dt * k1[i]
-            rhs(t + 0.5 * dt, xt, u, p, k2)
-            for i in range(m):
-                xt[i] = x[i] + 0.5 * dt * k2[i]
-            rhs(t + 0.5 * dt, xt, u, p, k3)
-            for i in range(m):
-                xt[i] = x[i] + dt * k3[i]
-            rhs(t + dt, xt, u, p, k4)
-            ok = True
-            for i in range(m):
-                x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-                if not (abs(x[i]) <= bound):  # also catches NaN
-                    ok = False
-            t += dt
-            if not ok:
+            if not rk4_step(rhs, t, x, u, p, dt, work, bound):
                 return -1.0 - s
+            t += dt
         return t
 
     return advance
