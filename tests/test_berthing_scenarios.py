@@ -89,16 +89,56 @@ def test_closed_loop_beats_open_loop(channel_runs):
     assert 1.0 < s["pid"]["mean_speed_kn"] < 1.6
 
 
-@pytest.mark.slow
-def test_nonlinear_tracks_commands_better_in_current_and_wind(tmp_path):
-    """With a steady cross current and wind the model-based controller keeps the joystick's yaw-rate
-    and speed commands far more closely than the PID (rms errors at least halved)."""
-    env = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
-           "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0, **SHORT}
-    rms = {}
+STEADY = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
+          "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0}
+
+
+@pytest.fixture(scope="module")
+def disturbed_runs(tmp_path_factory):
+    """PID and nonlinear, 2 runs each on the short channel, steady 0.2 m/s cross current, 10 m/s beam wind."""
+    out = {}
     for mode in ("pid", "nonlinear"):
-        df = oceangnc.run("berthing-channel", overrides={**env, "control.mode": mode}, out=tmp_path / mode,
-                          plots=False).df
+        d = tmp_path_factory.mktemp("dist-" + mode)
+        out[mode] = oceangnc.run("berthing-channel", overrides={**STEADY, **SHORT, "runs": 2, "control.mode": mode},
+                                 out=d, plots=False)
+    return out
+
+
+@pytest.mark.slow
+def test_nonlinear_tracks_commands_better_in_current_and_wind(disturbed_runs):
+    """With a steady cross current and wind the model-based controller keeps the joystick's yaw-rate
+    and speed commands far more closely than the PID (rms errors at least halved; for the nonlinear
+    controller the error is to its setpoint-filtered command, see docs/berthing.md)."""
+    rms = {}
+    for mode, r in disturbed_runs.items():
+        df = r.df
         rms[mode] = (float(np.sqrt(np.mean(df["ctrl.e_r"] ** 2))), float(np.sqrt(np.mean(df["ctrl.e_u"] ** 2))))
     assert rms["nonlinear"][0] < 0.5 * rms["pid"][0]
     assert rms["nonlinear"][1] < 0.5 * rms["pid"][1]
+
+
+GUSTY = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
+         "environment.wind.speed": 15.0, "environment.wind.direction_deg": 45.0,
+         "environment.wind.gust_sigma": 4.0, "environment.wind.gust_time_constant": 10.0}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("env", ["steady", "gusty"])
+def test_nonlinear_error_index_lower_in_current_and_wind(env, disturbed_runs, tmp_path):
+    """001 sec. 4.1 (the paper's expectation, shown here): in current and wind the nonlinear controller's
+    error index (44) is lower than the PID's in every run (the runs share their seeds, so the pilot's
+    perception errors are the same for both). ``steady``: 0.2 m/s cross current, 10 m/s beam wind;
+    ``gusty``: the same current, 15 m/s wind from 045 deg with 4 m/s gusts (10 s), whose yaw moment the
+    PID integrators must chase. Measured 2026-11-23 on the full channel, 5 runs x 2 seed sets: 2.0 %
+    (steady) and 4.5 % (gusty) lower, in all 10 paired runs each (docs/berthing.md)."""
+    if env == "steady":
+        runs = disturbed_runs
+    else:
+        runs = {m: oceangnc.run("berthing-channel", overrides={**GUSTY, **SHORT, "runs": 2, "control.mode": m},
+                                out=tmp_path / m, plots=False) for m in ("pid", "nonlinear")}
+    pid, nl = runs["pid"].summary, runs["nonlinear"].summary
+    assert nl["runs_completed"] == 2 and pid["runs_completed"] == 2
+    for a, b in zip(nl["error_index_runs"], pid["error_index_runs"]):
+        assert a < b
+    assert nl["error_index"] < 0.99 * pid["error_index"]
+    assert nl["min_channel_margin_m"] > 0 and pid["min_channel_margin_m"] > 0
