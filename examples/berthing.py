@@ -70,8 +70,19 @@ def main() -> None:
         s = res[m].summary
         print(f"| {m} | " + " | ".join(f"{s[k]:.4g}" for k, _, _ in keys)
               + f" | {s['min_channel_margin_m']:.1f} | {s['mean_speed_kn']:.2f} |")
-    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
+    paired = "pid" in res and "nonlinear" in res
+    fig, axes = plt.subplots(1, 4 if paired else 3, figsize=(13 if paired else 10, 3.2))
     colors = {"open": "tab:red", "pid": "tab:blue", "nonlinear": "tab:green"}
+    if paired:  # the runs share their seeds: the per-run difference removes the pilot's scatter
+        d = np.array(res["nonlinear"].summary["error_index_runs"]) - np.array(res["pid"].summary["error_index_runs"])
+        ax = axes[3]
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.plot(np.arange(1, d.size + 1), d, "o", color="tab:green")
+        ax.set_xticks(np.arange(1, d.size + 1))
+        ax.set_xlabel("run (same seed for both)", fontsize=8)
+        ax.set_title("error index: nonlinear - PID [m^2]", fontsize=9)
+        ax.grid(True, alpha=0.3)
+        print(f"nonlinear - PID error index per run: {np.round(d).tolist()} m^2")
     for ax, (k, lab, _) in zip(axes, keys[:3]):
         vals = [res[m].summary[k] for m in modes]
         ax.bar(modes, vals, color=[colors.get(m, "gray") for m in modes])
