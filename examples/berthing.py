@@ -28,7 +28,7 @@ import oceangnc  # noqa: E402
 MODES = ("open", "pid", "nonlinear")
 DISTURBANCE = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
                "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0}
-#: quartering wind (yaw moment, unlike a beam wind) with gusts, and the same cross current
+#: gusty wind on the starboard bow (a yaw moment, unlike a beam wind), and the same cross current
 GUSTY = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
          "environment.wind.speed": 15.0, "environment.wind.direction_deg": 45.0,
          "environment.wind.gust_sigma": 4.0, "environment.wind.gust_time_constant": 10.0}
@@ -38,7 +38,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--disturbed", action="store_true", help="steady cross current and beam wind")
-    ap.add_argument("--gusty", action="store_true", help="cross current and gusty quartering wind")
+    ap.add_argument("--gusty", action="store_true", help="cross current and gusty wind on the bow")
     ap.add_argument("--seed", type=int, default=0, help="sim.seed (the runs' random streams)")
     ap.add_argument("--modes", default=",".join(MODES))
     ap.add_argument("--out", default="runs/berthing-example")
