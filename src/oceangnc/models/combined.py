@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Plant
+from ..core.rotations import wrap
 from ..errors import ConfigError
 from ..units import G
 from .cable import CableConfig, axial_stability_limit, cable_loads, solve_sym3
@@ -331,13 +332,13 @@ def damping_substep(x, p, h):
 
 
 @njit(cache=True)
-def split_advance(t, x, u, p, dt, nsteps, work):
+def split_advance(t, x, u, p, dt, nsteps, work, bound):
     """Strang splitting: damping(dt/2, implicit) - RK4(dt, everything else) - damping(dt/2, implicit).
 
     The closing and opening half steps of consecutive steps are fused into one backward-Euler step of
     dt (exact for the first-order damping flow up to O(dt^2), like the splitting itself). Second order; removes the overdamped axial mode (lambda ~ -C_v 4 / m_c) from the explicit
     part, whose limit is then that of the axial springs alone. Returns the new time, or -1 - k if the
-    state became non-finite at step k.
+    state became non-finite or exceeded ``bound`` in magnitude at step k.
     """
     k1 = work[0]
     k2 = work[1]
@@ -347,6 +348,8 @@ def split_advance(t, x, u, p, dt, nsteps, work):
     m = x.size
     damping_substep(x, p, 0.5 * dt)
     for s in range(nsteps):
+        # RK4 written out (not core.integrators.rk4_step): passing combined_rhs as a value would stop
+        # numba from caching this function on disk
         combined_rhs(t, x, u, p, k1)
         for i in range(m):
             xt[i] = x[i] + 0.5 * dt * k1[i]
@@ -357,14 +360,16 @@ def split_advance(t, x, u, p, dt, nsteps, work):
         for i in range(m):
             xt[i] = x[i] + dt * k3[i]
         combined_rhs(t + dt, xt, u, p, k4)
+        ok = True
         for i in range(m):
             x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            if not (abs(x[i]) <= bound):  # also catches NaN
+                ok = False
+        if not ok:
+            return -1.0 - s
         # the closing half step of this step and the opening half step of the next are fused
         damping_substep(x, p, dt if s < nsteps - 1 else 0.5 * dt)
         t += dt
-        for i in range(m):
-            if not np.isfinite(x[i]):
-                return -1.0 - s
     return t
 
 
@@ -375,6 +380,29 @@ def _check(cable: CableConfig, uuv: UUVConfig) -> None:
                    ("cable.density", cable.density), ("uuv.mass", uuv.mass)):
         if not (v > 0 and math.isfinite(v)):
             raise ConfigError(f"{key} = {v}: must be > 0")
+
+
+@njit(cache=True)
+def _fill_outputs(x, p, o_uuv, nodes, ends, out):
+    """Published outputs in the order of ``CombinedPlant._out_keys`` (see :meth:`CombinedPlant.publish`)."""
+    cable_state(x, p, nodes, ends)
+    for i in range(6):
+        out[i] = x[i]
+    out[2] = wrap(x[2])
+    out[6] = math.hypot(x[3], x[4])
+    for i in range(12):
+        out[7 + i] = x[o_uuv + i]
+    out[7 + 5] = wrap(x[o_uuv + 5])
+    out[19] = math.sqrt(x[o_uuv + 6] ** 2 + x[o_uuv + 7] ** 2 + x[o_uuv + 8] ** 2)
+    out[20] = math.sqrt(ends[0] ** 2 + ends[1] ** 2 + ends[2] ** 2)
+    out[21] = math.sqrt(ends[3] ** 2 + ends[4] ** 2 + ends[5] ** 2)
+    m = nodes.size
+    dx = nodes[m - 3] - nodes[0]
+    dy = nodes[m - 2] - nodes[1]
+    dz = nodes[m - 1] - nodes[2]
+    out[22] = math.degrees(math.atan2(math.hypot(dx, dy), dz))
+    for i in range(m):
+        out[23 + i] = nodes[i]
 
 
 class CombinedPlant(Plant):
@@ -454,6 +482,9 @@ class CombinedPlant(Plant):
         self._usv_keys = [f"usv.{s}" for s in USV_STATES]
         self._uuv_keys = [f"uuv.{s}" for s in UUV_STATES]
         self._node_keys = [f"cable.{a}{i}" for i in range(n + 1) for a in "xyz"]
+        self._out_keys = [*self._usv_keys, "usv.speed", *self._uuv_keys, "uuv.speed", "cable.top_tension",
+                          "cable.bottom_tension", "cable.angle_deg", *self._node_keys]
+        self._out = np.zeros(len(self._out_keys))
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """RK4 steps, or for ``integrator="rk4-split"`` Strang-split steps (see :func:`split_advance`)."""
@@ -461,12 +492,12 @@ class CombinedPlant(Plant):
             return super().advance(t, dt, n)
         from ..errors import DivergenceError
 
-        t_new = split_advance(t, self.x, self.u, self.p, dt, n, self.work)
+        t_new = split_advance(t, self.x, self.u, self.p, dt, n, self.work, self.state_bound)
         if t_new < 0.0:
             k = int(-t_new - 1.0)
-            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict())
-        if np.max(np.abs(self.x)) > self.state_bound:
-            raise DivergenceError(t_new, self.name, self.state_dict(), reason=f"|state| above {self.state_bound:g}")
+            finite = bool(np.all(np.isfinite(self.x)))
+            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict(),
+                                  reason="non-finite state" if not finite else f"|state| above {self.state_bound:g}")
         return t_new
 
     # -- outputs -----------------------------------------------------------------------------------
@@ -478,28 +509,12 @@ class CombinedPlant(Plant):
         return self._nodes.reshape(-1, 3), self._ends[0:3], self._ends[3:6]
 
     def publish(self, bus: dict) -> None:
-        """Write the vehicles' states, tensions, cable angle and node positions (one compiled call)."""
-        o = self.o_uuv
-        xs = self.x[:6].tolist()
-        xu = self.x[o:o + 12].tolist()
-        bus.update(zip(self._usv_keys, xs))
-        bus.update(zip(self._uuv_keys, xu))
-        bus["usv.psi"] = (xs[2] + math.pi) % (2 * math.pi) - math.pi
-        bus["usv.speed"] = math.hypot(xs[3], xs[4])
-        bus["uuv.psi"] = (xu[5] + math.pi) % (2 * math.pi) - math.pi
-        bus["uuv.speed"] = math.sqrt(xu[6] ** 2 + xu[7] ** 2 + xu[8] ** 2)
-        nodes, ftop, fbot = self.cable_snapshot()
-        ft = ftop.tolist()
-        fb = fbot.tolist()
-        bus["cable.top_tension"] = math.sqrt(ft[0] ** 2 + ft[1] ** 2 + ft[2] ** 2)
-        bus["cable.bottom_tension"] = math.sqrt(fb[0] ** 2 + fb[1] ** 2 + fb[2] ** 2)
-        flat = self._nodes.tolist()
-        n3 = 3 * self.n
-        dx = flat[n3] - flat[0]
-        dy = flat[n3 + 1] - flat[1]
-        dz = flat[n3 + 2] - flat[2]
-        bus["cable.angle_deg"] = math.degrees(math.atan2(math.hypot(dx, dy), dz))
-        bus.update(zip(self._node_keys, flat))
+        """Write the vehicles' states (headings wrapped to (-pi, pi]), speeds, end tensions (N), cable
+        angle from vertical (deg) and node positions (m, NED): one compiled call, one dict update."""
+        self._ends[6] = self.u[2]
+        self._ends[7] = self.u[3]
+        _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
+        bus.update(zip(self._out_keys, self._out.tolist()))
 
     # -- diagnostics -------------------------------------------------------------------------------
     def energy(self) -> float:
