@@ -55,24 +55,30 @@ def rot3(psi):
 
 
 @njit(cache=True)
-def rzyx(phi, theta, psi):
-    """Euler zyx rotation matrix R_b^n(phi, theta, psi), body -> NED (Fossen 2011 eq. 2.18)."""
+def rzyx_entries(phi, theta, psi):
+    """The nine entries (r00, r01, r02, r10, ..., r22) of R_b^n(phi, theta, psi) (Fossen 2011 eq. 2.18).
+
+    A tuple of scalars, so compiled right-hand sides can rotate without allocating a matrix.
+    """
     cphi = math.cos(phi)
     sphi = math.sin(phi)
     cth = math.cos(theta)
     sth = math.sin(theta)
     cpsi = math.cos(psi)
     spsi = math.sin(psi)
+    return (cpsi * cth, -spsi * cphi + cpsi * sth * sphi, spsi * sphi + cpsi * cphi * sth,
+            spsi * cth, cpsi * cphi + sphi * sth * spsi, -cpsi * sphi + sth * spsi * cphi,
+            -sth, cth * sphi, cth * cphi)
+
+
+@njit(cache=True)
+def rzyx(phi, theta, psi):
+    """Euler zyx rotation matrix R_b^n(phi, theta, psi), body -> NED (Fossen 2011 eq. 2.18)."""
+    e = rzyx_entries(phi, theta, psi)
     R = np.empty((3, 3))
-    R[0, 0] = cpsi * cth
-    R[0, 1] = -spsi * cphi + cpsi * sth * sphi
-    R[0, 2] = spsi * sphi + cpsi * cphi * sth
-    R[1, 0] = spsi * cth
-    R[1, 1] = cpsi * cphi + sphi * sth * spsi
-    R[1, 2] = -cpsi * sphi + sth * spsi * cphi
-    R[2, 0] = -sth
-    R[2, 1] = cth * sphi
-    R[2, 2] = cth * cphi
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = e[3 * i + j]
     return R
 
 

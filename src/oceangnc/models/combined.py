@@ -32,7 +32,7 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Plant
-from ..core.rotations import wrap
+from ..core.rotations import rzyx_entries, wrap
 from ..errors import ConfigError
 from ..units import G
 from .cable import CableConfig, axial_stability_limit, cable_loads, solve_sym3
@@ -84,21 +84,7 @@ def _ends(x, p, n, pos, vel):
     phi = x[o + 3]
     th = x[o + 4]
     psi = x[o + 5]
-    cf = math.cos(phi)
-    sf = math.sin(phi)
-    ct = math.cos(th)
-    st = math.sin(th)
-    cp = math.cos(psi)
-    sp = math.sin(psi)
-    r00 = cp * ct
-    r01 = -sp * cf + cp * st * sf
-    r02 = sp * sf + cp * cf * st
-    r10 = sp * ct
-    r11 = cp * cf + sf * st * sp
-    r12 = -cp * sf + st * sp * cf
-    r20 = -st
-    r21 = ct * sf
-    r22 = ct * cf
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
     cx = p[P_UUV + P_RC]
     cy = p[P_UUV + P_RC + 1]
     cz = p[P_UUV + P_RC + 2]

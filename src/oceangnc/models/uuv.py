@@ -53,6 +53,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block, Plant
+from ..core.rotations import rzyx_entries
 from ..io.config import StrictModel
 from ..units import G, KGF, RHO_WATER
 from .actuators import UUV_T_FWD_N, UUV_T_REV_N
@@ -271,15 +272,7 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     cp = math.cos(psi)
     sp = math.sin(psi)
     # R_b^n (Fossen eq. 2.18)
-    r00 = cp * ct
-    r01 = -sp * cf + cp * st * sf
-    r02 = sp * sf + cp * cf * st
-    r10 = sp * ct
-    r11 = cp * cf + sf * st * sp
-    r12 = -cp * sf + st * sp * cf
-    r20 = -st
-    r21 = ct * sf
-    r22 = ct * cf
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
     # kinematics (003 eq. 2.13, A-1, A-2)
     out[0] = r00 * u + r01 * v + r02 * w
     out[1] = r10 * u + r11 * v + r12 * w
