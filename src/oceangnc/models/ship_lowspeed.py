@@ -70,6 +70,7 @@ from pydantic import Field
 from ..core.blocks import Plant
 from ..io.config import StrictModel
 from ..units import RHO_AIR, RHO_WATER
+from .actuators import saturate
 from .usv import wind_load
 
 STATE_NAMES = ("x", "y", "psi", "u", "v", "r", "delta", "n", "n_bow", "n_stern")
@@ -330,11 +331,6 @@ def thruster_forces(nb, ns, p):
 
 
 @njit(cache=True)
-def _clip(x, lo, hi):
-    return lo if x < lo else (hi if x > hi else x)
-
-
-@njit(cache=True)
 def ship_rhs(t, x, u, p, out):
     """dx/dt of the ship (layouts in the module docstring)."""
     psi = x[2]
@@ -376,11 +372,11 @@ def ship_rhs(t, x, u, p, out):
     out[5] = dr
     dmax = p[48]
     rate = p[49]
-    dd = (_clip(u[0], -dmax, dmax) - delta) / p[44]
-    out[6] = _clip(dd, -rate, rate)
-    out[7] = (_clip(u[1], -p[47], p[47]) - n) / p[43]
-    out[8] = (_clip(u[2], -p[50], p[50]) - nb) / p[45]
-    out[9] = (_clip(u[3], -p[51], p[51]) - ns) / p[46]
+    dd = (saturate(u[0], -dmax, dmax) - delta) / p[44]
+    out[6] = saturate(dd, -rate, rate)
+    out[7] = (saturate(u[1], -p[47], p[47]) - n) / p[43]
+    out[8] = (saturate(u[2], -p[50], p[50]) - nb) / p[45]
+    out[9] = (saturate(u[3], -p[51], p[51]) - ns) / p[46]
 
 
 def inverse_mass(p) -> tuple[float, float, float, float]:
