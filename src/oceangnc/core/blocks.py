@@ -12,6 +12,17 @@ inputs ``u`` being read from the bus (zero-order hold) by name.
 
 Signal names are ``<body>.<signal>``: ``usv.x``, ``usv.psi``, ``usv.thrust_port``; names that start
 with ``_`` are internal and not logged.
+
+**Declared signals** (see :mod:`oceangnc.core.signals`): a block sets ``inputs``,
+``optional_inputs`` and ``outputs`` (``{signal: unit}``, usually in ``__init__`` since names carry the
+body prefix); a plant declares its inputs (``input_units``) and outputs (every
+``<name>.<state>`` with ``state_units``, plus ``extra_outputs`` for derived signals it publishes).
+The simulation checks the wiring when it is built. ``None`` means "not declared" (legacy or quick
+glue blocks) and is skipped by the check.
+
+**State for checkpoints**: :meth:`Block.get_state` / :meth:`Block.set_state` return/restore every
+piece of internal state (default: a deep copy of the instance's attributes); blocks holding
+something that cannot be copied (a socket, a compiled function) override them.
 """
 
 from __future__ import annotations
@@ -34,6 +45,22 @@ class Block:
 
     name: str = "block"
     period: float = 0.01
+    kind: str | None = None  # set by @register_block
+    inputs: dict[str, str] | None = None
+    optional_inputs: dict[str, str] | None = None
+    outputs: dict[str, str] | None = None
+
+    def get_state(self) -> dict:
+        """A deep copy of the block's internal state (for checkpoints)."""
+        import copy
+
+        return copy.deepcopy(self.__dict__)
+
+    def set_state(self, state: dict) -> None:
+        """Restore what :meth:`get_state` returned."""
+        import copy
+
+        self.__dict__.update(copy.deepcopy(state))
 
     def reset(self, rng: np.random.Generator) -> None:  # noqa: D401 - default: stateless
         """Reinitialise the block's state; ``rng`` is the block's own generator."""
@@ -74,10 +101,17 @@ class Plant:
         A state component larger than this in magnitude counts as divergence (default 1e7).
     max_dt : float or None
         Largest stable physics step (s), if the model knows it; the simulator refuses larger steps.
+    state_units, input_units : sequence of str, optional
+        Units of the states and inputs (:data:`oceangnc.core.signals.UNITS`); when given, the
+        plant's signals are declared and checked by the simulation's wiring check.
     """
 
+    #: derived signals a subclass publishes besides its states, ``{signal: unit}``
+    extra_outputs: dict[str, str] = {}
+
     def __init__(self, name: str, rhs, x0, p, state_names: Sequence[str], input_names: Sequence[str],
-                 state_bound: float = 1e7, max_dt: float | None = None):
+                 state_bound: float = 1e7, max_dt: float | None = None,
+                 state_units: Sequence[str] | None = None, input_units: Sequence[str] | None = None):
         self.name = name
         self.rhs = rhs
         self.x = np.array(x0, dtype=np.float64)
@@ -92,6 +126,24 @@ class Plant:
         self.state_bound = float(state_bound)
         self.max_dt = max_dt
         self._advance = rk4_stepper(rhs)
+        self.state_units = list(state_units) if state_units is not None else None
+        self.input_units = list(input_units) if input_units is not None else None
+
+    @property
+    def inputs(self) -> dict[str, str] | None:
+        """Declared inputs ``{signal: unit}`` (None if the plant gave no input units)."""
+        if self.input_units is None:
+            return None
+        return dict(zip(self.input_names, self.input_units))
+
+    @property
+    def outputs(self) -> dict[str, str] | None:
+        """Declared outputs: every ``<name>.<state>`` and :attr:`extra_outputs` (None if undeclared)."""
+        if self.state_units is None:
+            return None
+        out = {f"{self.name}.{k}": u for k, u in zip(self.state_names, self.state_units)}
+        out.update(self.extra_outputs)
+        return out
 
     def reset(self) -> None:
         """Restore the initial state."""

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import ConfigError, DivergenceError
 from .blocks import Block, Plant
+from .signals import check_wiring
 
 
 def _steps(period: float, dt: float, what: str) -> int:
@@ -52,15 +53,22 @@ class Simulation:
         many random numbers another block draws.
     log_signals : sequence of str, optional
         Bus keys to log (default: every scalar key not starting with ``_``, fixed at the first row).
+    external : dict, optional
+        Signals written from outside the loop (console, MAVLink, test stimuli) as ``{signal: unit}``;
+        they count as producers in the wiring check (:func:`oceangnc.core.signals.check_wiring`),
+        which raises :class:`~oceangnc.core.signals.WiringError` naming the block and the signal.
     """
 
     def __init__(self, plants: Sequence[Plant], blocks: Sequence[Block], dt: float, log_period: float,
-                 rng: np.random.Generator | None = None, log_signals: Sequence[str] | None = None):
+                 rng: np.random.Generator | None = None, log_signals: Sequence[str] | None = None,
+                 external: dict[str, str] | None = None):
         if not (dt > 0 and math.isfinite(dt)):
             raise ConfigError(f"sim.dt: must be > 0 s, got {dt}")
         self.plants = list(plants)
         self.blocks = list(blocks)
         self.dt = float(dt)
+        self.external = dict(external or {})
+        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         for pl in self.plants:
             if pl.max_dt is not None and self.dt > pl.max_dt * (1 + 1e-9):
                 raise ConfigError(f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
