@@ -18,7 +18,9 @@ the load (printed).
 
 from __future__ import annotations
 
+import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -63,7 +65,8 @@ def step_cost(pl: CombinedPlant, dt: float, n_steps: int = 20000):
 
 def accuracy(integrator: str, dt: float, t_sim: float = 20.0) -> np.ndarray:
     """UUV depth and top tension every 0.1 s during the onset of a 0.5 m/s current (top fixed)."""
-    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0), CableConfig(integrator=integrator), top="fixed")
+    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator),
+                       top="fixed")
     pl.u[2] = 0.5
     out = []
     t = 0.0
@@ -73,6 +76,50 @@ def accuracy(integrator: str, dt: float, t_sim: float = 20.0) -> np.ndarray:
         pl.publish(bus)
         out.append((bus["uuv.z"], bus["cable.top_tension"], bus["cable.angle_deg"]))
     return np.array(out)
+
+
+def error_vs_step(out_png: str | None = None, t_sim: float = 20.0) -> dict:
+    """Error against step for each integrator: max |error| of the UUV depth and the top tension every 0.1 s
+    over the onset of a 0.5 m/s current (top fixed, 20 segments), against RK4 at 1/16 of its limit.
+
+    Returns {integrator: [(dt, depth error m, tension error N), ...]}; plots log-log if ``out_png``.
+    """
+    lim = {k: CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=k)).stability_limit
+           for k in ("rk4", "rk4-split")}
+    ref = accuracy("rk4", 0.1 / math.ceil(0.1 / (lim["rk4"] / 16)), t_sim)
+    steps = {"rk4": [f * lim["rk4"] for f in (0.95, 0.5, 0.25, 0.125)],
+             "rk4-split": [f * lim["rk4-split"] for f in (0.95, 0.5, 0.25, 0.125)],
+             "imex": [0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005]}
+    res: dict = {}
+    for integ, hs in steps.items():
+        rows = []
+        for h in hs:
+            h = 0.1 / math.ceil(0.1 / h - 1e-9)  # divides the 0.1 s sampling period
+            a = accuracy(integ, h, t_sim)
+            err = np.max(np.abs(a - ref), axis=0)
+            rows.append((h, float(err[0]), float(err[1])))
+            print(f"   {integ:9s} dt {h * 1e3:8.4f} ms: depth {err[0]:.3e} m, top tension {err[1]:.3e} N")
+        res[integ] = rows
+    if out_png:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, axs = plt.subplots(1, 2, figsize=(10, 4))
+        for integ, rows in res.items():
+            r = np.array(rows)
+            axs[0].loglog(r[:, 0] * 1e3, r[:, 1], "o-", label=integ)
+            axs[1].loglog(r[:, 0] * 1e3, r[:, 2], "o-", label=integ)
+        for ax, lab in zip(axs, ("max |UUV depth error| [m]", "max |top tension error| [N]")):
+            ax.set_xlabel("physics step [ms]")
+            ax.set_ylabel(lab)
+            ax.grid(True, which="both", alpha=0.3)
+            ax.axvline(10.0, color="k", lw=0.8, ls=":")
+            ax.legend()
+        fig.suptitle("20-segment cable, onset of a 0.5 m/s current (20 s), error vs RK4 at limit/16")
+        fig.tight_layout()
+        fig.savefig(out_png, dpi=110)
+        plt.close(fig)
+    return res
 
 
 def main() -> None:
@@ -126,4 +173,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if "--figure" in sys.argv:
+        error_vs_step(sys.argv[sys.argv.index("--figure") + 1])
+    else:
+        main()
