@@ -193,7 +193,7 @@ def _loading(c, s, eta):
 
 @njit(cache=True)
 def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce, cv_last=-1.0, law=0,
-                kdt=0.0):
+                kdt=0.0, l0_top=-1.0, ldot_top=0.0):
     """Accumulate node forces ``F`` (3(n+1)) and node mass matrices ``Mn`` (6(n+1): xx xy xz yy yz zz).
 
     ``pos``, ``vel``: node positions and velocities (3(n+1), NED, node 0 on top). Loads of each segment
@@ -201,18 +201,25 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
     drag); ``w_seg`` the submerged weight of one segment (N); ``cv_last`` (if >= 0) replaces C_v for the
     last segment (the split integrator damps the others implicitly). ``law`` 0: loading functions (eq.
     2.25); 1: normal-tangential, normal drag -kdrag |V_p| V_p and tangential -kdt |v_q| v_q t (``kdrag`` =
-    rho C_dn d l0 / 2, ``kdt`` = rho C_dt pi d l0 / 2). Allocates nothing.
+    rho C_dn d l0 / 2, ``kdt`` = rho C_dt pi d l0 / 2). ``l0_top`` (if > 0) is the unstretched length of
+    segment 1 (a winch's top segment): its stiffness EA / l0, mass, added mass, weight and drag scale with
+    it; ``ldot_top`` (m/s) is the rate at which that length changes (the winch's line speed): the damper
+    acts on the strain rate, C_v l0 d/dt(l / l0) = C_v (dl/dt - (l / l0) dl0/dt), so material paid out
+    through the sheave is not "damped". Allocates nothing.
     """
     for k in range(3 * (n + 1)):
         F[k] = 0.0
     for k in range(6 * (n + 1)):
         Mn[k] = 0.0
-    half_w = 0.5 * w_seg
-    half_k = 0.5 * kdrag
-    ea_l0 = ea / l0
-    mt = 0.5 * (m_c + m_a)
-    ha = 0.5 * m_a
     for i in range(1, n + 1):
+        sc = l0_top / l0 if (i == 1 and l0_top > 0.0) else 1.0
+        l0i = l0 * sc
+        half_w = 0.5 * w_seg * sc
+        half_k = 0.5 * kdrag * sc
+        kdti = kdt * sc
+        ea_l0 = ea / l0i
+        mt = 0.5 * (m_c + m_a) * sc
+        ha = 0.5 * m_a * sc
         a = 3 * (i - 1)
         b = 3 * i
         dx = pos[b] - pos[a]
@@ -230,10 +237,12 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
             tz = 1.0
         # axial force (eq. 2.22-2.23), tension only
         fax = 0.0
-        if ln > l0:
+        if ln > l0i:
             rel = (vel[b] - vel[a]) * tx + (vel[b + 1] - vel[a + 1]) * ty + (vel[b + 2] - vel[a + 2]) * tz
             c_i = cv_last if (i == n and cv_last >= 0.0) else cv
-            fax = ea_l0 * (ln - l0) + c_i * rel
+            if i == 1:
+                rel -= ln / l0i * ldot_top
+            fax = ea_l0 * (ln - l0i) + c_i * rel
             if fax < 0.0:
                 fax = 0.0
         hx = 0.0
@@ -252,7 +261,7 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
             v2 = vq * vq + vp2
             if law == 1:
                 cn = -half_k * math.sqrt(vp2)
-                ct = -0.5 * kdt * abs(vq) * vq
+                ct = -0.5 * kdti * abs(vq) * vq
                 hx = cn * px + ct * tx
                 hy = cn * py + ct * ty
                 hz = cn * pz + ct * tz

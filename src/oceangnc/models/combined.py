@@ -44,6 +44,9 @@ from .uuv import STATE_NAMES as UUV_STATES
 from .uuv import UUVConfig, uuv_deriv, uuv_energy
 
 INTEGRATORS = ("rk4", "rk4-split", "imex")
+VAR_KEYS = ["cable.length", "cable.nodes", "cable.mass", "winch.speed", "winch.speed_cmd_sat", "winch.cmd_saturated",
+            "winch.rendering", "winch.at_capacity", "winch.tension", "winch.power", "uuv.altitude",
+            "cable.nodes_on_bed"]
 INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n",
                "env.wind_e", "uuv.thrust_port", "uuv.thrust_stbd", "uuv.thrust_bow")
 
@@ -54,6 +57,12 @@ H_LAW, H_KDT = 16, 17  # drag law (0 loading functions, 1 normal-tangential), ta
 # seabed: flag, depth at the origin, gradient dz/dx, dz/dy, friction coefficient, contact frequency (rad/s),
 # UUV contact radius (m)
 H_BED, H_BED_D, H_BED_GX, H_BED_GY, H_BED_MU, H_BED_W, H_BED_R = 18, 19, 20, 21, 22, 23, 24
+# state offsets (node positions, node velocities, UUV), so that a winch plant can reorder its state
+H_PO, H_VO, H_UO = 25, 26, 27
+# winch: flag, state offset (paid-out length, drum speed), max node count, speed/accel/tension limits,
+# capacity, minimum length, speed-loop time constant, nominal segment length of the re-meshing
+H_WIN, H_WO, H_NMAX, H_WV, H_WA, H_WT, H_WCAP, H_WMIN, H_WTAU = 28, 29, 30, 31, 32, 33, 34, 35, 36
+H_BED_Z = 37  # damping ratio of the seabed contact
 P_USV = 40
 N_USV = 15
 P_UUV = 60
@@ -85,7 +94,7 @@ def _ends(x, p, n, pos, vel):
         vel[1] = s * ub + c * vb
         vel[2] = 0.0
     # bottom node (003 eq. 2.30-2.31)
-    o = 6 + 6 * (n - 1)
+    o = int(p[H_UO])
     phi = x[o + 3]
     th = x[o + 4]
     psi = x[o + 5]
@@ -117,11 +126,58 @@ def _gather(x, p, n):
     F = p[P_SCR + 2 * m:P_SCR + 3 * m]
     Mn = p[P_SCR + 3 * m:P_SCR + 5 * m]
     _ends(x, p, n, pos, vel)
-    vo = 6 + 3 * (n - 1)
+    po = int(p[H_PO])
+    vo = int(p[H_VO])
     for k in range(3 * (n - 1)):
-        pos[3 + k] = x[6 + k]
+        pos[3 + k] = x[po + k]
         vel[3 + k] = x[vo + k]
     return pos, vel, F, Mn
+
+
+@njit(cache=True)
+def top_l0(x, p, n):
+    """Unstretched length of the top segment (m): the winch's paid-out length minus the n - 1 nominal
+    segments below it, or l0 without a winch."""
+    if p[H_WIN] > 0.5:
+        return x[int(p[H_WO])] - (n - 1) * p[H_L0]
+    return p[H_L0]
+
+
+@njit(cache=True)
+def seabed_depth(p, xn, ye):
+    """Depth (m, +down) of the plane seabed at (north, east): D + g_x x + g_y y."""
+    return p[H_BED_D] + p[H_BED_GX] * xn + p[H_BED_GY] * ye
+
+
+@njit(cache=True)
+def _contact(p, x, y, z, vx, vy, vz, radius, mass):
+    """Seabed penalty force (N, NED) on a point of contact radius ``radius`` and mass ``mass``.
+
+    Plane z_b = D + g . (x, y); unit normal into the water nu = (g_x, g_y, -1) / |.|; penetration
+    d = (z - z_b) / |(g_x, g_y, -1)| + radius. For d > 0: normal force N = m (w^2 d + 2 zeta w v_in),
+    clipped >= 0 (a spring-damper of natural frequency w and damping ratio zeta per unit mass, so the
+    static penetration is g' / w^2 whatever the mass), and a regularised Coulomb friction
+    -mu N v_t / sqrt(|v_t|^2 + 0.01^2) against the velocity v_t along the bed.
+    """
+    gx = p[H_BED_GX]
+    gy = p[H_BED_GY]
+    nn = math.sqrt(gx * gx + gy * gy + 1.0)
+    nx = gx / nn
+    ny = gy / nn
+    nz = -1.0 / nn
+    d = (z - seabed_depth(p, x, y)) / nn + radius
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    vn = vx * nx + vy * ny + vz * nz  # > 0: leaving the bed
+    w = p[H_BED_W]
+    fn = mass * (w * w * d - 2.0 * p[H_BED_Z] * w * vn)
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0
+    tx = vx - vn * nx
+    ty = vy - vn * ny
+    tz = vz - vn * nz
+    f = p[H_BED_MU] * fn / math.sqrt(tx * tx + ty * ty + tz * tz + 1e-4)
+    return fn * nx - f * tx, fn * ny - f * ty, fn * nz - f * tz
 
 
 @njit(cache=True)
@@ -133,23 +189,79 @@ def combined_rhs(t, x, u, p, out):
         for k in range(6):
             out[k] = 0.0
     pos, vel, F, Mn = _gather(x, p, n)
+    lt = top_l0(x, p, n)
+    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
     cable_loads(pos, vel, F, Mn, n, p[H_L0], p[H_EA], p[H_CVE], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG],
-                u[2], u[3], p[H_CV], int(p[H_LAW]), p[H_KDT])
-    vo = 6 + 3 * (n - 1)
+                u[2], u[3], p[H_CV], int(p[H_LAW]), p[H_KDT], lt, ldot)
+    po = int(p[H_PO])
+    vo = int(p[H_VO])
+    bed = p[H_BED] > 0.5
+    mnode = p[H_MC] + p[H_MA]
     for i in range(1, n):
         k = 3 * i
+        if bed:
+            fx, fy, fz = _contact(p, pos[k], pos[k + 1], pos[k + 2], vel[k], vel[k + 1], vel[k + 2], 0.0, mnode)
+            F[k] += fx
+            F[k + 1] += fy
+            F[k + 2] += fz
         ax, ay, az = solve_sym3(Mn, 6 * i, F[k], F[k + 1], F[k + 2])
         j = 3 * (i - 1)
-        out[6 + j] = vel[k]
-        out[6 + j + 1] = vel[k + 1]
-        out[6 + j + 2] = vel[k + 2]
+        out[po + j] = vel[k]
+        out[po + j + 1] = vel[k + 1]
+        out[po + j + 2] = vel[k + 2]
         out[vo + j] = ax
         out[vo + j + 1] = ay
         out[vo + j + 2] = az
-    o = 6 + 6 * (n - 1)
+    o = int(p[H_UO])
     b = 3 * n
+    fbx = F[b]
+    fby = F[b + 1]
+    fbz = F[b + 2]
+    if bed:  # UUV: a sphere of radius H_BED_R around the CB, force applied at the tow point
+        cx, cy, cz = _contact(p, x[o], x[o + 1], x[o + 2], vel[b], vel[b + 1], vel[b + 2], p[H_BED_R],
+                              p[P_UUV + P_MRB])
+        fbx += cx
+        fby += cy
+        fbz += cz
     uuv_deriv(x[o:o + 12], out[o:o + 12], p[P_UUV:P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3],
-              F[b], F[b + 1], F[b + 2])
+              fbx, fby, fbz)
+    if p[H_WIN] > 0.5:
+        nmax = int(p[H_NMAX])
+        for k in range(3 * (n - 1), 3 * (nmax - 1)):  # inactive node slots stay put
+            out[po + k] = 0.0
+            out[vo + k] = 0.0
+        wo = int(p[H_WO])
+        _winch_rhs(x, u, p, wo, F, out)
+
+
+@njit(cache=True)
+def winch_command(x, u, p, ttop):
+    """Drum speed the winch tracks (m/s, + paying out): the command ``u[9]`` saturated to +-v_max;
+    paying out at v_max while the top tension exceeds the limit (the winch renders rather than exceed
+    it); zero at the drum's capacity (payout) or at the minimum length (haul-in)."""
+    vmax = p[H_WV]
+    sc = min(max(u[9], -vmax), vmax)
+    if ttop > p[H_WT]:
+        sc = vmax
+    L = x[int(p[H_WO])]
+    if L >= p[H_WCAP] and sc > 0.0:
+        sc = 0.0
+    if L <= p[H_WMIN] and sc < 0.0:
+        sc = 0.0
+    return sc
+
+
+@njit(cache=True)
+def _winch_rhs(x, u, p, wo, F, out):
+    """Winch states: dL/dt = s (paid-out unstretched length), ds/dt = (s_c - s) / tau clipped to
+    +-a_max (first-order speed loop with an acceleration limit)."""
+    ttop = math.sqrt(F[0] ** 2 + F[1] ** 2 + F[2] ** 2)
+    sc = winch_command(x, u, p, ttop)
+    s = x[wo + 1]
+    acc = (sc - s) / p[H_WTAU]
+    amax = p[H_WA]
+    out[wo] = s
+    out[wo + 1] = min(max(acc, -amax), amax)
 
 
 @njit(cache=True)
@@ -165,13 +277,18 @@ def cable_state(x, p, nodes, ends):
     for k in range(3 * (n + 1)):
         nodes[k] = pos[k]
     # only the two end segments matter: run the segment loads on one-segment views
-    args = (p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], ends[6], ends[7], -1.0,
-            int(p[H_LAW]), p[H_KDT])
-    cable_loads(pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, *args)
+    lt = top_l0(x, p, n)
+    law = int(p[H_LAW])
+    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+    cable_loads(pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG],
+                p[H_KDRAG], ends[6], ends[7], -1.0, law, p[H_KDT], lt, ldot)
     for k in range(3):
         ends[k] = F[k]
     b = 3 * (n - 1)
-    cable_loads(pos[b:b + 6], vel[b:b + 6], F[0:6], Mn[0:12], 1, *args)
+    lb = lt if n == 1 else -1.0
+    lbd = ldot if n == 1 else 0.0
+    cable_loads(pos[b:b + 6], vel[b:b + 6], F[0:6], Mn[0:12], 1, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA],
+                p[H_WSEG], p[H_KDRAG], ends[6], ends[7], -1.0, law, p[H_KDT], lb, lbd)
     for k in range(3):
         ends[3 + k] = F[3 + k]
 
@@ -375,7 +492,7 @@ def _imex_base(n):
 
 
 @njit(cache=True)
-def _imex_factor(p, n, gh):
+def _imex_factor(x, p, n, gh):
     """Assemble and factor (M + gh C + gh^2 K) for the interior nodes 1..n-1 (block Thomas, O(n)).
 
     Uses the node positions and mass matrices left in the scratch by the last :func:`combined_rhs` call
@@ -394,11 +511,12 @@ def _imex_factor(p, n, gh):
     S = p[base + 6 * (n + 1):base + 12 * (n + 1)]
     Ms = p[base + 12 * (n + 1):base + 18 * (n + 1)]
     Di = p[base + 18 * (n + 1):base + 27 * (n + 1)]
-    l0 = p[H_L0]
-    ea_l0 = p[H_EA] / l0
+    lt = top_l0(x, p, n)
     cv = p[H_CV]
     gh2 = gh * gh
     for s in range(1, n + 1):
+        l0 = lt if s == 1 else p[H_L0]
+        ea_l0 = p[H_EA] / l0
         a = 3 * (s - 1)
         b = 3 * s
         dx = pos[b] - pos[a]
@@ -406,6 +524,19 @@ def _imex_factor(p, n, gh):
         dz = pos[b + 2] - pos[a + 2]
         ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         c = 6 * s
+        if s == 1:  # winch: dF_1/dL and dF_1/ds (top segment taut), known-stage terms of the solve
+            G = p[base + 30 * (n + 1) + 30:base + 30 * (n + 1) + 36]
+            for k in range(6):
+                G[k] = 0.0
+            if p[H_WIN] > 0.5 and ln > l0:
+                gl = p[H_EA] * ln / (l0 * l0)
+                gs = cv * ln / l0
+                G[0] = gl * dx / ln
+                G[1] = gl * dy / ln
+                G[2] = gl * dz / ln
+                G[3] = gs * dx / ln
+                G[4] = gs * dy / ln
+                G[5] = gs * dz / ln
         if ln > 0.0:
             # the axial stiffness and damping are kept in J while the segment is slack too: a segment that
             # becomes taut within the step must not meet an explicit stiff spring (W-method: any J keeps the
@@ -501,7 +632,7 @@ def _imex_end_increments(x, k, p, n, e):
         e[3] = c * kub - s * kvb + (-s * ub - c * vb) * kp
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
-    o = 6 + 6 * (n - 1)
+    o = int(p[H_UO])
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
     cx = p[P_UUV + P_RC]
     cy = p[P_UUV + P_RC + 1]
@@ -546,8 +677,8 @@ def _imex_solve(x, p, n, k, gh):
     e = p[base + 30 * (n + 1):base + 30 * (n + 1) + 12]
     _imex_end_increments(x, k, p, n, e)
     gh2 = gh * gh
-    po = 6
-    vo = 6 + 3 * (n - 1)
+    po = int(p[H_PO])
+    vo = int(p[H_VO])
     # right-hand side and forward sweep
     for i in range(1, n):
         j = 3 * (i - 1)
@@ -600,6 +731,14 @@ def _imex_solve(x, p, n, k, gh):
             r0 += K[c] * ax_ + K[c + 1] * ay_ + K[c + 2] * az_ + S[c] * bx_ + S[c + 1] * by_ + S[c + 2] * bz_
             r1 += K[c + 1] * ax_ + K[c + 3] * ay_ + K[c + 4] * az_ + S[c + 1] * bx_ + S[c + 3] * by_ + S[c + 4] * bz_
             r2 += K[c + 2] * ax_ + K[c + 4] * ay_ + K[c + 5] * az_ + S[c + 2] * bx_ + S[c + 4] * by_ + S[c + 5] * bz_
+        if i == 1 and p[H_WIN] > 0.5:  # + gh (dF_1/dL k_L + dF_1/ds k_s), the winch's stage known
+            G = p[base + 30 * (n + 1) + 30:base + 30 * (n + 1) + 36]
+            wo = int(p[H_WO])
+            kl = gh * k[wo]
+            ks = gh * k[wo + 1]
+            r0 += G[0] * kl + G[3] * ks
+            r1 += G[1] * kl + G[4] * ks
+            r2 += G[2] * kl + G[5] * ks
         if i > 1:  # r_i += S_i D_{i-1}^-1 r_{i-1}
             q = 9 * (i - 1)
             ro = 3 * (i - 1)
@@ -659,12 +798,13 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
     k2 = work[1]
     xt = work[4]
     m = x.size
-    n = int(p[H_N])
+    winch = p[H_WIN] > 0.5
     for s in range(nsteps):
+        n = int(p[H_N])
         gh = ROS2_GAMMA * dt
         combined_rhs(t, x, u, p, k1)
         if n >= 2:
-            _imex_factor(p, n, gh)
+            _imex_factor(x, p, n, gh)
             _imex_solve(x, p, n, k1, gh)
         for i in range(m):
             xt[i] = x[i] + dt * k1[i]
@@ -680,8 +820,73 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
                 ok = False
         if not ok:
             return -1.0 - s
+        if winch:
+            remesh(x, p)
         t += dt
     return t
+
+
+@njit(cache=True)
+def remesh(x, p):
+    """Winch limits and node insertion/removal after a step (see :mod:`oceangnc.models.winch`).
+
+    Clamps the paid-out length to [min_length, capacity] (stopping the drum there), then inserts a node
+    when the top segment is longer than 1.5 l0 or removes node 1 when it is shorter than 0.5 l0. Node
+    slots are shifted in place (O(n), a few times per metre of payout); returns +1 (inserted), -1
+    (removed) or 0.
+    """
+    wo = int(p[H_WO])
+    if x[wo] >= p[H_WCAP]:
+        x[wo] = p[H_WCAP]
+        x[wo + 1] = min(x[wo + 1], 0.0)
+    if x[wo] <= p[H_WMIN]:
+        x[wo] = p[H_WMIN]
+        x[wo + 1] = max(x[wo + 1], 0.0)
+    n = int(p[H_N])
+    l0 = p[H_L0]
+    lt = x[wo] - (n - 1) * l0
+    po = int(p[H_PO])
+    vo = int(p[H_VO])
+    if lt > 1.5 * l0 and n < int(p[H_NMAX]):
+        m = 3 * (n + 1)
+        pos = p[P_SCR:P_SCR + m]
+        vel = p[P_SCR + m:P_SCR + 2 * m]
+        _ends(x, p, n, pos, vel)  # the ends only (node 0 and the tow point)
+        for k in range(3 * (n - 1) - 1, -1, -1):  # node i -> i + 1
+            x[po + 3 + k] = x[po + k]
+            x[vo + 3 + k] = x[vo + k]
+        if n >= 2:
+            r1x, r1y, r1z = x[po + 3], x[po + 4], x[po + 5]
+            v1x, v1y, v1z = x[vo + 3], x[vo + 4], x[vo + 5]
+        else:
+            b = 3 * n
+            r1x, r1y, r1z = pos[b], pos[b + 1], pos[b + 2]
+            v1x, v1y, v1z = vel[b], vel[b + 1], vel[b + 2]
+        f = (lt - l0) / lt  # the new node's fraction of the way from the sheave
+        x[po] = pos[0] + f * (r1x - pos[0])
+        x[po + 1] = pos[1] + f * (r1y - pos[1])
+        x[po + 2] = pos[2] + f * (r1z - pos[2])
+        x[vo] = vel[0] + f * (v1x - vel[0])
+        x[vo + 1] = vel[1] + f * (v1y - vel[1])
+        x[vo + 2] = vel[2] + f * (v1z - vel[2])
+        p[H_N] = n + 1
+        return 1
+    if lt < 0.5 * l0 and n > 1:
+        if n >= 3:  # node 2 takes half of the top segment's mass and its momentum
+            m2 = 1.0  # (in units of l0's node mass; all node masses scale with length alike)
+            mt = 0.5 * lt / l0
+            w = 1.0 / (m2 + mt)
+            for a in range(3):
+                x[vo + 3 + a] = (m2 * x[vo + 3 + a] + mt * x[vo + a]) * w
+        for k in range(3 * (n - 2)):  # node i + 1 -> i
+            x[po + k] = x[po + 3 + k]
+            x[vo + k] = x[vo + 3 + k]
+        for a in range(3):
+            x[po + 3 * (n - 2) + a] = 0.0
+            x[vo + 3 * (n - 2) + a] = 0.0
+        p[H_N] = n - 1
+        return -1
+    return 0
 
 
 def _check(cable: CableConfig, uuv: UUVConfig) -> None:
@@ -716,6 +921,53 @@ def _fill_outputs(x, p, o_uuv, nodes, ends, out):
         out[23 + i] = nodes[i]
 
 
+@njit(cache=True)
+def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
+    """As :func:`_fill_outputs` for a winch and/or seabed plant: node columns for ``nmax`` + 1 nodes (NaN
+    beyond the active ones), then cable.length, cable.nodes, cable.mass, winch.{speed, speed_cmd_sat,
+    cmd_saturated, rendering, at_capacity, tension, power}, uuv.altitude, cable.nodes_on_bed."""
+    n = int(p[H_N])
+    m = 3 * (n + 1)
+    _fill_outputs(x, p, o_uuv, nodes[0:m], ends, out)
+    for i in range(m, 3 * (nmax + 1)):
+        out[23 + i] = np.nan
+    k = 23 + 3 * (nmax + 1)
+    l0 = p[H_L0]
+    lt = top_l0(x, p, n)
+    ttop = out[20]
+    if p[H_WIN] > 0.5:
+        wo = int(p[H_WO])
+        L = x[wo]
+        sd = x[wo + 1]
+        vmax = p[H_WV]
+        out[k] = L
+        out[k + 3] = sd
+        out[k + 4] = winch_command(x, u, p, ttop)
+        out[k + 5] = 1.0 if abs(u[9]) > vmax else 0.0
+        out[k + 6] = 1.0 if ttop > p[H_WT] else 0.0
+        out[k + 7] = 1.0 if (L >= p[H_WCAP] and u[9] > 0.0) else 0.0
+        out[k + 8] = ttop
+        out[k + 9] = -ttop * sd
+    else:
+        out[k] = (n - 1) * l0 + lt
+        for j in range(3, 10):
+            out[k + j] = 0.0
+        out[k + 8] = ttop
+    out[k + 1] = n + 1.0
+    # mass of cable in the water: the segment masses the dynamics use, summed
+    out[k + 2] = p[H_MC] * (n - 1) + p[H_MC] * lt / l0
+    if p[H_BED] > 0.5:
+        out[k + 10] = seabed_depth(p, x[o_uuv], x[o_uuv + 1]) - x[o_uuv + 2]
+        cnt = 0
+        for i in range(1, n):
+            if nodes[3 * i + 2] > seabed_depth(p, nodes[3 * i], nodes[3 * i + 1]) - 1e-3:
+                cnt += 1
+        out[k + 11] = cnt
+    else:
+        out[k + 10] = np.nan
+        out[k + 11] = 0.0
+
+
 class CombinedPlant(Plant):
     """USV + cable + UUV as one plant (see the module docstring for layouts and signals).
 
@@ -728,64 +980,123 @@ class CombinedPlant(Plant):
     """
 
     def __init__(self, usv_cfg: USVConfig, uuv_cfg: UUVConfig, cable_cfg: CableConfig, top: str = "usv",
-                 name: str = "combined", integrator: str | None = None):
+                 name: str = "combined", integrator: str | None = None, winch=None, seabed=None):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
         integrator = integrator or cable_cfg.integrator
         if integrator not in INTEGRATORS:
             raise ConfigError(f"cable.integrator = {integrator!r}: allowed values "
                               + ", ".join(repr(k) for k in INTEGRATORS))
+        has_winch = winch is not None and winch.enabled
+        has_bed = seabed is not None and seabed.depth is not None
+        if has_winch and integrator != "imex":
+            raise ConfigError(f"cable.integrator = {integrator!r}: the winch (winch.enabled) needs 'imex' "
+                              "(its top segment may be short and stiff)")
         self.integrator = integrator
         _check(cable_cfg, uuv_cfg)
         self.usv_cfg = usv_cfg
         self.uuv_cfg = uuv_cfg
         self.cable_cfg = cable_cfg
+        self.winch_cfg = winch if has_winch else None
+        self.seabed_cfg = seabed if has_bed else None
         self.top = top
-        n = cable_cfg.segments
-        self.n = n
         c = cable_cfg
-        p = np.zeros(P_SCR + 40 * (n + 1) + 30 * (n + 1) + 30)
-        p[H_N] = n
-        p[H_TOP] = 1.0 if top == "fixed" else 0.0
+        if has_winch:
+            l0 = c.segment_length if c.segment_length is not None else c.length / c.segments
+            if winch.capacity < c.length:
+                raise ConfigError(f"cable.length = {c.length:g}: above the drum's capacity winch.capacity = "
+                                  f"{winch.capacity:g} m")
+            if winch.min_length > c.length:
+                raise ConfigError(f"cable.length = {c.length:g}: below winch.min_length = {winch.min_length:g} m")
+            n = max(1, int(round(c.length / l0)))
+            nmax = max(n, int(math.ceil(winch.capacity / l0 + 0.5)) + 1)
+        else:
+            l0 = c.l0
+            n = c.segments
+            nmax = n
+        self.n_max = nmax
         psi0 = math.radians(usv_cfg.psi0_deg)
         cps, sps = math.cos(psi0), math.sin(psi0)
         top0 = (usv_cfg.x0 + cps * c.top_x - sps * c.top_y, usv_cfg.y0 + sps * c.top_x + cps * c.top_y, c.top_z)
+        p = np.zeros(P_SCR + 40 * (nmax + 1) + 30 * (nmax + 1) + 36)
+        p[H_N] = n
+        p[H_TOP] = 1.0 if top == "fixed" else 0.0
         p[H_FIX:H_FIX + 3] = top0
         p[H_ATT:H_ATT + 3] = c.top_point
-        p[H_L0] = c.l0
+        area = c.area
+        p[H_L0] = l0
         p[H_EA] = c.EA
         p[H_CV] = c.damping
         p[H_CVE] = 0.0 if integrator == "rk4-split" else c.damping
-        p[H_MC] = c.segment_mass
-        p[H_MA] = c.segment_added_mass
-        p[H_WSEG] = c.weight_per_length * c.l0
+        p[H_MC] = c.density * area * l0
+        p[H_MA] = c.added_mass_coeff * c.rho_water * area * l0
+        p[H_WSEG] = c.weight_per_length * l0
         if c.drag_law == "normal-tangential":
             p[H_LAW] = 1.0
-            p[H_KDRAG] = 0.5 * c.rho_water * c.cd_n * c.diameter * c.l0 if c.drag_on else 0.0
-            p[H_KDT] = 0.5 * c.rho_water * c.cd_t * math.pi * c.diameter * c.l0 if c.drag_on else 0.0
+            p[H_KDRAG] = 0.5 * c.rho_water * c.cd_n * c.diameter * l0 if c.drag_on else 0.0
+            p[H_KDT] = 0.5 * c.rho_water * c.cd_t * math.pi * c.diameter * l0 if c.drag_on else 0.0
         else:
-            p[H_KDRAG] = 0.5 * c.rho_water * c.cd * c.diameter * c.l0 if c.drag_on else 0.0
+            p[H_KDRAG] = 0.5 * c.rho_water * c.cd * c.diameter * l0 if c.drag_on else 0.0
         p[P_USV:P_USV + N_USV] = usv_cfg.params()
         p[P_UUV:P_UUV + UUV_NP] = uuv_cfg.params(tow_point=c.tow_point)
+        if has_bed:
+            sl = math.tan(math.radians(seabed.slope_deg))
+            ds = math.radians(seabed.slope_direction_deg)
+            p[H_BED] = 1.0
+            p[H_BED_D] = seabed.depth
+            p[H_BED_GX] = sl * math.cos(ds)
+            p[H_BED_GY] = sl * math.sin(ds)
+            p[H_BED_MU] = seabed.friction
+            p[H_BED_W] = seabed.contact_frequency
+            p[H_BED_Z] = seabed.contact_damping_ratio
+            p[H_BED_R] = uuv_cfg.diameter / 2.0
+            zb = seabed.depth + p[H_BED_GX] * top0[0] + p[H_BED_GY] * top0[1]
+            if zb <= top0[2]:
+                raise ConfigError(f"environment.seabed.depth = {seabed.depth:g}: the seabed ({zb:.3g} m deep under "
+                                  f"the USV) is above the cable's attachment point (cable.top_z = {c.top_z:g} m)")
+        # state layout
+        if has_winch:
+            uo, wo, po = 6, 18, 20
+            vo = po + 3 * (nmax - 1)
+            size = vo + 3 * (nmax - 1)
+            p[H_WIN] = 1.0
+            p[H_WO] = wo
+            p[H_NMAX] = nmax
+            p[H_WV] = winch.speed_max
+            p[H_WA] = winch.accel_max
+            p[H_WT] = winch.tension_max
+            p[H_WCAP] = winch.capacity
+            p[H_WMIN] = winch.min_length
+            p[H_WTAU] = winch.time_constant
+        else:
+            po = 6
+            vo = 6 + 3 * (n - 1)
+            uo = 6 + 6 * (n - 1)
+            size = uo + 12
+        p[H_PO], p[H_VO], p[H_UO] = po, vo, uo
         # initial state: USV, straight cable between the attachment points, UUV
-        xu = np.array([usv_cfg.x0, usv_cfg.y0, psi0, usv_cfg.u0, 0.0, 0.0])
-        xv = uuv_cfg.initial_state()
-        x0 = np.zeros(6 + 6 * (n - 1) + 12)
-        x0[:6] = xu
-        x0[6 + 6 * (n - 1):] = xv
+        x0 = np.zeros(size)
+        x0[:6] = [usv_cfg.x0, usv_cfg.y0, psi0, usv_cfg.u0, 0.0, 0.0]
+        x0[uo:uo + 12] = uuv_cfg.initial_state()
+        if has_winch:
+            x0[wo] = c.length
         pos = np.zeros(3 * (n + 1))
         vel = np.zeros(3 * (n + 1))
         _ends(x0, p, n, pos, vel)
         pos = pos.reshape(-1, 3)
         vel = vel.reshape(-1, 3)
+        lt = c.length - (n - 1) * l0
         for i in range(1, n):
-            f = i / n
-            x0[6 + 3 * (i - 1):6 + 3 * i] = (1 - f) * pos[0] + f * pos[n]
-            x0[6 + 3 * (n - 1) + 3 * (i - 1):6 + 3 * (n - 1) + 3 * i] = (1 - f) * vel[0] + f * vel[n]
+            f = (lt + (i - 1) * l0) / c.length  # unstretched arc-length fraction of node i
+            x0[po + 3 * (i - 1):po + 3 * i] = (1 - f) * pos[0] + f * pos[n]
+            x0[vo + 3 * (i - 1):vo + 3 * i] = (1 - f) * vel[0] + f * vel[n]
         names = [f"usv.{s}" for s in USV_STATES]
-        names += [f"cable.{a}{i}" for i in range(1, n) for a in "xyz"]
-        names += [f"cable.v{a}{i}" for i in range(1, n) for a in "xyz"]
-        names += [f"uuv.{s}" for s in UUV_STATES]
+        cab = [f"cable.{a}{i}" for i in range(1, nmax) for a in "xyz"]
+        cab += [f"cable.v{a}{i}" for i in range(1, nmax) for a in "xyz"]
+        if has_winch:
+            names += [f"uuv.{s}" for s in UUV_STATES] + ["winch.length", "winch.speed"] + cab
+        else:
+            names += cab + [f"uuv.{s}" for s in UUV_STATES]
         mrb = p[P_UUV + P_MRB:P_UUV + P_MRB + 36].reshape(6, 6)
         ma = p[P_UUV + P_MA:P_UUV + P_MA + 36].reshape(6, 6)
         end_mass = float(mrb[0, 0] + ma[0, 0])
@@ -795,17 +1106,41 @@ class CombinedPlant(Plant):
         else:
             self.stability_limit = axial_stability_limit(c, end_mass=end_mass,
                                                          last_damper_only=(integrator == "rk4-split"))
-        super().__init__(name, combined_rhs, x0, p, names, INPUT_NAMES, state_bound=1e6,
+            if has_bed:  # the explicit contact spring: RK4 limit 2.785 / w on the imaginary axis
+                self.stability_limit = min(self.stability_limit, 2.0 / seabed.contact_frequency)
+        inputs = INPUT_NAMES + (("winch.speed_cmd",) if has_winch else ())
+        super().__init__(name, combined_rhs, x0, p, names, inputs, state_bound=1e6,
                          max_dt=self.stability_limit if math.isfinite(self.stability_limit) else None)
-        self._nodes = np.zeros(3 * (n + 1))
+        self._var = has_winch or has_bed
+        self._nodes = np.zeros(3 * (nmax + 1))
         self._ends = np.zeros(8)
-        self.o_uuv = 6 + 6 * (n - 1)
+        self.o_uuv = uo
         self._usv_keys = [f"usv.{s}" for s in USV_STATES]
         self._uuv_keys = [f"uuv.{s}" for s in UUV_STATES]
-        self._node_keys = [f"cable.{a}{i}" for i in range(n + 1) for a in "xyz"]
-        self._out_keys = [*self._usv_keys, "usv.speed", *self._uuv_keys, "uuv.speed", "cable.top_tension",
-                          "cable.bottom_tension", "cable.angle_deg", *self._node_keys]
+        self._node_keys = [f"cable.{a}{i}" for i in range(nmax + 1) for a in "xyz"]
+        base = [*self._usv_keys, "usv.speed", *self._uuv_keys, "uuv.speed", "cable.top_tension",
+                "cable.bottom_tension", "cable.angle_deg", *self._node_keys]
+        self._out_keys = list(base)
+        if self._var:
+            extra = [k for k in VAR_KEYS if (has_winch or not k.startswith("winch.") or k == "winch.tension")
+                     and (has_bed or k not in ("uuv.altitude", "cable.nodes_on_bed"))]
+            self._out_keys += extra
+            full = base + VAR_KEYS
+            self._out_idx = np.array([full.index(k) for k in self._out_keys])
+        self._out_full = np.zeros(len(base) + len(VAR_KEYS))
         self._out = np.zeros(len(self._out_keys))
+
+    @property
+    def n(self) -> int:
+        """Active number of segments (changes with a winch)."""
+        return int(self.p[H_N])
+
+    def reset(self) -> None:
+        """Restore the initial state and node count."""
+        super().reset()
+        if self.winch_cfg is not None:
+            l0 = self.p[H_L0]
+            self.p[H_N] = max(1, int(round(self.cable_cfg.length / l0)))
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """RK4 steps, for ``integrator="rk4-split"`` Strang-split steps (:func:`split_advance`), for
@@ -830,15 +1165,21 @@ class CombinedPlant(Plant):
         """(nodes (n+1, 3) NED m, top force (3,) N, bottom force (3,) N) at the current state."""
         self._ends[6] = self.u[2]
         self._ends[7] = self.u[3]
-        cable_state(self.x, self.p, self._nodes, self._ends)
-        return self._nodes.reshape(-1, 3), self._ends[0:3], self._ends[3:6]
+        m = 3 * (self.n + 1)
+        cable_state(self.x, self.p, self._nodes[:m], self._ends)
+        return self._nodes[:m].reshape(-1, 3), self._ends[0:3], self._ends[3:6]
 
     def publish(self, bus: dict) -> None:
         """Write the vehicles' states (headings wrapped to (-pi, pi]), speeds, end tensions (N), cable
         angle from vertical (deg) and node positions (m, NED): one compiled call, one dict update."""
         self._ends[6] = self.u[2]
         self._ends[7] = self.u[3]
-        _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
+        if self._var:
+            _fill_outputs_var(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u,
+                              self.n_max)
+            self._out[:] = self._out_full[self._out_idx]
+        else:
+            _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
         bus.update(zip(self._out_keys, self._out.tolist()))
 
     # -- diagnostics -------------------------------------------------------------------------------
@@ -862,14 +1203,18 @@ class CombinedPlant(Plant):
             ke += 0.5 * vel[i] @ M @ vel[i]
         seg = np.diff(nodes, axis=0)
         ln = np.linalg.norm(seg, axis=1)
-        eps = np.maximum(ln - p[H_L0], 0.0) / p[H_L0]
-        strain = 0.5 * p[H_EA] * p[H_L0] * float(np.sum(eps ** 2))
+        l0s = np.full(n, p[H_L0])
+        l0s[0] = top_l0(self.x, p, n)
+        eps = np.maximum(ln - l0s, 0.0) / l0s
+        strain = 0.5 * p[H_EA] * float(np.sum(l0s * eps ** 2))
         zc = 0.5 * (nodes[:-1, 2] + nodes[1:, 2])
-        pe = -p[H_WSEG] * float(np.sum(zc))
+        pe = -p[H_WSEG] / p[H_L0] * float(np.sum(l0s * zc))
         o = self.o_uuv
         e_uuv = uuv_energy(self.x[o:o + 12], p[P_UUV:P_UUV + UUV_NP])
         return float(ke + strain + pe + e_uuv)
 
     def submerged_weight(self) -> float:
         """Submerged weight (N) of the whole cable plus the UUV."""
-        return self.cable_cfg.weight_per_length * self.cable_cfg.length + self.uuv_cfg.weight_in_water_kgf * G
+        n = self.n
+        length = (n - 1) * self.p[H_L0] + top_l0(self.x, self.p, n)
+        return self.cable_cfg.weight_per_length * length + self.uuv_cfg.weight_in_water_kgf * G
