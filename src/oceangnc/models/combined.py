@@ -923,14 +923,14 @@ def _fill_outputs(x, p, o_uuv, nodes, ends, out):
 
 @njit(cache=True)
 def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
-    """As :func:`_fill_outputs` for a winch and/or seabed plant: node columns for ``nmax`` + 1 nodes (NaN
-    beyond the active ones), then cable.length, cable.nodes, cable.mass, winch.{speed, speed_cmd_sat,
+    """As :func:`_fill_outputs` for a winch and/or seabed plant: node columns for ``nmax`` + 1 nodes (the
+    inactive ones at the tow point; ``cable.nodes`` tells how many are active), then cable.length, cable.nodes, cable.mass, winch.{speed, speed_cmd_sat,
     cmd_saturated, rendering, at_capacity, tension, power}, uuv.altitude, cable.nodes_on_bed."""
     n = int(p[H_N])
     m = 3 * (n + 1)
     _fill_outputs(x, p, o_uuv, nodes[0:m], ends, out)
-    for i in range(m, 3 * (nmax + 1)):
-        out[23 + i] = np.nan
+    for i in range(m, 3 * (nmax + 1)):  # inactive node slots: collapsed onto the tow point
+        out[23 + i] = nodes[m - 3 + i % 3]
     k = 23 + 3 * (nmax + 1)
     l0 = p[H_L0]
     lt = top_l0(x, p, n)
@@ -966,6 +966,20 @@ def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
     else:
         out[k + 10] = np.nan
         out[k + 11] = 0.0
+
+
+_UNITS = {"x": "m", "y": "m", "z": "m", "psi": "rad", "phi": "rad", "theta": "rad", "u": "m/s", "v": "m/s",
+          "w": "m/s", "p": "rad/s", "q": "rad/s", "r": "rad/s", "speed": "m/s", "top_tension": "N",
+          "bottom_tension": "N", "angle_deg": "1", "length": "m", "nodes": "count", "mass": "kg",
+          "speed_cmd_sat": "m/s", "cmd_saturated": "bool", "rendering": "bool", "at_capacity": "bool",
+          "tension": "N", "power": "W", "altitude": "m", "nodes_on_bed": "count"}
+
+
+def _unit_of(key: str) -> str:
+    body, _, leaf = key.partition(".")
+    if body == "cable" and leaf[:1] in "xyz" and leaf[1:].isdigit():
+        return "m"
+    return _UNITS[leaf]
 
 
 class CombinedPlant(Plant):
@@ -1129,6 +1143,21 @@ class CombinedPlant(Plant):
             self._out_idx = np.array([full.index(k) for k in self._out_keys])
         self._out_full = np.zeros(len(base) + len(VAR_KEYS))
         self._out = np.zeros(len(self._out_keys))
+
+    @property
+    def outputs(self) -> dict[str, str]:
+        """Declared outputs: every published signal with its unit (``cable.angle_deg`` is in degrees,
+        declared "1" for want of a degree unit)."""
+        return {k: _unit_of(k) for k in self._out_keys}
+
+    @property
+    def inputs(self):
+        return None
+
+    @property
+    def optional_inputs(self) -> dict[str, str]:
+        """The plant's inputs (missing ones read as zero, so all optional)."""
+        return {k: ("m/s" if (k.startswith("env.") or k == "winch.speed_cmd") else "N") for k in self.input_names}
 
     @property
     def n(self) -> int:
