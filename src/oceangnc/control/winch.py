@@ -6,7 +6,7 @@ above the seabed ``uuv.altitude`` (mode ``"altitude"``):
 
     e = z_ref - z            (depth mode: too shallow -> pay out)
     e = a - a_ref            (altitude mode: too high -> pay out)
-    s_c = K_p e + K_i int e + ds_ref/dt           (PI with back-calculation anti-windup, speed feed-forward)
+    s_c = K_p e + K_i int e + K_d de/dt + ds_ref/dt   (PID, back-calculation anti-windup, feed-forward)
 
 The reference may move: in depth mode a trapezoidal profile (``profile``: list of (t, z) breakpoints,
 linearly interpolated), whose rate is fed forward (for a cable hanging nearly vertically a metre of
@@ -40,6 +40,7 @@ class WinchControlConfig(StrictModel):
                         "(empty: the constant target)")
     kp: float = Field(0.3, ge=0, le=100, description="proportional gain, (m/s)/m")
     ki: float = Field(0.01, ge=0, le=100, description="integral gain, (m/s)/(m s)")
+    kd: float = Field(0.0, ge=0, le=1000, description="derivative gain (on the measured error), (m/s)/(m/s)")
     speed_max: float = Field(0.5, gt=0, le=5, description="command limit, m/s")
     tension_margin: float = Field(0.8, gt=0, le=1, description="fraction of the winch's tension limit where "
                                                                "the loop starts paying out, -")
@@ -67,7 +68,7 @@ class WinchDepthController(Block):
         prof = np.asarray(cfg.profile, float) if cfg.profile else np.zeros((0, 2))
         self._pt = prof[:, 0] if len(prof) else None
         self._pz = prof[:, 1] if len(prof) else None
-        self.pid = PID(cfg.kp, cfg.ki, 0.0, -cfg.speed_max, cfg.speed_max)
+        self.pid = PID(cfg.kp, cfg.ki, cfg.kd, -cfg.speed_max, cfg.speed_max)
 
     def reset(self, rng) -> None:
         self.pid.reset()

@@ -76,41 +76,28 @@ class UUVFollowConfig(StrictModel):
 
 class TowGuidance(StrictModel):
     waypoints: list[tuple[float, float]] = Field(
-        [(0.0, 0.0), (150.0, 0.0), (150.0, 40.0), (0.0, 40.0), (0.0, 80.0), (150.0, 80.0)], min_length=2,
+        [(0.0, 0.0), (300.0, 0.0), (300.0, 60.0), (0.0, 60.0), (0.0, 120.0), (300.0, 120.0)], min_length=2,
         description="lawnmower waypoints (north, east), m")
     speed: float = Field(1.0, gt=0, le=3, description="USV tow speed, m/s")
     look_ahead: float = Field(20.0, gt=0, le=1e3, description="pure-pursuit look-ahead, m")
     acceptance: float = Field(5.0, gt=0, le=100, description="waypoint acceptance radius, m")
 
 
-def _deploy_cable() -> CableConfig:
-    return CableConfig(length=1.0, segment_length=1.0, integrator="imex")
-
-
 class TowDeployConfig(ScenarioConfig):
     sim: TowSimConfig = TowSimConfig()
     usv: USVConfig = USVConfig()
-    uuv: UUVConfig = UUVConfig(z0=1.16)
-    cable: CableConfig = _deploy_cable()
-    winch: WinchConfig = WinchConfig(enabled=True, capacity=40.0, tension_max=1000.0, speed_max=0.5)
-    winch_control: WinchControlConfig = WinchControlConfig(
-        mode="depth", target=1.3, profile=[(0.0, 1.3), (10.0, 1.3), (150.0, 30.0), (190.0, 30.0), (330.0, 1.3)])
+    uuv: UUVConfig = UUVConfig()
+    cable: CableConfig = CableConfig()
+    winch: WinchConfig = WinchConfig()
+    winch_control: WinchControlConfig = WinchControlConfig()
     environment: EnvironmentConfig = EnvironmentConfig()
     analysis: TowAnalysis = TowAnalysis()
 
 
-class TowSurveyConfig(ScenarioConfig):
-    sim: TowSimConfig = TowSimConfig(duration=900.0)
-    usv: USVConfig = USVConfig()
-    uuv: UUVConfig = UUVConfig(z0=15.3)
-    cable: CableConfig = CableConfig(length=15.0, segment_length=1.5, integrator="imex")
-    winch: WinchConfig = WinchConfig(enabled=True, capacity=150.0, tension_max=4000.0, speed_max=0.5)
-    winch_control: WinchControlConfig = WinchControlConfig(mode="altitude", target=5.0, kp=0.3, ki=0.01)
+class TowSurveyConfig(TowDeployConfig):
     guidance: TowGuidance = TowGuidance()
     usv_control: USVControlConfig = USVControlConfig()
     uuv_follow: UUVFollowConfig = UUVFollowConfig()
-    environment: EnvironmentConfig = EnvironmentConfig(seabed={"depth": 20.0, "slope_deg": 3.0})
-    analysis: TowAnalysis = TowAnalysis()
 
 
 class ThrustersOff(Block):
@@ -193,6 +180,12 @@ class TowDeploy(Scenario):
     name = "tow-deploy"
     summary = "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"
     Config = TowDeployConfig
+    defaults = {"sim": {"duration": 360.0},
+                "uuv": {"z0": 1.16},
+                "cable": {"length": 1.0, "segment_length": 1.0, "integrator": "imex"},
+                "winch": {"enabled": True, "capacity": 40.0, "tension_max": 1000.0, "speed_max": 0.5},
+                "winch_control": {"mode": "depth", "target": 1.3,
+                                  "profile": [(0.0, 1.3), (10.0, 1.3), (150.0, 30.0), (190.0, 30.0), (330.0, 1.3)]}}
 
     def build(self, cfg, rng):
         plant = _plant(cfg, top="usv")
@@ -255,6 +248,13 @@ class TowSurveyDepth(Scenario):
     name = "tow-survey-depth"
     summary = "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"
     Config = TowSurveyConfig
+    defaults = {"sim": {"duration": 1200.0},
+                "uuv": {"z0": 15.3},
+                "cable": {"length": 15.0, "segment_length": 1.5, "integrator": "imex"},
+                "winch": {"enabled": True, "capacity": 150.0, "tension_max": 4000.0, "speed_max": 0.5},
+                "winch_control": {"mode": "altitude", "target": 5.0, "kp": 0.08, "ki": 0.002, "kd": 1.5},
+                "uuv_follow": {"speed": 0.5},
+                "environment": {"seabed": {"depth": 20.0, "slope_deg": 3.0}}}
 
     def build(self, cfg, rng):
         plant = _plant(cfg, top="usv")
