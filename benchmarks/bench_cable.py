@@ -3,7 +3,8 @@
 Prints, on one core (set NUMBA_NUM_THREADS=1):
 
 1. the real-time factor of the coupled USV + 20-segment cable (3 m, table 2-6) + UUV plant at its
-   automatic physics step (90 % of the RK4 axial stability limit, dividing the 10 ms control period),
+   automatic physics step (explicit schemes; ``--figure PATH`` instead draws the error-vs-step figure of
+   the three integrators, docs/img/cable-error-vs-step.png) (90 % of the RK4 axial stability limit, dividing the 10 ms control period),
    integrated tick by tick (10 ms, one compiled call per tick) and published to the bus every tick,
    as the simulator does;
 2. for 10, 20, 40 and 80 segments: the stability limit, the chosen step, the cost of one RK4 step
@@ -146,9 +147,31 @@ def main() -> None:
             print(f"   {n:<3d} {pl.stability_limit * 1e3:9.3f} {dt * 1e3:7.3f} {c_us:13.2f} {c_us / n:16.3f}"
                   f" {20.0 / wall:10.0f} {20.0 / cpu:9.0f}")
 
+    print("\n2b. implicit (imex) integrator, fixed top, UUV hanging in 0.5 m/s current: cost per simulated second")
+    print("   n   dt[ms]  us/step(cpu)  RTF plant alone (cpu)  RTF ticks of 10 ms + publish (cpu)")
+    for n in (10, 20, 40, 80):
+        for dt in (0.01, 0.02):
+            pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25),
+                               CableConfig(segments=n, integrator="imex"), top="fixed")
+            pl.u[2] = 0.5
+            _, c_us = step_cost(pl, dt, 5000)
+            pl.reset()
+            pl.advance(0.0, dt, 10)
+            c0 = time.process_time()
+            t = 0.0
+            for _ in range(60):
+                t = pl.advance(t, dt, int(round(1.0 / dt)))
+            c1 = time.process_time() - c0
+            line = f"   {n:<3d} {dt * 1e3:6.1f} {c_us:13.2f} {60.0 / c1:22.0f}"
+            if dt == 0.01:
+                pl.reset()
+                _, cpu = run_ticks(pl, dt, 20.0)
+                line += f" {20.0 / cpu:30.0f}"
+            print(line)
+
     print("\n4. accuracy during the onset of a 0.5 m/s current (20 s), against RK4 at 1/8 of its step")
     ref = accuracy("rk4", stable_step(CombinedPlant(USVConfig(), UUVConfig(), CableConfig()).stability_limit) / 8)
-    for integ in ("rk4", "rk4-split"):
+    for integ in ("rk4", "rk4-split", "imex"):
         pl = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=integ))
         dt = stable_step(pl.stability_limit)
         a = accuracy(integ, dt)

@@ -333,6 +333,9 @@ def damping_substep(x, p, h):
     D = p[base + m3:base + m3 + 9 * (n + 1)]  # inverted modified diagonal blocks
     R = p[base + m3 + 9 * (n + 1):base + m3 + 12 * (n + 1)]  # modified right-hand sides
     W = p[base + m3 + 12 * (n + 1):base + m3 + 21 * (n + 1)]  # work 3x3 blocks
+    # tangents of every segment for the node mass matrices (eq. 2.28): the same mass matrix as the RHS,
+    # whether or not the segment's damper is in the implicit part (slack segments, the last one)
+    TM = p[base + m3 + 21 * (n + 1):base + m3 + 24 * (n + 1)]
     l0 = p[H_L0]
     mt = 0.5 * (p[H_MC] + p[H_MA])
     ha = 0.5 * p[H_MA]
@@ -344,6 +347,14 @@ def damping_substep(x, p, h):
         dz = pos[b + 2] - pos[a + 2]
         ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         k = 3 * (i - 1)
+        if ln > 0.0:
+            TM[k] = dx / ln
+            TM[k + 1] = dy / ln
+            TM[k + 2] = dz / ln
+        else:
+            TM[k] = 0.0
+            TM[k + 1] = 0.0
+            TM[k + 2] = 1.0
         if ln > l0 and i < n:  # the last segment's damper stays explicit (its reaction acts on the UUV)
             T[k] = dx / ln
             T[k + 1] = dy / ln
@@ -359,14 +370,15 @@ def damping_substep(x, p, h):
         kb = 3 * i  # segment i+1 (below)
         tax, tay, taz = T[ka], T[ka + 1], T[ka + 2]
         tbx, tby, tbz = T[kb], T[kb + 1], T[kb + 2]
-        # node mass matrix (both adjacent segments, eq. 2.28), with the *current* tangents
-        # (slack segments use a zero tangent above; their mass still counts isotropically)
+        # node mass matrix (both adjacent segments, eq. 2.28) with the current tangents of all segments
         A = W
         ta = (tax, tay, taz)
         tb = (tbx, tby, tbz)
+        ma = (TM[ka], TM[ka + 1], TM[ka + 2])
+        mb = (TM[kb], TM[kb + 1], TM[kb + 2])
         for r in range(3):
             for c in range(3):
-                mm = (2.0 * mt if r == c else 0.0) - ha * (ta[r] * ta[c] + tb[r] * tb[c])
+                mm = (2.0 * mt if r == c else 0.0) - ha * (ma[r] * ma[c] + mb[r] * mb[c])
                 A[3 * r + c] = mm + hc * (ta[r] * ta[c] + tb[r] * tb[c])
         vi0 = vel[3 * i]
         vi1 = vel[3 * i + 1]
@@ -378,7 +390,7 @@ def damping_substep(x, p, h):
         for r in range(3):
             acc = 0.0
             for c in range(3):
-                acc += ((2.0 * mt if r == c else 0.0) - ha * (ta[r] * ta[c] + tb[r] * tb[c])) * vv[c]
+                acc += ((2.0 * mt if r == c else 0.0) - ha * (ma[r] * ma[c] + mb[r] * mb[c])) * vv[c]
             if r == 0:
                 r0 = acc
             elif r == 1:
