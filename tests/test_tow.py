@@ -208,3 +208,27 @@ def test_energy_budget_through_payout_and_haul_in():
     res = np.array(res)
     assert np.max(np.abs(res)) < 1e-3 * max(works)
     assert np.max(res) < 1e-4 * 12.0 * G * 0.5
+
+
+def test_winch_renders_at_the_tension_limit():
+    """Hauling a 6 m line in at 1 m/s with a 5 m/s2 drum: without a limit the tension peaks at ~520 N (the
+    stop at the minimum length snatches the UUV); with tension_max = 250 N the winch pays out whenever the
+    tension exceeds it, so the peak stays within 10 % of the limit (measured 266 N: the drum needs time to
+    reverse) and the haul-in proceeds more slowly."""
+    peaks = {}
+    for tmax in (1e5, 250.0):
+        cc = CableConfig(length=6.0, segment_length=0.5, integrator="imex")
+        strain = (12.0 * G + 0.5 * cc.weight_per_length * 6) / cc.EA
+        w = WinchConfig(enabled=True, capacity=12.0, accel_max=5.0, speed_max=1.0, tension_max=tmax,
+                        time_constant=0.05)
+        pl = CombinedPlant(USVConfig(), UUVConfig(z0=6 * (1 + strain) + 0.125), cc, top="fixed", winch=w)
+        bus, t, T = {}, pl.advance(0.0, 0.01, 500), []
+        pl.u[9] = -1.0
+        for _ in range(600):
+            t = pl.advance(t, 0.01, 1)
+            pl.publish(bus)
+            T.append(bus["cable.top_tension"])
+        peaks[tmax] = (max(T), bus["cable.length"])
+    assert peaks[1e5][0] > 400.0
+    assert peaks[250.0][0] < 1.1 * 250.0
+    assert peaks[250.0][1] > peaks[1e5][1] + 1.0
