@@ -51,6 +51,7 @@ def rtf(pl: CombinedPlant, t_sim: float = 60.0, tick: float = 0.01, dt: float = 
         if publish:
             pl.publish(bus)
     w, c = time.perf_counter() - w0, time.process_time() - c0
+    pl.publish(bus)
     return t_sim / w, t_sim / c, bus
 
 
