@@ -49,9 +49,22 @@ def _diff(old: dict, new: dict, rtol: float, what: str) -> list[str]:
 
 
 @pytest.mark.parametrize("name", sorted(BASELINE))
-def test_scenario_matches_baseline(name, tmp_path):
+def test_scenario_matches_baseline(name, tmp_path, monkeypatch):
+    """Same numbers as before the refactor, and every block and plant of the run declares its signals."""
+    import oceangnc.core.clock as clock
+    from oceangnc.core.signals import check_wiring, undeclared
+
+    seen: list[str] = []
+
+    def checking(parts, external=None):
+        parts = list(parts)
+        seen.extend(undeclared(parts))
+        return check_wiring(parts, external)
+
+    monkeypatch.setattr(clock, "check_wiring", checking)
     old = BASELINE[name]
     new = record_baseline.record_one(name, tmp_path)
+    assert not seen, f"{name}: blocks/plants without declared signals: {sorted(set(seen))}"
     rtol = LOOSE.get(name, RTOL)
     errs = []
     if new["n_rows"] != old["n_rows"]:

@@ -215,6 +215,13 @@ class UUVBackstepping(Block):
              "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
         k.update(keys or {})
         self.keys = k
+        unit = {"x": "m", "y": "m", "p": "rad", "u": "m/s", "v": "m/s", "r": "rad/s"}
+        # an internal key ("_zero": no measurement, read as 0) is an optional input
+        self.inputs = {key: unit[n[0]] for n, key in k.items() if not key.startswith("_")}
+        self.optional_inputs = {key: unit[n[0]] for n, key in k.items() if key.startswith("_")}
+        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
+                        "uuv_bs.V": "J", "uuv_bs.Vdot": "W", "uuv_bs.eps1": "m", "uuv_bs.eps2": "m",
+                        "uuv_bs.tau_u": "N", "uuv_bs.tau_r": "N m", "uuv_ctrl.psi_d": "rad"}
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
 
     def reset(self, rng) -> None:

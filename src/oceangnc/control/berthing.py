@@ -125,6 +125,10 @@ class _Base(Block):
         self.ship = ship
         self.p = ship.params()
         self.period = float(cfg.period)
+        self.inputs = {"ship.u": "m/s", "ship.r": "rad/s", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
+        self.optional_inputs = {"_estop": "bool"}
+        self.outputs = {"ship.rudder_cmd": "rad", "ship.n_prop_cmd": "Hz", "ship.n_bow_cmd": "Hz",
+                        "ship.n_stern_cmd": "Hz", "ctrl.e_u": "m/s", "ctrl.e_r": "rad/s"}
 
     def _write(self, bus, delta, n, nb, ns, e_u, e_r):
         if bus.get("_estop", False):
@@ -139,6 +143,10 @@ class _Base(Block):
 
 class OpenLoopController(_Base):
     """Stick straight to propeller, rudder and thrusters (001 fig. 3); see the module docstring."""
+
+    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+        super().__init__(cfg, ship)
+        self.inputs.update({"joystick.surge_db": "1", "joystick.yaw_db": "1"})
 
     def step(self, t, bus):
         c = self.cfg
@@ -176,6 +184,14 @@ class PIDController(_Base):
 
 class NonlinearController(_Base):
     """Feedback-linearising MIMO controller, 001 eq. 27-38 (SPEC corrections); module docstring."""
+
+    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+        super().__init__(cfg, ship)
+        self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm",
+                            "ship.rpm_bow": "rpm", "ship.rpm_stern": "rpm"})
+        self.optional_inputs.update({"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s",
+                                     "env.wind_e": "m/s"})
+        self.outputs.update({"ctrl.u_rd": "m/s", "ctrl.u_d": "m/s", "ctrl.r_d": "rad/s", "ctrl.x_pd": "N"})
 
     def reset(self, rng):
         self._ud = None

@@ -79,6 +79,10 @@ class Joystick(Block):
         self.cfg = cfg
         self.period = float(cfg.period)
         self._z = np.zeros(cfg.samples)
+        self.inputs = {}
+        self.optional_inputs = {"joystick.surge": "1", "joystick.yaw": "1"}  # centred stick when absent
+        self.outputs = {"joystick.surge_f": "1", "joystick.yaw_f": "1", "joystick.surge_db": "1",
+                        "joystick.yaw_db": "1", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng

@@ -85,6 +85,9 @@ class HeadingAutopilot(Block):
         self.wn = float(wn)
         self.period = float(period)
         self.body = body
+        b = body
+        self.inputs = {f"{b}.psi_cmd": "rad", f"{b}.psi": "rad", f"{b}.r": "rad/s", f"{b}.u": "m/s"}
+        self.outputs = {f"{b}.delta_s_cmd": "rad", f"{b}.hdg_k1": "1", f"{b}.hdg_k2": "1/s"}
 
     def gains(self, u: float) -> tuple[float, float]:
         K, T = self.coefficients(u)
@@ -114,6 +117,9 @@ class SpeedAutopilot(Block):
         self.wn = float(wn)
         self.period = float(period)
         self.body = body
+        b = body
+        self.inputs = {f"{b}.u_cmd": "m/s", f"{b}.u": "m/s"}
+        self.outputs = {f"{b}.rpm_cmd": "rpm", f"{b}.spd_k1": "1"}
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body

@@ -93,6 +93,12 @@ class USVController(Block):
         self.speed = aw_pid(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)
         self.heading = aw_pid(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
         self.yaw_rate = aw_pid(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
+        self.inputs = {self.meas["u"]: "m/s", self.meas["psi"]: "rad", self.meas["r"]: "rad/s"}
+        self.optional_inputs = {"console.mode": "str", "joystick.surge": "1", "joystick.yaw": "1",
+                                "usv.u_d": "m/s", "guidance.psi_d": "rad"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "usv_ctrl.u_d": "m/s",
+                        "usv_ctrl.psi_d": "rad", "usv_ctrl.u_speed": "N", "usv_ctrl.u_heading": "N",
+                        "usv_ctrl.r_d": "rad/s"}
 
     def reset(self, rng) -> None:
         self.speed.reset()

@@ -69,6 +69,11 @@ class UUVPIDController(Block):
         self.pos = aw_pid(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
         self.ang = aw_pid(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
         self.los = aw_pid(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
+        m = self.meas
+        self.inputs = {"lf.e_x": "m", "lf.outside": "bool", "lf.rel_heading_err": "rad", "lf.los_err": "rad",
+                       "lf.los": "rad", m["r_usv"]: "rad/s", m["r_uuv"]: "rad/s", m["psi_usv"]: "rad"}
+        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
+                        "uuv_ctrl.psi_d": "rad", "uuv_ctrl.loop": "count"}
 
     def reset(self, rng) -> None:
         self.pos.reset()

@@ -68,11 +68,11 @@ class Simulation:
         self.blocks = list(blocks)
         self.dt = float(dt)
         self.external = dict(external or {})
-        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         for pl in self.plants:
             if pl.max_dt is not None and self.dt > pl.max_dt * (1 + 1e-9):
                 raise ConfigError(f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
                                   f"({pl.max_dt:.4g} s); allowed range 0 < dt <= {pl.max_dt:.4g}")
+        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         self.block_steps = [_steps(b.period, self.dt, f"block '{b.name}'") for b in self.blocks]
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
         self.tick = math.gcd(self.log_steps, *self.block_steps) if self.block_steps else self.log_steps

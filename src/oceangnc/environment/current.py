@@ -42,6 +42,10 @@ class OceanCurrent(Block):
 
     name = "current"
 
+    outputs = {"env.current_n": "m/s", "env.current_e": "m/s", "env.current_speed": "m/s",
+               "env.current_direction_deg": "deg"}
+    inputs: dict[str, str] = {}
+
     def __init__(self, cfg: CurrentConfig, period: float = 0.1):
         self.cfg = cfg
         self.period = float(period)

@@ -55,6 +55,9 @@ class Wind(Block):
 
     name = "wind"
 
+    outputs = {"env.wind_n": "m/s", "env.wind_e": "m/s", "env.wind_speed": "m/s", "env.wind_direction_deg": "deg"}
+    inputs: dict[str, str] = {}
+
     def __init__(self, cfg: WindConfig, period: float = 0.1):
         self.cfg = cfg
         self.period = float(period)

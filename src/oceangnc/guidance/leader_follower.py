@@ -90,6 +90,11 @@ class LeaderFollower(Block):
         self.leader = leader
         self.follower = follower
         self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
+        self.inputs = {**{k: u for k, u in zip(leader, ("m", "m", "rad"))},
+                       **{k: u for k, u in zip(follower, ("m", "m", "rad"))}}
+        m = ("lx", "ly", "range", "lx_d", "ly_d", "target_n", "target_e", "e_x", "e_y")
+        self.outputs = {**{f"lf.{k}": "m" for k in m}, "lf.bearing": "rad", "lf.rel_heading_err": "rad",
+                        "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}
 
     def step(self, t: float, bus: dict) -> None:
         xl, yl, psil = (bus.get(k, 0.0) for k in self.leader)

@@ -147,6 +147,9 @@ class WaypointGuidance(Block):
         self.period = float(period)
         self.body = body
         self.stop_at_end = stop_at_end
+        self.inputs = {f"{body}.x": "m", f"{body}.y": "m"}
+        self.outputs = {f"{body}.psi_cmd": "rad", f"{body}.u_cmd": "m/s", "guidance.d": "m", "guidance.e": "m",
+                        "guidance.band": "enum", "guidance.leg": "count"}
         self.k = 1
         self.done = False
 

@@ -176,6 +176,10 @@ class PurePursuit(Block):
         self.pos_keys = pos_keys
         self.psi_key = psi_key
         self.stop_at_end = stop_at_end
+        self.inputs = {pos_keys[0]: "m", pos_keys[1]: "m", psi_key: "rad"}
+        self.outputs = {"guidance.psi_d": "rad", "guidance.turn_radius": "m", "guidance.cross_track": "m",
+                        "guidance.leg": "count", "guidance.wp_reached": "count", "guidance.lookahead_n": "m",
+                        "guidance.lookahead_e": "m", "guidance.done": "bool"}
         self.reset(None)
 
     def reset(self, rng) -> None:

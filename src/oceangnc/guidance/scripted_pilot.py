@@ -143,6 +143,10 @@ class ScriptedPilot(Block):
         self.period = float(cfg.period)
         self.speed_per_rps = speed_per_rps
         self.n_open = n_open_rps
+        self.inputs = {"ship.x": "m", "ship.y": "m", "ship.psi": "rad", "ship.u": "m/s", "ship.v": "m/s",
+                       "ship.r": "rad/s"}
+        self.outputs = {"joystick.surge": "1", "joystick.yaw": "1", "pilot.u_target": "m/s", "pilot.psi_des": "rad",
+                        "pilot.cross_track": "m", "pilot.s_remaining": "m", "pilot.done": "bool"}
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng

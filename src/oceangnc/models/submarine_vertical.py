@@ -324,5 +324,6 @@ class SubmarineVerticalPlant(Plant):
     """
 
     def __init__(self, cfg: SubmarineVerticalConfig, name: str = "sub"):
-        super().__init__(name, sub_rhs, cfg.x0(), cfg.params(), STATE_NAMES, [f"{name}.ds"], state_bound=1e6)
+        super().__init__(name, sub_rhs, cfg.x0(), cfg.params(), STATE_NAMES, [f"{name}.ds"], state_bound=1e6,
+                         state_units=("m/s", "rad", "rad/s", "m"), input_units=("rad",))
         self.cfg = cfg

@@ -54,6 +54,7 @@ from pydantic import Field
 
 from ..core.blocks import Block, Plant
 from ..core.rotations import rzyx_entries
+from ..core.signals import CALM
 from ..io.config import StrictModel
 from ..units import G, KGF, RHO_WATER
 from .actuators import UUV_T_FWD_N, UUV_T_REV_N
@@ -385,7 +386,8 @@ class UUVPlant(Plant):
 
     def __init__(self, cfg: UUVConfig, name: str = "uuv"):
         inputs = [k.replace("uuv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(name, uuv_rhs, cfg.initial_state(), cfg.params(), STATE_NAMES, inputs)
+        super().__init__(name, uuv_rhs, cfg.initial_state(), cfg.params(), STATE_NAMES, inputs,
+                         state_units=("m",) * 3 + ("rad",) * 3 + ("m/s",) * 3 + ("rad/s",) * 3, input_units=("N", "N", "N", "m/s", "m/s"), input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

@@ -32,6 +32,7 @@ import numpy as np
 from pydantic import Field
 
 from ..control.pid import PID
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
@@ -39,8 +40,8 @@ from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
 from ..models.cable import CableConfig, stable_step
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
@@ -112,6 +113,10 @@ class TowStraightControl(Block):
         self.period = period
         self.usv_cfg = usv
         self.uuv_cfg = uuv
+        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", "uuv.u": "m/s", "uuv.psi": "rad",
+                       "uuv.r": "rad/s"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "uuv.thrust_port_cmd": "N",
+                        "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
 
     def reset(self, rng) -> None:
         c = self.cmd
@@ -215,6 +220,8 @@ class CableCurrent(Scenario):
 
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed")
+        # the USV is held and no thruster runs: every thrust input is zero by composition
+        plant.input_defaults.update({k: 0.0 for k in plant.input_names if ".thrust_" in k})
         dt = physics_step(cfg, plant)
         return Simulation([plant], environment_blocks(cfg.environment), dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -249,7 +256,7 @@ class TowStraight(Scenario):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
         dt = physics_step(cfg, plant)
         blocks = [*environment_blocks(cfg.environment), TowStraightControl(cfg.command, cfg.usv, cfg.uuv),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:

@@ -35,6 +35,7 @@ from pydantic import Field, field_validator
 from ..control.backstepping import BacksteppingConfig, UUVBackstepping
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig, UUVPIDController
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
@@ -46,8 +47,8 @@ from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
 from ..sensors import (AHRS, GPS, USBL, AHRSConfig, DepthSensor, DepthSensorConfig, DropoutHold, GPSConfig,
                        USBLConfig)
 from ..units import KGF
@@ -145,7 +146,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         blocks += [GPS(s.gps, "usv"), AHRS(s.usv_ahrs, "usv"), AHRS(s.uuv_ahrs, "uuv"), USBL(s.usbl),
                    DepthSensor(s.depth)]
         blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
-                                  "nav.usbl"))
+                                  "nav.usbl", units={"dn": "m", "de": "m", "dz": "m"}))
 
         def nav(t, bus):
             bus["nav.usv_x"] = bus.get("gps.x", 0.0)
@@ -154,7 +155,10 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
             bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
             bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
 
-        blocks.append(FunctionBlock("nav", h, nav))
+        blocks.append(FunctionBlock("nav", h, nav, inputs={"gps.x": "m", "gps.y": "m", "gps.sog": "m/s"},
+                                    optional_inputs={"nav.usbl.dn": "m", "nav.usbl.de": "m"},
+                                    outputs={"nav.usv_x": "m", "nav.usv_y": "m", "nav.uuv_x": "m", "nav.uuv_y": "m",
+                                             "nav.usv_u": "m/s"}))
         usv_pos = ("nav.usv_x", "nav.usv_y")
         usv_psi, usv_r, usv_u = "usv_ahrs.psi", "usv_ahrs.r", "nav.usv_u"
         uuv_pos = ("nav.uuv_x", "nav.uuv_y")
@@ -180,7 +184,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         if sens:
             keys["vl"] = "_zero"  # no sway measurement on the USV: take v_l = 0
         blocks.append(UUVBackstepping(c.backstepping, cfg.uuv, f.l_d, lam, h, keys=keys))
-    blocks += [USVThrusters(cfg.usv, h), UUVThrusters(cfg.uuv, h)]
+    blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
     plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 

@@ -24,12 +24,13 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..control.pole_placement import HeadingAutopilot, SpeedAutopilot, predicted_overshoot
+from ..control.actuators import RudderEngineBlock, USVThrusterBlock
 from ..core.blocks import Block, FunctionBlock
 from ..core.clock import Simulation
 from ..errors import ConfigError
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.first_order import FirstOrderActuators, FirstOrderConfig, FirstOrderUSV
+from ..models.first_order import FirstOrderConfig, FirstOrderUSV
 from ..models.usv import USVConfig
 from ..units import KGF
 from .base import Scenario
@@ -103,8 +104,9 @@ def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None)
         blocks.append(SpeedAutopilot(_speedlaw(cfg), cfg.speed_control.zeta, cfg.speed_control.wn, h))
     else:
         n = float(rpm_open_loop)
-        blocks.append(FunctionBlock("engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n)))
-    blocks.append(FirstOrderActuators(cfg.usv, h))
+        blocks.append(FunctionBlock("engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
+                                    inputs={}, outputs={"usv.rpm_cmd": "rpm"}))
+    blocks.append(RudderEngineBlock(cfg.usv, h))
     return blocks
 
 
@@ -141,7 +143,8 @@ class AutopilotHeading(Scenario):
         cfg_u = cfg.model_copy(update={"usv": usv})
         psi_c = math.radians(c.heading_deg)
         cmd = FunctionBlock("command", 1.0 / cfg.control_rate,
-                            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0))
+                            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0),
+                            inputs={}, outputs={"usv.psi_cmd": "rad"})
         blocks = closed_loop_blocks(cfg_u, [cmd], rpm_open_loop=usv.trim_rpm(c.speed_mps))
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -195,7 +198,8 @@ class AutopilotSpeed(Scenario):
             bus["usv.u_cmd"] = c.speed_mps if t >= c.step_time_s - 1e-9 else 0.0
             bus["usv.psi_cmd"] = 0.0
 
-        blocks = closed_loop_blocks(cfg, [FunctionBlock("command", 1.0 / cfg.control_rate, cmd)])
+        blocks = closed_loop_blocks(cfg, [FunctionBlock("command", 1.0 / cfg.control_rate, cmd, inputs={},
+                                                        outputs={"usv.u_cmd": "m/s", "usv.psi_cmd": "rad"})])
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -468,8 +472,10 @@ class _ZigZag(Block):
 
     name = "zigzag"
 
-    def __init__(self, amp, psi_z, t_step, period, key, scale=1.0):
+    def __init__(self, amp, psi_z, t_step, period, key, scale=1.0, unit="rad"):
         self.amp, self.psi_z, self.t_step, self.period, self.key, self.scale = amp, psi_z, t_step, period, key, scale
+        self.inputs = {"usv.psi": "rad"}
+        self.outputs = {key: unit}
         self.sign = 1.0
         self.psi0 = None
 
@@ -497,10 +503,13 @@ class _TrialSensors(Block):
 
     name = "trial_sensors"
 
-    def __init__(self, noise: TrialNoise, period, steer_fn, thrust_fn):
+    def __init__(self, noise: TrialNoise, period, steer_fn, thrust_fn, inputs=None):
         self.n = noise
         self.period = period
         self.steer_fn, self.thrust_fn = steer_fn, thrust_fn
+        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", **(inputs or {})}
+        self.outputs = {"trial.speed": "m/s", "trial.heading": "rad", "trial.yaw_rate": "rad/s", "trial.steer": "1",
+                        "trial.thrust": "1"}
 
     def reset(self, rng):
         self.rng = rng
@@ -572,28 +581,32 @@ class Trials(Scenario):
             usv = m.model_copy(update={"u0": 0.0 if kind == "straight" else U, "psi0_deg": 0.0})
             plant = FirstOrderUSV(usv)
             d = math.radians(tr.steer_deg)
-            blocks = [FunctionBlock("operating_speed", h, lambda t, bus: bus.__setitem__("usv.u_op", U))]
+            blocks = [FunctionBlock("operating_speed", h, lambda t, bus: bus.__setitem__("usv.u_op", U),
+                                    inputs={}, outputs={"usv.u_op": "m/s"})]
+            rudder_engine = {"usv.rpm_cmd": "rpm", "usv.delta_s_cmd": "rad"}
             if kind == "straight":
                 def cmd(t, bus):
                     bus["usv.rpm_cmd"] = n if t >= ts - 1e-9 else 0.0
                     bus["usv.delta_s_cmd"] = 0.0
-                blocks.append(FunctionBlock("command", h, cmd))
+                blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
                 truth = (co["K_v"], co["T_v"])
             elif kind == "turn":
                 def cmd(t, bus):
                     bus["usv.rpm_cmd"] = n
                     bus["usv.delta_s_cmd"] = d if t >= ts - 1e-9 else 0.0
-                blocks.append(FunctionBlock("command", h, cmd))
+                blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
                 truth = (co["K_r"], co["T_r"])
             else:
                 a = math.radians(val)
-                blocks += [FunctionBlock("command", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n)),
-                           _ZigZag(a, a, ts, h, "usv.delta_s_cmd")]
+                blocks += [FunctionBlock("command", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
+                                         inputs={}, outputs={"usv.rpm_cmd": "rpm"}),
+                           _ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad")]
                 truth = (co["K_r"], co["T_r"])
-            blocks.append(FirstOrderActuators(usv, h))
-            blocks.append(_TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"]))
+            blocks.append(RudderEngineBlock(usv, h))
+            blocks.append(_TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"],
+                                        inputs={"usv.delta_s": "rad", "usv.rpm": "rpm"}))
         else:
-            from ..models.usv import USVPlant, USVThrusters
+            from ..models.usv import USVPlant
 
             c = cfg.usv3dof
             U = val if kind != "zigzag" else tr.turn_speeds_3dof_mps[len(tr.turn_speeds_3dof_mps) // 2]
@@ -606,20 +619,25 @@ class Trials(Scenario):
                 bus["usv.thrust_port_cmd"] = thrust + steer
                 bus["usv.thrust_stbd_cmd"] = thrust - steer
 
+            thrusts = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
             if kind == "straight":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0))]
+                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0),
+                                        inputs={}, outputs=thrusts)]
                 truth = (2.0 / c.d11, c.m11 / c.d11)
             elif kind == "turn":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0))]
+                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0),
+                                        inputs={}, outputs=thrusts)]
                 truth = _nomoto_3dof(c, U)
             else:
-                zz = _ZigZag(s, math.radians(val), ts, h, "_steer")
-                blocks = [zz, FunctionBlock("command", h, lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)))]
+                zz = _ZigZag(s, math.radians(val), ts, h, "_steer", unit="N")
+                blocks = [zz, FunctionBlock("command", h, lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)),
+                                            inputs={"_steer": "N"}, outputs=thrusts)]
                 truth = _nomoto_3dof(c, U)
-            blocks.append(USVThrusters(c0, h))
+            blocks.append(USVThrusterBlock(c0, h))
             blocks.append(_TrialSensors(cfg.noise, h,
                                         lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
-                                        lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"])))
+                                        lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"]),
+                                        inputs={"usv.thrust_port": "N", "usv.thrust_stbd": "N"}))
         sim = Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
         dur = {"straight": tr.straight_duration_s, "turn": tr.turn_duration_s, "zigzag": tr.zigzag_duration_s}[kind]
         return sim, dur, truth

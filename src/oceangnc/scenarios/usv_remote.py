@@ -53,13 +53,14 @@ import numpy as np
 from pydantic import Field
 
 from ..control.pid import PID
+from ..control.actuators import USVThrusterBlock
 from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..guidance.pure_pursuit import closest_point, look_ahead_point, pursuit_command
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.usv import USVConfig, USVPlant, USVThrusters
+from ..models.usv import USVConfig, USVPlant
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
@@ -138,6 +139,8 @@ class GPSSensor(Block):
         self.cfg = cfg
         self.period = 1.0 / cfg.rate
         self.body = body
+        self.inputs = {f"{body}.x": "m", f"{body}.y": "m"}
+        self.outputs = {"gps.x": "m", "gps.y": "m", "gps.valid": "bool"}
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng
@@ -176,6 +179,11 @@ class USVPilot(Block):
         self.heading_gain = cfg.guidance.heading_gain
         self.cruise_speed = cfg.guidance.speed
         self.lookahead = cfg.guidance.lookahead
+        self.inputs = {"usv.u": "m/s", "usv.r": "rad/s", "usv.psi": "rad", "usv.x": "m", "usv.y": "m"}
+        self.optional_inputs = {"console.mode": "str", "console.loop": "str", "console.waypoints": "str",
+                                "joystick.surge": "1", "joystick.yaw": "1", "gps.x": "m", "gps.y": "m", "_estop": "bool"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "usv.u_d": "m/s", "usv.r_d": "rad/s",
+                        "guidance.psi_d": "rad", "guidance.cross_track": "m", "guidance.wp_index": "count"}
 
     # -- console protocol: adjustable gains ---------------------------------------------------------
     def gain_specs(self) -> list[dict]:
@@ -306,7 +314,7 @@ class USVPilot(Block):
 def build_simulation(cfg: USVRemoteConfig, rng) -> Simulation:
     """Environment, GPS, pilot, thrusters and the USV plant."""
     blocks = [*environment_blocks(cfg.environment), GPSSensor(cfg.gps), USVPilot(cfg),
-              USVThrusters(cfg.usv, 1.0 / cfg.control.rate)]
+              USVThrusterBlock(cfg.usv, 1.0 / cfg.control.rate)]
     sim = Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
     # initial console state, so that these columns are in the log from its first row
     sim.inject({"console.mode": cfg.pilot.mode, "console.loop": cfg.pilot.loop,

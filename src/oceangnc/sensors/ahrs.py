@@ -52,6 +52,11 @@ class AHRS(Block):
         self.body = body
         self.name = name or f"{body}_ahrs"
         self.period = 1.0 / cfg.rate
+        self.inputs = {f"{body}.psi": "rad", f"{body}.r": "rad/s"}
+        # a surface vessel has no roll/pitch states: level (0) when nobody publishes them
+        self.optional_inputs = {f"{body}.phi": "rad", f"{body}.theta": "rad"}
+        self.outputs = {f"{self.name}.psi": "rad", f"{self.name}.r": "rad/s", f"{self.name}.phi": "rad",
+                        f"{self.name}.theta": "rad"}
 
     def reset(self, rng) -> None:
         self.rng = rng

@@ -53,6 +53,8 @@ class DepthSensor(Block):
         self.cfg = cfg
         self.body = body
         self.period = 1.0 / cfg.rate
+        self.inputs = {f"{body}.z": "m"}
+        self.outputs = {"depth.volt": "V", "depth.z_raw": "m", "depth.z": "m"}
 
     def reset(self, rng) -> None:
         c = self.cfg

@@ -80,14 +80,21 @@ class DropoutHold(Block):
         Output signal name -> input bus key.
     out_prefix : str
         Prefix of the output keys.
+    units : dict, optional
+        Output signal name -> unit (declared signals; default ``"1"``).
     """
 
-    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str):
+    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str,
+                 units: dict | None = None):
         self.name = name
         self.period = float(period)
         self.valid_key = valid_key
         self.signals = dict(signals)
         self.out = out_prefix
+        units = units or {}
+        self.inputs = {valid_key: "bool", **{k: units.get(o, "1") for o, k in self.signals.items()}}
+        self.outputs = {**{f"{out_prefix}.{o}": units.get(o, "1") for o in self.signals},
+                        f"{out_prefix}.ok": "bool", f"{out_prefix}.age": "s", f"{out_prefix}.dropouts": "count"}
         self.reset(None)
 
     def reset(self, rng) -> None:

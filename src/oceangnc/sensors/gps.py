@@ -47,6 +47,9 @@ class GPS(Block):
         self.body = body
         self.name = name
         self.period = 1.0 / cfg.rate
+        self.inputs = {f"{body}.x": "m", f"{body}.y": "m", f"{body}.psi": "rad"}
+        self.outputs = {f"{name}.x": "m", f"{name}.y": "m", f"{name}.sog": "m/s", f"{name}.cog": "rad",
+                        f"{name}.cog_valid": "bool", f"{name}.valid": "bool", f"{name}.hdop": "1"}
 
     def reset(self, rng) -> None:
         c = self.cfg

@@ -54,6 +54,10 @@ class USBL(Block):
         self.period = 1.0 / cfg.rate
         self.top = top
         self.bottom = bottom
+        self.inputs = {f"{top}.x": "m", f"{top}.y": "m", f"{bottom}.x": "m", f"{bottom}.y": "m", f"{bottom}.z": "m"}
+        self.optional_inputs = {f"{top}.z": "m"}  # a surface vessel: z = 0
+        self.outputs = {"usbl.dn": "m", "usbl.de": "m", "usbl.dz": "m", "usbl.range": "m", "usbl.hrange": "m",
+                        "usbl.bearing": "rad", "usbl.valid": "bool", "usbl.pings_lost": "count"}
 
     def reset(self, rng) -> None:
         self.rng = rng
