@@ -26,6 +26,8 @@ from ..models.uuv import UUVThrusters
 class USVThrusterBlock(USVThrusters):
     """:class:`~oceangnc.models.usv.USVThrusters` with declared signals."""
 
+    role = "actuator"
+
     def __init__(self, cfg, period: float = 0.01, mode: str = "thrust", body: str = "usv"):
         super().__init__(cfg, period, mode, body)
         b = body
@@ -42,6 +44,8 @@ class USVThrusterBlock(USVThrusters):
 class UUVThrusterBlock(UUVThrusters):
     """:class:`~oceangnc.models.uuv.UUVThrusters` with declared signals."""
 
+    role = "actuator"
+
     def __init__(self, cfg, period: float = 0.01, body: str = "uuv"):
         super().__init__(cfg, period, body)
         sides = ("port", "stbd", "bow")
@@ -53,6 +57,8 @@ class UUVThrusterBlock(UUVThrusters):
 @register_block("usv.rudder_engine")
 class RudderEngineBlock(FirstOrderActuators):
     """:class:`~oceangnc.models.first_order.FirstOrderActuators` with declared signals."""
+
+    role = "actuator"
 
     def __init__(self, cfg, period: float = 0.05, body: str = "usv"):
         super().__init__(cfg, period, body)

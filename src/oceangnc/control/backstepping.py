@@ -70,6 +70,7 @@ from dataclasses import dataclass
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import KGF
 
@@ -187,6 +188,7 @@ def lyapunov(eps1, eps2, u_e, r_e) -> float:
     return 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
 
 
+@register_block("uuv.backstepping")
 class UUVBackstepping(Block):
     """The backstepping law as a block; writes the UUV thruster commands (N).
 
@@ -197,6 +199,8 @@ class UUVBackstepping(Block):
     ``uuv_bs.eps2``, ``uuv_bs.tau_u``, ``uuv_bs.tau_r`` and ``uuv_ctrl.psi_d`` (the leader's heading,
     the relative-angle target of eq. 3.9).
     """
+
+    role = "controller"
 
     name = "uuv_control"
 
@@ -223,6 +227,17 @@ class UUVBackstepping(Block):
                         "uuv_bs.V": "J", "uuv_bs.Vdot": "W", "uuv_bs.eps1": "m", "uuv_bs.eps2": "m",
                         "uuv_bs.tau_u": "N", "uuv_bs.tau_r": "N m", "uuv_ctrl.psi_d": "rad"}
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
+
+    params_model = BacksteppingConfig
+
+    @classmethod
+    def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
+        """Built from a scenario's ``control.uuv`` slot: leader (USV) and follower (UUV) signals by
+        role from ``ctx.signal``, the target geometry ``ctx.info["l_d"]``, ``ctx.info["lambda_d"]`` (rad)."""
+        roles = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
+                 "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
+        keys = {n: ctx.signal(r) for n, r in roles.items()}
+        return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
 
     def reset(self, rng) -> None:
         self.prev = None

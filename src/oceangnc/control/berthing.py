@@ -45,6 +45,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..models.ship_lowspeed import (ShipConfig, hull_forces, inverse_mass, prop_thrust_coef, rudder_forces,
                                     thruster_forces)
@@ -141,8 +142,11 @@ class _Base(Block):
         bus["ctrl.e_r"] = float(e_r)
 
 
+@register_block("ship.open")
 class OpenLoopController(_Base):
     """Stick straight to propeller, rudder and thrusters (001 fig. 3); see the module docstring."""
+
+    role = "controller"
 
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
         super().__init__(cfg, ship)
@@ -160,8 +164,11 @@ class OpenLoopController(_Base):
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
 
+@register_block("ship.pid")
 class PIDController(_Base):
     """PID per actuator, 001 eq. 39-42 (n_S = -n_B)."""
+
+    role = "controller"
 
     def reset(self, rng):
         c = self.cfg
@@ -182,8 +189,11 @@ class PIDController(_Base):
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
 
+@register_block("ship.nonlinear")
 class NonlinearController(_Base):
     """Feedback-linearising MIMO controller, 001 eq. 27-38 (SPEC corrections); module docstring."""
+
+    role = "controller"
 
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
         super().__init__(cfg, ship)
@@ -261,8 +271,10 @@ class NonlinearController(_Base):
 
 
 def make_controller(cfg: ControlConfig, ship: ShipConfig) -> Block:
-    """The controller block selected by ``cfg.mode``."""
-    return {"open": OpenLoopController, "pid": PIDController, "nonlinear": NonlinearController}[cfg.mode](cfg, ship)
+    """The controller block selected by ``cfg.mode``: the kind ``ship.<mode>`` of the block registry."""
+    from ..core.registry import lookup
+
+    return lookup(f"ship.{cfg.mode}", "control.mode")(cfg, ship)
 
 
 def actuator_moment_check(ship: ShipConfig, delta: float, n: float, nb: float, ur: float, vr: float, r: float):

@@ -27,6 +27,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -70,8 +71,11 @@ def stick_to_command(surge: float, yaw: float, cfg: JoystickConfig) -> tuple[flo
     return u_d, sy * math.radians(cfg.r_max_degps)
 
 
+@register_block("ship.joystick")
 class Joystick(Block):
     """Filter and scale the two stick axes (001 sec. 3.1, eq. 26); see the module docstring."""
+
+    role = "controller"
 
     name = "joystick"
 

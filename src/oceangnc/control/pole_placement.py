@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..errors import ConfigError
 
 
@@ -67,6 +68,7 @@ def wrap(a: float) -> float:
     return math.pi if w == -math.pi else w
 
 
+@register_block("usv.heading_pd")
 class HeadingAutopilot(Block):
     """Heading PD (000 eq. 22) with pole-placed gains (26, 27).
 
@@ -76,6 +78,8 @@ class HeadingAutopilot(Block):
 
     ``coefficients(u)`` returns the Nomoto (K_r [1/s], T_r [s]) at speed u.
     """
+
+    role = "controller"
 
     name = "heading_autopilot"
 
@@ -102,12 +106,15 @@ class HeadingAutopilot(Block):
         bus[f"{b}.hdg_k2"] = k2
 
 
+@register_block("usv.speed_p")
 class SpeedAutopilot(Block):
     """Speed P controller (000 eq. 28) with the pole-placed gain (31), designed at the commanded speed.
 
     Reads ``<b>.u_cmd`` and ``<b>.u`` (m/s); writes ``<b>.rpm_cmd`` (input units, rpm for the
     first-order USV) and ``<b>.spd_k1``. ``coefficients(u)`` returns (K_v, T_v) at speed u.
     """
+
+    role = "controller"
 
     name = "speed_autopilot"
 

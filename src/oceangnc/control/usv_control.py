@@ -30,6 +30,7 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import KGF
 from .pid import PID
@@ -63,6 +64,7 @@ class USVControlConfig(StrictModel):
     r_max_degps: float = Field(15.0, gt=0, le=90, description="remote mode: yaw rate at full stick, deg/s")
 
 
+@register_block("usv.pid")
 class USVController(Block):
     """Speed + heading loops and mixing (module docstring); writes ``usv.thrust_port_cmd``/``_stbd_cmd`` (N).
 
@@ -78,6 +80,8 @@ class USVController(Block):
     meas : dict
         Bus keys of the measured surge speed, heading and yaw rate (``u``, ``psi``, ``r``).
     """
+
+    role = "controller"
 
     name = "usv_control"
 

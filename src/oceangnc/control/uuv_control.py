@@ -25,6 +25,7 @@ from __future__ import annotations
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import KGF
 from ..sensors.filters import LowPass
@@ -47,6 +48,7 @@ class UUVPIDConfig(StrictModel):
     los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
 
 
+@register_block("uuv.pid")
 class UUVPIDController(Block):
     """PID leader-follower controller of the UUV (module docstring).
 
@@ -55,6 +57,8 @@ class UUVPIDController(Block):
     ``uuv.thrust_port_cmd``, ``uuv.thrust_stbd_cmd``, ``uuv.thrust_bow_cmd`` (N),
     ``uuv_ctrl.psi_d`` (rad, the heading the active loop follows) and ``uuv_ctrl.loop`` (2 or 3).
     """
+
+    role = "controller"
 
     name = "uuv_control"
 
@@ -74,6 +78,16 @@ class UUVPIDController(Block):
                        "lf.los": "rad", m["r_usv"]: "rad/s", m["r_uuv"]: "rad/s", m["psi_usv"]: "rad"}
         self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
                         "uuv_ctrl.psi_d": "rad", "uuv_ctrl.loop": "count"}
+
+    params_model = UUVPIDConfig
+
+    @classmethod
+    def from_context(cls, params: UUVPIDConfig, ctx) -> UUVPIDController:
+        """Built from a scenario's ``control.uuv`` slot (:func:`oceangnc.core.registry.build_block`):
+        ``ctx.cfg.uuv`` for the thrust limits, ``ctx.info["mode"]`` the formation mode, measured yaw
+        rates and USV heading from ``ctx.signal``."""
+        return cls(params, ctx.cfg.uuv, ctx.period, mode=ctx.info.get("mode", "relative-angle-plus-heading"),
+                   meas={"r_usv": ctx.signal("usv.r"), "r_uuv": ctx.signal("uuv.r"), "psi_usv": ctx.signal("usv.psi")})
 
     def reset(self, rng) -> None:
         self.pos.reset()

@@ -21,6 +21,7 @@ import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -37,8 +38,11 @@ class CurrentConfig(StrictModel):
                                        description="Gauss-Markov direction standard deviation, deg")
 
 
+@register_block("env.current")
 class OceanCurrent(Block):
     """Discrete block publishing the current's NED velocity every ``period`` s."""
+
+    role = "environment"
 
     name = "current"
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from .pure_pursuit import wrap
 
 
@@ -64,6 +65,7 @@ def los_bearing(x_f, y_f, x_l, y_l):
     return math.atan2(y_l - y_f, x_l - x_f)
 
 
+@register_block("uuv.leader_follower")
 class LeaderFollower(Block):
     """Leader-follower guidance of the UUV: geometry, targets and the desired heading.
 
@@ -76,6 +78,8 @@ class LeaderFollower(Block):
     (rad): the UUV's desired heading, the USV's heading inside R and the LOS outside it (in
     ``relative-angle`` mode always the USV's heading).
     """
+
+    role = "guidance"
 
     name = "leader_follower"
 

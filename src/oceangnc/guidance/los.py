@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 
 BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
 
@@ -102,6 +103,7 @@ def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray
     return out
 
 
+@register_block("usv.los")
 class WaypointGuidance(Block):
     """Waypoint following with conventional LOS or the hybrid law of 000 table 1.
 
@@ -122,6 +124,8 @@ class WaypointGuidance(Block):
     speeds : array (n,), optional
         Speed command per waypoint (m/s), used on the leg that starts at it.
     """
+
+    role = "guidance"
 
     name = "guidance"
 

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..errors import ConfigError
 
 
@@ -147,6 +148,7 @@ def pursuit_command(p, psi: float, g):
     return psi_d, l, d, pursuit_radius(l, d)
 
 
+@register_block("usv.pure_pursuit")
 class PurePursuit(Block):
     """Waypoint-following pure-pursuit guidance (see module docstring).
 
@@ -156,6 +158,8 @@ class PurePursuit(Block):
     waypoints reached, the start point included once the run starts within ``acceptance`` of it),
     ``guidance.lookahead_n/e`` (m) and ``guidance.done`` (1 when the last waypoint is reached).
     """
+
+    role = "guidance"
 
     name = "pure_pursuit"
 

@@ -44,6 +44,7 @@ import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import KNOT
 
@@ -116,6 +117,7 @@ class Route:
         return np.interp(north, self.p[:, 0], self.p[:, 1])
 
 
+@register_block("ship.scripted_pilot")
 class ScriptedPilot(Block):
     """Scripted joystick pilot; see the module docstring.
 
@@ -132,6 +134,8 @@ class ScriptedPilot(Block):
     n_open_rps : float
         Propeller speed at full surge stick in the open loop, rev/s.
     """
+
+    role = "guidance"
 
     name = "pilot"
 

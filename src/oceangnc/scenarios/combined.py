@@ -4,7 +4,8 @@
   relative angle only (``formation.mode = "relative-angle"``, fig. 4-6 (a)) or the relative angle
   plus the heading to the USV outside R (``"relative-angle-plus-heading"``, fig. 4-6 (b)).
 * ``combined-survey`` (003 figs. 4-7 to 4-15; the flagship): 3 m cable, waypoints (0,0) (10,10)
-  (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv = "pid" | "backstepping"``.
+  (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv.kind = "pid" | "backstepping"``
+  or any registered kind (a user's block loaded with ``--plugin``; ``control.uuv = "pid"`` also works).
 * ``field-test`` (003 ch. 6.2, figs. 6-13 to 6-19): waypoints (50,0) (50,-50) (0,-50) (0,0), USV
   target 1.3 m/s, PID, sensors on (GPS, AHRS, USBL, depth sensor), guidance and control on the
   measured signals.
@@ -27,17 +28,18 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, field_validator
 
-from ..control.backstepping import BacksteppingConfig, UUVBackstepping
+from ..control.backstepping import BacksteppingConfig
 from ..control.usv_control import USVControlConfig, USVController
-from ..control.uuv_control import UUVPIDConfig, UUVPIDController
+from ..control.uuv_control import UUVPIDConfig
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
+from ..core.registry import BlockChoice, BlockContext, build_block
 from ..environment import EnvironmentConfig
 from ..errors import ConfigError
 from ..guidance.leader_follower import LeaderFollower
@@ -86,10 +88,19 @@ class FormationConfig(StrictModel):
     mode: Literal["relative-angle", "relative-angle-plus-heading"] = "relative-angle-plus-heading"
 
 
+class UUVControllerChoice(BlockChoice):
+    """The UUV controller: a registered kind (``pid``, ``backstepping`` or a user's ``family.name``)
+    and its parameters; the built-in kinds start from ``control.uuv_pid`` / ``control.backstepping``."""
+
+    family: ClassVar[str] = "uuv"
+    role: ClassVar[str | None] = "controller"
+
+
 class ControlConfig(StrictModel):
     """Controllers and their rate."""
 
-    uuv: Literal["pid", "backstepping"] = "pid"
+    uuv: UUVControllerChoice = Field(UUVControllerChoice(kind="pid"),
+                                     description="UUV controller: kind = pid | backstepping | a registered kind")
     surge_speed: float = Field(0.6, gt=0, le=5, description="USV surge speed target, m/s")
     rate: float = Field(20.0, gt=0, le=1000, description="control and thruster rate, Hz")
     usv: USVControlConfig = USVControlConfig()
@@ -175,15 +186,13 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
                                  follower=(*uuv_pos, uuv_psi)))
     c = cfg.control
     blocks.append(USVController(c.usv, cfg.usv, c.surge_speed, h, meas={"u": usv_u, "psi": usv_psi, "r": usv_r}))
-    if c.uuv == "pid":
-        blocks.append(UUVPIDController(c.uuv_pid, cfg.uuv, h, mode=f.mode,
-                                       meas={"r_usv": usv_r, "r_uuv": uuv_r, "psi_usv": usv_psi}))
-    else:
-        keys = {"xl": usv_pos[0], "yl": usv_pos[1], "psil": usv_psi, "ul": usv_u, "rl": usv_r,
-                "xf": uuv_pos[0], "yf": uuv_pos[1], "psif": uuv_psi, "rf": uuv_r}
-        if sens:
-            keys["vl"] = "_zero"  # no sway measurement on the USV: take v_l = 0
-        blocks.append(UUVBackstepping(c.backstepping, cfg.uuv, f.l_d, lam, h, keys=keys))
+    signals = {"usv.x": usv_pos[0], "usv.y": usv_pos[1], "usv.psi": usv_psi, "usv.u": usv_u, "usv.r": usv_r,
+               "uuv.x": uuv_pos[0], "uuv.y": uuv_pos[1], "uuv.psi": uuv_psi, "uuv.r": uuv_r}
+    if sens:
+        signals["usv.v"] = "_zero"  # no sway measurement on the USV: take v_l = 0
+    ctx = BlockContext(period=h, signals=signals, cfg=cfg, info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode})
+    base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
+    blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
     blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
     plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
@@ -225,7 +234,8 @@ class CombinedScenario(Scenario):
         xt = cross_track(df, wp)
         rd = rel_distance(df)
         e_usv = _wrap(df["guidance.psi_d"] - df["usv.psi"])
-        e_uuv = _wrap(df["uuv_ctrl.psi_d"] - df["uuv.psi"])
+        # a user's controller may not publish its heading target: the guidance's then
+        e_uuv = _wrap(df["uuv_ctrl.psi_d" if "uuv_ctrl.psi_d" in df else "lf.psi_d"] - df["uuv.psi"])
         out = {
             "usv.waypoints_reached": int(df["guidance.wp_reached"].max()),
             "usv.waypoints_total": len(wp),
@@ -251,7 +261,7 @@ class CombinedScenario(Scenario):
         df["rel.distance"] = rel_distance(df)
         wp = cfg.guidance.waypoints
         paths = [plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
-                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv})",
+                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv.kind})",
                             waypoints=wp)]
         paths.append(plot_signals(df, [
             ("surge speed [m/s]", [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0),

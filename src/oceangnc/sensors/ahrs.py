@@ -26,6 +26,7 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -44,8 +45,11 @@ class AHRSConfig(StrictModel):
     gyro_noise_degps: float = Field(0.1, ge=0, le=10, description="gyro white noise, deg/s")
 
 
+@register_block("sensor.ahrs")
 class AHRS(Block):
     """AHRS on body ``body`` (module docstring)."""
+
+    role = "sensor"
 
     def __init__(self, cfg: AHRSConfig, body: str = "usv", name: str | None = None):
         self.cfg = cfg

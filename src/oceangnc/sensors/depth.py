@@ -20,6 +20,7 @@ import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import G, RHO_WATER
 from .filters import LowPass
@@ -44,8 +45,11 @@ def ideal_voltage(z: float) -> float:
     return FULL_SCALE_V * RHO_WATER * G * max(z, 0.0) / FULL_SCALE_PA
 
 
+@register_block("sensor.depth")
 class DepthSensor(Block):
     """Depth sensor on body ``body`` (module docstring)."""
+
+    role = "sensor"
 
     name = "depth"
 

@@ -20,6 +20,7 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 
 
 def lowpass_coefficient(cutoff_hz: float, period: float) -> float:
@@ -65,6 +66,7 @@ class AngleLowPass(LowPass):
         return self.y
 
 
+@register_block("sensor.dropout_hold")
 class DropoutHold(Block):
     """Hold-last-value dropout handling (module docstring).
 
@@ -83,6 +85,8 @@ class DropoutHold(Block):
     units : dict, optional
         Output signal name -> unit (declared signals; default ``"1"``).
     """
+
+    role = "sensor"
 
     def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str,
                  units: dict | None = None):

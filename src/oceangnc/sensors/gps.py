@@ -26,6 +26,7 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -39,8 +40,11 @@ class GPSConfig(StrictModel):
     min_track: float = Field(0.2, ge=0, le=100, description="least distance moved for a valid course, m")
 
 
+@register_block("sensor.gps")
 class GPS(Block):
     """GPS on body ``body`` (module docstring)."""
+
+    role = "sensor"
 
     def __init__(self, cfg: GPSConfig, body: str = "usv", name: str = "gps"):
         self.cfg = cfg

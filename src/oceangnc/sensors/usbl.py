@@ -30,6 +30,7 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -44,8 +45,11 @@ class USBLConfig(StrictModel):
     dropout_duration: float = Field(0.0, ge=0, le=1e6, description="length of the forced dropout window, s")
 
 
+@register_block("sensor.usbl")
 class USBL(Block):
     """USBL between bodies ``top`` and ``bottom`` (module docstring)."""
+
+    role = "sensor"
 
     name = "usbl"
 
