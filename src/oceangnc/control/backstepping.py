@@ -69,6 +69,7 @@ from dataclasses import dataclass
 
 from pydantic import Field
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
@@ -139,7 +140,7 @@ def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     hn = xf + h * cf
     he = yf + h * sf
     dn, de = hn - tn, he - te
-    e_psi = (psil - psif + math.pi) % (2 * math.pi) - math.pi
+    e_psi = wrap(psil - psif)
     return cf * dn + sf * de, -sf * dn + cf * de, e_psi
 
 

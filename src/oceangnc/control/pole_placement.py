@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..errors import ConfigError
@@ -60,12 +61,6 @@ def predicted_overshoot(zeta: float) -> float:
     if zeta >= 1.0:
         return 0.0
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
-
-
-def wrap(a: float) -> float:
-    """Angle wrapped to (-pi, pi]."""
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
 
 
 @register_block("usv.heading_pd")

@@ -29,6 +29,7 @@ import math
 
 from pydantic import Field
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
@@ -41,10 +42,6 @@ def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
     :class:`~oceangnc.control.pid.PID` default: back-calculation rate K_I / K_p (tracking time
     constant T_t = T_i), so the integrator settles at the limit instead of growing by K_I e per s."""
     return PID(kp, ki, kd, lo, hi)
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 class USVControlConfig(StrictModel):
@@ -127,7 +124,7 @@ class USVController(Block):
         else:
             u_d = float(bus.get("usv.u_d", self.u_d))
             psi_d = bus.get("guidance.psi_d", psi)
-            u_h = self.heading.step(_wrap(psi_d - psi), h, e_dot=-r)
+            u_h = self.heading.step(wrap(psi_d - psi), h, e_dot=-r)
         # heading priority: the speed loop gets what is left of each thruster's range
         self.speed.u_max = max(0.0, self.t_max - abs(u_h))
         self.speed.u_min = min(0.0, self.t_min + abs(u_h))

@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 
@@ -187,7 +188,7 @@ class WaypointGuidance(Block):
             psi, band = conventional_los(pn, pe, an, ae, bn, be, self.R), BAND_LOS
         else:
             psi, band = hybrid_los(pn, pe, an, ae, bn, be, self.R, self.R1, self.R2)
-        bus[f"{b}.psi_cmd"] = (psi + math.pi) % (2 * math.pi) - math.pi
+        bus[f"{b}.psi_cmd"] = wrap(psi)
         bus[f"{b}.u_cmd"] = self.speed if self.speeds is None else float(self.speeds[k - 1])
         bus["guidance.d"] = abs(e)
         bus["guidance.e"] = e

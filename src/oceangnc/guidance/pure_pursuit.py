@@ -36,15 +36,10 @@ import math
 
 import numpy as np
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..errors import ConfigError
-
-
-def wrap(a: float) -> float:
-    """Angle wrapped to (-pi, pi] (rad)."""
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
 
 
 def pursuit_radius(l: float, d: float) -> float:

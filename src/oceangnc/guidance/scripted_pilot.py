@@ -43,6 +43,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
@@ -175,7 +176,7 @@ class ScriptedPilot(Block):
         psi_des = math.atan2(aim[1] - e, aim[0] - n)
         # steer the track, not the bow: course over ground (the crab in current / wind comes free)
         course = psi + math.atan2(v, u) if c.steer_course and math.hypot(u, v) > 0.1 else psi
-        e_psi = (psi_des - course + math.pi) % (2 * math.pi) - math.pi
+        e_psi = wrap(psi_des - course)
         s_rem = self.route.length - s
         u_cruise = c.cruise_kn * KNOT
         if c.stop_at_end:

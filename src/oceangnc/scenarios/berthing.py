@@ -29,6 +29,7 @@ from pydantic import Field
 
 from ..control.berthing import ControlConfig, make_controller
 from ..control.joystick import Joystick, JoystickConfig
+from ..core.rotations import wrap
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..guidance.scripted_pilot import PilotConfig, Route, ScriptedPilot
@@ -329,7 +330,7 @@ def dock_metrics(df, cfg) -> dict:
         per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
                     "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
                     "final_heading_error_deg":
-                        abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
+                        abs(math.degrees(wrap(last["ship.psi"]))),
                     "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
                     "time_to_berth_s": float(last["t"])})
     if len(per) == 1:

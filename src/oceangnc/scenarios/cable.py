@@ -33,6 +33,7 @@ from pydantic import Field
 
 from ..control.pid import PID
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
@@ -141,7 +142,7 @@ class TowStraightControl(Block):
         # USV
         ff = self.usv_cfg.d11 * c.usv_speed
         tot = self.usv_speed.step(c.usv_speed - bus["usv.u"], h, feedforward=ff)
-        e = (psi_d - bus["usv.psi"] + math.pi) % (2 * math.pi) - math.pi
+        e = wrap(psi_d - bus["usv.psi"])
         dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
         bus["usv.thrust_port_cmd"] = 0.5 * tot + 0.5 * dif
         bus["usv.thrust_stbd_cmd"] = 0.5 * tot - 0.5 * dif
@@ -150,7 +151,7 @@ class TowStraightControl(Block):
         totu = self.uuv_speed.step(c.uuv_speed - bus["uuv.u"], h, feedforward=ffu)
         bus["uuv.thrust_port_cmd"] = 0.5 * totu
         bus["uuv.thrust_stbd_cmd"] = 0.5 * totu
-        eu = (psi_d - bus["uuv.psi"] + math.pi) % (2 * math.pi) - math.pi
+        eu = wrap(psi_d - bus["uuv.psi"])
         bus["uuv.thrust_bow_cmd"] = self.uuv_head.step(eu, h, e_dot=-bus["uuv.r"])
 
 

@@ -37,6 +37,7 @@ from ..control.backstepping import BacksteppingConfig
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..core.rotations import wrap_array
 from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
@@ -198,10 +199,6 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 
-def _wrap(a):
-    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
-
-
 def cross_track(df, waypoints) -> np.ndarray:
     """Signed distance (m) of the true USV position to its active leg (``guidance.leg``)."""
     wp = np.asarray(waypoints, float)
@@ -233,9 +230,9 @@ class CombinedScenario(Scenario):
         wp = cfg.guidance.waypoints
         xt = cross_track(df, wp)
         rd = rel_distance(df)
-        e_usv = _wrap(df["guidance.psi_d"] - df["usv.psi"])
+        e_usv = wrap_array(df["guidance.psi_d"] - df["usv.psi"])
         # a user's controller may not publish its heading target: the guidance's then
-        e_uuv = _wrap(df["uuv_ctrl.psi_d" if "uuv_ctrl.psi_d" in df else "lf.psi_d"] - df["uuv.psi"])
+        e_uuv = wrap_array(df["uuv_ctrl.psi_d" if "uuv_ctrl.psi_d" in df else "lf.psi_d"] - df["uuv.psi"])
         out = {
             "usv.waypoints_reached": int(df["guidance.wp_reached"].max()),
             "usv.waypoints_total": len(wp),
@@ -251,7 +248,7 @@ class CombinedScenario(Scenario):
         if "usbl.pings_lost" in df:
             out["usbl.pings_lost"] = int(df["usbl.pings_lost"].iloc[-1])
             moving = df["usv.speed"] > 0.3
-            d = np.degrees(np.abs(_wrap(df["usv_ahrs.psi"] - df["gps.cog"])))[moving]
+            d = np.degrees(np.abs(wrap_array(df["usv_ahrs.psi"] - df["gps.cog"])))[moving]
             out["ahrs.gps_heading_diff_mean_deg"] = float(d.mean()) if len(d) else float("nan")
         return out
 

@@ -25,6 +25,7 @@ from pydantic import Field, model_validator
 
 from ..control.pole_placement import HeadingAutopilot, SpeedAutopilot, predicted_overshoot
 from ..control.actuators import RudderEngineBlock, USVThrusterBlock
+from ..core.rotations import wrap
 from ..core.blocks import Block, FunctionBlock
 from ..core.clock import Simulation
 from ..errors import ConfigError
@@ -487,7 +488,7 @@ class _ZigZag(Block):
         psi = bus["usv.psi"]
         if self.psi0 is None:
             self.psi0 = psi
-        dpsi = (psi - self.psi0 + math.pi) % (2 * math.pi) - math.pi
+        dpsi = wrap(psi - self.psi0)
         if t < self.t_step - 1e-9:
             bus[self.key] = 0.0
             return
@@ -519,7 +520,7 @@ class _TrialSensors(Block):
         n = self.n
         bus["trial.speed"] = bus["usv.u"] + (g.normal(0, n.speed_mps) if n.speed_mps else 0.0)
         psi = bus["usv.psi"] + (g.normal(0, math.radians(n.heading_deg)) if n.heading_deg else 0.0)
-        bus["trial.heading"] = (psi + math.pi) % (2 * math.pi) - math.pi
+        bus["trial.heading"] = wrap(psi)
         bus["trial.yaw_rate"] = bus["usv.r"] + (g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0)
         bus["trial.steer"] = self.steer_fn(bus)
         bus["trial.thrust"] = self.thrust_fn(bus)

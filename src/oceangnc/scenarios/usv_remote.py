@@ -54,6 +54,7 @@ from pydantic import Field
 
 from ..control.pid import PID
 from ..control.actuators import USVThrusterBlock
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..guidance.pure_pursuit import closest_point, look_ahead_point, pursuit_command
@@ -64,11 +65,6 @@ from ..models.usv import USVConfig, USVPlant
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
-
-
-def wrap(a: float) -> float:
-    """Angle wrapped to (-pi, pi]."""
-    return math.pi - (math.pi - a) % (2.0 * math.pi)
 
 
 class PilotConfig(StrictModel):

@@ -25,13 +25,10 @@ import math
 
 from pydantic import Field
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
-
-
-def _wrap(a):
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 class AHRSConfig(StrictModel):
@@ -77,13 +74,13 @@ class AHRS(Block):
             self.psi_f = psi
         elif c.lag > 0:
             a = 1.0 - math.exp(-self.period / c.lag)
-            self.psi_f = _wrap(self.psi_f + a * _wrap(psi - self.psi_f))
+            self.psi_f = wrap(self.psi_f + a * wrap(psi - self.psi_f))
         else:
             self.psi_f = psi
         am = math.exp(-self.period / c.mag_time_constant)
         w = self.rng.standard_normal(5)
         self.mag = am * self.mag + math.radians(c.mag_sigma_deg) * math.sqrt(1 - am * am) * w[0]
-        bus[f"{self.name}.psi"] = _wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
+        bus[f"{self.name}.psi"] = wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
         bus[f"{self.name}.r"] = bus.get(f"{b}.r", 0.0) + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
         sa = math.radians(c.attitude_noise_deg)
         bus[f"{self.name}.phi"] = bus.get(f"{b}.phi", 0.0) + sa * w[3]

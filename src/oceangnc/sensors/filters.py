@@ -19,6 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 
@@ -61,8 +62,8 @@ class AngleLowPass(LowPass):
         if self.y is None:
             self.y = x
         else:
-            d = (x - self.y + math.pi) % (2.0 * math.pi) - math.pi
-            self.y = (self.y + self.a * d + math.pi) % (2.0 * math.pi) - math.pi
+            d = wrap(x - self.y)
+            self.y = wrap(self.y + self.a * d)
         return self.y
 
 
