@@ -28,12 +28,12 @@ from ..errors import ConfigError, InputError
 BUILTIN_MODULES = (
     "oceangnc.environment.current", "oceangnc.environment.wind",
     "oceangnc.sensors.gps", "oceangnc.sensors.ahrs", "oceangnc.sensors.usbl", "oceangnc.sensors.depth",
-    "oceangnc.sensors.filters", "oceangnc.sensors.trial",
+    "oceangnc.sensors.filters",
     "oceangnc.guidance.pure_pursuit", "oceangnc.guidance.los", "oceangnc.guidance.leader_follower",
     "oceangnc.guidance.scripted_pilot", "oceangnc.guidance.route_pilot",
     "oceangnc.control.usv_control", "oceangnc.control.uuv_control", "oceangnc.control.backstepping",
     "oceangnc.control.pole_placement", "oceangnc.control.joystick", "oceangnc.control.berthing",
-    "oceangnc.control.tow", "oceangnc.control.actuators", "oceangnc.identification.maneuvers",
+    "oceangnc.control.tow", "oceangnc.control.actuators", "oceangnc.identification.trials",
 )
 
 _KINDS: dict[str, type] = {}

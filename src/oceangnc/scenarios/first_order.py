@@ -25,6 +25,7 @@ from pydantic import Field, model_validator
 
 from ..control.pole_placement import HeadingAutopilot, SpeedAutopilot, predicted_overshoot
 from ..control.actuators import RudderEngineBlock, USVThrusterBlock
+from ..identification.trials import TrialNoise, TrialSensors, ZigZag
 from ..core.rotations import wrap
 from ..core.blocks import Block, FunctionBlock
 from ..core.clock import Simulation
@@ -451,14 +452,6 @@ class TrialsSection(StrictModel):
     steer_3dof_kgf: float = Field(2.0, gt=0, le=15, description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf")
 
 
-class TrialNoise(StrictModel):
-    """Sensor noise on the logged measurements (white, Gaussian)."""
-
-    speed_mps: float = Field(0.0, ge=0, le=5, description="speed noise std, m/s")
-    heading_deg: float = Field(0.0, ge=0, le=30, description="heading noise std, deg")
-    yaw_rate_degps: float = Field(0.0, ge=0, le=30, description="yaw-rate noise std, deg/s")
-
-
 class TrialsConfig(ScenarioConfig):
     vehicle: Literal["usv-first-order", "usv-3dof"] = "usv-first-order"
     usv: FirstOrderConfig = FirstOrderConfig()
@@ -466,64 +459,6 @@ class TrialsConfig(ScenarioConfig):
     trials: TrialsSection = TrialsSection()
     noise: TrialNoise = TrialNoise()
     control_rate: float = Field(20.0, gt=0, le=1000, description="command rate, Hz")
-
-
-class _ZigZag(Block):
-    """ITTC zig-zag: steer +amp until the heading change reaches +psi_z, then -amp until -psi_z, and so on."""
-
-    name = "zigzag"
-
-    def __init__(self, amp, psi_z, t_step, period, key, scale=1.0, unit="rad"):
-        self.amp, self.psi_z, self.t_step, self.period, self.key, self.scale = amp, psi_z, t_step, period, key, scale
-        self.inputs = {"usv.psi": "rad"}
-        self.outputs = {key: unit}
-        self.sign = 1.0
-        self.psi0 = None
-
-    def reset(self, rng):
-        self.sign = 1.0
-        self.psi0 = None
-
-    def step(self, t, bus):
-        psi = bus["usv.psi"]
-        if self.psi0 is None:
-            self.psi0 = psi
-        dpsi = wrap(psi - self.psi0)
-        if t < self.t_step - 1e-9:
-            bus[self.key] = 0.0
-            return
-        if self.sign > 0 and dpsi >= self.psi_z:
-            self.sign = -1.0
-        elif self.sign < 0 and dpsi <= -self.psi_z:
-            self.sign = 1.0
-        bus[self.key] = self.sign * self.amp * self.scale
-
-
-class _TrialSensors(Block):
-    """Measured trial signals with white noise: trial.speed, trial.heading (wrapped), trial.yaw_rate, inputs."""
-
-    name = "trial_sensors"
-
-    def __init__(self, noise: TrialNoise, period, steer_fn, thrust_fn, inputs=None):
-        self.n = noise
-        self.period = period
-        self.steer_fn, self.thrust_fn = steer_fn, thrust_fn
-        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", **(inputs or {})}
-        self.outputs = {"trial.speed": "m/s", "trial.heading": "rad", "trial.yaw_rate": "rad/s", "trial.steer": "1",
-                        "trial.thrust": "1"}
-
-    def reset(self, rng):
-        self.rng = rng
-
-    def step(self, t, bus):
-        g = self.rng
-        n = self.n
-        bus["trial.speed"] = bus["usv.u"] + (g.normal(0, n.speed_mps) if n.speed_mps else 0.0)
-        psi = bus["usv.psi"] + (g.normal(0, math.radians(n.heading_deg)) if n.heading_deg else 0.0)
-        bus["trial.heading"] = wrap(psi)
-        bus["trial.yaw_rate"] = bus["usv.r"] + (g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0)
-        bus["trial.steer"] = self.steer_fn(bus)
-        bus["trial.thrust"] = self.thrust_fn(bus)
 
 
 class _OffsetLog:
@@ -601,10 +536,10 @@ class Trials(Scenario):
                 a = math.radians(val)
                 blocks += [FunctionBlock("command", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
                                          inputs={}, outputs={"usv.rpm_cmd": "rpm"}),
-                           _ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad")]
+                           ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad")]
                 truth = (co["K_r"], co["T_r"])
             blocks.append(RudderEngineBlock(usv, h))
-            blocks.append(_TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"],
+            blocks.append(TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"],
                                         inputs={"usv.delta_s": "rad", "usv.rpm": "rpm"}))
         else:
             from ..models.usv import USVPlant
@@ -630,12 +565,12 @@ class Trials(Scenario):
                                         inputs={}, outputs=thrusts)]
                 truth = _nomoto_3dof(c, U)
             else:
-                zz = _ZigZag(s, math.radians(val), ts, h, "_steer", unit="N")
+                zz = ZigZag(s, math.radians(val), ts, h, "_steer", unit="N")
                 blocks = [zz, FunctionBlock("command", h, lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)),
                                             inputs={"_steer": "N"}, outputs=thrusts)]
                 truth = _nomoto_3dof(c, U)
             blocks.append(USVThrusterBlock(c0, h))
-            blocks.append(_TrialSensors(cfg.noise, h,
+            blocks.append(TrialSensors(cfg.noise, h,
                                         lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
                                         lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"]),
                                         inputs={"usv.thrust_port": "N", "usv.thrust_stbd": "N"}))
