@@ -36,7 +36,6 @@ import math
 
 import numpy as np
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..errors import ConfigError

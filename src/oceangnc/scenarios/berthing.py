@@ -29,8 +29,8 @@ from pydantic import Field
 
 from ..control.berthing import ControlConfig, make_controller
 from ..control.joystick import Joystick, JoystickConfig
-from ..core.rotations import wrap
 from ..core.clock import Simulation
+from ..core.rotations import wrap
 from ..environment import EnvironmentConfig
 from ..guidance.scripted_pilot import PilotConfig, Route, ScriptedPilot
 from ..io.config import ScenarioConfig, StrictModel

@@ -33,27 +33,39 @@ from typing import ClassVar, Literal
 import numpy as np
 from pydantic import Field, field_validator
 
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.backstepping import BacksteppingConfig
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig
-from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
-from ..core.rotations import wrap_array
 from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
+from ..core.rotations import wrap_array
 from ..environment import EnvironmentConfig
-from ..errors import ConfigError
 from ..guidance.leader_follower import LeaderFollower
-from ..guidance.pure_pursuit import (PurePursuit, look_ahead_distance, usv_min_turning_radius,
-                                     uuv_turning_radius_at)
+from ..guidance.pure_pursuit import (
+    PurePursuit,
+    look_ahead_distance,
+    usv_min_turning_radius,
+    uuv_turning_radius_at,
+)
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
 from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
-from ..sensors import (AHRS, GPS, USBL, AHRSConfig, DepthSensor, DepthSensorConfig, DropoutHold, GPSConfig,
-                       USBLConfig)
+from ..sensors import (
+    AHRS,
+    GPS,
+    USBL,
+    AHRSConfig,
+    DepthSensor,
+    DepthSensorConfig,
+    DropoutHold,
+    GPSConfig,
+    USBLConfig,
+)
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario

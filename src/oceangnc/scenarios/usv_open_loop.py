@@ -20,7 +20,6 @@ import math
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
 from pydantic import Field
 
 from ..control.actuators import USVThrusterBlock

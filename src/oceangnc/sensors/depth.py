@@ -14,7 +14,6 @@ Outputs ``depth.volt`` (V), ``depth.z_raw`` (m, calibrated, unfiltered), ``depth
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from pydantic import Field
