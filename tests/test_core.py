@@ -105,7 +105,8 @@ def test_clock_fires_each_block_at_its_period():
 
 def test_clock_chunked_run_fires_each_tick_once():
     b = _Counter("c", 0.1)
-    sim = Simulation([Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"], input_defaults={"u": 0.0})], [b], dt=0.01, log_period=0.1)
+    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"], input_defaults={"u": 0.0})
+    sim = Simulation([plant], [b], dt=0.01, log_period=0.1)
     for _ in range(10):
         sim.run(0.1)
     assert len(b.times) == 11

@@ -69,9 +69,9 @@ from dataclasses import dataclass
 
 from pydantic import Field
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KGF
 
@@ -84,8 +84,11 @@ class BacksteppingConfig(StrictModel):
     k6: float = Field(1.5, gt=0, le=100, description="surge velocity gain, 1/s")
     k7: float = Field(2.0, gt=0, le=100, description="yaw rate gain, 1/s")
     h: float = Field(0.9, gt=0, le=10, description="control point ahead of the UUV's centre (the bow), m")
-    bow_side_force: bool = Field(True, description="design model includes the bow thruster's side force (False: eq. 3.32 as printed)")
-    accel_cutoff_hz: float = Field(0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz")
+    bow_side_force: bool = Field(True,
+                                 description="design model includes the bow thruster's side force (False: eq. 3.32 "
+                                             "as printed)")
+    accel_cutoff_hz: float = Field(0.5, gt=0, le=50,
+                                   description="low-pass cut-off of the leader acceleration estimate, Hz")
 
 
 @dataclass(frozen=True)

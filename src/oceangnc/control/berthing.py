@@ -47,8 +47,14 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..models.ship_lowspeed import (ShipConfig, hull_forces, inverse_mass, prop_thrust_coef, rudder_forces,
-                                    thruster_forces)
+from ..models.ship_lowspeed import (
+    ShipConfig,
+    hull_forces,
+    inverse_mass,
+    prop_thrust_coef,
+    rudder_forces,
+    thruster_forces,
+)
 from ..models.usv import wind_load
 from .allocation import allocate
 from .pid import PID
@@ -197,8 +203,7 @@ class NonlinearController(_Base):
 
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
         super().__init__(cfg, ship)
-        self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm",
-                            "ship.rpm_bow": "rpm", "ship.rpm_stern": "rpm"})
+        self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm"})
         self.optional_inputs.update({"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s",
                                      "env.wind_e": "m/s"})
         self.outputs.update({"ctrl.u_rd": "m/s", "ctrl.u_d": "m/s", "ctrl.r_d": "rad/s", "ctrl.x_pd": "N"})
@@ -220,8 +225,6 @@ class NonlinearController(_Base):
         psi = bus.get("ship.psi", 0.0)
         delta = bus.get("ship.rudder", 0.0)
         n = bus.get("ship.rpm_prop", 0.0) / 60.0
-        nb = bus.get("ship.rpm_bow", 0.0) / 60.0
-        ns = bus.get("ship.rpm_stern", 0.0) / 60.0
         # setpoint filter T u_d' = u_cmd - u_d (exact discretisation): smooth u_d(s), r_d(s) and rates
         u_cmd = bus.get("cmd.u_d", 0.0)
         r_cmd = bus.get("cmd.r_d", 0.0)

@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import math
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..errors import ConfigError
 
 

@@ -36,9 +36,9 @@ import math
 
 from pydantic import Field
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KGF
 from .pid import PID

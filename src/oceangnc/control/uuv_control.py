@@ -17,7 +17,8 @@ our choice; 003 does not say).
 
 Derivatives: the range loop differentiates its error by a backward difference passed through a
 first-order low-pass (``range_d_cutoff_hz``: the USBL updates the error in steps of 0.5 s, and the
-raw difference would turn each step into a thrust spike); the heading loops use the measured yaw rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
+raw difference would turn each step into a thrust spike); the heading loops use the measured yaw
+rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
 """
 
 from __future__ import annotations
@@ -27,10 +28,9 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..units import KGF
 from ..sensors.filters import LowPass
+from ..units import KGF
 from .usv_control import aw_pid
-
 
 
 class UUVPIDConfig(StrictModel):

@@ -96,8 +96,8 @@ class Simulation:
     # -- logging helpers --------------------------------------------------------------------------
     def _row(self) -> dict[str, float]:
         if self.log_signals is None:
-            self.log_signals = sorted(k for k, v in self.bus.items()
-                                      if not k.startswith("_") and isinstance(v, (int, float, bool, np.floating, np.integer)))
+            scalar = (int, float, bool, np.floating, np.integer)
+            self.log_signals = sorted(k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar))
         return {k: float(self.bus.get(k, np.nan)) for k in self.log_signals}
 
     def run(self, duration: float, log=None, progress: bool = False, wall_limit: float | None = None) -> float:

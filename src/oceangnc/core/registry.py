@@ -47,7 +47,8 @@ def register_block(kind: str):
 
     def deco(cls):
         prev = _KINDS.get(kind)
-        if prev is not None and prev is not cls and getattr(prev, "__qualname__", None) != getattr(cls, "__qualname__", None):
+        same = getattr(prev, "__qualname__", None) == getattr(cls, "__qualname__", None)
+        if prev is not None and prev is not cls and not same:
             raise ValueError(f"block kind '{kind}' registered twice ({prev!r} and {cls!r})")
         _KINDS[kind] = cls
         try:

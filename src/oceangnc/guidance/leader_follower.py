@@ -29,9 +29,9 @@ from __future__ import annotations
 
 import math
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 
 
 def relative_position(x_l, y_l, psi_l, x_f, y_f):

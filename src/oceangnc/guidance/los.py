@@ -33,9 +33,9 @@ import math
 
 import numpy as np
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 
 BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
 

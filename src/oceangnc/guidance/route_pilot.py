@@ -52,9 +52,12 @@ class StickConfig(StrictModel):
     max_speed: float = Field(0.9, gt=0, le=5, description="surge speed at full stick ahead, m/s")
     max_reverse_speed: float = Field(0.3, ge=0, le=5, description="surge speed at full stick astern, m/s")
     max_yaw_rate_degps: float = Field(20.0, gt=0, le=90, description="yaw rate at full stick, deg/s")
-    open_loop_thrust_kgf: float = Field(36.2, gt=0, le=100, description="open loop: per-thruster thrust at full surge stick, kgf")
-    open_loop_reverse_kgf: float = Field(13.83, ge=0, le=100, description="open loop: per-thruster astern thrust at full stick, kgf")
-    open_loop_diff_kgf: float = Field(15.0, ge=0, le=100, description="open loop: differential thrust U_heading at full yaw stick, kgf")
+    open_loop_thrust_kgf: float = Field(36.2, gt=0, le=100,
+                                        description="open loop: per-thruster thrust at full surge stick, kgf")
+    open_loop_reverse_kgf: float = Field(13.83, ge=0, le=100,
+                                         description="open loop: per-thruster astern thrust at full stick, kgf")
+    open_loop_diff_kgf: float = Field(15.0, ge=0, le=100,
+                                      description="open loop: differential thrust U_heading at full yaw stick, kgf")
 
 
 @register_block("usv.route_pilot")

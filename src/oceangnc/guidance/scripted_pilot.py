@@ -43,9 +43,9 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KNOT
 

@@ -289,7 +289,7 @@ def hull_corner_margin(df, cfg, pts) -> float:
 def channel_metrics(df, cfg, pts) -> dict:
     route = Route(pts)
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         t = d["t"].to_numpy()
         per.append({
             "error_index": error_index(d["ship.x"], d["ship.y"], route),
@@ -325,7 +325,7 @@ def channel_metrics(df, cfg, pts) -> dict:
 def dock_metrics(df, cfg) -> dict:
     """Final state of each run; with several runs the worst run's value of each metric."""
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         last = d.iloc[-1]
         per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
                     "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),

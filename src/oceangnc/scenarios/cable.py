@@ -180,7 +180,8 @@ class TowStraight(Scenario):
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
         dt = physics_step(cfg, plant)
-        blocks = [*environment_blocks(cfg.environment), TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
+        blocks = [*environment_blocks(cfg.environment),
+                  TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
                   USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, dt, 1.0 / cfg.sim.log_rate, rng)
 

@@ -233,13 +233,15 @@ class ProfileConfig(StrictModel):
 
 class TowConfig(StrictModel):
     cable_length_m: float = Field(30.0, gt=0, le=1e4, description="cable length L, m")
-    waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3, description="time between USV waypoints sampled from the plan, s")
+    waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3,
+                                      description="time between USV waypoints sampled from the plan, s")
 
 
 class StartPose(StrictModel):
     """Where the USV (and the UUV, aligned a cable length behind it) start, relative to the UUV plan's start."""
 
-    behind_m: float = Field(150.0, ge=-1e4, le=1e4, description="distance behind the plan's start along its first leg, m")
+    behind_m: float = Field(150.0, ge=-1e4, le=1e4,
+                            description="distance behind the plan's start along its first leg, m")
     port_m: float = Field(80.0, ge=-1e4, le=1e4, description="distance to port (left) of the first leg's line, m")
     heading_deg: float = Field(90.0, ge=-360, le=360, description="initial heading of USV and UUV, deg")
     speed_mps: float = Field(0.0, ge=0, le=16, description="initial USV speed, m/s")
@@ -302,7 +304,8 @@ class UUVProfilePlan(Scenario):
         sx, sy, ts = joined("usv", plan.x[0], plan.y[0])
         eu = distance_to_polyline(ux, uy, prof.x, prof.y)
         es = distance_to_polyline(sx, sy, plan.x, plan.y)
-        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,"uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
+        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,
+                "uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
                 "usv.path_error_rms_m": float(np.sqrt(np.mean(es ** 2))), "usv.path_error_max_m": float(np.max(es)),
                 "plan.waypoints": float(len(wp)), "plan.phi_max_deg": float(np.max(np.abs(plan.phi)) * RAD2DEG),
                 "plan.usv_speed_max_mps": float(np.max(plan.u))}

@@ -48,7 +48,8 @@ class TrialsSection(StrictModel):
                                                   description="straight-run speeds of the 3-DOF USV, m/s")
     turn_speeds_3dof_mps: list[float] = Field([0.4, 0.6, 0.8], min_length=1,
                                               description="turning-trial speeds of the 3-DOF USV, m/s")
-    steer_3dof_kgf: float = Field(2.0, gt=0, le=15, description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf")
+    steer_3dof_kgf: float = Field(2.0, gt=0, le=15,
+                                  description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf")
 
 
 class TrialsConfig(ScenarioConfig):

@@ -25,9 +25,9 @@ import math
 
 from pydantic import Field
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 
 

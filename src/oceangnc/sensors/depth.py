@@ -14,14 +14,13 @@ Outputs ``depth.volt`` (V), ``depth.z_raw`` (m, calibrated, unfiltered), ``depth
 
 from __future__ import annotations
 
-
 import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..units import G, RHO_WATER
+from ..units import RHO_WATER, G
 from .filters import LowPass
 
 FULL_SCALE_PA = 10e5  #: 10 bar

@@ -19,9 +19,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.rotations import wrap
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import wrap
 
 
 def lowpass_coefficient(cutoff_hz: float, period: float) -> float:

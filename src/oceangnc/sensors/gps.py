@@ -8,7 +8,8 @@ Position error = a slowly varying bias + white jitter, both per horizontal axis:
 HDOP times the user equivalent range error (UERE) is the horizontal RMS error (the usual DOP
 definition); UERE = 0.17 m makes the 2DRMS (about 95 %) error 2 * 0.9 * 0.17 = 0.3 m at the measured
 mean HDOP 0.9 (003 fig. 6-1), the SBAS/DGPS horizontal accuracy of table C-1. The bias is
-Gauss-Markov with a 300 s correlation time (our choice; satellite-geometry and atmospheric errors change over minutes), and the jitter sigma_j = 0.01 m, so a
+Gauss-Markov with a 300 s correlation time (our choice; satellite-geometry and atmospheric errors
+change over minutes), and the jitter sigma_j = 0.01 m, so a
 standing receiver wanders by centimetres over seconds, as 003 fig. 6-3 shows ("very accurate in cm").
 
 Heading from the track: the course over ground atan2(dE, dN) of the position change over the last
@@ -27,7 +28,6 @@ from __future__ import annotations
 
 import collections
 import math
-
 from typing import Literal
 
 from pydantic import Field

@@ -38,7 +38,8 @@ class USBLConfig(StrictModel):
     rate: float = Field(2.0, gt=0, le=40, description="ping (update) rate, Hz")
     range_resolution: float = Field(0.05, ge=0, le=10, description="range error bound (table C-3: 50 mm), m")
     angle_resolution_deg: float = Field(1.0, ge=0, le=30, description="angle error bound (table C-3: 1 deg), deg")
-    q_max: float = Field(5.0, gt=0, le=1e3, description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)")
+    q_max: float = Field(5.0, gt=0, le=1e3,
+                         description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)")
     p_drop: float = Field(0.5, ge=0, le=1, description="probability of losing a ping beyond q_max")
     degraded_gain: float = Field(5.0, ge=1, le=100, description="error scale of fixes beyond q_max")
     dropout_start: float = Field(-1.0, ge=-1, le=1e6, description="start of a forced dropout window (-1: none), s")
