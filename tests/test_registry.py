@@ -125,3 +125,27 @@ def test_plugin_file_errors_are_input_errors(tmp_path, capsys):
     assert "bad.py: RuntimeError: boom" in capsys.readouterr().err
     rc = main(["run", "combined-survey", "--plugin", str(tmp_path / "missing.py"), "--quiet"])
     assert rc == 2
+
+
+def test_entry_point_group_registers_a_users_package(tmp_path):
+    """An installed package declaring ``[project.entry-points."oceangnc.blocks"]`` is found on first lookup."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    pkg = tmp_path / "epdemo"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text(textwrap.dedent(PLUGIN.format(kind="epdemo.ctrl")))
+    dist = tmp_path / "epdemo-0.1.dist-info"
+    dist.mkdir()
+    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: epdemo\nVersion: 0.1\n")
+    (dist / "entry_points.txt").write_text("[oceangnc.blocks]\nepdemo = epdemo\n")
+    src = Path(__file__).resolve().parents[1] / "src"
+    code = ("from oceangnc.api import resolve_config\n"
+            "_, cfg = resolve_config('combined-survey', overrides={'control.uuv.kind': 'epdemo.ctrl'})\n"
+            "print(cfg.control.uuv.full_kind)\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), str(src)]))
+    p = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "epdemo.ctrl"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -65,6 +66,8 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
 
     ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
+    The environment variable ``OCEANGNC_MAX_DURATION`` (s), if set, caps ``sim.duration`` (smoke
+    runs of the examples in the test suite).
     Returns ``(scenario_object, config_model)``.
     """
     from .io.config import set_dotted
@@ -87,6 +90,9 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     data = deep_merge(deep_merge(sc.defaults, file_cfg), over)
     data["scenario"] = sc.name
     cfg = validate(sc.Config, data)
+    cap = os.environ.get("OCEANGNC_MAX_DURATION")
+    if cap:  # smoke runs of the examples and docs (tests/test_examples.py): every run made short
+        cfg.sim.duration = min(cfg.sim.duration, float(cap))
     return sc, cfg
 
 

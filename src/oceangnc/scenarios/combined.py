@@ -121,10 +121,19 @@ class ControlConfig(StrictModel):
     backstepping: BacksteppingConfig = BacksteppingConfig()
 
 
+class SensorChoice(BlockChoice):
+    """A further sensor block by registered kind (``sensor.*`` or a user's ``family.name``) and its parameters."""
+
+    family: ClassVar[str] = "sensor"
+    role: ClassVar[str | None] = "sensor"
+
+
 class SensorsConfig(StrictModel):
     """Sensors (003 ch. 6.1, appendix B); when enabled guidance and control use measured signals."""
 
     enabled: bool = False
+    extra: list[SensorChoice] = Field([], max_length=20, description="further sensor blocks by kind, fired "
+                                      "after the built-in sensors at the control rate (a user's, from --plugin)")
     gps: GPSConfig = GPSConfig()
     usv_ahrs: AHRSConfig = AHRSConfig()
     uuv_ahrs: AHRSConfig = AHRSConfig()
@@ -190,6 +199,8 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     else:
         usv_pos, usv_psi, usv_r, usv_u = ("usv.x", "usv.y"), "usv.psi", "usv.r", "usv.u"
         uuv_pos, uuv_psi, uuv_r = ("uuv.x", "uuv.y"), "uuv.psi", "uuv.r"
+    for i, choice in enumerate(cfg.sensors.extra):
+        blocks.append(build_block(choice, BlockContext(period=h, cfg=cfg), f"sensors.extra.{i}"))
     l, _, _ = look_ahead_for(cfg)
     g = cfg.guidance
     blocks.append(PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi))
