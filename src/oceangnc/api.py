@@ -81,8 +81,10 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     sc = get_scenario(name)
     over: dict = {}
     for k, v in (overrides or {}).items():
-        if isinstance(v, dict):
-            over = deep_merge(over, {k: v})
+        if isinstance(v, dict):  # a section, possibly under a dotted key: merged into what is there
+            nested: dict = {}
+            set_dotted(nested, k, v)
+            over = deep_merge(over, nested)
         else:
             set_dotted(over, k, v)
     if duration is not None:
