@@ -63,6 +63,15 @@ def predicted_overshoot(zeta: float) -> float:
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
 
 
+def _design(block, coefficients, zeta: float, wn: float, period: float, body: str) -> None:
+    """The design data both autopilots keep: the coefficient schedule, the poles (zeta, w_n), rate, body."""
+    block.coefficients = coefficients
+    block.zeta = float(zeta)
+    block.wn = float(wn)
+    block.period = float(period)
+    block.body = body
+
+
 @register_block("usv.heading_pd")
 class HeadingAutopilot(Block):
     """Heading PD (000 eq. 22) with pole-placed gains (26, 27).
@@ -79,14 +88,9 @@ class HeadingAutopilot(Block):
     name = "heading_autopilot"
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
-        self.coefficients = coefficients
-        self.zeta = float(zeta)
-        self.wn = float(wn)
-        self.period = float(period)
-        self.body = body
-        b = body
-        self.inputs = {f"{b}.psi_cmd": "rad", f"{b}.psi": "rad", f"{b}.r": "rad/s", f"{b}.u": "m/s"}
-        self.outputs = {f"{b}.delta_s_cmd": "rad", f"{b}.hdg_k1": "1", f"{b}.hdg_k2": "1/s"}
+        _design(self, coefficients, zeta, wn, period, body)
+        self.inputs = {f"{body}.psi_cmd": "rad", f"{body}.psi": "rad", f"{body}.r": "rad/s", f"{body}.u": "m/s"}
+        self.outputs = {f"{body}.delta_s_cmd": "rad", f"{body}.hdg_k1": "1", f"{body}.hdg_k2": "1/s"}
 
     def gains(self, u: float) -> tuple[float, float]:
         K, T = self.coefficients(u)
@@ -114,14 +118,9 @@ class SpeedAutopilot(Block):
     name = "speed_autopilot"
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
-        self.coefficients = coefficients
-        self.zeta = float(zeta)
-        self.wn = float(wn)
-        self.period = float(period)
-        self.body = body
-        b = body
-        self.inputs = {f"{b}.u_cmd": "m/s", f"{b}.u": "m/s"}
-        self.outputs = {f"{b}.rpm_cmd": "rpm", f"{b}.spd_k1": "1"}
+        _design(self, coefficients, zeta, wn, period, body)
+        self.inputs = {f"{body}.u_cmd": "m/s", f"{body}.u": "m/s"}
+        self.outputs = {f"{body}.rpm_cmd": "rpm", f"{body}.spd_k1": "1"}
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
