@@ -28,7 +28,7 @@ from ..errors import ConfigError, InputError
 BUILTIN_MODULES = (
     "oceangnc.environment.current", "oceangnc.environment.wind",
     "oceangnc.sensors.gps", "oceangnc.sensors.ahrs", "oceangnc.sensors.usbl", "oceangnc.sensors.depth",
-    "oceangnc.sensors.filters",
+    "oceangnc.sensors.filters", "oceangnc.sensors.navigation",
     "oceangnc.guidance.pure_pursuit", "oceangnc.guidance.los", "oceangnc.guidance.leader_follower",
     "oceangnc.guidance.scripted_pilot", "oceangnc.guidance.route_pilot",
     "oceangnc.control.usv_control", "oceangnc.control.uuv_control", "oceangnc.control.backstepping",

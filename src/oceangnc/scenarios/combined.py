@@ -37,7 +37,6 @@ from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.backstepping import BacksteppingConfig
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig
-from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
@@ -66,6 +65,7 @@ from ..sensors import (
     GPSConfig,
     USBLConfig,
 )
+from ..sensors.navigation import USBLNavigation
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
@@ -181,17 +181,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
                                   "nav.usbl", units={"dn": "m", "de": "m", "dz": "m"}))
 
-        def nav(t, bus):
-            bus["nav.usv_x"] = bus.get("gps.x", 0.0)
-            bus["nav.usv_y"] = bus.get("gps.y", 0.0)
-            bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get("nav.usbl.dn", 0.0)
-            bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
-            bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
-
-        blocks.append(FunctionBlock("nav", h, nav, inputs={"gps.x": "m", "gps.y": "m", "gps.sog": "m/s"},
-                                    optional_inputs={"nav.usbl.dn": "m", "nav.usbl.de": "m"},
-                                    outputs={"nav.usv_x": "m", "nav.usv_y": "m", "nav.uuv_x": "m", "nav.uuv_y": "m",
-                                             "nav.usv_u": "m/s"}))
+        blocks.append(USBLNavigation(h))
         usv_pos = ("nav.usv_x", "nav.usv_y")
         usv_psi, usv_r, usv_u = "usv_ahrs.psi", "usv_ahrs.r", "nav.usv_u"
         uuv_pos = ("nav.uuv_x", "nav.uuv_y")
