@@ -248,7 +248,7 @@ class UUVBackstepping(Block):
         self.acc = [0.0, 0.0, 0.0]
 
     def step(self, t: float, bus: dict) -> None:
-        g = {n: float(bus.get(k, 0.0)) for n, k in self.keys.items()}
+        g = {n: float(bus[k] if k in self.inputs else bus.get(k, 0.0)) for n, k in self.keys.items()}
         lv = (g["ul"], g["vl"], g["rl"])
         if self.prev is not None:
             for i in range(3):

@@ -160,13 +160,13 @@ class OpenLoopController(_Base):
 
     def step(self, t, bus):
         c = self.cfg
-        su = bus.get("joystick.surge_db", 0.0)
-        sy = bus.get("joystick.yaw_db", 0.0)
+        su = bus["joystick.surge_db"]
+        sy = bus["joystick.yaw_db"]
         n = su * c.n_open_rpm / 60.0
         delta = max(-1.0, min(1.0, sy / c.rudder_open_stick)) * math.radians(c.delta_open_deg)
         nb = sy * c.thruster_open * self.ship.thruster_rpm_max / 60.0
-        e_u = bus.get("ship.u", 0.0) - bus.get("cmd.u_d", 0.0)
-        e_r = bus.get("ship.r", 0.0) - bus.get("cmd.r_d", 0.0)
+        e_u = bus["ship.u"] - bus["cmd.u_d"]
+        e_r = bus["ship.r"] - bus["cmd.r_d"]
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
 
@@ -186,8 +186,8 @@ class PIDController(_Base):
 
     def step(self, t, bus):
         h = self.period
-        e_u = bus.get("ship.u", 0.0) - bus.get("cmd.u_d", 0.0)
-        e_r = bus.get("ship.r", 0.0) - bus.get("cmd.r_d", 0.0)
+        e_u = bus["ship.u"] - bus["cmd.u_d"]
+        e_r = bus["ship.r"] - bus["cmd.r_d"]
         # the PID class acts on (reference - measurement) = -e: n_c = -k_P e - k_I int e - k_D e'
         n = self.pid_n.step(-e_u, h)
         delta = self.pid_d.step(-e_r, h)
@@ -219,15 +219,15 @@ class NonlinearController(_Base):
         cfg = self.cfg
         p = self.p
         h = self.period
-        u = bus.get("ship.u", 0.0)
-        v = bus.get("ship.v", 0.0)
-        r = bus.get("ship.r", 0.0)
-        psi = bus.get("ship.psi", 0.0)
-        delta = bus.get("ship.rudder", 0.0)
-        n = bus.get("ship.rpm_prop", 0.0) / 60.0
+        u = bus["ship.u"]
+        v = bus["ship.v"]
+        r = bus["ship.r"]
+        psi = bus["ship.psi"]
+        delta = bus["ship.rudder"]
+        n = bus["ship.rpm_prop"] / 60.0
         # setpoint filter T u_d' = u_cmd - u_d (exact discretisation): smooth u_d(s), r_d(s) and rates
-        u_cmd = bus.get("cmd.u_d", 0.0)
-        r_cmd = bus.get("cmd.r_d", 0.0)
+        u_cmd = bus["cmd.u_d"]
+        r_cmd = bus["cmd.r_d"]
         if self._ud is None:
             self._ud, self._rd = u_cmd, r_cmd
         if cfg.t_ref > 0:

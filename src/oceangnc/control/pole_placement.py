@@ -98,9 +98,9 @@ class HeadingAutopilot(Block):
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
-        k1, k2 = self.gains(bus.get(f"{b}.u", 0.0))
-        e = wrap(bus.get(f"{b}.psi_cmd", 0.0) - bus[f"{b}.psi"])
-        bus[f"{b}.delta_s_cmd"] = k1 * (k2 * e - bus.get(f"{b}.r", 0.0))
+        k1, k2 = self.gains(bus[f"{b}.u"])
+        e = wrap(bus[f"{b}.psi_cmd"] - bus[f"{b}.psi"])
+        bus[f"{b}.delta_s_cmd"] = k1 * (k2 * e - bus[f"{b}.r"])
         bus[f"{b}.hdg_k1"] = k1
         bus[f"{b}.hdg_k2"] = k2
 
@@ -124,8 +124,8 @@ class SpeedAutopilot(Block):
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
-        vc = bus.get(f"{b}.u_cmd", 0.0)
+        vc = bus[f"{b}.u_cmd"]
         K, T = self.coefficients(vc)
         k1 = speed_gain(K, T, self.zeta, self.wn)
-        bus[f"{b}.rpm_cmd"] = k1 * (vc - bus.get(f"{b}.u", 0.0))
+        bus[f"{b}.rpm_cmd"] = k1 * (vc - bus[f"{b}.u"])
         bus[f"{b}.spd_k1"] = k1

@@ -124,13 +124,13 @@ class USVController(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         h = self.period
-        u = bus.get(self.meas["u"], 0.0)
-        psi = bus.get(self.meas["psi"], 0.0)
-        r = bus.get(self.meas["r"], 0.0)
+        u = bus[self.meas["u"]]
+        psi = bus[self.meas["psi"]]
+        r = bus[self.meas["r"]]
         remote = bus.get("console.mode") == "remote"
         if remote:
-            js = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
-            jy = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))
+            js = max(-1.0, min(1.0, float(bus["joystick.surge"])))
+            jy = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
             u_d = js * c.u_max if js >= 0 else 0.5 * js * c.u_max
             r_d = jy * math.radians(c.r_max_degps)
             u_h = self.yaw_rate.step(r_d - r, h)
@@ -238,8 +238,8 @@ class USVRateController(Block):
             u_speed = u_head = 0.0
         elif mode == "remote" and loop == "open":
             st = self.stick
-            surge = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
-            yaw = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))
+            surge = max(-1.0, min(1.0, float(bus["joystick.surge"])))
+            yaw = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
             u_speed = surge * (st.open_loop_thrust_kgf if surge >= 0 else st.open_loop_reverse_kgf) * KGF
             u_head = yaw * st.open_loop_diff_kgf * KGF
             self.speed_pid.reset()

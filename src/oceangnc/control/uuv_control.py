@@ -99,24 +99,24 @@ class UUVPIDController(Block):
 
     def step(self, t: float, bus: dict) -> None:
         h = self.period
-        e1 = bus.get("lf.e_x", 0.0)
+        e1 = bus["lf.e_x"]
         d = 0.0 if self.e1_prev is None else (e1 - self.e1_prev) / h
         self.e1_prev = e1
         u1 = self.pos.step(e1, h, e_dot=self.e1_rate(d))
-        r_uuv = bus.get(self.meas["r_uuv"], 0.0)
-        outside = bus.get("lf.outside", 0.0) > 0.5 and self.mode != "relative-angle"
+        r_uuv = bus[self.meas["r_uuv"]]
+        outside = bus["lf.outside"] > 0.5 and self.mode != "relative-angle"
         loop = 3 if outside else 2
         if loop != self.active:
             (self.los if loop == 3 else self.ang).integral = (self.ang if loop == 3 else self.los).integral
             (self.los if loop == 3 else self.ang)._e_prev = None
             self.active = loop
         if loop == 2:
-            ub = self.ang.step(bus.get("lf.rel_heading_err", 0.0), h,
-                               e_dot=bus.get(self.meas["r_usv"], 0.0) - r_uuv)
-            psi_d = bus.get(self.meas["psi_usv"], 0.0)
+            ub = self.ang.step(bus["lf.rel_heading_err"], h,
+                               e_dot=bus[self.meas["r_usv"]] - r_uuv)
+            psi_d = bus[self.meas["psi_usv"]]
         else:
-            ub = self.los.step(bus.get("lf.los_err", 0.0), h, e_dot=-r_uuv)
-            psi_d = bus.get("lf.los", 0.0)
+            ub = self.los.step(bus["lf.los_err"], h, e_dot=-r_uuv)
+            psi_d = bus["lf.los"]
         bus["uuv.thrust_port_cmd"] = u1
         bus["uuv.thrust_stbd_cmd"] = u1
         bus["uuv.thrust_bow_cmd"] = ub

@@ -101,8 +101,8 @@ class LeaderFollower(Block):
                         "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}
 
     def step(self, t: float, bus: dict) -> None:
-        xl, yl, psil = (bus.get(k, 0.0) for k in self.leader)
-        xf, yf, psif = (bus.get(k, 0.0) for k in self.follower)
+        xl, yl, psil = (bus[k] for k in self.leader)
+        xf, yf, psif = (bus[k] for k in self.follower)
         lx, ly = relative_position(xl, yl, psil, xf, yf)
         rng, lam = range_bearing(lx, ly)
         tn, te = target_point(xl, yl, psil, self.lx_d, self.ly_d)

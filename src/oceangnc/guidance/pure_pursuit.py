@@ -187,8 +187,8 @@ class PurePursuit(Block):
         self._started = False
 
     def step(self, t: float, bus: dict) -> None:
-        p = np.array([bus.get(self.pos_keys[0], 0.0), bus.get(self.pos_keys[1], 0.0)])
-        psi = bus.get(self.psi_key, 0.0)
+        p = np.array([bus[self.pos_keys[0]], bus[self.pos_keys[1]]])
+        psi = bus[self.psi_key]
         if not self._started:
             self._started = True
             if math.hypot(*(p - self.wp[0])) <= self.acceptance:

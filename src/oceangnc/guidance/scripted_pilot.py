@@ -211,9 +211,9 @@ class ScriptedPilot(Block):
         c = self.cfg
         a = math.exp(-self.period / c.noise_time_s)
         self.err = a * self.err + math.sqrt(1 - a * a) * self.sig * self.rng.standard_normal(3)
-        obs = (bus.get("ship.x", 0.0), bus.get("ship.y", 0.0), bus.get("ship.psi", 0.0) + self.err[0],
-               bus.get("ship.u", 0.0) + self.err[1], bus.get("ship.r", 0.0) + self.err[2],
-               bus.get("ship.v", 0.0))
+        obs = (bus["ship.x"], bus["ship.y"], bus["ship.psi"] + self.err[0],
+               bus["ship.u"] + self.err[1], bus["ship.r"] + self.err[2],
+               bus["ship.v"])
         self.memory.append((t, obs))
         while len(self.memory) > 1 and self.memory[1][0] <= t - self.delay + 1e-9:
             self.memory.popleft()
@@ -222,10 +222,10 @@ class ScriptedPilot(Block):
         self.stick_u = self._move(self.stick_u, want_u)
         self.stick_r = self._move(self.stick_r, want_r)
         # done: stopped at the end of a berthing route, or past the end of a transit
-        true_s, true_cross, _ = self.route.project(bus.get("ship.x", 0.0), bus.get("ship.y", 0.0))
+        true_s, true_cross, _ = self.route.project(bus["ship.x"], bus["ship.y"])
         rem = self.route.length - true_s
         if c.stop_at_end:
-            if abs(rem) < 3.0 and abs(bus.get("ship.u", 0.0)) < 0.03 and abs(bus.get("ship.v", 0.0)) < 0.05:
+            if abs(rem) < 3.0 and abs(bus["ship.u"]) < 0.03 and abs(bus["ship.v"]) < 0.05:
                 self.done = True
                 self.stick_u = 0.0
                 self.stick_r = 0.0

@@ -69,7 +69,7 @@ class AHRS(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         b = self.body
-        psi = bus.get(f"{b}.psi", 0.0)
+        psi = bus[f"{b}.psi"]
         if self.psi_f is None:
             self.psi_f = psi
         elif c.lag > 0:
@@ -81,7 +81,7 @@ class AHRS(Block):
         w = self.rng.standard_normal(5)
         self.mag = am * self.mag + math.radians(c.mag_sigma_deg) * math.sqrt(1 - am * am) * w[0]
         bus[f"{self.name}.psi"] = wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
-        bus[f"{self.name}.r"] = bus.get(f"{b}.r", 0.0) + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
+        bus[f"{self.name}.r"] = bus[f"{b}.r"] + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
         sa = math.radians(c.attitude_noise_deg)
         bus[f"{self.name}.phi"] = bus.get(f"{b}.phi", 0.0) + sa * w[3]
         bus[f"{self.name}.theta"] = bus.get(f"{b}.theta", 0.0) + sa * w[4]

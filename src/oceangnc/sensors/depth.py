@@ -74,7 +74,7 @@ class DepthSensor(Block):
         return round(v / ADC_LSB) * ADC_LSB
 
     def step(self, t: float, bus: dict) -> None:
-        v = self.read_voltage(bus.get(f"{self.body}.z", 0.0))
+        v = self.read_voltage(bus[f"{self.body}.z"])
         z = self.c1 * v + self.c0
         bus["depth.volt"] = v
         bus["depth.z_raw"] = z

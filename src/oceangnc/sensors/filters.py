@@ -109,7 +109,7 @@ class DropoutHold(Block):
         self._ok = True
 
     def step(self, t: float, bus: dict) -> None:
-        valid = bool(bus.get(self.valid_key, 0.0))
+        valid = bool(bus[self.valid_key])
         if valid or self.held is None:
             if all(k in bus for k in self.signals.values()):
                 self.held = {o: float(bus[k]) for o, k in self.signals.items()}

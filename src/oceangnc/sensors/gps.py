@@ -111,7 +111,7 @@ class GPS(Block):
         if valid_cog:
             self.cog = math.atan2(de, dn)
         if self.cog is None:
-            self.cog = bus.get(f"{self.body}.psi", 0.0)
+            self.cog = bus[f"{self.body}.psi"]
         bus[f"{self.name}.x"] = x
         bus[f"{self.name}.y"] = y
         bus[f"{self.name}.sog"] = dist / span if span > 0 else 0.0

@@ -76,9 +76,9 @@ class USBL(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a, b = self.top, self.bottom
-        dn = bus.get(f"{b}.x", 0.0) - bus.get(f"{a}.x", 0.0)
-        de = bus.get(f"{b}.y", 0.0) - bus.get(f"{a}.y", 0.0)
-        dz = bus.get(f"{b}.z", 0.0) - bus.get(f"{a}.z", 0.0)
+        dn = bus[f"{b}.x"] - bus[f"{a}.x"]
+        de = bus[f"{b}.y"] - bus[f"{a}.y"]
+        dz = bus[f"{b}.z"] - bus.get(f"{a}.z", 0.0)
         h = math.hypot(dn, de)
         q = h / max(abs(dz), 1e-6)
         u = self.rng.uniform(-1.0, 1.0, 4)
