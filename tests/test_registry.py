@@ -149,3 +149,17 @@ def test_entry_point_group_registers_a_users_package(tmp_path):
     p = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert p.stdout.strip() == "epdemo.ctrl"
+
+
+def test_usv_controller_slot_takes_gains_and_refuses_unknown_ones():
+    """``control.usv`` is a slot too: kind ``pid`` by default, its gains as keys of the slot."""
+    import numpy as np
+
+    sc, cfg = resolve_config("combined-survey", overrides={"control.usv.speed_kp": 700.0})
+    assert cfg.control.usv.full_kind == "usv.pid" and cfg.control.usv.params == {"speed_kp": 700.0}
+    sim = sc.build(cfg, np.random.default_rng(0))
+    ctl = next(b for b in sim.blocks if b.name == "usv_control")
+    assert ctl.speed.kp == 700.0 and ctl.heading.kp == 120.0  # the given gain, the others' defaults
+    sc, cfg = resolve_config("combined-survey", overrides={"control.usv.speed_kq": 1.0})
+    with pytest.raises(ConfigError, match=r"unknown key 'control\.usv\.speed_kq'"):
+        sc.build(cfg, np.random.default_rng(0))

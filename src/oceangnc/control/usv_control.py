@@ -116,6 +116,15 @@ class USVController(Block):
                         "usv_ctrl.psi_d": "rad", "usv_ctrl.u_speed": "N", "usv_ctrl.u_heading": "N",
                         "usv_ctrl.r_d": "rad/s"}
 
+    params_model = USVControlConfig
+
+    @classmethod
+    def from_context(cls, params: USVControlConfig, ctx) -> USVController:
+        """Built from a scenario's ``control.usv`` slot: ``ctx.cfg.usv`` (thrust limits, d11), the surge
+        target ``ctx.info["surge_speed"]`` (m/s) and the measured u, psi, r by role."""
+        meas = {"u": ctx.signal("usv.u"), "psi": ctx.signal("usv.psi"), "r": ctx.signal("usv.r")}
+        return cls(params, ctx.cfg.usv, ctx.info["surge_speed"], ctx.period, meas=meas)
+
     def reset(self, rng) -> None:
         self.speed.reset()
         self.heading.reset()

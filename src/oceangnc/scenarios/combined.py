@@ -5,7 +5,8 @@
   plus the heading to the USV outside R (``"relative-angle-plus-heading"``, fig. 4-6 (b)).
 * ``combined-survey`` (003 figs. 4-7 to 4-15; the flagship): 3 m cable, waypoints (0,0) (10,10)
   (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv.kind = "pid" | "backstepping"``
-  or any registered kind (a user's block loaded with ``--plugin``; ``control.uuv = "pid"`` also works).
+  or any registered kind (a user's block loaded with ``--plugin``; ``control.uuv = "pid"`` also works);
+  ``control.usv`` is a slot of the same kind (default ``pid``, its gains as keys: ``control.usv.speed_kp``).
 * ``field-test`` (003 ch. 6.2, figs. 6-13 to 6-19): waypoints (50,0) (50,-50) (0,-50) (0,0), USV
   target 1.3 m/s, PID, sensors on (GPS, AHRS, USBL, depth sensor), guidance and control on the
   measured signals.
@@ -35,7 +36,6 @@ from pydantic import Field, field_validator
 
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.backstepping import BacksteppingConfig
-from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
@@ -107,6 +107,17 @@ class UUVControllerChoice(BlockChoice):
 
     family: ClassVar[str] = "uuv"
     role: ClassVar[str | None] = "controller"
+    kind: str = Field("pid", description="registered block kind: a name in the uuv family or family.name")
+
+
+class USVControllerChoice(BlockChoice):
+    """The USV controller: a registered kind (``pid``: speed + heading loops, 003 eq. 3.10-3.11, or a
+    user's ``family.name``) and its parameters (for ``pid`` the gains of
+    :class:`~oceangnc.control.usv_control.USVControlConfig`, e.g. ``control.usv.speed_kp``)."""
+
+    family: ClassVar[str] = "usv"
+    role: ClassVar[str | None] = "controller"
+    kind: str = Field("pid", description="registered block kind: a name in the usv family or family.name")
 
 
 class ControlConfig(StrictModel):
@@ -116,7 +127,8 @@ class ControlConfig(StrictModel):
                                      description="UUV controller: kind = pid | backstepping | a registered kind")
     surge_speed: float = Field(0.6, gt=0, le=5, description="USV surge speed target, m/s")
     rate: float = Field(20.0, gt=0, le=1000, description="control and thruster rate, Hz")
-    usv: USVControlConfig = USVControlConfig()
+    usv: USVControllerChoice = Field(USVControllerChoice(),
+                                     description="USV controller: kind = pid | a registered kind, and its gains")
     uuv_pid: UUVPIDConfig = UUVPIDConfig()
     backstepping: BacksteppingConfig = BacksteppingConfig()
 
@@ -199,12 +211,13 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks.append(LeaderFollower(f.l_d, lam, f.R, 1.0 / g.rate, mode=f.mode, leader=(*usv_pos, usv_psi),
                                  follower=(*uuv_pos, uuv_psi)))
     c = cfg.control
-    blocks.append(USVController(c.usv, cfg.usv, c.surge_speed, h, meas={"u": usv_u, "psi": usv_psi, "r": usv_r}))
     signals = {"usv.x": usv_pos[0], "usv.y": usv_pos[1], "usv.psi": usv_psi, "usv.u": usv_u, "usv.r": usv_r,
                "uuv.x": uuv_pos[0], "uuv.y": uuv_pos[1], "uuv.psi": uuv_psi, "uuv.r": uuv_r}
     if sens:
         signals["usv.v"] = "_zero"  # no sway measurement on the USV: take v_l = 0
-    ctx = BlockContext(period=h, signals=signals, cfg=cfg, info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode})
+    ctx = BlockContext(period=h, signals=signals, cfg=cfg,
+                       info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode, "surge_speed": c.surge_speed})
+    blocks.append(build_block(c.usv, ctx, "control.usv"))
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
     blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
     blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
