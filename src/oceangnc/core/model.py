@@ -224,6 +224,26 @@ class Model:
         self.h(float(t), x, np.asarray(u, dtype=np.float64), self.p if p is None else np.asarray(p, float), out)
         return out
 
+    def simulate(self, t, U, x0, substeps: int = 10, p=None) -> np.ndarray:
+        """States at the sample times ``t`` (N,) for inputs ``U`` (N, n_u) held over each interval (RK4,
+        ``substeps`` steps per interval); the truth of simulated identification trials."""
+        from .integrators import rk4_advance, rk4_workspace
+
+        t = np.asarray(t, dtype=np.float64)
+        U = np.asarray(U, dtype=np.float64).reshape(t.size, self.nu)
+        pp = self.p if p is None else np.asarray(p, dtype=np.float64)
+        x = np.array(x0, dtype=np.float64)
+        X = np.zeros((t.size, self.nx))
+        work = rk4_workspace(self.nx)
+        X[0] = x
+        for k in range(t.size - 1):
+            dt = (t[k + 1] - t[k]) / substeps
+            tn = rk4_advance(self.f, t[k], x, np.ascontiguousarray(U[k]), pp, dt, substeps, work)
+            if tn < 0:
+                raise InputError(f"model {self.name}: simulation diverged at t={t[k]:.3f} s")
+            X[k + 1] = x
+        return X
+
     def plant_args(self, name: str, x0, input_signals: Sequence[str] | None = None, p=None,
                    declare: bool = False) -> dict:
         """Keyword arguments of :class:`~oceangnc.core.blocks.Plant` for this model.

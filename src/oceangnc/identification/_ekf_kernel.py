@@ -156,7 +156,7 @@ def make_kernel(f, h, jac, mode):
                 for i in range(ns):
                     xs[i] = X[i]
                 _h(t[k], xs, U[k], p, hx)
-                _hjac(t[k], xs, p, U[k], cols, H, xc, pc, uc, oc, o1, o2, xr, pr, ur)
+                _hjac(t[k], xs, p, U[k], cols, H, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur)
                 for a in range(nv):
                     y[a] = Z[k, vi[a]] - hx[vi[a]]
                 # PHt = P H^T, S = H P H^T + R (valid rows only)
