@@ -237,7 +237,7 @@ def crossflow_integrals(a, b, L):
     I0 = L a|a|, I1 = |a| b L^3 / 6 are exact to O((bL/a)^2) (switch at |b| L/2 < 1e-4 |a|).
     """
     h = 0.5 * L
-    if abs(b.real) * h <= 1e-4 * abs(a.real) or b == 0.0:
+    if abs(b.real) * h.real <= 1e-4 * abs(a.real) or b == 0.0:
         return L * a * cabs(a), cabs(a) * b * L ** 3 / 6.0
     w1 = a + b * h
     w0 = a - b * h
