@@ -14,9 +14,10 @@ parameters, inputs), so the EKF asks for ``[x | estimated p]`` and :func:`linear
 * ``"finite-difference"``: central differences, step 1e-6 max(|y_j|, 1e-3), O(h^2): a fallback
   for a model that is neither.
 
-The functions are compiled per process and per (f, h, jac, mode) by closing over the model's
-compiled functions (``cache=False``: numba cannot cache a closure over another dispatcher; the
-compile cost is stated in ``docs/ekf-identification.md``).
+The functions are made per (f, h, jac, mode) by closing over the model's compiled functions, and
+compiled with :func:`cached_closure`: numba's own on-disk cache, keyed on a stable fingerprint of
+the closed-over functions (module, name, bytecode, source file stamp) instead of numba's default
+pickle of the closure cells (which holds each dispatcher's per-process id, so it never hits).
 """
 
 from __future__ import annotations
@@ -33,6 +34,57 @@ CS_STEP = 1e-20  # complex step, relative to max(|y|, 1e-3)
 FD_STEP = 1e-6  # central-difference step, relative to max(|y|, 1e-3)
 
 _FUNCS: dict[tuple, tuple] = {}
+
+
+def _fingerprint(obj) -> str:
+    """A string that changes when a closed-over compiled function (or what it closes over) changes."""
+    import hashlib
+    import os
+    import pickle
+
+    from numba.core.dispatcher import Dispatcher
+
+    if isinstance(obj, Dispatcher):
+        py = obj.py_func
+        try:
+            src = py.__code__.co_filename
+            st = os.stat(src)
+            stamp = f"{src}:{st.st_mtime_ns}:{st.st_size}"
+        except OSError:
+            stamp = f"<no file {id(py)}>"
+        parts = [py.__module__, py.__qualname__, hashlib.sha256(py.__code__.co_code).hexdigest(), stamp]
+        parts += [_fingerprint(c.cell_contents) for c in (py.__closure__ or ())]
+        return "(" + ",".join(parts) + ")"
+    try:
+        return hashlib.sha256(pickle.dumps(obj)).hexdigest()
+    except Exception:
+        return f"<{type(obj).__name__} {id(obj)}>"
+
+
+def cached_closure(fn):
+    """``njit(fn)`` for a closure over other compiled functions, cached on disk by numba.
+
+    Numba's cache index key pickles the closure cells; a dispatcher pickles with a per-process id, so
+    the key never matches in a new process. Here the key uses :func:`_fingerprint` of the cells. As
+    with any numba cache, edits to functions in *other* files than the closed-over ones are not seen
+    (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
+    """
+    import hashlib
+
+    from numba.core.caching import FunctionCache
+
+    class _ClosureCache(FunctionCache):
+        def _index_key(self, sig, codegen):
+            cells = "".join(_fingerprint(c.cell_contents) for c in (self._py_func.__closure__ or ()))
+            return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(),
+                                                 hashlib.sha256(cells.encode()).hexdigest()))
+
+    d = njit(fn)
+    try:
+        d._cache = _ClosureCache(fn)
+    except Exception:  # no writable cache location: compile per process
+        pass
+    return d
 
 
 @njit(cache=True)
@@ -57,7 +109,7 @@ def jacobian_functions(f, h, jac, mode: str):
         return _FUNCS[key]
 
     def make_cs(g):
-        @njit
+        @cached_closure
         def gjac_cs(t, x, p, u, cols, J, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur):
             ns = x.size
             npar = p.size
@@ -91,7 +143,7 @@ def jacobian_functions(f, h, jac, mode: str):
         return gjac_cs
 
     def make_fd(g):
-        @njit
+        @cached_closure
         def gjac_fd(t, x, p, u, cols, J, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur):
             ns = x.size
             npar = p.size
@@ -143,7 +195,7 @@ def jacobian_functions(f, h, jac, mode: str):
             raise ConfigError("this model has no analytic Jacobian; use 'complex-step'")
         f_cs = make_cs(f)
 
-        @njit
+        @cached_closure
         def fjac(t, x, p, u, cols, J, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur):
             jac(t, x, u, p, Jfull)
             ns = x.size

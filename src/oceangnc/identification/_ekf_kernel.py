@@ -4,8 +4,8 @@
 ``f(t, x, u, p, out)`` and ``h(t, x, u, p, out)`` and the Jacobian functions of
 :func:`oceangnc.core.linearize.jacobian_functions` (the project's one Jacobian implementation), so
 numba compiles the loop with direct calls into the model. Kernels are kept per process and per
-(f, h, jac, mode); numba cannot cache a closure over other dispatchers on disk, so the first filter
-run of a process pays the compile (a few seconds; see ``docs/ekf-identification.md``).
+(f, h, jac, mode) and cached on disk by numba with a stable key
+(:func:`oceangnc.core.linearize.cached_closure`), so only the first run after an edit compiles.
 
 Everything is allocation-free inside the sample loop; the matrices are small (n = n_s + n_a).
 """
@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.linearize import jacobian_functions
+from ..core.linearize import cached_closure, jacobian_functions
 
 OK, NONFINITE, NOT_PD, BOUND = 0, 1, 2, 3
 
@@ -43,7 +43,7 @@ def make_kernel(f, h, jac, mode):
     _f = f
     _h = h if h is not None else h_states
 
-    @njit
+    @cached_closure
     def _deriv(tt, x, p, u, cols, F, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur, P, Q, dx, dP, G):
         """dx = f(x), dP = F P + P F^T + Q for the augmented state (the parameter rows of F are zero)."""
         ns = x.size
@@ -65,7 +65,7 @@ def make_kernel(f, h, jac, mode):
                     v += G[j, i]
                 dP[i, j] = v
 
-    @njit
+    @cached_closure
     def ekf_loop(X0, P0, Q, R, p0, est_idx, t, Z, U, substeps, bound, Xout, Sout, NIS, P):
         """Run the continuous-discrete augmented EKF over all samples (002 table 3.1).
 

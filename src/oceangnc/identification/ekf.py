@@ -59,22 +59,22 @@ def as_model(model) -> Model:
     ``(t, x, u, p, out)`` contract by thin compiled adapters)."""
     if isinstance(model, Model):
         return model
-    from numba import njit
+    from ..core.linearize import cached_closure
 
     f0, h0, j0 = model.f, model.h, model.jac
     key = (f0, h0, j0)
     if key not in _ADAPTERS:
-        @njit
+        @cached_closure
         def f(t, x, u, p, out):
             f0(x, p, u, out)
 
-        @njit
+        @cached_closure
         def h(t, x, u, p, out):
             h0(x, p, out)
 
         jac = None
         if j0 is not None:
-            @njit
+            @cached_closure
             def jac(t, x, u, p, J):
                 j0(x, p, u, J)
         _ADAPTERS[key] = (f, h, jac)
