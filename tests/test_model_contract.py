@@ -71,7 +71,7 @@ def test_no_hand_kept_parameter_indices():
     for f in ("usv.py", "uuv.py", "ship_lowspeed.py", "first_order.py", "submarine_vertical.py"):
         text = (SRC / "models" / f).read_text()
         assert not re.findall(r"\bp\[\d", text), f
-        assert not re.findall(r"^P_\w+ = \d", text, flags=re.M), f
+        assert not re.findall(r"^P_\w+ = \d", text, flags=re.MULTILINE), f
 
 
 def test_uuv_layout_offsets_are_generated():

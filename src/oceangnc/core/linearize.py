@@ -57,7 +57,7 @@ def _fingerprint(obj) -> str:
         return "(" + ",".join(parts) + ")"
     try:
         return hashlib.sha256(pickle.dumps(obj)).hexdigest()
-    except Exception:
+    except (pickle.PicklingError, TypeError, AttributeError):
         return f"<{type(obj).__name__} {id(obj)}>"
 
 
@@ -82,8 +82,8 @@ def cached_closure(fn):
     d = njit(fn)
     try:
         d._cache = _ClosureCache(fn)
-    except Exception:  # no writable cache location: compile per process
-        pass
+    except RuntimeError:  # numba found no writable cache location: compile once per process
+        return d
     return d
 
 

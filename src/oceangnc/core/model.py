@@ -125,7 +125,7 @@ def _pairs(decl, what: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
     names, units = [], []
     for d in decl:
         if isinstance(d, str):
-            raise ValueError(f"{what} '{d}': declare (name, unit)")
+            raise TypeError(f"{what} '{d}': declare (name, unit)")
         names.append(d[0])
         units.append(d[1])
     if len(set(names)) != len(names):
@@ -254,9 +254,9 @@ class Model:
         sig = list(input_signals) if input_signals is not None else [f"{name}.{k}" for k in self.input_names]
         if len(sig) != self.nu:
             raise ValueError(f"model {self.name}: {len(sig)} input signals for {self.nu} inputs")
-        kw = dict(name=name, rhs=self.f, x0=np.asarray(x0, dtype=np.float64),
-                  p=self.p if p is None else np.asarray(p, dtype=np.float64),
-                  state_names=self.state_names, input_names=sig)
+        kw = {"name": name, "rhs": self.f, "x0": np.asarray(x0, dtype=np.float64),
+              "p": self.p if p is None else np.asarray(p, dtype=np.float64),
+              "state_names": self.state_names, "input_names": sig}
         if declare:
             kw.update(state_units=self.state_units, input_units=self.input_units)
         return kw

@@ -15,15 +15,19 @@ of table 3.1:
   P = (I - K H) P (I - K H)^T + K R K^T (the table's (I - K H) P is algebraically equal but loses
   symmetry and positive definiteness in floating point).
 
-The filter is generic: a model is an :class:`EKFModel` made of two numba-compiled functions,
-``f(x, p, u, out)`` writing dx/dt of the n_s physical states and ``h(x, p, out)`` writing the n_z
-predicted measurements, where ``p`` is the model's full parameter vector; any subset of ``p`` can be
-estimated (the others stay at their nominal values). Jacobians are exact:
+The filter is generic: a model is a :class:`~oceangnc.core.model.Model` (the project's one system
+contract: ``f(t, x, u, p, out)``, optional ``h(t, x, u, p, out)``, declared names and units, a
+generated parameter layout), so any plant of the project (:func:`get_model`: ``usv``, ``uuv``,
+``ship``, ``first-order``, ``submarine-vertical``) is identified by naming the parameters to
+estimate (the others stay at their nominal values). The older :class:`EKFModel` (``f(x, p, u,
+out)``, ``h(x, p, out)``) is still accepted and wrapped (:func:`as_model`). Jacobians are exact and
+come from :mod:`oceangnc.core.linearize` (the one implementation, shared with ``linearize``/``trim``):
 
-* ``"analytic"``: the model's own ``jac(x, p, u, J)`` (J[:, :n_s] = df/dx, J[:, n_s + j] = df/dp_j);
+* ``"analytic"``: the model's own ``jac`` (J[:, :n_s] = df/dx, J[:, n_s + j] = df/dp_j);
 * ``"complex-step"`` (default when no analytic Jacobian is given): df/dy_j = Im f(y + i h e_j) / h
   with h ~ 1e-20 |y_j|, exact to rounding because nothing is subtracted. It needs ``f`` and ``h``
-  written with numpy functions (``np.sin``, not ``math.sin``) and no branches on the state;
+  written for complex arithmetic (numpy functions or :mod:`oceangnc.core.csmath`, branches on
+  real parts);
 * ``"finite-difference"`` (central, for models that are neither): O(h^2) approximate, a fallback.
 
 The whole filter loop is one numba function; 200 s of 100 Hz data with 3 states and 10 parameters
@@ -32,12 +36,12 @@ takes well under a second on one core (``benchmarks/bench_ekf.py``).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 
-from ..core.linearize import JACOBIAN_MODES, _call, default_mode, jacobian_columns
+from ..core.linearize import _call, default_mode, jacobian_columns
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError, InputError
 

@@ -43,11 +43,10 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Literal
 
 import numpy as np
 from numba import njit
-from typing import Literal
-
 from pydantic import Field, model_validator
 
 from ..core.blocks import Block, Plant

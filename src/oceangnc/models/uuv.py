@@ -61,7 +61,7 @@ from ..core.model import Model, Param, ParamLayout
 from ..core.rotations import rzyx_entries
 from ..errors import InputError
 from ..io.config import StrictModel
-from ..units import G, KGF, RHO_WATER
+from ..units import KGF, RHO_WATER, G
 from .actuators import UUV_T_FWD_N, UUV_T_REV_N
 
 STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
@@ -284,8 +284,6 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     sf = csin(phi)
     ct = ccos(th)
     st = csin(th)
-    cp = ccos(psi)
-    sp = csin(psi)
     # R_b^n (Fossen eq. 2.18)
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
     # kinematics (003 eq. 2.13, A-1, A-2)
