@@ -48,6 +48,7 @@ from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..models.ship_lowspeed import (
+    LAYOUT,
     ShipConfig,
     hull_forces,
     inverse_mass,
@@ -58,6 +59,11 @@ from ..models.ship_lowspeed import (
 from ..models.usv import wind_load
 from .allocation import allocate
 from .pid import PID
+
+#: offsets of the ship parameters used here, from the model's generated layout
+(_RHO, _M, _XG, _M11, _T_P, _W_P, _TAU_D, _DELTA_MAX, _DELTA_RATE, _NB_MAX, _RHO_AIR, _A_F, _A_L, _L_OA, _C_X, _C_Y,
+ _C_N) = LAYOUT.indices("rho", "m", "xG", "m11", "t_p", "w_p", "tau_d", "delta_max", "delta_rate", "nB_max",
+                        "rho_air", "A_F", "A_L", "L_oa", "c_x", "c_y", "c_n")
 
 CMD_KEYS = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd")
 
@@ -103,8 +109,8 @@ def rps_for_thrust(x_pd, ur, p, n_lim):
     X_P is monotonic in n except in a tiny band near n = 0 when K_T(J) < 0; bisection on the sign
     change from -n_lim to +n_lim always returns a root when one exists, else the nearer limit.
     """
-    up = (1.0 - p[35]) * ur
-    k = (1.0 - p[34]) * p[2]
+    up = (1.0 - p[_W_P]) * ur
+    k = (1.0 - p[_T_P]) * p[_RHO]
     target = x_pd / k
     lo = -n_lim
     hi = n_lim
@@ -181,8 +187,8 @@ class PIDController(_Base):
         p = self.p
         nlim = c.n_limit_rpm / 60.0
         self.pid_n = PID(c.kp_prop, c.ki_prop, c.kd_prop, -nlim, nlim)
-        self.pid_d = PID(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[48], p[48])
-        self.pid_t = PID(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[50], p[50])
+        self.pid_d = PID(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[_DELTA_MAX], p[_DELTA_MAX])
+        self.pid_t = PID(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[_NB_MAX], p[_NB_MAX])
 
     def step(self, t, bus):
         h = self.period
@@ -247,13 +253,13 @@ class NonlinearController(_Base):
         uc = cps * cn + sps * ce
         vc = -sps * cn + cps * ce
         ur, vr = u - uc, v - vc
-        m, xg = p[3], p[4]
+        m, xg = p[_M], p[_XG]
         Xh, Yh, Nh = hull_forces(ur, vr, r, p)
         XR, _, _ = rudder_forces(delta, ur, vr, r, n, p)
-        XW, YW, NW = wind_load(u, v, psi, wn, we, p[52], p[53], p[54], p[55], p[56], p[57], p[58])
+        XW, YW, NW = wind_load(u, v, psi, wn, we, p[_RHO_AIR], p[_A_F], p[_A_L], p[_L_OA], p[_C_X], p[_C_Y], p[_C_N])
         # surge (29)-(31)
         e_u = u - u_d
-        x_pd = p[5] * (ud_dot - cfg.lambda1 * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
+        x_pd = p[_M11] * (ud_dot - cfg.lambda1 * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
         n_c = rps_for_thrust(x_pd, ur, p, cfg.n_limit_rpm / 60.0)
         # yaw rate (32)-(34)
         e_r = r - r_d
@@ -261,11 +267,11 @@ class NonlinearController(_Base):
         fn0 = -m * xg * ur * r + Nh + NW
         u_rd = rd_dot - cfg.lambda2 * e_r - self.c * fy0 - self.d * fn0
         if cfg.rate_aware_rudder:
-            reach = p[49] * max(h, p[44])
+            reach = p[_DELTA_RATE] * max(h, p[_TAU_D])
             delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21,
                                      delta - reach, delta + reach)
         else:
-            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[48], p[48])
+            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX], p[_DELTA_MAX])
         self._write(bus, delta_c, n_c, nb_c, -nb_c, e_u, e_r)
         bus["ctrl.u_rd"] = float(u_rd)
         bus["ctrl.u_d"] = float(u_d)

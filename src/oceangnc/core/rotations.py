@@ -17,6 +17,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .csmath import ccos, csin
+
 
 @njit(cache=True)
 def wrap(a):
@@ -66,14 +68,15 @@ def rot3(psi):
 def rzyx_entries(phi, theta, psi):
     """The nine entries (r00, r01, r02, r10, ..., r22) of R_b^n(phi, theta, psi) (Fossen 2011 eq. 2.18).
 
-    A tuple of scalars, so compiled right-hand sides can rotate without allocating a matrix.
+    A tuple of scalars, so compiled right-hand sides can rotate without allocating a matrix; real or
+    complex angles (:mod:`oceangnc.core.csmath`, for complex-step Jacobians).
     """
-    cphi = math.cos(phi)
-    sphi = math.sin(phi)
-    cth = math.cos(theta)
-    sth = math.sin(theta)
-    cpsi = math.cos(psi)
-    spsi = math.sin(psi)
+    cphi = ccos(phi)
+    sphi = csin(phi)
+    cth = ccos(theta)
+    sth = csin(theta)
+    cpsi = ccos(psi)
+    spsi = csin(psi)
     return (cpsi * cth, -spsi * cphi + cpsi * sth * sphi, spsi * sphi + cpsi * cphi * sth,
             spsi * cth, cpsi * cphi + sphi * sth * spsi, -cpsi * sphi + sth * spsi * cphi,
             -sth, cth * sphi, cth * cphi)

@@ -35,7 +35,7 @@ from ..environment import EnvironmentConfig
 from ..guidance.scripted_pilot import PilotConfig, Route, ScriptedPilot
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals
-from ..models.ship_lowspeed import ShipConfig, ShipPlant
+from ..models.ship_lowspeed import P, ShipConfig, ShipPlant
 from ..units import KNOT
 from ._common import environment_blocks
 from .base import Scenario
@@ -81,7 +81,7 @@ def speed_per_rps(ship: ShipConfig) -> float:
     """
     p = ship.params()
     D, tp, wp, rho = ship.prop_diameter, ship.t_p, ship.w_p, ship.rho
-    xuu = p[10] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
+    xuu = p[P["X_uu"]] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
     a = xuu + (1 - tp) * rho * ship.kt_a3 * (1 - wp) ** 2 * D ** 2
     b = (1 - tp) * rho * ship.kt_a2 * (1 - wp) * D ** 3
     c = (1 - tp) * rho * ship.kt_a1 * D ** 4
