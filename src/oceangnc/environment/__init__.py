@@ -2,7 +2,7 @@
 
 from .current import CurrentConfig, OceanCurrent
 from .seabed import SeabedConfig
-from .wind import WindConfig, Wind, beaufort_speed
+from .wind import Wind, WindConfig, beaufort_speed
 
 __all__ = ["CurrentConfig", "OceanCurrent", "WindConfig", "Wind", "beaufort_speed", "EnvironmentConfig",
            "SeabedConfig"]
