@@ -23,6 +23,7 @@ as temporary files and unreadable parts.
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -125,6 +126,8 @@ class LogWriter:
             self._buf = {c: [] for c in self.columns}
         if self._t0 is None:
             self._t0 = t
+            # flush at multiples of the period (t = 1, 2, 3 s ...), whatever time the buffer starts at
+            self._t_flush = (math.floor(t / self.flush_period + 1e-9) + 1) * self.flush_period
         self._buf["t"].append(t)
         for c in self.columns[1:]:
             if c in self.extra:
@@ -132,7 +135,7 @@ class LogWriter:
             else:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
-        if (t - self._t0 >= self.flush_period * (1 - 1e-9) or t < self._t0
+        if (t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0
                 or len(self._buf["t"]) >= self.flush_rows):
             self.flush()
 
