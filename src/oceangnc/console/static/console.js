@@ -25,7 +25,7 @@ function send(obj) {
 
 // ---------------------------------------------------------------- connection
 function connect() {
-  const want = new URLSearchParams(location.search).get("role") === "viewer" ? "viewer" : "operator";
+  const want = S.want = new URLSearchParams(location.search).get("role") === "viewer" ? "viewer" : "operator";
   const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws?token=" +
     encodeURIComponent(TOKEN) + "&role=" + want);
   S.ws = ws;
@@ -44,6 +44,8 @@ setInterval(() => { S.pingId += 1; S.pingSent = performance.now(); send({ type: 
 
 function onRole(m) {
   S.role = m.role; S.client = m.client; S.operator = m.operator;
+  // a page opened to drive takes control as soon as nobody holds it (never from another operator)
+  if (S.want === "operator" && m.role === "viewer" && m.operator == null) send({ type: "control", take: true });
   const el = $("role");
   el.textContent = m.role === "operator" ? `operator #${m.client}` : `viewer #${m.client}`;
   el.className = "lamp " + (m.role === "operator" ? "ok" : "warn");
@@ -270,6 +272,10 @@ function pushCharts(st) {
   }
 }
 function drawCharts() {
+  let none = $("charts-none");
+  if (!none) { none = document.createElement("div"); none.id = "charts-none"; none.className = "muted";
+    none.textContent = "no UUV depth, USV-UUV distance or cable tension in this scenario"; $("charts").appendChild(none); }
+  none.classList.toggle("hidden", S.charts.some((c) => c.seen));
   for (const ch of S.charts) {
     ch.el.classList.toggle("hidden", !ch.seen);
     if (!ch.seen || !ch.t.length) continue;
@@ -386,9 +392,11 @@ function fitView() {
   for (const tr of Object.values(S.tracks)) { const step = Math.max(1, Math.floor(tr.length / 500)); for (let i = 0; i < tr.length; i += step) add(tr[i]); if (tr.length) add(tr[tr.length - 1]); }
   if (S.state) for (const b of S.hello.view.bodies) add([S.state.signals[b.name + ".x"], S.state.signals[b.name + ".y"]]);
   if (!isFinite(lo[0])) { lo = [-10, -10]; hi = [10, 10]; }
-  const span = Math.max(hi[0] - lo[0], hi[1] - lo[1], 10) * 1.15;
+  // fit north span into the height and east span into the width, with a 40 px margin all round
+  const m = 40 * (window.devicePixelRatio || 1);
   S.view.cx = (lo[0] + hi[0]) / 2; S.view.cy = (lo[1] + hi[1]) / 2;
-  S.view.scale = Math.min(cv.width, cv.height) / span;
+  S.view.scale = Math.max(1e-6, Math.min((cv.height - 2 * m) / Math.max(hi[0] - lo[0], 10),
+                                         (cv.width - 2 * m) / Math.max(hi[1] - lo[1], 10)));
 }
 
 function niceStep(px) { const w = px / S.view.scale, p = Math.pow(10, Math.floor(Math.log10(w))); for (const m of [1, 2, 5, 10]) if (m * p >= w) return m * p; return 10 * p; }
@@ -446,7 +454,8 @@ function drawCable(c) {
 
 function draw() {
   requestAnimationFrame(draw);
-  if (cv.width !== Math.round(cv.getBoundingClientRect().width * (window.devicePixelRatio || 1))) resize();
+  { const r = cv.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;  // the banner changes the height
+    if (cv.width !== Math.max(10, Math.round(r.width * dpr)) || cv.height !== Math.max(10, Math.round(r.height * dpr))) resize(); }
   const c = cv.getContext("2d");
   c.fillStyle = "#0b2538"; c.fillRect(0, 0, cv.width, cv.height);
   if (!S.hello || !S.state) return;
