@@ -295,6 +295,7 @@ def serve(session: Session, host: str = "127.0.0.1", port: int = 8050, stream_hz
     config = uvicorn.Config(app, host=host, port=port, log_level=log_level, ws_max_size=1 << 20,
                             lifespan="on", access_log=False, ssl_certfile=ssl_certfile, ssl_keyfile=ssl_keyfile)
     server = uvicorn.Server(config)
+    sock = listen_socket(host, port)
     if ready is not None:
         orig = server.startup
 
@@ -303,8 +304,28 @@ def serve(session: Session, host: str = "127.0.0.1", port: int = 8050, stream_hz
             ready(server, app)
 
         server.startup = startup
-    server.run()
+    server.run(sockets=[sock])
     return server
+
+
+#: kernel send buffer of each connection (inherited from the listening socket): small enough that a
+#: client that stops reading fills its send queue within seconds (and is dropped), far above the
+#: 25 Hz stream's need (~50 kB/s)
+SNDBUF = 128 * 1024
+
+
+def listen_socket(host: str, port: int):
+    """The listening socket, with a bounded per-connection send buffer (:data:`SNDBUF`)."""
+    import socket
+
+    fam = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(fam, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SNDBUF)
+    sock.bind((host, port))
+    sock.listen(128)
+    sock.set_inheritable(True)
+    return sock
 
 
 def console_url(host: str, port: int, token: str, tls: bool = False) -> str:
