@@ -292,3 +292,17 @@ def test_progress_bar_says_compiling_then_closes_at_100_percent_when_ended_early
     assert desc0 == "compiling" and bar.desc == ""
     assert bar.n == bar.total == 10.0
     assert "scenario ended at t = 3.0 s" in bar.postfix
+
+
+@pytest.mark.slow
+def test_flagship_resume_is_bit_identical(tmp_path, monkeypatch):
+    """The combined USV + cable + UUV survey (guidance, random sensors, cable plant) resumes exactly."""
+    full = oceangnc.run("combined-survey", duration=30, out=tmp_path / "full", plots=False).df
+    orig = LogWriter.close
+    monkeypatch.setattr(LogWriter, "close", lambda self: (setattr(self, "compact", False), orig(self))[1])
+    oceangnc.run("combined-survey", duration=30, out=tmp_path / "cut", plots=False, checkpoint_every=12)
+    monkeypatch.setattr(LogWriter, "close", orig)
+    (tmp_path / "cut" / "summary.json").unlink()
+    res = oceangnc.run(resume=tmp_path / "cut", plots=False)
+    assert res.summary["resumed_from_t"] == 24.0
+    pd.testing.assert_frame_equal(res.df, full, check_exact=True)
