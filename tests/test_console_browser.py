@@ -388,7 +388,7 @@ def test_a_rejected_gain_goes_back_in_its_box_and_is_logged_once(console_page):
     page.wait_for_function("window.__console.rejected.some(r => r.startsWith('gains:'))", timeout=T_WAIT)
     page.wait_for_timeout(600)
     assert box.input_value() == orig
-    n = page.evaluate("window.__console.events.filter(e => e.text.includes('usv_pilot.speed_kp')).length")
+    n = page.evaluate("window.__console.events.filter(e => e.text.includes('usv_pilot.speed_kp = 1e+09')).length")
     assert n == 1
 
 
