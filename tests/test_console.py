@@ -14,8 +14,14 @@ import time
 import pyarrow.parquet as pq
 import pytest
 
-from oceangnc.console.messages import (BURST, RATE_PER_S, RateLimiter, Rejected, check_gains,
-                                       parse_message)
+from oceangnc.console.messages import (
+    BURST,
+    RATE_PER_S,
+    RateLimiter,
+    Rejected,
+    check_gains,
+    parse_message,
+)
 from oceangnc.console.session import Session
 from oceangnc.units import KGF
 

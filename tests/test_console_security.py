@@ -44,18 +44,16 @@ def test_every_api_request_and_websocket_needs_the_token(app_client):
     assert c.get("/api/state", headers={"authorization": f"Bearer {TOKEN}"}).status_code == 200
     assert c.get("/").status_code == 200  # the page itself is public; it carries no data
     for url in ("ws://127.0.0.1/ws", "ws://127.0.0.1/ws?token=nope"):
-        with pytest.raises(WebSocketDenialResponse) as e:
-            with c.websocket_connect(url):
-                pass
+        with pytest.raises(WebSocketDenialResponse) as e, c.websocket_connect(url):
+            pass
         assert e.value.status_code == 401 and "session token" in e.value.text
 
 
 def test_foreign_origin_and_foreign_host_are_refused_with_403(app_client):
     c = app_client
     for origin in ("http://evil.example", "http://127.0.0.1:9999", "null", "https://127.0.0.1"):
-        with pytest.raises(WebSocketDenialResponse) as e:
-            with c.websocket_connect(WS, headers={"origin": origin}):
-                pass
+        with pytest.raises(WebSocketDenialResponse) as e, c.websocket_connect(WS, headers={"origin": origin}):
+            pass
         assert e.value.status_code == 403 and "not allowed" in e.value.text
         r = c.get(f"/api/state?token={TOKEN}", headers={"origin": origin})
         assert r.status_code == 403
@@ -152,7 +150,7 @@ def test_estop_holds_integrators_and_reset_ramps_thrust_without_a_step(tmp_path)
     s.client_connected()
 
     def adv(sec, rec=None):
-        for _ in range(int(round(sec / 0.05))):
+        for _ in range(round(sec / 0.05)):
             clk.t += 0.05
             s.step_once()
             if rec is not None:

@@ -28,7 +28,7 @@ ENV = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "sr
 
 def cli(*args, **kw):
     return subprocess.run([sys.executable, "-m", "oceangnc.cli", *args], capture_output=True, text=True,
-                          timeout=300, env=ENV, **kw)
+                          timeout=300, env=ENV, check=False, **kw)
 
 
 def start(*args):

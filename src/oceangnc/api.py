@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import DivergenceError, OceanGNCError
+from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_log, read_table
 from .scenarios.base import RunContext, get_scenario, registry

@@ -37,9 +37,8 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from .api import run
-    from .io.config import flatten, parse_sets
-
     from .errors import InputError
+    from .io.config import flatten, parse_sets
 
     if args.scenario and args.scenario.lower().endswith(".toml"):
         from .scenarios.base import registry

@@ -50,7 +50,7 @@ from fastapi import FastAPI, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
 
-from .messages import VIEWER_TYPES, RateLimiter, Rejected, parse_message
+from .messages import RateLimiter, Rejected, parse_message
 from .session import Session
 
 STATIC = Path(__file__).parent / "static"
@@ -176,7 +176,7 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
             return
         await ws.accept()
         want = ws.query_params.get("role", "operator") != "viewer"
-        cid, role = session.attach(want)
+        cid, _ = session.attach(want)
         queue: asyncio.Queue = asyncio.Queue(maxsize=send_queue)
         dropped = asyncio.Event()
         limiter = RateLimiter()

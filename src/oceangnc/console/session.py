@@ -32,9 +32,9 @@ which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet fil
 
 from __future__ import annotations
 
+import io
 import json
 import math
-import io
 import threading
 import time
 import traceback

@@ -208,7 +208,7 @@ class Checkpointer:
             restored = True
         if self.every is not None:
             tick_s = sim.tick * sim.dt
-            steps = max(1, int(round(self.every / tick_s))) * sim.tick
+            steps = max(1, round(self.every / tick_s)) * sim.tick
             sim.checkpoint_hook = (steps, self._save)
         return restored
 

@@ -118,6 +118,7 @@ class Simulation:
             bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False,
                        desc="compiling")  # numba compiles on the first steps: no rate, no ETA yet
         t_start = self.t
+        k_start = self.k
         last_bar = self.t
         t_wall0 = time.perf_counter()
         try:
@@ -149,7 +150,7 @@ class Simulation:
                     pl.advance(t, self.dt, n)
                     pl.publish(self.bus)
                 self.k += n
-                if bar is not None and bar.desc == "compiling" and self.k > n_end - int(round(duration / self.dt)):
+                if bar is not None and bar.desc == "compiling" and self.k > k_start:
                     bar.set_description_str("")
                     bar.reset()  # restart the rate (ETA) clock after compilation
                     last_bar = t_start

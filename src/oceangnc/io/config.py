@@ -16,10 +16,16 @@ from pathlib import Path
 from typing import Any, Literal
 
 import annotated_types as at
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+)
 
 from ..errors import ConfigError
-
 
 #: largest |coordinate| of a waypoint or route point (m): 10 000 km, more than any mission, small
 #: enough that squared distances stay far from float overflow
