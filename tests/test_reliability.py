@@ -31,6 +31,15 @@ def cli(*args, **kw):
                           timeout=300, env=ENV, check=False, **kw)
 
 
+def main_cli(capsys, *args):
+    """The CLI entry point in-process (no interpreter start-up): (exit code, stdout, stderr)."""
+    from oceangnc.cli import main
+
+    rc = main(list(args))
+    out = capsys.readouterr()
+    return rc, out.out, out.err
+
+
 def start(*args):
     return subprocess.Popen([sys.executable, "-m", "oceangnc.cli", *args], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=ENV)
@@ -170,8 +179,8 @@ def test_resume_from_checkpoint_equals_uninterrupted_log(tmp_path, monkeypatch):
 
 def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     out = tmp_path / "run"
-    proc = start("run", "usv-turn", "--duration", "400", "--out", str(out), "--quiet", "--no-plots",
-                 "--checkpoint-every", "20", "--set", "environment.current.speed=0.2")
+    proc = start("run", "usv-turn", "--duration", "200", "--out", str(out), "--quiet", "--no-plots",
+                 "--checkpoint-every", "10", "--set", "environment.current.speed=0.2")
     try:
         assert wait_for(lambda: (out / "checkpoint.pkl").exists() or proc.poll() is not None)
         time.sleep(random.Random(7).uniform(0.0, 0.3))
@@ -183,24 +192,24 @@ def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     r = cli("run", "--resume", str(out), "--quiet", "--no-plots", "--json")
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout.strip().splitlines()[-1])
-    assert s["status"] == "ok" and s["resumed_from_t"] > 0 and s["resumed_from_t"] % 20 == 0
-    ref = oceangnc.run("usv-turn", duration=400, out=tmp_path / "ref", plots=False,
+    assert s["status"] == "ok" and s["resumed_from_t"] > 0 and s["resumed_from_t"] % 10 == 0
+    ref = oceangnc.run("usv-turn", duration=200, out=tmp_path / "ref", plots=False,
                        overrides={"environment.current.speed": 0.2}).df
     pd.testing.assert_frame_equal(read_log(out), ref, check_exact=True)
     r = cli("run", "--resume", str(out), "--quiet")
     assert r.returncode == 2 and "nothing to resume" in r.stderr
 
 
-def test_resume_errors_are_one_line(tmp_path):
-    r = cli("run", "--resume", str(tmp_path / "nowhere"))
-    assert r.returncode == 2 and "run folder not found" in r.stderr
+def test_resume_errors_are_one_line(tmp_path, capsys):
+    rc, _, err = main_cli(capsys, "run", "--resume", str(tmp_path / "nowhere"))
+    assert rc == 2 and "run folder not found" in err
     (tmp_path / "d").mkdir()
-    r = cli("run", "--resume", str(tmp_path / "d"))
-    assert r.returncode == 2 and "no checkpoint in" in r.stderr
-    r = cli("run", "usv-turn", "--checkpoint-every", "-1")
-    assert r.returncode == 2 and "--checkpoint-every" in r.stderr
-    for rr in (r,):
-        assert "Traceback" not in rr.stderr
+    rc, _, err = main_cli(capsys, "run", "--resume", str(tmp_path / "d"))
+    assert rc == 2 and "no checkpoint in" in err
+    rc, _, err = main_cli(capsys, "run", "usv-turn", "--checkpoint-every", "-1")
+    assert rc == 2 and "--checkpoint-every" in err and err.count("\n") == 1
+    rc, _, err = main_cli(capsys, "run", "usv-turn", "--resume", str(tmp_path / "d"))
+    assert rc == 2 and "give no scenario" in err
 
 
 def test_checkpoint_holds_plants_blocks_rngs_and_clock():
@@ -224,16 +233,16 @@ def test_checkpoint_holds_plants_blocks_rngs_and_clock():
 
 # -- first-hour errors -----------------------------------------------------------------------------------------
 
-def test_nan_inf_and_huge_waypoints_are_bad_input_exit_2():
-    r = cli("run", "usv-remote", "--set", "guidance.waypoints=[[0,0],[nan,5]]", "--quiet")
-    assert r.returncode == 2, r.stderr
-    assert "guidance.waypoints.1.0 = nan: must be finite" in r.stderr
-    r = cli("run", "usv-remote", "--set", "guidance.waypoints=[[0,0],[1e308,5]]", "--quiet")
-    assert r.returncode == 2 and "must be within +-1e+07 m of the origin" in r.stderr
-    assert "overflow" not in r.stderr.lower()
-    r = cli("run", "usv-turn", "--set", "environment.current.speed=inf", "--quiet")
-    assert r.returncode == 2 and "environment.current.speed = inf: must be finite" in r.stderr
-    assert "should be" not in r.stderr
+def test_nan_inf_and_huge_waypoints_are_bad_input_exit_2(capsys):
+    rc, _, err = main_cli(capsys, "run", "usv-remote", "--set", "guidance.waypoints=[[0,0],[nan,5]]", "--quiet")
+    assert rc == 2, err
+    assert "guidance.waypoints.1.0 = nan: must be finite" in err
+    rc, _, err = main_cli(capsys, "run", "usv-remote", "--set", "guidance.waypoints=[[0,0],[1e308,5]]", "--quiet")
+    assert rc == 2 and "must be within +-1e+07 m of the origin" in err
+    assert "overflow" not in err.lower()
+    rc, _, err = main_cli(capsys, "run", "usv-turn", "--set", "environment.current.speed=inf", "--quiet")
+    assert rc == 2 and "environment.current.speed = inf: must be finite" in err
+    assert "should be" not in err
 
 
 def test_waypoint_count_message_reads_naturally():
@@ -242,12 +251,12 @@ def test_waypoint_count_message_reads_naturally():
     assert "guidance.waypoints = []: 0 item(s); allowed length 1 to 200 items" in str(ei.value)
 
 
-def test_toml_given_as_scenario_points_to_config_and_plot_names_missing_folder(tmp_path):
-    r = cli("run", "mine.toml")
-    assert r.returncode == 2 and "oceangnc run --config mine.toml" in r.stderr
-    r = cli("plot", str(tmp_path / "nowhere"))
-    assert r.returncode == 2 and f"run folder not found: {tmp_path / 'nowhere'}" in r.stderr
-    assert "config.toml" not in r.stderr
+def test_toml_given_as_scenario_points_to_config_and_plot_names_missing_folder(tmp_path, capsys):
+    rc, _, err = main_cli(capsys, "run", "mine.toml")
+    assert rc == 2 and "oceangnc run --config mine.toml" in err
+    rc, _, err = main_cli(capsys, "plot", str(tmp_path / "nowhere"))
+    assert rc == 2 and f"run folder not found: {tmp_path / 'nowhere'}" in err
+    assert "config.toml" not in err
 
 
 def test_sigint_writes_interrupted_summary(tmp_path):

@@ -214,6 +214,7 @@ class Checkpointer:
 
     def _save(self, sim) -> None:
         self.log.flush()
+        self.log.sync()  # the parts the checkpoint counts are on disk before it is
         payload = {"version": VERSION, "t": sim.t, "sim": capture(sim),
                    "log": {"parts": self.log.parts, "rows": self.log.rows_written}}
         save(self.run_dir / FILE, payload)

@@ -7,8 +7,12 @@ Layout (crash safety). ``log.parquet`` is a *folder* (a Parquet dataset) holding
 per flush, ``part-000000.parquet``, ``part-000001.parquet``, ... :class:`LogWriter` buffers rows and
 writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s). Each
 part is written to a hidden temporary name (``.part-000007.parquet.tmp``), flushed to disk and then
-renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL,
-a power cut or a full disk loses at most the rows buffered since the last flush. pyarrow and pandas
+renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL
+or a full disk loses at most the rows buffered since the last flush. Parts are written uncompressed
+(cheap: a few ms each) and ``fsync``-ed at most once per second of wall-clock time (``sync_wall``)
+and always at close and before a checkpoint, so a power cut loses at most the last flush period or
+the last second of computation, whichever is more; a part left empty by a power cut is unreadable
+and skipped (and removed by repair). pyarrow and pandas
 skip names that start with ``.``, and open the folder as one table
 (``pandas.read_parquet("run/log.parquet")``, ``pyarrow.parquet.read_table(...)``, or
 :func:`read_log`). Each part records its first row index and row count in its key-value metadata
@@ -25,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +39,7 @@ import pyarrow.parquet as pq
 from ..errors import InputError
 
 PART_FMT = "part-{:06d}.parquet"
+MEM_CELLS = 20_000_000  #: values (rows x columns) of a log kept in memory for compaction (160 MB)
 META_ROW0 = b"oceangnc.row0"
 META_ROWS = b"oceangnc.rows"
 
@@ -104,11 +110,18 @@ class LogWriter:
     """
 
     def __init__(self, path: str | Path, flush_period: float = 1.0, flush_rows: int = 100_000,
-                 start_part: int = 0, start_row: int = 0, compact: bool = True):
+                 start_part: int = 0, start_row: int = 0, compact: bool = True, sync_wall: float = 1.0):
         self.path = Path(path)
         self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
         self.compact = bool(compact)
+        self.sync_wall = float(sync_wall)
+        self._t_sync = -math.inf
+        self._unsynced: list[Path] = []
+        # the parts written by this writer, kept for compaction at close (no reading back), up to a
+        # memory cap; a resumed writer (start_part > 0) compacts from disk
+        self._mem: list[pa.Table] | None = [] if start_part == 0 else None
+        self._mem_cells = 0
         self.columns: list[str] | None = None
         self._buf: dict[str, list] = {}
         self._t0: float | None = None
@@ -142,7 +155,7 @@ class LogWriter:
     def _table(self) -> pa.Table:
         return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
 
-    def _write_part(self, table: pa.Table, index: int, row0: int) -> Path:
+    def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
         meta = dict(table.schema.metadata or {})
         meta.update({META_ROW0: str(row0).encode(), META_ROWS: str(table.num_rows).encode()})
         table = table.replace_schema_metadata(meta)
@@ -150,16 +163,37 @@ class LogWriter:
         tmp = self.path / f".{final.name}.tmp"
         try:
             with open(tmp, "wb") as f:
-                pq.write_table(table, f, compression="zstd")
-                f.flush()
-                os.fsync(f.fileno())
+                if final_part:
+                    pq.write_table(table, f, compression="zstd")
+                    f.flush()
+                    os.fsync(f.fileno())
+                else:  # a part of a running log: small, uncompressed (compaction compresses)
+                    pq.write_table(table, f, compression="none", use_dictionary=False, write_statistics=False)
             os.replace(tmp, final)
         except OSError as e:
             tmp.unlink(missing_ok=True)
             raise InputError(f"cannot write the log {self.path}: {e.strerror or e}; the "
                              f"{self.rows_written} rows flushed before are kept") from None
-        _fsync_dir(self.path)
+        if final_part:
+            _fsync_dir(self.path)
+        else:
+            self._unsynced.append(final)
         return final
+
+    def sync(self) -> None:
+        """fsync the parts written since the last sync, and the folder (durable on power loss)."""
+        for p in self._unsynced:
+            try:
+                fd = os.open(p, os.O_RDONLY)
+            except OSError:
+                continue
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+        self._unsynced.clear()
+        _fsync_dir(self.path)
+        self._t_sync = time.monotonic()
 
     def flush(self) -> None:
         """Write the buffered rows as one new part file (atomically)."""
@@ -167,7 +201,14 @@ class LogWriter:
             return
         self.path.mkdir(parents=True, exist_ok=True)
         table = self._table()
-        self._write_part(table, self.parts, self.rows_written)
+        self._write_part(table, self.parts, self.rows_written, final_part=False)
+        if self._mem is not None:
+            self._mem.append(table)
+            self._mem_cells += table.num_rows * table.num_columns
+            if self._mem_cells > MEM_CELLS:
+                self._mem = None
+        if time.monotonic() - self._t_sync >= self.sync_wall:
+            self.sync()
         self.parts += 1
         self.rows_written += table.num_rows
         for c in self.columns:
@@ -181,6 +222,7 @@ class LogWriter:
         self.closed = True
         self.flush()
         self.path.mkdir(parents=True, exist_ok=True)
+        self.sync()
         parts = list_parts(self.path)
         if not parts:
             # no row at all: still leave a valid, empty log behind
@@ -188,7 +230,15 @@ class LogWriter:
             self._write_part(pa.table({c: pa.array([], type=pa.float64()) for c in cols}), 0, 0)
             return
         if self.compact and len(parts) > 1:
-            compact_log(self.path)
+            if self._mem is not None and len(self._mem) == len(parts):
+                merged = pa.concat_tables(self._mem)
+                self._write_part(merged, 0, 0)  # atomic rename over part 0, then drop the others
+                for p in parts[1:]:
+                    p.unlink(missing_ok=True)
+                _fsync_dir(self.path)
+            else:
+                compact_log(self.path)
+        self._mem = None
 
     def __enter__(self):
         return self
