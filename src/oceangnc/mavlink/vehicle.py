@@ -350,9 +350,13 @@ class MavlinkVehicle:
                 self.counts["rx_bad"] += 1
             good = False
             for m in msgs:
-                if m.get_type() == "BAD_DATA":
+                kind = m.get_type()
+                if kind == "BAD_DATA":
                     reason = str(getattr(m, "reason", ""))
                     self.counts["rx_unknown" if "unknown MAVLink message ID" in reason else "rx_bad"] += 1
+                    continue
+                if kind.startswith("UNKNOWN_"):  # a well-formed frame of a message id outside the dialect
+                    self.counts["rx_unknown"] += 1
                     continue
                 if m.get_srcSystem() in (c.system_id, c.uuv_system_id) and m.get_srcComponent() == 1:
                     continue  # our own echo

@@ -1,0 +1,249 @@
+"""The MAVLink vehicle driven by plain pymavlink (a client nobody here wrote): safety, modes, sticks,
+failsafe, malformed floods, mission protocol. Everything on 127.0.0.1, every wait bounded."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import pandas as pd
+import pytest
+
+from mavlink_gcs import GCS
+from oceangnc.mavlink.geo import latlon_to_ned, ned_to_latlon
+from oceangnc.mavlink.protocol import mavlink as M
+from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+
+@pytest.fixture
+def vehicle(tmp_path):
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
+    v.start()
+    g = GCS(v.address)
+    yield v, g
+    g.close()
+    v.stop()
+
+
+def _mode(g, num, seconds=3.0):
+    g.mav.set_mode_send(1, M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, num)
+    return g.wait("HEARTBEAT", seconds, lambda m: m.custom_mode == num)
+
+
+def test_geo_round_trip():
+    lat, lon = ned_to_latlon(1234.5, -987.6, 59.9, 10.7)
+    n, e = latlon_to_ned(lat, lon, 59.9, 10.7)
+    assert abs(n - 1234.5) < 1e-6 and abs(e + 987.6) < 1e-6
+    # one minute of latitude at 60 deg: the WGS-84 meridian radius 6 383 453 m x pi / 10800 = 1856.9 m
+    n, _ = latlon_to_ned(60.0 + 1 / 60, 0.0, 60.0, 0.0)
+    assert abs(n - 1856.9) < 0.1
+
+
+def test_disarmed_at_start_then_arm_manual_stick_and_modes(vehicle):
+    v, g = vehicle
+    hb = g.wait("HEARTBEAT", 3.0)
+    assert hb.type == M.MAV_TYPE_SURFACE_BOAT and hb.autopilot == M.MAV_AUTOPILOT_ARDUPILOTMEGA
+    assert not hb.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED
+    assert hb.custom_mode == 4  # Rover HOLD
+    # disarmed: a full stick in MANUAL moves nothing (thrust zero)
+    _mode(g, 0)
+    g.pump(1.0, stick=(1000, 0))
+    assert v.sim.bus["usv.thrust_port"] == 0.0 and v.sim.bus["usv.speed"] < 1e-6
+    # arm: the same stick drives the boat ahead (open loop, 36 kgf per thruster)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM).result == M.MAV_RESULT_ACCEPTED
+    g.pump(2.0, stick=(1000, 0))
+    assert v.sim.bus["usv.thrust_port"] > 300.0 and v.sim.bus["usv.speed"] > 0.5
+    hb = g.wait("HEARTBEAT", 2.0)
+    assert hb.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED and hb.custom_mode == 0
+    vfr = g.wait("VFR_HUD", 2.0)
+    assert vfr.throttle > 80 and vfr.groundspeed > 0.5
+    # yaw stick to starboard: yaw rate positive, heading increases
+    psi0 = v.sim.bus["usv.psi"]
+    g.pump(1.5, stick=(500, 1000))
+    assert v.sim.bus["usv.r"] > 0.05 and v.sim.bus["usv.psi"] > psi0
+    # ACRO (1): the stick is a yaw-rate setpoint (20 deg/s at full stick)
+    _mode(g, 1)
+    g.pump(3.0, stick=(0, 1000))
+    assert abs(math.degrees(v.sim.bus["usv.r_d"]) - 20.0) < 1e-6
+    # HOLD (4): setpoints zero whatever the stick says
+    _mode(g, 4)
+    g.pump(0.5, stick=(1000, 1000))
+    assert v.sim.bus["usv.u_d"] == 0.0 and v.sim.bus["usv.r_d"] == 0.0
+    # a Rover mode this vehicle does not fly (LOITER 5) is denied and counted, the mode stays HOLD
+    g.mav.command_long_send(1, 1, M.MAV_CMD_DO_SET_MODE, 0, 1, 5, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_DO_SET_MODE).result == M.MAV_RESULT_DENIED
+    assert g.wait("HEARTBEAT", 2.0).custom_mode == 4
+    assert v.counts["rx_out_of_range"] >= 1
+
+
+def test_heartbeat_loss_in_manual_goes_to_hold_within_1s(vehicle):
+    v, g = vehicle
+    g.wait("HEARTBEAT", 3.0)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM)
+    _mode(g, 0)
+    g.pump(1.5, stick=(800, 0))
+    assert v.sim.bus["usv.speed"] > 0.3 and v.mode == 0
+    g.send_heartbeats = False  # the ground station goes silent (no heartbeat, no stick)
+    t_lost = time.monotonic()
+    hb = g.wait("HEARTBEAT", 3.0, lambda m: m.custom_mode == 4)
+    # the heartbeat reporting HOLD left within 1 s of the last GCS packet (HEARTBEATs are sent at 1 Hz,
+    # so also check the vehicle's own switch time through its event log and its state)
+    assert v.failsafe and v.mode == 4
+    assert hb.system_status == M.MAV_STATE_CRITICAL
+    assert any("Failsafe" in s for _, s in v.events)
+    # the switch itself happened gcs_timeout_s (0.7 s) after the last packet: sim time of the event
+    # minus the sim time at loss, divided by the speed, is the wall delay
+    assert time.monotonic() - t_lost < 3.0
+    t_fs = next(t for t, s in v.events if "Failsafe" in s)
+    assert v.cfg_mav.gcs_timeout_s <= 1.0
+    g.send_heartbeats = True
+    g.pump(1.0)
+    assert not v.failsafe and v.mode == 4  # link back: failsafe cleared, mode stays HOLD
+    assert v.sim.bus["usv.u_d"] == 0.0
+    v.stop()
+    df = pd.read_parquet(v.run_dir / "log.parquet")
+    fs = df[df["console.failsafe"] > 0]
+    assert len(fs) and abs(fs["t"].iloc[0] - t_fs) < 0.2  # the failsafe is in the log at the event's time
+    assert (fs["mavlink.mode"] == 4).all()
+
+
+def test_failsafe_delay_measured_in_wall_time(tmp_path):
+    """Stick stream then silence: the vehicle's mode switches to HOLD 0.7-1.0 s of wall time later."""
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=2.0, out_root=None)
+    v.start()
+    g = GCS(v.address)
+    try:
+        g.wait("HEARTBEAT", 3.0)
+        _mode(g, 1)
+        g.pump(0.5, stick=(300, 0))
+        g.send_heartbeats = False
+        t_lost = time.monotonic()
+        deadline = t_lost + 3.0
+        while v.mode != 4 and time.monotonic() < deadline:
+            time.sleep(0.005)
+        delay = time.monotonic() - t_lost
+        assert v.mode == 4 and v.failsafe
+        assert 0.6 <= delay <= 1.0, f"failsafe after {delay:.3f} s"
+    finally:
+        g.close()
+        v.stop()
+
+
+def test_malformed_flood_is_counted_and_ignored(vehicle):
+    v, g = vehicle
+    g.wait("HEARTBEAT", 3.0)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM)
+    _mode(g, 10)  # AUTO: the run goes on during the flood
+    t0 = v.sim.t
+    good = g.mav.heartbeat_encode(M.MAV_TYPE_GCS, 0, 0, 0, 0).pack(g.mav)
+    bad_crc = bytearray(good)
+    bad_crc[-1] ^= 0xFF
+    unknown = bytearray(good)
+    unknown[7] = 0xEE  # message id 238 (not in the dialect) with a MAVLink 2 header
+    n = 0
+    for i in range(300):
+        g.raw(bytes(bad_crc))  # CRC error
+        g.raw(b"\xfd\x09\x00")  # truncated header
+        g.raw(bytes([i % 256]) * 40)  # garbage without a start byte
+        g.raw(bytes(unknown))
+        n += 4
+        if i % 10 == 9:
+            time.sleep(0.01)  # a paced flood (about 4000 datagrams/s): no kernel buffer overflow
+    g.mav.manual_control_send(1, 5000, 0, 0, 0, 0)  # out of range: counted, ignored
+    g.mav.rc_channels_override_send(1, 1, 3000, 0, 1500, 0, 0, 0, 0, 0)  # PWM 3000: out of range
+    g.pump(2.0)
+    c = v.counts
+    assert c["rx_bad"] >= 0.9 * 900, c  # bad CRC, truncated, garbage
+    assert c["rx_unknown"] >= 0.9 * 300, c  # well-formed frames of an unknown message id
+    assert c["rx_out_of_range"] >= 2
+    assert not v.ended and v.mode == 10 and v.armed
+    assert v.sim.t > t0 + 2.0  # the simulation kept running at about 4x
+    hb = g.wait("HEARTBEAT", 2.0)
+    assert hb.custom_mode == 10
+    st = g.wait("SYS_STATUS", 2.0)
+    assert st.errors_count1 >= 600 and st.drop_rate_comm > 0
+
+
+def test_estop_latched_and_arm_refused(vehicle):
+    v, g = vehicle
+    g.wait("HEARTBEAT", 3.0)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM)
+    _mode(g, 0)
+    g.pump(1.0, stick=(1000, 0))
+    assert v.sim.bus["usv.thrust_port"] > 300
+    g.mav.command_long_send(1, 1, M.MAV_CMD_DO_FLIGHTTERMINATION, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_DO_FLIGHTTERMINATION).result == M.MAV_RESULT_ACCEPTED
+    g.pump(0.3, stick=(1000, 0))
+    assert v.sim.bus["usv.thrust_port"] == 0.0 and v.sim.bus["usv.thrust_stbd"] == 0.0
+    hb = g.wait("HEARTBEAT", 2.0)
+    assert hb.system_status == M.MAV_STATE_EMERGENCY and not hb.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM).result == M.MAV_RESULT_DENIED
+    g.mav.command_long_send(1, 1, M.MAV_CMD_DO_FLIGHTTERMINATION, 0, 0, 0, 0, 0, 0, 0, 0)
+    g.ack(M.MAV_CMD_DO_FLIGHTTERMINATION)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM).result == M.MAV_RESULT_ACCEPTED
+
+
+def test_mission_upload_download_and_reached(tmp_path):
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=20.0, out_root=tmp_path,
+                       mav={"origin_lat_deg": 59.9, "origin_lon_deg": 10.7})
+    v.start()
+    g = GCS(v.address)
+    try:
+        g.wait("HEARTBEAT", 3.0)
+        pts = [(0.0, 0.0), (15.0, 0.0), (15.0, 15.0), (0.0, 15.0)]  # home + 3 waypoints (N, E m)
+        g.mav.mission_count_send(1, 1, len(pts), 0)
+        for seq, (n, e) in enumerate(pts):
+            req = g.wait("MISSION_REQUEST_INT", 3.0, lambda m, s=seq: m.seq == s)
+            lat, lon = ned_to_latlon(n, e, 59.9, 10.7)
+            g.mav.mission_item_int_send(1, 1, req.seq, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, M.MAV_CMD_NAV_WAYPOINT,
+                                        0, 1, 0, 0, 0, 0, int(round(lat * 1e7)), int(round(lon * 1e7)), 0.0, 0)
+        assert g.wait("MISSION_ACK", 3.0).type == M.MAV_MISSION_ACCEPTED
+        # download gives the same items back
+        g.mav.mission_request_list_send(1, 1, 0)
+        assert g.wait("MISSION_COUNT", 3.0).count == 4
+        g.mav.mission_request_int_send(1, 1, 2, 0)
+        it = g.wait("MISSION_ITEM_INT", 3.0, lambda m: m.seq == 2)
+        n, e = latlon_to_ned(it.x * 1e-7, it.y * 1e-7, 59.9, 10.7)
+        assert abs(n - 15.0) < 0.02 and abs(e - 15.0) < 0.02
+        g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+        g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM)
+        _mode(g, 10)
+        last = g.wait("MISSION_ITEM_REACHED", 30.0, lambda m: m.seq == 3)
+        assert last.seq == 3 and v.reached == [1, 2, 3]
+        hb = g.wait("HEARTBEAT", 3.0, lambda m: m.custom_mode == 4)  # HOLD at the end, like ArduPilot
+        assert hb.custom_mode == 4
+        # the boat went round: the log has passed near each waypoint (acceptance radius 3 m)
+        v.stop()
+        df = pd.read_parquet(v.run_dir / "log.parquet")
+        for n, e in pts[1:]:
+            d = ((df["usv.x"] - n) ** 2 + (df["usv.y"] - e) ** 2) ** 0.5
+            assert d.min() < 3.5
+        assert df["mavlink.armed"].iloc[0] == 0.0 and df["mavlink.armed"].max() == 1.0
+    finally:
+        g.close()
+        v.stop()
+
+
+def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
+    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
+    v.start()
+    g = GCS(v.address)
+    try:
+        hb = g.wait("HEARTBEAT", 5.0, sysid=2)
+        assert hb.type == M.MAV_TYPE_SUBMARINE
+        gp = g.wait("GLOBAL_POSITION_INT", 5.0, sysid=2)
+        depth = v.sim.bus["uuv.z"]
+        assert depth > 0.1 and abs(-gp.relative_alt / 1000 - depth) < 0.2
+        nv = g.wait("NAMED_VALUE_FLOAT", 5.0, lambda m: m.name.rstrip("\x00") == "cable_T")
+        assert nv.value > 0.0
+        g.mav.mission_request_list_send(1, 1, 0)
+        assert g.wait("MISSION_COUNT", 3.0).count == 1 + 3  # home + the scenario's 3 waypoints
+    finally:
+        g.close()
+        v.stop()
