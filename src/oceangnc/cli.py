@@ -20,6 +20,8 @@ PLUGINS = (
     "oceangnc.identification.cli",
     "oceangnc.console.cli",
     "oceangnc.sweep.cli",
+    "oceangnc.mavlink.cli",
+    "oceangnc.io.importers.cli",
 )
 
 

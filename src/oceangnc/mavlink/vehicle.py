@@ -221,7 +221,7 @@ class MavlinkVehicle:
         self.t_gcs = -math.inf  # wall time of the last message from a ground station
         self.gcs_sysid: int | None = None
         self.counts = {"rx_packets": 0, "rx_bad": 0, "rx_unknown": 0, "rx_out_of_range": 0, "rx_ignored": 0,
-                       "tx_packets": 0}
+                       "tx_packets": 0, "tx_errors": 0}
         self.events: list[tuple[float, str]] = []
         self.reached: list[int] = []  # mission seqs reported reached, in order
         self.ended = False
@@ -704,7 +704,7 @@ class MavlinkVehicle:
                 "console.failsafe": float(self.failsafe), "console.estop": float(self.estop),
                 "mavlink.armed": float(self.armed), "mavlink.mode": float(self.mode),
                 "mavlink.mission_current": float(self.mission_current)}
-        vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if k != "tx_packets"})
+        vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if not k.startswith("tx_")})
         self.sim.inject(vals)
 
     def step_once(self) -> None:
@@ -743,7 +743,12 @@ class MavlinkVehicle:
                 if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
                     self._end(f"duration {self.duration:g} s reached")
             self._follow_mission()
-            self._telemetry(now)
+            try:
+                self._telemetry(now)
+            except Exception as e:  # a value outside a field's range must not stop the run
+                self.counts["tx_errors"] = self.counts.get("tx_errors", 0) + 1
+                if self.counts["tx_errors"] in (1, 100):
+                    self.events.append((float(self.sim.t), f"telemetry error: {type(e).__name__}: {e}"))
 
     def _end(self, text: str) -> None:
         self.ended = True
@@ -811,7 +816,7 @@ class MavlinkVehicle:
         if tmax is None or "usv.thrust_port" not in b:
             return 0
         mean = 0.5 * (float(b["usv.thrust_port"]) + float(b.get("usv.thrust_stbd", b["usv.thrust_port"])))
-        return int(round(max(-100.0, min(100.0, 100.0 * mean / (tmax * 9.80665)))))
+        return int(round(min(100.0, 100.0 * abs(mean) / (tmax * 9.80665))))  # VFR_HUD.throttle is 0..100
 
     def _telemetry(self, now: float) -> None:
         if not self.peers and not self.fixed_peers:
