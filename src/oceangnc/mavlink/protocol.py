@@ -44,6 +44,8 @@ TELEMETRY = {
     "NAMED_VALUE_FLOAT": (2.0, "cable_T: cable top tension (N); uuv_depth: UUV depth (m); rx_bad: "
                                "malformed packets"),
     "MISSION_CURRENT": (1.0, "mission item being flown (seq)"),
+    "SERVO_OUTPUT_RAW": (10.0, "thruster commands as PWM (skid steer, ArduPilot SERVOn_FUNCTION 73/74): servo1 "
+                               "port, servo3 starboard, 1500 us stop, +-400 us full ahead / astern"),
 }
 #: messages the vehicle reacts to
 ACCEPTED = {

@@ -86,6 +86,9 @@ class _Sender:
 
     def write(self, buf: bytes) -> None:
         self.v._sendto_peers(bytes(buf))
+        if self.v.tlog is not None:  # telemetry log: 8-byte big-endian time stamp (us) + the frame
+            stamp = int(round((self.v.tlog_epoch + self.v.sim.t) * 1e6))
+            self.v.tlog.write(stamp.to_bytes(8, "big") + bytes(buf))
 
 
 class RouteHook:
@@ -187,7 +190,8 @@ class MavlinkVehicle:
                  mav: MavlinkConfig | dict | None = None, listen: str = "udp:127.0.0.1:14550",
                  gcs: list[str] | None = None, speed: float = 1.0, out_root: str | Path | None = "runs",
                  duration: float | None = None, loop_hz: float = 100.0, max_lag: float = 0.5,
-                 clock=time.monotonic, verbose: bool = False):
+                 clock=time.monotonic, verbose: bool = False, tlog: str | Path | None = None,
+                 tlog_epoch: float = 1.7e9):
         from ..api import new_run_dir, resolve_config
         from ..console.session import _builds, gate_pilots
         from ..io.config import dump_toml, validate
@@ -246,6 +250,8 @@ class MavlinkVehicle:
         self.peers: dict[tuple, float] = {}
         self.fixed_peers = [parse_endpoint(g) for g in (gcs or [])]
         self._tx = _Sender(self)
+        self.tlog = open(tlog, "wb") if tlog is not None else None  # noqa: SIM115 (closed in close())
+        self.tlog_epoch = float(tlog_epoch)
         c = self.cfg_mav
         self.mav = M.MAVLink(self._tx, srcSystem=c.system_id, srcComponent=M.MAV_COMP_ID_AUTOPILOT1)
         self.mav_uuv = M.MAVLink(self._tx, srcSystem=c.uuv_system_id, srcComponent=M.MAV_COMP_ID_AUTOPILOT1)
@@ -818,8 +824,19 @@ class MavlinkVehicle:
         mean = 0.5 * (float(b["usv.thrust_port"]) + float(b.get("usv.thrust_stbd", b["usv.thrust_port"])))
         return int(round(min(100.0, 100.0 * abs(mean) / (tmax * 9.80665))))  # VFR_HUD.throttle is 0..100
 
+    def _pwm(self, side: str) -> int:
+        """Thruster ``side`` as servo PWM: 1500 + 400 T / T_max ahead (T / T_rev astern), us."""
+        usv = getattr(self.cfg, "usv", None)
+        T = float(self.sim.bus.get(f"usv.thrust_{side}", 0.0))
+        hi = getattr(usv, "max_thrust_kgf", None)
+        lo = getattr(usv, "max_reverse_kgf", hi)
+        if not hi:
+            return 1500
+        full = (hi if T >= 0 else (lo or hi)) * 9.80665
+        return int(round(1500 + 400 * max(-1.0, min(1.0, T / full))))
+
     def _telemetry(self, now: float) -> None:
-        if not self.peers and not self.fixed_peers:
+        if not self.peers and not self.fixed_peers and self.tlog is None:
             return
         c = self.cfg_mav
         usv = self._body("usv")
@@ -870,6 +887,9 @@ class MavlinkVehicle:
             if uuv is not None:
                 self._send(self.mav.named_value_float_encode(tms, b"uuv_depth", uuv["z"]))
             self._send(self.mav.named_value_float_encode(tms, b"rx_bad", float(self.counts["rx_bad"])))
+        if self._due("SERVO_OUTPUT_RAW", now):
+            self._send(self.mav.servo_output_raw_encode(int(self.sim.t * 1e6) & 0xFFFFFFFF, 0, self._pwm("port"),
+                                                        1500, self._pwm("stbd"), 1500, 0, 0, 0, 0))
         if self._due("MISSION_CURRENT", now):
             self._send(self.mav.mission_current_encode(min(self.mission_current, max(0, len(self.mission) - 1))))
 
@@ -929,6 +949,9 @@ class MavlinkVehicle:
                 self.sock.close()
             except OSError:
                 pass
+            if self.tlog is not None:
+                self.tlog.close()
+                self.tlog = None
             if self.writer is None:
                 return
             self.writer.close()

@@ -267,11 +267,26 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
     (control[0] left, control[1] right, -1..1); timestamps in us."""
     from pyulog import ULog
 
+    meta: dict = {}
+    data = path.read_bytes()
+    if len(data) < 16 or data[:7] != b"ULog\x01\x12\x35":
+        raise InputError(f"{path}: not a ULog file (no 'ULog' header)")
+    pos, n = 16, 0  # walk the messages (uint16 size, uint8 type, body): a tail cut mid-message is truncation
+    while pos + 3 <= len(data):
+        size = int.from_bytes(data[pos:pos + 2], "little")
+        if pos + 3 + size > len(data):
+            _truncated(path, f"message {n} at byte {pos} needs {size + 3} bytes, {len(data) - pos} left",
+                       allow_truncated, meta)
+            break
+        pos += 3 + size
+        n += 1
+    else:
+        if pos != len(data):
+            _truncated(path, f"{len(data) - pos} stray byte(s) at the end", allow_truncated, meta)
     try:
         ul = ULog(str(path))
     except Exception as e:
         raise InputError(f"{path}: cannot read ULog: {type(e).__name__}: {e}") from None
-    meta: dict = {}
     if getattr(ul, "file_corruption", False):
         _truncated(path, "pyulog found a corrupt or incomplete message", allow_truncated, meta)
     topics = {d.name: d for d in ul.data_list if d.multi_id == 0}
