@@ -115,7 +115,7 @@ def _jsonable(v):
 
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
-        progress: bool = False) -> RunResult:
+        progress: bool = False, model: str | Path | None = None) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -134,6 +134,9 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         Draw the PNG plots.
     progress : bool
         Show a progress bar on long runs.
+    model : path, optional
+        An identified model file (``identified.toml`` from ``oceangnc identify``): its
+        ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
 
     Raises
     ------
@@ -143,6 +146,10 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         The simulation blew up; ``log.parquet`` up to that point and ``summary.json`` with
         ``status = "diverged"`` are still written (the CLI exits 1).
     """
+    if model is not None:
+        from .identification.model_file import load_model_overrides
+
+        overrides = {**load_model_overrides(model), **dict(overrides or {})}
     sc, cfg = resolve_config(scenario, config, overrides, duration)
     out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -43,7 +43,7 @@ def _cmd_run(args) -> int:
 
     overrides = flatten(parse_sets(args.set))
     res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-              plots=not args.no_plots, progress=not args.quiet)
+              plots=not args.no_plots, progress=not args.quiet, model=args.model)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -79,6 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): its "
+                                   "[parameters] are the vehicle's parameters (--set still wins)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
