@@ -29,7 +29,7 @@ _DF_STRUCT = {"Q": "Q", "B": "B", "H": "H", "f": "f", "L": "i", "I": "I"}
 
 class DataFlashWriter:
     def __init__(self, path):
-        self.f = open(path, "wb")
+        self.f = open(path, "wb")  # noqa: SIM115 (closed by close())
         self.types = {}
         self._fmt(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns", raw_len=89)
 
@@ -68,10 +68,10 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
     pl = pwm_of(df["usv.thrust_port"].to_numpy(), tmax_n, trev_n)
     pr = pwm_of(df["usv.thrust_stbd"].to_numpy(), tmax_n, trev_n)
     for i in range(len(df)):
-        us = int(round(t[i] * 1e6)) + 1_000_000
+        us = round(t[i] * 1e6) + 1_000_000
         if i % 2 == 0:
             lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
-            w.write("GPS", us, 3, int(round(lat * 1e7)), int(round(lon * 1e7)), math.hypot(vn.iat[i], ve.iat[i]),
+            w.write("GPS", us, 3, round(lat * 1e7), round(lon * 1e7), math.hypot(vn.iat[i], ve.iat[i]),
                     math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360)
         w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
         w.write("IMU", us, df["usv.r"].iat[i])
@@ -86,7 +86,7 @@ _UL_TYPES = {"uint64_t": "Q", "float": "f", "double": "d", "uint8_t": "B"}
 
 class ULogWriter:
     def __init__(self, path, t0_us=0):
-        self.f = open(path, "wb")
+        self.f = open(path, "wb")  # noqa: SIM115 (closed by close())
         self.f.write(b"ULog\x01\x12\x35" + bytes([1]) + struct.pack("<Q", t0_us))
         self._msg("B", bytes(8) + bytes(8) + struct.pack("<QQQ", 0, 0, 0))
         self.topics = {}
@@ -130,7 +130,7 @@ def write_ulog(path, df, tmax_n, trev_n):
     vn = df["usv.u"] * np.cos(psi) - df["usv.v"] * np.sin(psi)
     ve = df["usv.u"] * np.sin(psi) + df["usv.v"] * np.cos(psi)
     for i in range(len(df)):
-        us = int(round(t[i] * 1e6)) + 500_000
+        us = round(t[i] * 1e6) + 500_000
         w.write("vehicle_local_position", us, df["usv.x"].iat[i], df["usv.y"].iat[i], 0.0, vn.iat[i], ve.iat[i], 0.0)
         w.write("vehicle_attitude", us, math.cos(psi[i] / 2), 0.0, 0.0, math.sin(psi[i] / 2))
         w.write("vehicle_angular_velocity", us, 0.0, 0.0, df["usv.r"].iat[i])
@@ -169,8 +169,8 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom"):
         ca = w.add_connection("/actuators", F64.__msgtype__, typestore=ts)
         for i in range(len(df)):
             t = float(df["t"].iat[i]) + 100.0
-            ns = int(round(t * 1e9))
-            hdr = Header(stamp=Time(sec=int(t), nanosec=int(round((t - int(t)) * 1e9))), frame_id="odom")
+            ns = round(t * 1e9)
+            hdr = Header(stamp=Time(sec=int(t), nanosec=round((t - int(t)) * 1e9)), frame_id="odom")
             psi = float(df["usv.psi"].iat[i])
             yaw = math.pi / 2 - psi  # ENU yaw
             q = Q(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))

@@ -48,7 +48,7 @@ class GCS:
                 next_stick = now + 0.05
             try:
                 data, _ = self.sock.recvfrom(65535)
-            except (socket.timeout, BlockingIOError):
+            except (TimeoutError, BlockingIOError):
                 continue
             for m in self.parser.parse_buffer(data) or []:
                 if m.get_type() == "BAD_DATA":

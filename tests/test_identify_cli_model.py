@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -64,7 +65,7 @@ def test_run_model_cli_and_set_wins(identified, tmp_path, capsys):
                  str(tmp_path / "r"), "--quiet", "--no-plots"]) == 0
     cfg = tomllib.loads((tmp_path / "r" / "config.toml").read_text())
     assert cfg["usv"]["kr_intercept"] == 0.7  # --set wins over the model file
-    assert cfg["usv"]["tv_slope"] == tomllib.loads(open(m).read())["parameters"]["usv.tv_slope"]
+    assert cfg["usv"]["tv_slope"] == tomllib.loads(Path(m).read_text())["parameters"]["usv.tv_slope"]
     # a scenario whose vehicle has no such parameters: config error naming the key, exit 2
     assert main(["run", "usv-remote", "--model", m, "--out", str(tmp_path / "r2"), "--quiet"]) == 2
     assert "usv.kv_slope" in capsys.readouterr().err
@@ -128,7 +129,7 @@ def test_ekf_starts_off_the_truth_says_so_and_warns_when_stuck(tmp_path, capsys)
 def test_first_order_reads_a_field_log_with_a_column_map(identified, tmp_path, capsys):
     """One turning trial written as a CSV with the user's names and units, identified through the importer
     (``--map``): K_r and T_r of that trial within 2 % of the scenario's truth."""
-    d, res = identified
+    _d, res = identified
     df = res.df
     turn = df[df["trial.kind"] == 1.0]
     tid = turn["trial.id"].iloc[0]

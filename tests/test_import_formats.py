@@ -4,16 +4,14 @@ with the truth; and the bad-input errors (one line naming the file and what is m
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pandas as pd
 import pytest
-
 from log_writers import write_dataflash, write_rosbag, write_ulog
+
 from oceangnc.cli import main
-from oceangnc.mavlink.geo import ned_to_latlon
 from oceangnc.io.importers import import_log, read_any
+from oceangnc.mavlink.geo import ned_to_latlon
 
 LAT0, LON0 = 63.4305, 10.3951
 KGF = 9.80665
@@ -38,7 +36,7 @@ def _compare(res, df, t_shift, pos_tol=0.05, ang_tol=0.01, act=True):
     ok = (t_truth >= df["t"].iloc[0]) & (t_truth <= df["t"].iloc[-1])
     assert ok.sum() > 0.9 * len(imp)
     tt = df["t"].to_numpy()
-    I = lambda c: np.interp(t_truth[ok], tt, df[c].to_numpy())  # noqa: E731
+    I = lambda c: np.interp(t_truth[ok], tt, df[c].to_numpy())
     err = {}
     err["x"] = np.max(np.abs(imp["usv.x"].to_numpy()[ok] - (I("usv.x") - df["usv.x"].iloc[0] * 0)))
     err["y"] = np.max(np.abs(imp["usv.y"].to_numpy()[ok] - I("usv.y")))
@@ -93,7 +91,7 @@ def test_rosbag_round_trip_and_unknown_topic(truth, tmp_path):
 
 
 def test_csv_with_column_map_round_trip(truth, tmp_path):
-    df, tmax, trev = truth
+    df, _tmax, _trev = truth
     lat, lon = zip(*(ned_to_latlon(n, e, LAT0, LON0) for n, e in zip(df["usv.x"], df["usv.y"])))
     psi = df["usv.psi"].to_numpy()
     csv = pd.DataFrame({"time_ms": (df["t"] * 1000).round().astype(int), "lat": lat, "lon": lon,

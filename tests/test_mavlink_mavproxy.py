@@ -86,7 +86,7 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
         while time.monotonic() < t_end and 3 not in reached:
             try:
                 data, _ = lsock.recvfrom(65535)
-            except socket.timeout:
+            except TimeoutError:
                 continue
             for m in parser.parse_buffer(data) or []:
                 if m.get_type() == "MISSION_ITEM_REACHED":

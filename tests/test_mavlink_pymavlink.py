@@ -8,8 +8,8 @@ import time
 
 import pandas as pd
 import pytest
-
 from mavlink_gcs import GCS
+
 from oceangnc.mavlink.geo import latlon_to_ned, ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -202,7 +202,7 @@ def test_mission_upload_download_and_reached(tmp_path):
             req = g.wait("MISSION_REQUEST_INT", 3.0, lambda m, s=seq: m.seq == s)
             lat, lon = ned_to_latlon(n, e, 59.9, 10.7)
             g.mav.mission_item_int_send(1, 1, req.seq, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, M.MAV_CMD_NAV_WAYPOINT,
-                                        0, 1, 0, 0, 0, 0, int(round(lat * 1e7)), int(round(lon * 1e7)), 0.0, 0)
+                                        0, 1, 0, 0, 0, 0, round(lat * 1e7), round(lon * 1e7), 0.0, 0)
         assert g.wait("MISSION_ACK", 3.0).type == M.MAV_MISSION_ACCEPTED
         # download gives the same items back
         g.mav.mission_request_list_send(1, 1, 0)

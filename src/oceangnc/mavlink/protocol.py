@@ -11,7 +11,7 @@ import os
 
 os.environ.setdefault("MAVLINK20", "1")
 
-from pymavlink.dialects.v20 import ardupilotmega as mavlink  # noqa: E402
+from pymavlink.dialects.v20 import ardupilotmega as mavlink
 
 #: ArduPilot Rover mode numbers (ArduPilot ``Rover/mode.h``) that the vehicle accepts, and what they do.
 ROVER_MODES = {
@@ -30,22 +30,22 @@ STICK_MODES = (MANUAL, ACRO)
 #: telemetry the vehicle sends: message -> (rate Hz, content). Rates are ArduPilot's SRx_* defaults
 #: for a telemetry link (SR_EXT_STAT 2, SR_POSITION 3..10, SR_EXTRA1 4..10, SR_EXTRA2 4).
 TELEMETRY = {
-    "HEARTBEAT": (1.0, "type SURFACE_BOAT (USV, system 1) / SUBMARINE (UUV, system 2), ArduPilot autopilot, "
+    "HEARTBEAT": (1.0, ("type SURFACE_BOAT (USV, system 1) / SUBMARINE (UUV, system 2), ArduPilot autopilot, "
                        "armed flag, Rover custom_mode, system_status (STANDBY / ACTIVE / CRITICAL in failsafe / "
-                       "EMERGENCY after an e-stop)"),
-    "SYS_STATUS": (1.0, "sensors present/enabled/healthy (GPS, AHRS, motors), comm drop rate = malformed share, "
-                        "errors_count1 malformed, _count2 unknown, _count3 out of range"),
-    "GPS_RAW_INT": (5.0, "GPS fix (the scenario's gps.x/gps.y if it has a GPS, else the true position): lat, "
-                         "lon, alt, fix_type 3 (0 in an outage), ground speed and course"),
-    "GLOBAL_POSITION_INT": (10.0, "true position as lat/lon about the origin, alt (UUV: origin alt - depth), "
-                                  "relative_alt (UUV: -depth), NED velocity, heading"),
+                       "EMERGENCY after an e-stop)")),
+    "SYS_STATUS": (1.0, ("sensors present/enabled/healthy (GPS, AHRS, motors), comm drop rate = malformed share, "
+                        "errors_count1 malformed, _count2 unknown, _count3 out of range")),
+    "GPS_RAW_INT": (5.0, ("GPS fix (the scenario's gps.x/gps.y if it has a GPS, else the true position): lat, "
+                         "lon, alt, fix_type 3 (0 in an outage), ground speed and course")),
+    "GLOBAL_POSITION_INT": (10.0, ("true position as lat/lon about the origin, alt (UUV: origin alt - depth), "
+                                  "relative_alt (UUV: -depth), NED velocity, heading")),
     "ATTITUDE": (10.0, "roll, pitch, yaw (rad), body rates (rad/s)"),
     "VFR_HUD": (4.0, "ground speed, heading (deg), throttle % (mean thruster command / max), alt, climb"),
-    "NAMED_VALUE_FLOAT": (2.0, "cable_T: cable top tension (N); uuv_depth: UUV depth (m); rx_bad: "
-                               "malformed packets"),
+    "NAMED_VALUE_FLOAT": (2.0, ("cable_T: cable top tension (N); uuv_depth: UUV depth (m); rx_bad: "
+                               "malformed packets")),
     "MISSION_CURRENT": (1.0, "mission item being flown (seq)"),
-    "SERVO_OUTPUT_RAW": (10.0, "thruster commands as PWM (skid steer, ArduPilot SERVOn_FUNCTION 73/74): servo1 "
-                               "port, servo3 starboard, 1500 us stop, +-400 us full ahead / astern"),
+    "SERVO_OUTPUT_RAW": (10.0, ("thruster commands as PWM (skid steer, ArduPilot SERVOn_FUNCTION 73/74): servo1 "
+                               "port, servo3 starboard, 1500 us stop, +-400 us full ahead / astern")),
 }
 #: messages the vehicle reacts to
 ACCEPTED = {

@@ -53,8 +53,17 @@ from ..errors import DivergenceError, InputError
 from ..io.logs import LogWriter
 from .config import MavlinkConfig
 from .geo import latlon_to_ned, ned_to_latlon
-from .protocol import (ACRO, AUTO, HOLD, MANUAL, ROVER_MODES, ROVER_OTHER, STICK_MODES, TELEMETRY, mavlink,
-                       mode_name)
+from .protocol import (
+    AUTO,
+    HOLD,
+    MANUAL,
+    ROVER_MODES,
+    ROVER_OTHER,
+    STICK_MODES,
+    TELEMETRY,
+    mavlink,
+    mode_name,
+)
 
 M = mavlink
 INT16_MAX = 32767
@@ -87,7 +96,7 @@ class _Sender:
     def write(self, buf: bytes) -> None:
         self.v._sendto_peers(bytes(buf))
         if self.v.tlog is not None:  # telemetry log: 8-byte big-endian time stamp (us) + the frame
-            stamp = int(round((self.v.tlog_epoch + self.v.sim.t) * 1e6))
+            stamp = round((self.v.tlog_epoch + self.v.sim.t) * 1e6)
             self.v.tlog.write(stamp.to_bytes(8, "big") + bytes(buf))
 
 
@@ -349,7 +358,7 @@ class MavlinkVehicle:
             p.have_prefix_error = False
             try:
                 msgs = p.parse_buffer(data) or []
-            except Exception:
+            except Exception:  # noqa: BLE001
                 self.counts["rx_bad"] += 1
                 continue
             if p.buf_len() > 0:  # a truncated message at the end of the datagram
@@ -369,7 +378,7 @@ class MavlinkVehicle:
                 good = True
                 try:
                     self._handle(m)
-                except Exception as e:  # a message must never stop the run
+                except Exception as e:  # noqa: BLE001 a message must never stop the run
                     self.counts["rx_bad"] += 1
                     self.event(f"{m.get_type()} failed: {type(e).__name__}", M.MAV_SEVERITY_WARNING)
             if good:
@@ -425,13 +434,13 @@ class MavlinkVehicle:
         if cmd == M.MAV_CMD_COMPONENT_ARM_DISARM:
             self._ack(cmd, self._arm(m.param1 > 0.5))
         elif cmd == M.MAV_CMD_DO_SET_MODE:
-            self._ack(cmd, self._set_mode(int(round(m.param2)), "DO_SET_MODE"))
+            self._ack(cmd, self._set_mode(round(m.param2), "DO_SET_MODE"))
         elif cmd == M.MAV_CMD_DO_FLIGHTTERMINATION:
             self._ack(cmd, self._estop(m.param1 > 0.5))
         elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
-            self._ack(cmd, self._set_current(int(round(m.param1))))
+            self._ack(cmd, self._set_current(round(m.param1)))
         elif cmd == M.MAV_CMD_REQUEST_MESSAGE:
-            mid = int(round(m.param1))
+            mid = round(m.param1)
             if mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
                 self._ack(cmd, M.MAV_RESULT_ACCEPTED)
                 self._send_autopilot_version()
@@ -452,7 +461,7 @@ class MavlinkVehicle:
 
     def _on_command_int(self, m) -> None:
         if m.command == M.MAV_CMD_DO_SET_MODE:
-            self._ack(m.command, self._set_mode(int(round(m.param2)), "DO_SET_MODE"))
+            self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
         else:
             self.counts["rx_ignored"] += 1
             self._ack(m.command, M.MAV_RESULT_UNSUPPORTED)
@@ -631,8 +640,8 @@ class MavlinkVehicle:
         args = (m.get_srcSystem(), m.get_srcComponent(), it["seq"], it["frame"], it["command"], cur,
                 it["autocontinue"], it["p1"], it["p2"], it["p3"], it["p4"])
         if as_int:
-            self._send(self.mav.mission_item_int_encode(*args, int(round(it["lat"] * 1e7)),
-                                                        int(round(it["lon"] * 1e7)), it["alt"], 0))
+            self._send(self.mav.mission_item_int_encode(*args, round(it["lat"] * 1e7),
+                                                        round(it["lon"] * 1e7), it["alt"], 0))
         else:
             self._send(self.mav.mission_item_encode(*args, it["lat"], it["lon"], it["alt"], 0))
 
@@ -732,15 +741,15 @@ class MavlinkVehicle:
                 if lag > self.max_lag:
                     self._anchor = (now, sim.t)
                     lag = self.max_lag
-                n = int(math.floor(lag / self.tick_s + 1e-9))
+                n = math.floor(lag / self.tick_s + 1e-9)
                 if self.duration is not None:
-                    n = min(n, int(math.ceil((self.duration - sim.t) / self.tick_s - 1e-9)))
+                    n = min(n, math.ceil((self.duration - sim.t) / self.tick_s - 1e-9))
                 if n >= 1:
                     try:
                         sim.run(n * self.tick_s, log=self.writer)
                     except DivergenceError as e:
                         self._end(f"simulation diverged: {e}")
-                    except Exception as e:
+                    except Exception as e:  # noqa: BLE001
                         traceback.print_exc()
                         self._end(f"simulation failed: {type(e).__name__}: {e}")
                     else:
@@ -751,7 +760,7 @@ class MavlinkVehicle:
             self._follow_mission()
             try:
                 self._telemetry(now)
-            except Exception as e:  # a value outside a field's range must not stop the run
+            except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
                 self.counts["tx_errors"] = self.counts.get("tx_errors", 0) + 1
                 if self.counts["tx_errors"] in (1, 100):
                     self.events.append((float(self.sim.t), f"telemetry error: {type(e).__name__}: {e}"))
@@ -790,7 +799,7 @@ class MavlinkVehicle:
 
     def _body(self, name: str) -> dict:
         b = self.sim.bus
-        g = lambda k, d=0.0: float(b.get(f"{name}.{k}", d))  # noqa: E731
+        g = lambda k, d=0.0: float(b.get(f"{name}.{k}", d))
         x, y, z = g("x"), g("y"), g("z")
         psi, u, v, w = g("psi"), g("u"), g("v"), g("w")
         vn = u * math.cos(psi) - v * math.sin(psi)
@@ -803,12 +812,12 @@ class MavlinkVehicle:
         c = self.cfg_mav
         lat, lon = ned_to_latlon(s["x"], s["y"], c.origin_lat_deg, c.origin_lon_deg)
         depth = s["z"] if uuv else 0.0
-        hdg = int(round(math.degrees(s["psi"]) % 360.0 * 100)) % 36000
+        hdg = round(math.degrees(s["psi"]) % 360.0 * 100) % 36000
         tms = int(self.sim.t * 1000) & 0xFFFFFFFF
-        cl = lambda v: int(max(-32767, min(32767, round(v * 100))))  # noqa: E731
+        cl = lambda v: int(max(-32767, min(32767, round(v * 100))))
         self._send((self.mav_uuv if uuv else self.mav).global_position_int_encode(
-            tms, int(round(lat * 1e7)), int(round(lon * 1e7)), int(round((c.origin_alt_m - depth) * 1000)),
-            int(round(-depth * 1000)), cl(s["vn"]), cl(s["ve"]), cl(s["vd"]), hdg), uuv=uuv)
+            tms, round(lat * 1e7), round(lon * 1e7), round((c.origin_alt_m - depth) * 1000),
+            round(-depth * 1000), cl(s["vn"]), cl(s["ve"]), cl(s["vd"]), hdg), uuv=uuv)
 
     def _attitude(self, s: dict, uuv: bool) -> None:
         psi = math.atan2(math.sin(s["psi"]), math.cos(s["psi"]))
@@ -822,7 +831,7 @@ class MavlinkVehicle:
         if tmax is None or "usv.thrust_port" not in b:
             return 0
         mean = 0.5 * (float(b["usv.thrust_port"]) + float(b.get("usv.thrust_stbd", b["usv.thrust_port"])))
-        return int(round(min(100.0, 100.0 * abs(mean) / (tmax * 9.80665))))  # VFR_HUD.throttle is 0..100
+        return round(min(100.0, 100.0 * abs(mean) / (tmax * 9.80665)))  # VFR_HUD.throttle is 0..100
 
     def _pwm(self, side: str) -> int:
         """Thruster ``side`` as servo PWM: 1500 + 400 T / T_max ahead (T / T_rev astern), us."""
@@ -833,7 +842,7 @@ class MavlinkVehicle:
         if not hi:
             return 1500
         full = (hi if T >= 0 else (lo or hi)) * 9.80665
-        return int(round(1500 + 400 * max(-1.0, min(1.0, T / full))))
+        return round(1500 + 400 * max(-1.0, min(1.0, T / full)))
 
     def _telemetry(self, now: float) -> None:
         if not self.peers and not self.fixed_peers and self.tlog is None:
@@ -851,7 +860,7 @@ class MavlinkVehicle:
             healthy = sensors if float(self.sim.bus.get("gps.valid", 1.0)) > 0.5 else sensors & ~M.MAV_SYS_STATUS_SENSOR_GPS
             n = max(1, self.counts["rx_packets"])
             drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
-            cap = lambda v: min(65535, int(v))  # noqa: E731
+            cap = lambda v: min(65535, int(v))
             self._send(self.mav.sys_status_encode(sensors, sensors, healthy, 0, 0, -1, -1, drop, 0,
                                                   cap(self.counts["rx_bad"]), cap(self.counts["rx_unknown"]),
                                                   cap(self.counts["rx_out_of_range"]), 0))
@@ -860,10 +869,10 @@ class MavlinkVehicle:
             gx, gy = float(b.get("gps.x", usv["x"])), float(b.get("gps.y", usv["y"]))
             lat, lon = ned_to_latlon(gx, gy, c.origin_lat_deg, c.origin_lon_deg)
             fix = 3 if float(b.get("gps.valid", 1.0)) > 0.5 else 0
-            cog = int(round(math.degrees(math.atan2(usv["ve"], usv["vn"])) % 360.0 * 100)) % 36000
-            self._send(self.mav.gps_raw_int_encode(int(self.sim.t * 1e6), fix, int(round(lat * 1e7)),
-                                                   int(round(lon * 1e7)), int(round(c.origin_alt_m * 1000)), 100,
-                                                   100, int(round(usv["speed"] * 100)), cog, 12))
+            cog = round(math.degrees(math.atan2(usv["ve"], usv["vn"])) % 360.0 * 100) % 36000
+            self._send(self.mav.gps_raw_int_encode(int(self.sim.t * 1e6), fix, round(lat * 1e7),
+                                                   round(lon * 1e7), round(c.origin_alt_m * 1000), 100,
+                                                   100, round(usv["speed"] * 100), cog, 12))
         if self._due("GLOBAL_POSITION_INT", now):
             self._global_position(usv, False)
             if uuv is not None:
@@ -873,11 +882,11 @@ class MavlinkVehicle:
             if uuv is not None:
                 self._attitude(uuv, True)
         if self._due("VFR_HUD", now):
-            hdg = int(round(math.degrees(usv["psi"]))) % 360
+            hdg = round(math.degrees(usv["psi"])) % 360
             self._send(self.mav.vfr_hud_encode(usv["speed"], usv["speed"], hdg, self._throttle(), c.origin_alt_m, 0.0))
             if uuv is not None:
                 self._send(self.mav_uuv.vfr_hud_encode(uuv["speed"], uuv["speed"],
-                                                       int(round(math.degrees(uuv["psi"]))) % 360, 0,
+                                                       round(math.degrees(uuv["psi"])) % 360, 0,
                                                        c.origin_alt_m - uuv["z"], -uuv["vd"]), uuv=True)
         if self._due("NAMED_VALUE_FLOAT", now):
             tms = int(self.sim.t * 1000) & 0xFFFFFFFF
@@ -900,8 +909,8 @@ class MavlinkVehicle:
 
     def _send_home(self) -> None:
         c = self.cfg_mav
-        self._send(self.mav.home_position_encode(int(round(c.origin_lat_deg * 1e7)), int(round(c.origin_lon_deg * 1e7)),
-                                                 int(round(c.origin_alt_m * 1000)), 0.0, 0.0, 0.0, [1, 0, 0, 0],
+        self._send(self.mav.home_position_encode(round(c.origin_lat_deg * 1e7), round(c.origin_lon_deg * 1e7),
+                                                 round(c.origin_alt_m * 1000), 0.0, 0.0, 0.0, [1, 0, 0, 0],
                                                  0.0, 0.0, 0.0))
 
     # -- running ---------------------------------------------------------------------------------------
@@ -910,12 +919,12 @@ class MavlinkVehicle:
             t0 = self.clock()
             try:
                 self.step_once()
-            except Exception as e:  # keep serving whatever happens
+            except Exception as e:  # noqa: BLE001 keep serving whatever happens
                 traceback.print_exc()
                 self.events.append((float(self.sim.t), f"loop error: {type(e).__name__}: {e}"))
             self._stop.wait(max(0.0005, self.loop_period - (self.clock() - t0)))
 
-    def start(self) -> "MavlinkVehicle":
+    def start(self) -> MavlinkVehicle:
         """Serve in a background thread (tests); :meth:`stop` ends it and closes the log."""
         if self._thread is None:
             self._anchor = (self.clock(), self.sim.t)

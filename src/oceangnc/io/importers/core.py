@@ -108,7 +108,7 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
     if t1 - t0 < 1.0 / rate:
         spans = ", ".join(f"{k} {t[0]:.1f}-{t[-1]:.1f} s" for k, (t, _) in clean.items())
         raise InputError(f"{source}: the signals do not overlap in time ({spans})")
-    grid = t0 + np.arange(int(math.floor((t1 - t0) * rate + 1e-9)) + 1) / rate
+    grid = t0 + np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
     out = {"t": grid - t0}
     for k, (t, v) in clean.items():
         if k in ANGLES:

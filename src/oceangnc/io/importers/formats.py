@@ -119,7 +119,7 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
     systems = sorted({int(k.split(":")[0]) for k in recs if k.endswith(":HEARTBEAT")} or
                      {int(k.split(":")[0]) for k in recs})
     sysid = system if system is not None else (systems[0] if systems else 1)
-    get = lambda kind: recs.get(f"{sysid}:{kind}", [])  # noqa: E731
+    get = lambda kind: recs.get(f"{sysid}:{kind}", [])
     # clock offset: record stamp - vehicle time
     offs = [s - m.time_boot_ms * 1e-3 for s, m in get("GLOBAL_POSITION_INT") + get("ATTITUDE")]
     off = float(np.median(offs)) if offs else 0.0
@@ -207,13 +207,13 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, **_):
     _scan_dataflash(path, data, allow_truncated, meta)
     try:
         log = DFReader.DFReader_binary(str(path), zero_time_base=True)
-    except Exception as e:
+    except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read DataFlash log: {e}") from None
     rows: dict[str, list] = {}
     while True:
         try:
             m = log.recv_msg()
-        except Exception as e:
+        except Exception as e:  # noqa: BLE001
             raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
         if m is None:
             break
@@ -285,7 +285,7 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
             _truncated(path, f"{len(data) - pos} stray byte(s) at the end", allow_truncated, meta)
     try:
         ul = ULog(str(path))
-    except Exception as e:
+    except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read ULog: {type(e).__name__}: {e}") from None
     if getattr(ul, "file_corruption", False):
         _truncated(path, "pyulog found a corrupt or incomplete message", allow_truncated, meta)
@@ -363,7 +363,7 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
                 rows[by_id[c.id]].append((t_ns * 1e-9, reader.deserialize(raw, c.msgtype)))
     except InputError:
         raise
-    except Exception as e:
+    except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read ROS 2 bag: {type(e).__name__}: {e}") from None
 
     def stamp(tr, m):
@@ -453,7 +453,7 @@ def read_csv(path: Path, allow_truncated: bool = False, column_map=None, origin=
         raise InputError(f"{path}: the column map needs the time column (--map t=COLUMN[:unit])")
     try:
         df = pd.read_csv(path)
-    except Exception as e:
+    except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read CSV: {type(e).__name__}: {e}") from None
     missing = [f"{c} (for {s})" for s, (c, _) in cmap.items() if c not in df.columns]
     if missing:
