@@ -52,6 +52,7 @@ ACCEPTED = {
     "HEARTBEAT": "keeps the GCS link alive (failsafe watchdog)",
     "COMMAND_LONG": "MAV_CMD_COMPONENT_ARM_DISARM (400), MAV_CMD_DO_SET_MODE (176), MAV_CMD_DO_FLIGHTTERMINATION "
                     "(185: e-stop, param1 1 engage / 0 reset), MAV_CMD_DO_SET_MISSION_CURRENT (224), "
+                    "MAV_CMD_MISSION_START (300: AUTO from item param1), "
                     "MAV_CMD_REQUEST_MESSAGE (512, AUTOPILOT_VERSION / HOME_POSITION), others: "
                     "COMMAND_ACK UNSUPPORTED",
     "SET_MODE": "custom_mode = Rover mode number (table above)",

@@ -437,6 +437,11 @@ class MavlinkVehicle:
             self._ack(cmd, self._set_mode(round(m.param2), "DO_SET_MODE"))
         elif cmd == M.MAV_CMD_DO_FLIGHTTERMINATION:
             self._ack(cmd, self._estop(m.param1 > 0.5))
+        elif cmd == M.MAV_CMD_MISSION_START:  # ArduPilot: start the mission in AUTO from param1 (0: current)
+            first = int(round(m.param1))
+            if first >= 1:
+                self._set_current(first)
+            self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
         elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
             self._ack(cmd, self._set_current(round(m.param1)))
         elif cmd == M.MAV_CMD_REQUEST_MESSAGE:
