@@ -247,3 +247,40 @@ def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
     finally:
         g.close()
         v.stop()
+
+
+def test_combined_mission_feeds_the_pure_pursuit_guidance(tmp_path):
+    """combined-survey's guidance is a PurePursuit block: a mission reaches it through the route hook, the USV
+    (towing the UUV) reaches every item and the vehicle switches to HOLD without ending the run.
+    A fake wall clock steps the vehicle (no sockets, no waiting)."""
+    from oceangnc.mavlink.protocol import AUTO, HOLD
+
+    now = [0.0]
+    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", out_root=None, clock=lambda: now[0])
+    assert v.route.kind == "pure_pursuit" and v.has_uuv
+    v.mission = [v._item(0, 0.0, 0.0)] + [v._item(i + 1, n, e) for i, (n, e) in enumerate([(6.0, 6.0), (12.0, 2.0)])]
+    v._arm(True)
+    assert v._set_mode(AUTO, "test") == M.MAV_RESULT_ACCEPTED
+    while v.sim.t < 120.0 and v.reached != [1, 2]:
+        now[0] += 0.05
+        v.step_once()
+    assert v.reached == [1, 2], (v.reached, v.sim.t)
+    assert v.mode == HOLD and not v.ended
+    d = math.hypot(v.sim.bus["usv.x"] - 12.0, v.sim.bus["usv.y"] - 2.0)
+    assert d < 2.5  # within the acceptance radius (2 m) plus the distance run since
+    v.close()
+
+
+def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
+    from oceangnc.cli import main
+
+    assert main(["mavlink", "usv-remote", "--listen", "udp:127.0.0.1:0", "--speed", "20", "--duration", "10",
+                 "--quiet", "--out", str(tmp_path), "--set", "mavlink.origin_lat_deg=10.5"]) == 0
+    (run,) = list(tmp_path.glob("mavlink-usv-remote-*"))
+    df = pd.read_parquet(run / "log.parquet")
+    assert df["t"].iloc[-1] == pytest.approx(10.0, abs=0.05)
+    assert (df["mavlink.armed"] == 0).all() and (df["usv.thrust_port"] == 0).all()  # never armed: no thrust
+    assert main(["mavlink", "usv-remote", "--listen", "udp:nowhere", "--quiet", "--out", str(tmp_path)]) == 2
+    assert "expected udp:HOST:PORT" in capsys.readouterr().err
+    assert main(["mavlink", "usv-remote", "--set", "mavlink.gcs_timeout_s=0", "--quiet", "--out", str(tmp_path)]) == 2
+    assert "gcs_timeout_s" in capsys.readouterr().err

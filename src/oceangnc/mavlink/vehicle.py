@@ -214,6 +214,8 @@ class MavlinkVehicle:
         self.max_lag = max_lag
         self.clock = clock
         self.verbose = verbose
+        host, port = parse_endpoint(listen)  # cheap checks first
+        fixed = [parse_endpoint(g) for g in (gcs or [])]
         sc, cfg = resolve_config(scenario or "usv-remote", overrides=overrides)
         if not _builds(sc):
             from ..console.session import Session
@@ -247,7 +249,6 @@ class MavlinkVehicle:
         self._upload: dict | None = None
         self._set_initial_mission()
         # -- network
-        host, port = parse_endpoint(listen)
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
             self.sock.bind((host, port))
@@ -257,7 +258,7 @@ class MavlinkVehicle:
         self.sock.setblocking(False)
         self.address = self.sock.getsockname()
         self.peers: dict[tuple, float] = {}
-        self.fixed_peers = [parse_endpoint(g) for g in (gcs or [])]
+        self.fixed_peers = fixed
         self._tx = _Sender(self)
         self.tlog = open(tlog, "wb") if tlog is not None else None  # noqa: SIM115 (closed in close())
         self.tlog_epoch = float(tlog_epoch)
@@ -438,7 +439,7 @@ class MavlinkVehicle:
         elif cmd == M.MAV_CMD_DO_FLIGHTTERMINATION:
             self._ack(cmd, self._estop(m.param1 > 0.5))
         elif cmd == M.MAV_CMD_MISSION_START:  # ArduPilot: start the mission in AUTO from param1 (0: current)
-            first = int(round(m.param1))
+            first = round(m.param1)
             if first >= 1:
                 self._set_current(first)
             self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
