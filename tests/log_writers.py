@@ -58,7 +58,7 @@ def pwm_of(T, full_fwd, full_rev):
 def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
     """GPS at 5 Hz, ATT / IMU / RCOU at 10 Hz from a simulated run's truth ``df`` (t, usv.*)."""
     w = DataFlashWriter(path)
-    w.define(130, "GPS", "QBLLff", "TimeUS,Status,Lat,Lng,Spd,GCrs")
+    w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")  # GPS week and ms, as ArduPilot
     w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
     w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
     w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
@@ -71,7 +71,8 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
         us = round(t[i] * 1e6) + 1_000_000
         if i % 2 == 0:
             lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
-            w.write("GPS", us, 3, round(lat * 1e7), round(lon * 1e7), math.hypot(vn.iat[i], ve.iat[i]),
+            w.write("GPS", us, 3, 302_400_000 + us // 1000, 2390, round(lat * 1e7), round(lon * 1e7),
+                    math.hypot(vn.iat[i], ve.iat[i]),
                     math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360)
         w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
         w.write("IMU", us, df["usv.r"].iat[i])

@@ -62,6 +62,12 @@ def test_disarmed_at_start_then_arm_manual_stick_and_modes(vehicle):
     psi0 = v.sim.bus["usv.psi"]
     g.pump(1.5, stick=(500, 1000))
     assert v.sim.bus["usv.r"] > 0.05 and v.sim.bus["usv.psi"] > psi0
+    # RC_CHANNELS_OVERRIDE (Rover: ch3 throttle, ch1 steering, 1500 +- 400 us): full astern, no steering
+    for _ in range(10):
+        g.mav.rc_channels_override_send(1, 1, 1500, 0, 1100, 0, 0, 0, 0, 0)
+        g.pump(0.05)
+    g.pump(0.5)
+    assert v.stick == (-1.0, 0.0) and v.sim.bus["usv.thrust_port"] < -100.0
     # ACRO (1): the stick is a yaw-rate setpoint (20 deg/s at full stick)
     _mode(g, 1)
     g.pump(3.0, stick=(0, 1000))

@@ -171,6 +171,20 @@ class RouteHook:
         return 0
 
 
+def _warm_up(sim) -> None:
+    """Compile the plants' integrators now, on copies of their state (numba compiles on the first call):
+    a multi-second compile inside the served loop would delay the link watchdog."""
+    for pl in sim.plants:
+        adv = getattr(pl, "_advance", None)
+        if adv is None:
+            continue
+        try:
+            pl.read_inputs(sim.bus)
+            adv(sim.t, pl.x.copy(), pl.u.copy(), pl.p.copy(), sim.dt, 1, pl.work.copy(), pl.state_bound)
+        except Exception:  # noqa: BLE001, S110 a warm-up only; the real run reports any error
+            pass
+
+
 class MavlinkVehicle:
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
@@ -280,6 +294,7 @@ class MavlinkVehicle:
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self.tick_s = sim.tick * sim.dt
+        _warm_up(sim)
         self._push_bus()
         sim.run(0.0, log=self.writer)
         self._anchor = (self.clock(), sim.t)
