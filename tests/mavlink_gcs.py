@@ -45,6 +45,7 @@ class GCS:
                 self._next_hb = now + 1.0 / self.heartbeat_hz
             if stick is not None and now >= next_stick:
                 self.mav.manual_control_send(1, int(stick[0]), 0, 0, int(stick[1]), 0)
+                self._t_last_stick = now
                 next_stick = now + 0.05
             try:
                 data, _ = self.sock.recvfrom(65535)
