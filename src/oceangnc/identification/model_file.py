@@ -56,7 +56,7 @@ def write_model(path, kind: str, method: str, source: str, parameters: dict, unc
     """Write the model TOML (NaN standard errors are written as the string "nan": TOML has nan too)."""
     import tomli_w
 
-    doc = {"model": {"kind": kind, "method": method, "source": str(source),
+    doc: dict = {"model": {"kind": kind, "method": method, "source": str(source),
                      "created": _dt.datetime.now().isoformat(timespec="seconds"), "confidence": 0.95},
            "parameters": {k: float(v) for k, v in parameters.items()},
            "uncertainty": {k: v for k, v in uncertainty.items()}}

@@ -28,7 +28,12 @@ def register(subparsers) -> None:
 def _cmd(args) -> int:
     from ..errors import InputError
     from ..io.config import flatten, parse_sets
-    from .vehicle import MavlinkVehicle
+
+    try:
+        from .vehicle import MavlinkVehicle
+    except ModuleNotFoundError as e:
+        raise InputError(f"oceangnc mavlink needs the optional package '{e.name}'; install with "
+                         f"pip install 'oceangnc[field]'") from None
 
     if args.duration is not None and not args.duration > 0:
         raise InputError(f"--duration {args.duration}: must be > 0 s")
@@ -44,6 +49,6 @@ def _cmd(args) -> int:
         v.serve()
     except KeyboardInterrupt:
         v.close()
-    if not args.quiet:
+    if not args.quiet and v.run_dir is not None:
         print(f"log written: {v.run_dir / 'log.parquet'}")
     return 1 if v.error else 0

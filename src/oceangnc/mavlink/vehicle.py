@@ -607,6 +607,8 @@ class MavlinkVehicle:
 
     def _request_item(self) -> None:
         u = self._upload
+        if u is None:
+            return
         seq = len(u["items"])
         self._send(self.mav.mission_request_int_encode(u["sys"], u["comp"], seq, 0))
 
@@ -982,7 +984,7 @@ class MavlinkVehicle:
             if self.tlog is not None:
                 self.tlog.close()
                 self.tlog = None
-            if self.writer is None:
+            if self.writer is None or self.run_dir is None:
                 return
             self.writer.close()
             summary = {"scenario": self.scenario.name, "source": "mavlink", "duration_s": float(self.sim.t),

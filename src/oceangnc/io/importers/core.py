@@ -6,6 +6,7 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -23,11 +24,11 @@ ANGLES = ("usv.psi", "usv.phi", "usv.theta")
 class ImportResult:
     """A resampled log and what happened on the way."""
 
-    df: object  # pandas DataFrame, time column t (s)
+    df: Any  # pandas DataFrame, time column t (s)
     source: str
     format: str
     rate: float
-    report: dict = field(default_factory=dict)
+    report: dict[str, Any] = field(default_factory=dict)
 
     def summary_line(self) -> str:
         r = self.report
@@ -89,7 +90,7 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
         raise InputError(f"--rate {rate}: must be > 0 Hz")
     gap_s = gap_s if gap_s is not None else max(1.0, 5.0 / rate)
     clean = {}
-    report = {"gaps": [], "time_jumps": 0, "jumps": [], "dropped_samples": {}, "signals": {}}
+    report: dict[str, Any] = {"gaps": [], "time_jumps": 0, "jumps": [], "dropped_samples": {}, "signals": {}}
     for k, (t, v) in series.items():
         t, v, dropped, jumps = _monotone(t, v, gap_s)
         if t.size < 2:
@@ -187,7 +188,11 @@ def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | 
     if kind == "parquet":
         raise InputError(f"{p}: already a Parquet log; identification reads it directly")
     reader = getattr(formats, f"read_{kind}")
-    series, meta = reader(p, allow_truncated=allow_truncated, **opts)
+    try:
+        series, meta = reader(p, allow_truncated=allow_truncated, **opts)
+    except ModuleNotFoundError as e:
+        raise InputError(f"{p}: reading a {kind} log needs the optional package '{e.name}'; install with "
+                         f"pip install 'oceangnc[field]'") from None
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))

@@ -467,7 +467,8 @@ def read_csv(path: Path, allow_truncated: bool = False, column_map=None, origin=
         return _pwm(v) if unit == "pwm" else v * UNIT_SCALE[unit]
 
     t = val("t")
-    out, meta = {}, {"column_map": {k: ":".join(v).rstrip(":") for k, v in cmap.items()}}
+    out: dict = {}
+    meta: dict = {"column_map": {k: ":".join(v).rstrip(":") for k, v in cmap.items()}}
     if "lat" in cmap and "lon" in cmap:
         x, y, o = _ne(df[cmap["lat"][0]].to_numpy(float), df[cmap["lon"][0]].to_numpy(float), origin)
         if x is not None:
