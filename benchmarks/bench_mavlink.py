@@ -71,9 +71,9 @@ def link_latency() -> tuple[float, float, list[float]]:
 
 
 def import_rate() -> dict:
-    import oceangnc
     from log_writers import write_dataflash, write_ulog
 
+    import oceangnc
     from oceangnc.io.importers import import_log
 
     out = {}

@@ -150,3 +150,43 @@ def test_first_order_reads_a_field_log_with_a_column_map(identified, tmp_path, c
     assert tr["T"] == pytest.approx(one["trial.true_t"].iloc[0], rel=0.05)
     doc = tomllib.loads((tmp_path / "o" / "identified.toml").read_text())
     assert doc["parameters"]["usv.kr_slope"] == 0.0 and math.isfinite(doc["parameters"]["usv.kr_intercept"])
+
+
+def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
+    """One turning trial of a rudder boat as an ArduPilot DataFlash log (GPS, ATT, IMU, RCOU with C1
+    steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
+    of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
+    from log_writers import DataFlashWriter
+
+    from oceangnc.mavlink.geo import ned_to_latlon
+
+    _d, res = identified
+    df = res.df
+    tid = df.loc[df["trial.kind"] == 1.0, "trial.id"].iloc[2]
+    one = df[df["trial.id"] == tid].reset_index(drop=True)
+    usv = res.config.usv
+    lim = math.radians(usv.rudder_limit_deg)
+    w = DataFlashWriter(tmp_path / "turn.bin")
+    w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")
+    w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
+    w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
+    w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
+    t0 = one["t"].iloc[0]
+    for i in range(len(one)):
+        us = round((one["t"].iat[i] - t0) * 1e6) + 2_000_000
+        lat, lon = ned_to_latlon(one["usv.x"].iat[i], one["usv.y"].iat[i], 35.0, 129.0)
+        psi = one["trial.heading"].iat[i]
+        w.write("GPS", us, 3, 100_000 + us // 1000, 2390, round(lat * 1e7), round(lon * 1e7),
+                one["trial.speed"].iat[i], math.degrees(psi) % 360)
+        w.write("ATT", us, 0.0, 0.0, math.degrees(psi) % 360)
+        w.write("IMU", us, one["trial.yaw_rate"].iat[i])
+        w.write("RCOU", us, round(1500 + 400 * one["trial.steer"].iat[i] / lim), 1500,
+                round(1500 + 400 * one["trial.thrust"].iat[i] / usv.rpm_max), 1500)
+    w.close()
+    assert main(["identify", "first-order", str(tmp_path / "turn.bin"), "--servos", "rudder", "--rate", "20",
+                 "--out", str(tmp_path / "o")]) == 0
+    rep = json.loads((tmp_path / "o" / "identification.json").read_text())
+    (tr,) = rep["trials"]
+    assert tr["kind"] == "turn" and rep["columns"]["steer"] == "act.steer"
+    assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
+    assert tr["T"] == pytest.approx(one["trial.true_t"].iloc[0], rel=0.05)

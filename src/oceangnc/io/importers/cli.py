@@ -13,6 +13,9 @@ def add_source_options(p) -> None:
                    help="CSV column map, e.g. t=time:ms,usv.psi=heading:deg,lat=lat,lon=lon (repeatable)")
     g.add_argument("--topic", action="append", metavar="ROLE=TOPIC",
                    help="ROS 2 topic of a role (odometry, imu, navsat, actuators), e.g. odometry=/boat/odom")
+    g.add_argument("--servos", choices=["skid", "rudder"], default="skid",
+                   help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
+                        "thrusters (default), rudder = steering / throttle")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
     g.add_argument("--origin", nargs=2, type=float, metavar=("LAT", "LON"),
                    help="origin of the local NED frame, deg (default: the first fix)")
@@ -30,7 +33,8 @@ def source_options(args) -> dict:
             raise InputError(f"--topic {it!r}: expected ROLE=TOPIC, e.g. odometry=/odom")
         k, v = it.split("=", 1)
         topics[k.strip()] = v.strip()
-    opts = {"rate": args.rate, "fmt": args.log_format, "gap_s": args.gap, "allow_truncated": args.allow_truncated}
+    opts = {"rate": args.rate, "fmt": args.log_format, "gap_s": args.gap, "allow_truncated": args.allow_truncated,
+            "servos": args.servos}
     if args.map:
         opts["column_map"] = args.map
     if topics:

@@ -24,6 +24,15 @@ import numpy as np
 from ...errors import InputError
 
 PWM_CENTER, PWM_SPAN = 1500.0, 400.0
+#: servo outputs 1 and 3 of an ArduPilot Rover: skid steering (SERVOn_FUNCTION 73 ThrottleLeft / 74
+#: ThrottleRight, twin thrusters) or rudder (26 GroundSteering / 70 Throttle, ArduPilot's default)
+SERVO_LAYOUTS = {"skid": ("act.left", "act.right"), "rudder": ("act.steer", "act.throttle")}
+
+
+def _servo_names(layout: str) -> tuple[str, str]:
+    if layout not in SERVO_LAYOUTS:
+        raise InputError(f"--servos {layout}: allowed {', '.join(SERVO_LAYOUTS)}")
+    return SERVO_LAYOUTS[layout]
 
 
 def _pwm(v):
@@ -62,7 +71,8 @@ def _truncated(path: Path, what: str, allow: bool, meta: dict) -> None:
 
 # -- MAVLink telemetry log (.tlog) ------------------------------------------------------------------------
 
-def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = None, origin=None, **_):
+def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = None, origin=None,
+              servos: str = "skid", **_):
     """MAVLink telemetry log: records of an 8-byte big-endian UNIX time (us) and one MAVLink frame.
 
     Time base: the vehicle's clock (``time_boot_ms`` / ``time_usec``) where a message has one, else the
@@ -155,8 +165,9 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
     so = get("SERVO_OUTPUT_RAW")
     if so:
         t = np.array([t_of(s, m) for s, m in so])
-        out["act.left"] = (t, _pwm([m.servo1_raw for _, m in so]))
-        out["act.right"] = (t, _pwm([m.servo3_raw for _, m in so]))
+        s1, s3 = _servo_names(servos)
+        out[s1] = (t, _pwm([m.servo1_raw for _, m in so]))
+        out[s3] = (t, _pwm([m.servo3_raw for _, m in so]))
     nv = get("NAMED_VALUE_FLOAT")
     for name, sig in (("cable_T", "cable.top_tension"), ("uuv_depth", "uuv.z")):
         rows = [(s, m) for s, m in nv if m.name.rstrip("\x00") == name]
@@ -195,7 +206,7 @@ def _scan_dataflash(path: Path, data: bytes, allow: bool, meta: dict) -> None:
     meta["records"] = n
 
 
-def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, **_):
+def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servos: str = "skid", **_):
     """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Lat, Lng deg, Spd m/s, GCrs deg), ATT
     (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1 left, C3 right, PWM us); time TimeUS."""
     from pymavlink import DFReader
@@ -248,7 +259,7 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, **_):
     c = col("IMU", "GyrZ")
     if c is not None:
         out["usv.r"] = c
-    for f, sig in (("C1", "act.left"), ("C3", "act.right")):
+    for f, sig in zip(("C1", "C3"), _servo_names(servos)):
         c = col("RCOU", f)
         if c is not None:
             out[sig] = (c[0], _pwm(c[1]))
