@@ -68,7 +68,7 @@ def _quasi_static(current: float, theta_hint: float):
 
     def loads(theta):
         R = rot(theta)
-        ur, _vr, wr = R.T @ (-vc)
+        ur, vr, wr = R.T @ (-vc)
         au = abs(ur)
         X = uc.X_u * ur + uc.X_uu_total * ur * au
         Z = uc.Z_w * wr + c["Z_ww"] * wr * abs(wr) + lf["Z_uw"] * au * wr

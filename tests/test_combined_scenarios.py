@@ -56,7 +56,7 @@ def test_backstepping_holds_the_relative_distance_better_than_pid(survey):
 
 def test_waypoints_square_reaches_all_waypoints():
     """003 fig 4-6 (b): relative angle plus heading to the USV; the UUV stays near the USV."""
-    s, _df, _ = _run("waypoints-square")
+    s, df, _ = _run("waypoints-square")
     assert s["usv.waypoints_reached"] == 4
     assert s["uuv.rel_distance_max_m"] < 1.5
 
@@ -96,7 +96,7 @@ def test_usbl_forced_dropout_for_10_s_continues_and_recovers():
 
 
 def test_estop_zeroes_every_thruster_and_remote_mode_drives_the_usv():
-    _sc, cfg = resolve_config("combined-survey")
+    sc, cfg = resolve_config("combined-survey")
     sim = build_simulation(cfg, np.random.default_rng(0))
     sim.run(5.0)
     assert sim.bus["usv.thrust_port"] != 0.0

@@ -175,7 +175,7 @@ def test_backstepping_aligns_the_heading_with_the_printed_model():
 
     g = BacksteppingConfig()
     m = dataclasses.replace(model_from_uuv(UUVConfig()), sway_from_bow=0.0)
-    xl, _yl, _psil, xf, yf, psif, _u, _v, _r = _straight_leader_run(m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0])
+    xl, yl, psil, xf, yf, psif, u, v, r = _straight_leader_run(m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0])
     assert abs(psif) < 1e-3
     assert xf - xl == pytest.approx(-0.5, abs=1e-3) and yf == pytest.approx(0.0, abs=1e-3)
 
@@ -187,7 +187,7 @@ def test_backstepping_crab_angle_with_a_bow_side_force_matches_the_zero_dynamics
     g = BacksteppingConfig()
     m = model_from_uuv(UUVConfig())
     U = 0.6
-    xl, _yl, psil, xf, yf, psif, _u, v, r = _straight_leader_run(m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0], ul=U,
+    xl, yl, psil, xf, yf, psif, u, v, r = _straight_leader_run(m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0], ul=U,
                                                                t_end=150.0)
     e = psil - psif
     assert abs(r) < 1e-6

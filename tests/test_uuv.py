@@ -138,7 +138,7 @@ def test_min_turning_radius_matches_simulated_turn():
         rk4_advance(uuv_rhs, 0.0, x, u, p, 0.01, 10, w)
         track.append((k * 0.1, x[0], x[1], x[5]))
     t, xs, ys, psi = np.array(track).T
-    rad, _drift, _, _rms = circle_fit_drifting(t, xs, ys, psi)
+    rad, drift, _, rms = circle_fit_drifting(t, xs, ys, psi)
     assert 0.5 < R < 50
     assert rad == pytest.approx(R, rel=0.05)
     assert abs(x[4]) < math.radians(3) and abs(x[3]) < math.radians(10)  # it did stay nearly level
