@@ -144,8 +144,9 @@ def write_ulog(path, df, tmax_n, trev_n):
 
 # -- ROS 2 bag ----------------------------------------------------------------------------------------------
 
-def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom"):
-    """Odometry (ENU / FLU, REP 103), Imu and a Float64MultiArray actuator topic, via rosbags' Writer."""
+def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=None):
+    """Odometry (ENU / FLU, REP 103), Imu and a Float64MultiArray actuator topic, via rosbags' Writer;
+    with ``fix_origin`` = (lat, lon) a NavSatFix topic ``/fix`` instead of the odometry."""
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -163,9 +164,12 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom"):
     Q = ts.types["geometry_msgs/msg/Quaternion"]
     V = ts.types["geometry_msgs/msg/Vector3"]
     Layout = ts.types["std_msgs/msg/MultiArrayLayout"]
+    Fix = ts.types["sensor_msgs/msg/NavSatFix"]
+    FixStatus = ts.types["sensor_msgs/msg/NavSatStatus"]
     cov = np.zeros(36)
     with Writer(path, version=8) as w:
-        co = w.add_connection(odom_topic, Odometry.__msgtype__, typestore=ts)
+        co = w.add_connection(odom_topic, Odometry.__msgtype__, typestore=ts) if fix_origin is None else None
+        cf = w.add_connection("/fix", Fix.__msgtype__, typestore=ts) if fix_origin is not None else None
         ci = w.add_connection("/imu", Imu.__msgtype__, typestore=ts)
         ca = w.add_connection("/actuators", F64.__msgtype__, typestore=ts)
         for i in range(len(df)):
@@ -180,7 +184,13 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom"):
                        angular=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])))
             od = Odometry(header=hdr, child_frame_id="base_link", pose=PWC(pose=pose, covariance=cov),
                           twist=TWC(twist=tw, covariance=cov))
-            w.write(co, ns, ts.serialize_cdr(od, Odometry.__msgtype__))
+            if co is not None:
+                w.write(co, ns, ts.serialize_cdr(od, Odometry.__msgtype__))
+            else:
+                lat, lon = ned_to_latlon(float(df["usv.x"].iat[i]), float(df["usv.y"].iat[i]), *fix_origin)
+                fx = Fix(header=hdr, status=FixStatus(status=0, service=1), latitude=lat, longitude=lon,
+                         altitude=0.0, position_covariance=np.zeros(9), position_covariance_type=0)
+                w.write(cf, ns, ts.serialize_cdr(fx, Fix.__msgtype__))
             if i % 2 == 0:
                 im = Imu(header=hdr, orientation=q, orientation_covariance=np.zeros(9),
                          angular_velocity=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])),

@@ -90,6 +90,31 @@ def test_rosbag_round_trip_and_unknown_topic(truth, tmp_path):
     assert "no topic /nope (odometry)" in str(e.value) and str(p) in str(e.value)
 
 
+def test_rosbag_navsatfix_and_imu_without_odometry(truth, tmp_path):
+    """Position from sensor_msgs/NavSatFix, heading and yaw rate from sensor_msgs/Imu (no odometry)."""
+    df, tmax, trev = truth
+    p = tmp_path / "bagfix"
+    write_rosbag(p, df, tmax, trev, fix_origin=(LAT0, LON0))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert res.report["origin_deg"] == [LAT0, LON0]
+    imp = res.df
+    t_truth = imp["t"].to_numpy() + res.report["t0_source_s"] - 100.0
+    for col in ("usv.x", "usv.y"):
+        assert np.max(np.abs(imp[col] - np.interp(t_truth, df["t"], df[col]))) < 0.05
+    assert np.max(np.abs(imp["usv.r"] - np.interp(t_truth, df["t"], df["usv.r"]))) < 0.01
+    assert any("differentiated from the position" in n for n in res.report["notes"])
+
+
+def test_backward_time_jump_is_dropped_and_reported():
+    from oceangnc.io.importers import resample
+
+    t = np.array([0.0, 0.1, 0.2, 0.3, 0.15, 0.25, 0.4, 0.5, 0.6])  # a clock that steps back at 0.3 s
+    cols, rep = resample({"usv.x": (t, 10 * t)}, rate=10.0)
+    assert rep["time_jumps"] == 1 and rep["jumps"][0]["kind"] == "backwards"
+    assert rep["jumps"][0]["samples_dropped"] == 2 and rep["dropped_samples"]["usv.x"] == 2
+    assert np.allclose(cols["usv.x"], 10 * cols["t"])  # the kept samples are the monotone ones
+
+
 def test_csv_with_column_map_round_trip(truth, tmp_path):
     df, _tmax, _trev = truth
     lat, lon = zip(*(ned_to_latlon(n, e, LAT0, LON0) for n, e in zip(df["usv.x"], df["usv.y"])))
