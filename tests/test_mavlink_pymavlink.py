@@ -286,6 +286,10 @@ def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
     df = pd.read_parquet(run / "log.parquet")
     assert df["t"].iloc[-1] == pytest.approx(10.0, abs=0.05)
     assert (df["mavlink.armed"] == 0).all() and (df["usv.thrust_port"] == 0).all()  # never armed: no thrust
+    # the run folder also holds the telemetry stream as a .tlog, which `oceangnc import` reads back
+    assert main(["import", str(run / "telemetry.tlog"), "--out", str(tmp_path / "imp")]) == 0
+    imp = pd.read_parquet(tmp_path / "imp" / "log.parquet")
+    assert len(imp) > 80 and imp["usv.x"].abs().max() < 1e-2  # 10 s at 10 Hz, a boat at rest at the origin
     assert main(["mavlink", "usv-remote", "--listen", "udp:nowhere", "--quiet", "--out", str(tmp_path)]) == 2
     assert "expected udp:HOST:PORT" in capsys.readouterr().err
     assert main(["mavlink", "usv-remote", "--set", "mavlink.gcs_timeout_s=0", "--quiet", "--out", str(tmp_path)]) == 2

@@ -21,6 +21,8 @@ def register(subparsers) -> None:
                    help="override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
                         "mavlink.origin_lat_deg=59.9 mavlink.gcs_timeout_s=1.5")
     p.add_argument("--out", default="runs", help="folder for the run's log (default runs/)")
+    p.add_argument("--no-tlog", action="store_true",
+                   help="do not write telemetry.tlog (every packet sent, stamped with simulated time) in the run folder")
     p.add_argument("--quiet", action="store_true", help="do not print the vehicle's events")
     p.set_defaults(func=_cmd)
 
@@ -41,7 +43,8 @@ def _cmd(args) -> int:
     mav = {k[len("mavlink."):]: v for k, v in sets.items() if k.startswith("mavlink.")}
     over = {k: v for k, v in sets.items() if not k.startswith("mavlink.")}
     v = MavlinkVehicle(args.scenario, overrides=over, mav=mav, listen=args.listen, gcs=args.gcs, speed=args.speed,
-                       out_root=args.out, duration=args.duration, verbose=not args.quiet)
+                       out_root=args.out, duration=args.duration, verbose=not args.quiet,
+                       tlog=None if args.no_tlog else "telemetry.tlog")
     if not args.quiet:
         print(f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
               f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop", flush=True)

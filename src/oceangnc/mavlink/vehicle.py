@@ -46,6 +46,7 @@ import threading
 import time
 import traceback
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -274,7 +275,8 @@ class MavlinkVehicle:
         self.peers: dict[tuple, float] = {}
         self.fixed_peers = fixed
         self._tx = _Sender(self)
-        self.tlog = open(tlog, "wb") if tlog is not None else None  # noqa: SIM115 (closed in close())
+        self._tlog_name = tlog  # opened with the log below (a relative name goes into the run folder)
+        self.tlog: Any = None
         self.tlog_epoch = float(tlog_epoch)
         c = self.cfg_mav
         self.mav = M.MAVLink(self._tx, srcSystem=c.system_id, srcComponent=M.MAV_COMP_ID_AUTOPILOT1)
@@ -290,6 +292,12 @@ class MavlinkVehicle:
             self.run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, self.run_dir / "config.toml")
             self.writer = LogWriter(self.run_dir / "log.parquet")
+        if self._tlog_name is not None:
+            tp = Path(self._tlog_name)
+            if not tp.is_absolute() and self.run_dir is not None:
+                tp = self.run_dir / tp
+            self.tlog = open(tp, "wb")  # noqa: SIM115 (closed in close())
+            self.tlog_path = tp
         self._lock = threading.RLock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
