@@ -172,6 +172,28 @@ class RouteHook:
         return 0
 
 
+def builds_live(sc) -> bool:
+    """A scenario runs live if it overrides ``Scenario.build`` (one Simulation the loop can step)."""
+    from ..scenarios.base import Scenario
+
+    return type(sc).build is not Scenario.build
+
+
+def live_scenarios() -> list[str]:
+    from ..scenarios.base import registry
+
+    return [n for n, s in registry().items() if builds_live(s)]
+
+
+def _gate_pilots(sim) -> None:
+    """Silence a scenario's own stick pilot while the operator's stick drives (the console's gate)."""
+    try:
+        from ..console.session import gate_pilots
+    except ImportError:  # the console's optional dependencies are absent: no scripted pilots to gate then
+        return
+    gate_pilots(sim)
+
+
 def _warm_up(sim) -> None:
     """Compile the plants' integrators now, on copies of their state (numba compiles on the first call):
     a multi-second compile inside the served loop would delay the link watchdog."""
@@ -217,7 +239,6 @@ class MavlinkVehicle:
                  clock=time.monotonic, verbose: bool = False, tlog: str | Path | None = None,
                  tlog_epoch: float = 1.7e9):
         from ..api import new_run_dir, resolve_config
-        from ..console.session import _builds, gate_pilots
         from ..io.config import dump_toml, validate
 
         if not (0 < speed <= 100 and math.isfinite(speed)):
@@ -232,14 +253,12 @@ class MavlinkVehicle:
         host, port = parse_endpoint(listen)  # cheap checks first
         fixed = [parse_endpoint(g) for g in (gcs or [])]
         sc, cfg = resolve_config(scenario or "usv-remote", overrides=overrides)
-        if not _builds(sc):
-            from ..console.session import Session
-
+        if not builds_live(sc):
             raise InputError(f"scenario {sc.name} has no live simulation; live scenarios: "
-                             f"{', '.join(Session.live_scenarios())}")
+                             f"{', '.join(live_scenarios())}")
         self.scenario, self.cfg = sc, cfg
         self.sim = sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
-        gate_pilots(sim)
+        _gate_pilots(sim)
         self.route = RouteHook(sc, sim)
         self.has_uuv = "uuv.x" in sim.bus
         # -- state
