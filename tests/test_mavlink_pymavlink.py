@@ -171,6 +171,10 @@ def test_malformed_flood_is_counted_and_ignored(vehicle):
     assert hb.custom_mode == 10
     st = g.wait("SYS_STATUS", 2.0)
     assert st.errors_count1 >= 600 and st.drop_rate_comm > 0
+    v.stop()  # the counters are in the run's log
+    df = pd.read_parquet(v.run_dir / "log.parquet")
+    assert df["mavlink.rx_bad"].iloc[-1] == c["rx_bad"] and df["mavlink.rx_unknown"].iloc[-1] == c["rx_unknown"]
+    assert df["mavlink.rx_out_of_range"].iloc[-1] >= 2 and df["mavlink.rx_bad"].iloc[0] == 0
 
 
 def test_estop_latched_and_arm_refused(vehicle):
