@@ -206,6 +206,11 @@ def test_mission_upload_download_and_reached(tmp_path):
     g = GCS(v.address)
     try:
         g.wait("HEARTBEAT", 3.0)
+        # an empty mission (home only): AUTO is refused, the scenario's own route is not flown behind our back
+        g.mav.mission_clear_all_send(1, 1, 0)
+        assert g.wait("MISSION_ACK", 3.0).type == M.MAV_MISSION_ACCEPTED
+        g.mav.command_long_send(1, 1, M.MAV_CMD_DO_SET_MODE, 0, 1, 10, 0, 0, 0, 0, 0)
+        assert g.ack(M.MAV_CMD_DO_SET_MODE).result == M.MAV_RESULT_DENIED
         pts = [(0.0, 0.0), (15.0, 0.0), (15.0, 15.0), (0.0, 15.0)]  # home + 3 waypoints (N, E m)
         g.mav.mission_count_send(1, 1, len(pts), 0)
         for seq, (n, e) in enumerate(pts):

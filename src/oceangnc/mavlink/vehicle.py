@@ -540,6 +540,11 @@ class MavlinkVehicle:
         if num == AUTO and not self.route.available:
             self.event(f"AUTO refused: scenario {self.scenario.name} takes no route", M.MAV_SEVERITY_WARNING)
             return M.MAV_RESULT_DENIED
+        if num == AUTO and num != self.mode:
+            start = self.mission_current if self.mission_current < len(self.mission) else 1
+            if not self._nav_points(start)[0]:
+                self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
+                return M.MAV_RESULT_DENIED
         if num != self.mode:
             self.mode = num
             self.stick = (0.0, 0.0)
