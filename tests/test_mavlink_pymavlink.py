@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import time
 
+import numpy as np
 import pandas as pd
 import pytest
 from mavlink_gcs import GCS
@@ -246,7 +247,8 @@ def test_mission_upload_download_and_reached(tmp_path):
 
 
 def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
-    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
+    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=tmp_path,
+                       tlog=tmp_path / "c.tlog")
     v.start()
     g = GCS(v.address)
     try:
@@ -259,9 +261,19 @@ def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
         assert nv.value > 0.0
         g.mav.mission_request_list_send(1, 1, 0)
         assert g.wait("MISSION_COUNT", 3.0).count == 1 + 3  # home + the scenario's 3 waypoints
+        g.pump(1.0)
     finally:
         g.close()
         v.stop()
+    # the UUV's telemetry read back from the .tlog (system 2, signals named uuv.*) against the run's log
+    from oceangnc.io.importers import import_log
+
+    truth = pd.read_parquet(v.run_dir / "log.parquet")
+    res = import_log(tmp_path / "c.tlog", rate=5.0, system=2, body="uuv", origin=(v.cfg_mav.origin_lat_deg,
+                                                                                   v.cfg_mav.origin_lon_deg))
+    t = res.df["t"] + res.report["t0_source_s"]
+    for col, tol in (("uuv.z", 0.01), ("uuv.x", 0.03), ("uuv.y", 0.03)):
+        assert np.max(np.abs(res.df[col] - np.interp(t, truth["t"], truth[col]))) < tol, col
 
 
 def test_combined_mission_feeds_the_pure_pursuit_guidance(tmp_path):

@@ -16,6 +16,7 @@ def add_source_options(p) -> None:
     g.add_argument("--servos", choices=["skid", "rudder"], default="skid",
                    help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
                         "thrusters (default), rudder = steering / throttle")
+    g.add_argument("--body", default="usv", help="prefix of the vehicle's signals (default usv; uuv for a UUV)")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
     g.add_argument("--origin", nargs=2, type=float, metavar=("LAT", "LON"),
                    help="origin of the local NED frame, deg (default: the first fix)")
@@ -34,7 +35,7 @@ def source_options(args) -> dict:
         k, v = it.split("=", 1)
         topics[k.strip()] = v.strip()
     opts = {"rate": args.rate, "fmt": args.log_format, "gap_s": args.gap, "allow_truncated": args.allow_truncated,
-            "servos": args.servos}
+            "servos": args.servos, "body": args.body}
     if args.map:
         opts["column_map"] = args.map
     if topics:

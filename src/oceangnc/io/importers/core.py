@@ -172,10 +172,11 @@ def _to_df(cols: dict):
 
 
 def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | None = None,
-               allow_truncated: bool = False, **opts) -> ImportResult:
+               allow_truncated: bool = False, body: str = "usv", **opts) -> ImportResult:
     """Read a field log (any of :data:`FORMATS`) into a resampled DataFrame with standard signals.
 
-    ``opts`` go to the format's reader: ``system`` (MAVLink system id, tlog), ``origin`` ((lat, lon)
+    ``body`` names the vehicle's signals (``usv.*`` by default, ``uuv`` for a UUV's log). ``opts`` go
+    to the format's reader: ``system`` (MAVLink system id, tlog), ``origin`` ((lat, lon)
     deg, default the first fix), ``topics`` (ROS 2: role -> topic), ``column_map`` (CSV:
     signal -> "column[:unit]").
     """
@@ -197,7 +198,11 @@ def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | 
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))
     cols = derive(cols, report)
-    report = {"source": str(p), "format": kind, **meta, **report}
+    if body != "usv":  # e.g. the UUV of a .tlog (--system 2 --body uuv)
+        if not body.isidentifier():
+            raise InputError(f"--body {body!r}: expected a name such as usv or uuv")
+        cols = {(body + k[3:] if k.startswith("usv.") else k): v for k, v in cols.items()}
+    report = {"source": str(p), "format": kind, "body": body, **meta, **report}
     return ImportResult(_to_df(cols), str(p), kind, rate, report)
 
 
