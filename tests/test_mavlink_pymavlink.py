@@ -301,9 +301,12 @@ def test_combined_mission_feeds_the_pure_pursuit_guidance(tmp_path):
 def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
     from oceangnc.cli import main
 
+    model = tmp_path / "identified.toml"
+    model.write_text('[parameters]\n"usv.m11" = 31.5\n')
     assert main(["mavlink", "usv-remote", "--listen", "udp:127.0.0.1:0", "--speed", "20", "--duration", "10",
-                 "--quiet", "--out", str(tmp_path), "--set", "mavlink.origin_lat_deg=10.5"]) == 0
+                 "--quiet", "--out", str(tmp_path), "--set", "mavlink.origin_lat_deg=10.5", "--model", str(model)]) == 0
     (run,) = list(tmp_path.glob("mavlink-usv-remote-*"))
+    assert "m11 = 31.5" in (run / "config.toml").read_text()  # the model file's parameters are the vehicle's
     df = pd.read_parquet(run / "log.parquet")
     assert df["t"].iloc[-1] == pytest.approx(10.0, abs=0.05)
     assert (df["mavlink.armed"] == 0).all() and (df["usv.thrust_port"] == 0).all()  # never armed: no thrust

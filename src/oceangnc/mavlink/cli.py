@@ -20,6 +20,8 @@ def register(subparsers) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
                         "mavlink.origin_lat_deg=59.9 mavlink.gcs_timeout_s=1.5")
+    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): the "
+                                   "vehicle's parameters (--set still wins)")
     p.add_argument("--out", default="runs", help="folder for the run's log (default runs/)")
     p.add_argument("--no-tlog", action="store_true",
                    help="do not write telemetry.tlog (every packet sent, stamped with simulated time) in the run folder")
@@ -42,6 +44,10 @@ def _cmd(args) -> int:
     sets = flatten(parse_sets(args.set))
     mav = {k[len("mavlink."):]: v for k, v in sets.items() if k.startswith("mavlink.")}
     over = {k: v for k, v in sets.items() if not k.startswith("mavlink.")}
+    if args.model:
+        from ..identification.model_file import load_model_overrides
+
+        over = {**load_model_overrides(args.model), **over}
     v = MavlinkVehicle(args.scenario, overrides=over, mav=mav, listen=args.listen, gcs=args.gcs, speed=args.speed,
                        out_root=args.out, duration=args.duration, verbose=not args.quiet,
                        tlog=None if args.no_tlog else "telemetry.tlog")
