@@ -318,3 +318,33 @@ def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
     assert "expected udp:HOST:PORT" in capsys.readouterr().err
     assert main(["mavlink", "usv-remote", "--set", "mavlink.gcs_timeout_s=0", "--quiet", "--out", str(tmp_path)]) == 2
     assert "gcs_timeout_s" in capsys.readouterr().err
+
+
+def test_scenario_without_stick_or_route_hook_holds_by_zero_thrust():
+    """usv-waypoints-7 flies its own route and takes no stick: MANUAL / ACRO are refused, a mission upload
+    is refused, AUTO runs the scenario's own guidance, and HOLD (like disarmed) zeroes the thrust."""
+    from oceangnc.mavlink.protocol import ACRO, AUTO, HOLD, MANUAL
+
+    now = [0.0]
+    v = MavlinkVehicle("usv-waypoints-7", listen="udp:127.0.0.1:0", out_root=None, clock=lambda: now[0])
+    assert not v.reads_stick and not v.route.available
+
+    def run(seconds):
+        t_end = v.sim.t + seconds
+        while v.sim.t < t_end:
+            now[0] += 0.05
+            v.step_once()
+
+    v._arm(True)
+    assert v._set_mode(MANUAL, "test") == M.MAV_RESULT_DENIED and v._set_mode(ACRO, "test") == M.MAV_RESULT_DENIED
+    run(3.0)
+    assert v.mode == HOLD and v.sim.bus["usv.rpm"] == 0.0 and v.sim.bus["usv.u"] < 1e-9  # armed, HOLD: no thrust
+    v._on_mission_count(M.MAVLink_mission_count_message(1, 1, 3, 0))
+    assert len(v.mission) == 1 and any("Mission refused" in s for _, s in v.events)
+    assert v._set_mode(AUTO, "test") == M.MAV_RESULT_ACCEPTED
+    run(10.0)
+    assert v.sim.bus["usv.rpm"] > 100.0 and v.sim.bus["usv.u"] > 1.0  # the scenario's own guidance drives
+    v._set_mode(HOLD, "test")
+    run(0.5)
+    assert v.sim.bus["usv.rpm"] == 0.0
+    v.close()

@@ -27,7 +27,9 @@ The mission feeds the scenario's own guidance through :class:`RouteHook`: a scen
 bus key; a scenario whose guidance is a :class:`oceangnc.guidance.pure_pursuit.PurePursuit` block
 (``combined-survey`` and friends) gets it through that block's waypoint array (``wp``) and leg
 counters, reset as the block's own ``reset`` does, with ``stop_at_end`` off so the run continues in
-HOLD after the mission. ArduPilot's convention is kept: mission item 0 is home, items 1..n are
+HOLD after the mission; a scenario with neither runs its own guidance in AUTO and refuses uploads.
+A scenario whose blocks do not follow the stick (:func:`reads_stick`) refuses MANUAL / ACRO and gets
+thrust zero (``_estop``) in HOLD. ArduPilot's convention is kept: mission item 0 is home, items 1..n are
 flown; only MAV_CMD_NAV_WAYPOINT items are route points (other items are stored and reported as
 reached in passing).
 
@@ -185,6 +187,22 @@ def live_scenarios() -> list[str]:
     return [n for n, s in registry().items() if builds_live(s)]
 
 
+#: blocks that follow ``console.mode`` / ``joystick.*`` but do not declare them yet (core contract 4e36fa4:
+#: blocks declare their inputs; until these do, they are known by class)
+_STICK_BLOCKS = ("USVPilot", "USVController", "_RemoteGate")
+
+
+def reads_stick(sim) -> bool:
+    """Whether the scenario's blocks follow the operator's stick (``console.mode`` = "remote")."""
+    for b in sim.blocks:
+        for decl in (getattr(b, "inputs", None), getattr(b, "optional_inputs", None)):
+            if isinstance(decl, dict) and ("console.mode" in decl or "joystick.surge" in decl):
+                return True
+        if type(b).__name__ in _STICK_BLOCKS:
+            return True
+    return False
+
+
 def _gate_pilots(sim) -> None:
     """Silence a scenario's own stick pilot while the operator's stick drives (the console's gate)."""
     try:
@@ -260,6 +278,7 @@ class MavlinkVehicle:
         self.sim = sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
         _gate_pilots(sim)
         self.route = RouteHook(sc, sim)
+        self.reads_stick = reads_stick(sim)
         self.has_uuv = "uuv.x" in sim.bus
         # -- state
         self.armed = False
@@ -537,10 +556,10 @@ class MavlinkVehicle:
         if num not in ROVER_MODES:
             self._oor(f"{via} mode {num} ({ROVER_OTHER.get(num, 'unknown')})")
             return M.MAV_RESULT_DENIED
-        if num == AUTO and not self.route.available:
-            self.event(f"AUTO refused: scenario {self.scenario.name} takes no route", M.MAV_SEVERITY_WARNING)
+        if num in STICK_MODES and not self.reads_stick:
+            self.event(f"{mode_name(num)} refused: {self.scenario.name} takes no stick", M.MAV_SEVERITY_WARNING)
             return M.MAV_RESULT_DENIED
-        if num == AUTO and num != self.mode:
+        if num == AUTO and num != self.mode and self.route.available:
             start = self.mission_current if self.mission_current < len(self.mission) else 1
             if not self._nav_points(start)[0]:
                 self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
@@ -550,11 +569,12 @@ class MavlinkVehicle:
             self.stick = (0.0, 0.0)
             if num in STICK_MODES:
                 self.t_gcs = max(self.t_gcs, self.clock())  # grace for the first stick message
-            if num == AUTO:
+            if num == AUTO and self.route.available:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1
                 self._start_mission()
-            self.event(f"Mode {mode_name(num)}")
+            self.event(f"Mode {mode_name(num)}" + ("" if num != AUTO or self.route.available else
+                                                   ": the scenario's own guidance (no mission upload)"))
         return M.MAV_RESULT_ACCEPTED
 
     def _estop(self, engage: bool) -> int:
@@ -621,7 +641,9 @@ class MavlinkVehicle:
 
     def _on_mission_count(self, m) -> None:
         mt = getattr(m, "mission_type", 0)
-        if mt != M.MAV_MISSION_TYPE_MISSION:
+        if mt != M.MAV_MISSION_TYPE_MISSION or not self.route.available:
+            if mt == M.MAV_MISSION_TYPE_MISSION:
+                self.event(f"Mission refused: {self.scenario.name} flies its own route", M.MAV_SEVERITY_WARNING)
             self._mission_ack(M.MAV_MISSION_UNSUPPORTED, mt)
             return
         if m.count > self.cfg_mav.max_mission_items:
@@ -766,7 +788,8 @@ class MavlinkVehicle:
             self.event("Failsafe: GCS link lost, HOLD", M.MAV_SEVERITY_CRITICAL)
 
     def _push_bus(self) -> None:
-        stop = (not self.armed) or self.estop
+        # thrust zero while disarmed or e-stopped, and in HOLD when the scenario cannot take a zero stick
+        stop = (not self.armed) or self.estop or (self.mode == HOLD and not self.reads_stick)
         stick = self.stick if self.mode in STICK_MODES else (0.0, 0.0)
         vals = {"console.mode": "auto" if self.mode == AUTO else "remote",
                 "console.loop": "open" if self.mode == MANUAL else "closed",
