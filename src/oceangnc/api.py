@@ -124,7 +124,7 @@ def _jsonable(v):
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
         progress: bool = False, checkpoint_every: float | None = None,
-        resume: str | Path | None = None) -> RunResult:
+        resume: str | Path | None = None, model: str | Path | None = None) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -149,6 +149,9 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         A run folder holding a checkpoint: continue that run (its own ``config.toml``; the other
         config arguments must be absent) from its last checkpoint. The finished log equals the one
         of an uninterrupted run.
+    model : path, optional
+        An identified model file (``identified.toml`` from ``oceangnc identify``): its
+        ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
 
     Raises
     ------
@@ -189,6 +192,10 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
                         start_part=state["log"]["parts"], start_row=state["log"]["rows"])
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
+        if model is not None:
+            from .identification.model_file import load_model_overrides
+
+            overrides = {**load_model_overrides(model), **dict(overrides or {})}
         sc, cfg = resolve_config(scenario, config, overrides, duration)
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
         out_dir.mkdir(parents=True, exist_ok=True)

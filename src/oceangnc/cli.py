@@ -20,6 +20,8 @@ PLUGINS = (
     "oceangnc.identification.cli",
     "oceangnc.console.cli",
     "oceangnc.sweep.cli",
+    "oceangnc.mavlink.cli",
+    "oceangnc.io.importers.cli",
 )
 
 
@@ -57,7 +59,8 @@ def _cmd_run(args) -> int:
     else:
         overrides = flatten(parse_sets(args.set))
         res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-                  plots=not args.no_plots, progress=not args.quiet, checkpoint_every=args.checkpoint_every)
+                  plots=not args.no_plots, progress=not args.quiet, checkpoint_every=args.checkpoint_every,
+                  model=args.model)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -102,6 +105,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): its "
+                                   "[parameters] are the vehicle's parameters (--set still wins)")
     p.add_argument("--plugin", action="append", metavar="PATH",
                    help="a Python file registering blocks (@register_block), loaded before the config is "
                         "read, so a --set ...kind= can pick them (repeatable)")
