@@ -1,0 +1,160 @@
+"""Time-step advisor (``oceangnc check SCENARIO``).
+
+For a scenario's clocked simulation it reports
+
+* each plant's stability limit for each integrator it offers: the lumped-mass cable's axial chain
+  for classical RK4 and for the split integrator (RK4 + backward-Euler axial damping), from the
+  eigenvalues of the linearised chain (:func:`oceangnc.models.cable.axial_stability_limit`); other
+  plants' own ``max_dt`` (RK4);
+* the step the scenario will use (``sim.dt`` or the scenario's automatic choice);
+* its expected accuracy: the scenario run for a short horizon at dt and at dt/2, the largest
+  difference of the plants' states between the two, and the Richardson estimate of the error at dt
+  (difference x 2^p / (2^p - 1), p = 4 for RK4);
+* the loop rate of every block.
+
+A step above a plant's limit is refused (exit 2) with the largest stable step that divides the
+control periods.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ConfigError
+
+
+@dataclass
+class CheckReport:
+    scenario: str
+    dt: float | None
+    limits: list = field(default_factory=list)  # (plant, integrator, limit s, in use)
+    loops: list = field(default_factory=list)  # (block, period s)
+    accuracy: list = field(default_factory=list)  # (group, |x_dt - x_dt/2|, richardson error, unit)
+    horizon: float = 0.0
+    refused: str = ""
+    note: str = ""
+
+    def text(self) -> str:
+        out = [f"scenario {self.scenario}"]
+        if self.dt is None:
+            return "\n".join(out + [f"  {self.note}"])
+        out.append(f"  physics step dt = {self.dt:.6g} s")
+        out.append("  stability limits (largest stable step):")
+        for plant, integ, lim, used in self.limits:
+            mark = " <- in use" if used else ""
+            ratio = f"  (dt = {self.dt / lim:.2f} x limit)" if used and math.isfinite(lim) else ""
+            out.append(f"    {plant:<10} {integ:<10} {lim:.4g} s{mark}{ratio}")
+        if self.loops:
+            out.append("  loop rates:")
+            for name, per in self.loops:
+                out.append(f"    {name:<16} {1.0 / per:8.3g} Hz  (every {round(per / self.dt)} physics steps)")
+        if self.refused:
+            out.append(f"  REFUSED: {self.refused}")
+            return "\n".join(out)
+        if self.accuracy:
+            out.append(f"  expected accuracy (step-halving run over {self.horizon:g} s):")
+            for group, diff, rich, unit in self.accuracy:
+                out.append(f"    {group:<22} |x(dt) - x(dt/2)| = {diff:.3e} {unit}, error at dt ~ {rich:.3e} {unit}")
+        if self.note:
+            out.append(f"  {self.note}")
+        return "\n".join(out)
+
+
+def _plant_limits(sim, cfg) -> list:
+    from ..models.cable import axial_stability_limit
+
+    rows = []
+    for pl in sim.plants:
+        name = getattr(pl, "name", type(pl).__name__)
+        cable = getattr(cfg, "cable", None)
+        if hasattr(pl, "stability_limit") and cable is not None:
+            end_mass = None
+            try:
+                from ..models.uuv import P_MA, P_MRB
+
+                uuv = getattr(cfg, "uuv", None)
+                if uuv is not None:
+                    p = uuv.params()
+                    end_mass = float(p[P_MRB:P_MRB + 36].reshape(6, 6)[0, 0] + p[P_MA:P_MA + 36].reshape(6, 6)[0, 0])
+            except Exception:
+                end_mass = None
+            for integ in ("rk4", "rk4-split"):
+                lim = axial_stability_limit(cable, end_mass=end_mass, last_damper_only=(integ == "rk4-split"))
+                rows.append((name, integ, lim, integ == cable.integrator))
+        else:
+            lim = pl.max_dt if getattr(pl, "max_dt", None) is not None else math.inf
+            rows.append((name, "rk4", lim, True))
+    return rows
+
+
+def _groups(pl) -> dict[str, tuple[list[int], str]]:
+    """State indices grouped for the accuracy report: positions (m), angles (rad), velocities."""
+    names = list(getattr(pl, "state_names", []))
+    units = list(getattr(pl, "state_units", []) or [])
+    g: dict[str, tuple[list[int], str]] = {}
+    for i, n in enumerate(names):
+        u = units[i] if i < len(units) else ""
+        key = f"{pl.name} [{u}]" if u else f"{pl.name}"
+        g.setdefault(key, ([], u))[0].append(i)
+    return g
+
+
+def check(scenario: str, overrides: dict | None = None, horizon: float = 5.0) -> CheckReport:
+    """Build the scenario, report limits and loop rates, and run the step-halving accuracy estimate."""
+    from ..api import resolve_config
+    from ..scenarios.base import Scenario
+
+    sc, cfg = resolve_config(scenario, overrides=overrides)
+    if type(sc).build is Scenario.build:
+        return CheckReport(sc.name, None, note="this scenario has no single clocked simulation (its run is custom); "
+                                               "its models choose their own steps")
+    try:
+        sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+    except ConfigError as e:
+        if "stability" not in str(e) and "limit" not in str(e):
+            raise
+        # build once more with a tiny step to read the limits, then refuse with advice
+        _, cfg_small = resolve_config(scenario, overrides={**(overrides or {}), "sim.dt": 1e-5})
+        sim = sc.build(cfg_small, np.random.default_rng(0))
+        rep = CheckReport(sc.name, float(cfg.sim.dt), _plant_limits(sim, cfg),
+                          [(b.name, b.period) for b in sim.blocks])
+        rep.refused = _advice(rep, str(e))
+        return rep
+    dt = float(sim.dt)
+    rep = CheckReport(sc.name, dt, _plant_limits(sim, cfg), [(b.name, b.period) for b in sim.blocks])
+    over_limit = [r for r in rep.limits if r[3] and dt > r[2] * (1 + 1e-9)]
+    if over_limit:
+        rep.refused = _advice(rep, "")
+        return rep
+    T = min(horizon, float(cfg.sim.duration))
+    rep.horizon = T
+    sim.run(T)
+    _, cfg2 = resolve_config(scenario, overrides={**(overrides or {}), "sim.dt": dt / 2})
+    sim2 = sc.build(cfg2, np.random.default_rng(cfg.sim.seed))
+    sim2.run(T)
+    for pa, pb in zip(sim.plants, sim2.plants):
+        for key, (idx, unit) in _groups(pa).items():
+            d = float(np.max(np.abs(pa.x[idx] - pb.x[idx]))) if idx else 0.0
+            rep.accuracy.append((key, d, d * 16.0 / 15.0, unit))
+    rep.note = "RK4: the error at dt is about 16/15 of the dt vs dt/2 difference (fourth order)"
+    return rep
+
+
+def _advice(rep: CheckReport, msg: str) -> str:
+    from ..models.cable import stable_step
+
+    periods = [p for _, p in rep.loops] or [0.01]
+    base = min(periods)
+    used = [r for r in rep.limits if r[3]]
+    lim = min((r[2] for r in used), default=math.inf)
+    best = [r for r in rep.limits if r[2] >= (rep.dt or 0)]
+    alt = ""
+    if best:
+        b = max(best, key=lambda r: r[2])
+        alt = f"; or switch {b[0]} to integrator '{b[1]}' (limit {b[2]:.4g} s)"
+    return (f"dt = {rep.dt:g} s is above the stability limit {lim:.4g} s; use sim.dt <= "
+            f"{stable_step(lim, base, 0.9):.6g} s (90 % of the limit, dividing the {base:g} s loop period){alt}"
+            + (f" [{msg}]" if msg else ""))
