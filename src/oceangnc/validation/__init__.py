@@ -22,9 +22,9 @@ import json
 import math
 import tempfile
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -81,7 +81,7 @@ class Case:
     published_text: str
     check: tuple
     why: str
-    measure: Callable[["Runner"], Measured]
+    measure: Callable[[Runner], Measured]
     deviation: str = ""
     group: str = ""
 

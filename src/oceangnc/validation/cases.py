@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 
-from ..units import G
 from . import Case, Measured
 
 D003, D000, D001, D002 = ("003_486f48bcab6eec1d.txt", "000_709eacce50bfa23e.txt", "001_7b3de4f47de6bfb9.txt",

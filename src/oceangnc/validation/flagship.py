@@ -47,10 +47,24 @@ PUBLISHED = {
 }
 
 GRID = {
-    "cable.top_x": [-0.75, 0.0, 0.75],
-    "uuv.weight_in_water_kgf": [12.0, 4.0, 1.0],
+    "cable.top_x": [-1.15, -0.75, 0.0, 0.75, 1.15],
+    "uuv.weight_in_water_kgf": [12.0, 4.0],
+    "formation.l_d": [0.5, 1.3],
     "control.uuv": ["pid", "backstepping"],
 }
+
+#: extra points: other gains (backstepping 2.5x stiffer; the PID's first tuning with an integral heading term;
+#: a stiffer PID position loop), and a draggier UUV
+EXTRA = [
+    {"control.uuv": "backstepping", "control.backstepping.k1": 1.0, "control.backstepping.k2": 1.0,
+     "control.backstepping.k6": 3.0, "control.backstepping.k7": 4.0},
+    {"control.uuv": "pid", "control.uuv_pid.angle_ki": 2.0},
+    {"control.uuv": "pid", "control.uuv_pid.range_kp": 120.0, "control.uuv_pid.range_kd": 60.0},
+    # all quadratic drag and lift x5 / x15 (not one physical parameter: it also scales the Munk moment folded
+    # into M_uw), and the appendage drag area x3 / x7 (a draggier UUV with external thrusters)
+    *[{"control.uuv": c, "uuv.drag_scale": k} for k in (5.0, 15.0) for c in ("pid", "backstepping")],
+    *[{"control.uuv": c, "uuv.appendage_drag_area": a} for a in (0.1, 0.2) for c in ("pid", "backstepping")],
+]
 
 
 def depth_rise(d: float, L_e: float) -> float:
@@ -130,63 +144,116 @@ def run_uncontrolled(over: dict | None = None) -> dict:
     return survey_metrics(sc.summarize(df, cfg), df)
 
 
-def sweep(grid: dict | None = None, progress: bool = True) -> list[dict]:
-    """Full factorial over ``grid`` (dotted keys -> values); one row per run."""
+def sweep(grid: dict | None = None, extra: list | None = None, passive: bool = True,
+          progress: bool = True) -> list[dict]:
+    """Full factorial over ``grid`` (dotted keys -> values), then the ``extra`` points, then (``passive``)
+    the UUV with its thrusters at zero at each attachment point; one row per run (``kind`` says which)."""
     import itertools
 
-    grid = grid or GRID
+    grid = GRID if grid is None else grid
+    extra = EXTRA if extra is None else extra
     keys = list(grid)
+    points = [("grid", dict(zip(keys, vals))) for vals in itertools.product(*grid.values())]
+    points += [("extra", dict(e)) for e in extra]
+    if passive:
+        points += [("passive", {"cable.top_x": x, "control.uuv": "pid"}) for x in grid.get("cable.top_x", [0.0])]
     rows = []
-    combos = list(itertools.product(*grid.values()))
-    for i, vals in enumerate(combos):
-        over = dict(zip(keys, vals))
+    for i, (kind, over) in enumerate(points):
         try:
-            rows.append(run_point(over))
+            if kind == "passive":
+                o = {**over, "uuv.x0": over["cable.top_x"]}
+                rows.append({"kind": kind, **over, **run_uncontrolled(o)})
+            else:
+                rows.append({"kind": kind, **run_point(over)})
         except Exception as e:  # a diverged point is a result too
-            rows.append({**over, "error": f"{type(e).__name__}: {e}"})
+            rows.append({"kind": kind, **over, "error": f"{type(e).__name__}: {e}"})
         if progress:
-            print(f"[{i + 1}/{len(combos)}] {over} -> "
+            print(f"[{i + 1}/{len(points)}] {kind} {over} -> "
                   f"{ {k: round(v, 3) for k, v in rows[-1].items() if isinstance(v, float) and k not in over} }",
                   file=sys.stderr, flush=True)
     return rows
 
 
 def plot_sweep(rows: list[dict], path: Path) -> Path:
-    """Three panels against the attachment point, one line per (weight, controller): mean relative
-    distance, final depth, late pitch; the published values as bands."""
+    """(a) final depth against mean USV-UUV distance for every run, colour = UUV pitch, with 003's box
+    (0.3-0.5 m, 2.72-2.82 m); (b) pitch against the attachment point; (c) PID minus backstepping mean
+    distance per (attachment, weight, l^d)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
 
-    fig, axs = plt.subplots(1, 3, figsize=(13, 4.2))
-    weights = sorted({r["uuv.weight_in_water_kgf"] for r in rows}, reverse=True)
-    colors = dict(zip(weights, ["C0", "C1", "C2", "C3", "C4"]))
-    for w in weights:
-        for ctrl, ls in (("pid", "--"), ("backstepping", "-")):
-            sel = sorted([r for r in rows if r["uuv.weight_in_water_kgf"] == w and r["control.uuv"] == ctrl
-                          and "error" not in r], key=lambda r: r["cable.top_x"])
-            if not sel:
+    ok = [r for r in rows if "error" not in r and math.isfinite(r.get("depth_final_m", math.nan))]
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4.6))
+    ax = axs[0]
+    mk = {"pid": "s", "backstepping": "o"}
+    for kind in ("grid", "extra", "passive"):
+        sel = [r for r in ok if r["kind"] == kind]
+        if not sel:
+            continue
+        for ctrl in ("pid", "backstepping"):
+            ss = [r for r in sel if r.get("control.uuv") == ctrl]
+            if not ss:
                 continue
-            x = [r["cable.top_x"] for r in sel]
-            lab = f"{w:g} kgf, {'BS' if ctrl == 'backstepping' else 'PID'}"
-            axs[0].plot(x, [r["rel_mean_m"] for r in sel], ls, marker="o", color=colors[w], label=lab)
-            axs[1].plot(x, [r["depth_final_m"] for r in sel], ls, marker="o", color=colors[w], label=lab)
-            axs[2].plot(x, [r["pitch_late_deg"] for r in sel], ls, marker="o", color=colors[w], label=lab)
-    axs[0].axhline(PUBLISHED["rel_distance_bs_m"], color="k", lw=3, alpha=0.3, label="003 ch. 4: BS ≈ 0.4 m")
-    axs[1].axhspan(2.75, 2.8, color="k", alpha=0.2, label="003 ch. 4 / 6.2: 2.75-2.8 m")
-    axs[2].axhspan(*PUBLISHED["field_pitch_deg"], color="k", alpha=0.2, label="003 ch. 6.2: -2..-4 deg")
-    for ax, yl in zip(axs, ("mean USV-UUV distance [m]", "final UUV depth [m]", "UUV pitch, last 10 s [deg]")):
-        ax.set_xlabel("cable attachment on the USV, x forward of CG [m]")
-        ax.set_ylabel(yl)
-        ax.grid(alpha=0.3)
-    axs[1].invert_yaxis()
-    axs[0].legend(fontsize=7)
-    axs[2].legend(fontsize=7)
-    fig.suptitle("combined-survey sensitivity: attachment point x submerged weight x controller (dashed PID, "
-                 "solid backstepping)", fontsize=10)
+            lab = {"grid": "grid", "extra": "other gains", "passive": "thrusters off"}[kind]
+            sc = ax.scatter([r["rel_mean_m"] for r in ss], [min(max(r["depth_final_m"], -0.5), 4.0) for r in ss],
+                            c=[min(abs(r["pitch_late_deg"]), 60) for r in ss], cmap="viridis_r", vmin=0, vmax=60,
+                            marker="x" if kind == "passive" else mk[ctrl], s=40 if kind != "extra" else 90,
+                            edgecolors="k" if kind == "extra" else None,
+                            label=f"{lab}: {'PID' if ctrl == 'pid' else 'backstepping'}" if kind != "passive"
+                            else "thrusters off (towed)")
+    ax.add_patch(Rectangle((0.3, 2.72), 0.2, 0.10, fill=False, ec="C3", lw=2, label="003: ≈0.4 m, ≈2.77 m"))
+    fig.colorbar(sc, ax=ax, label="|UUV pitch|, last 10 s [deg] (003: 2-4)")
+    ax.set_xlabel("mean USV-UUV horizontal distance [m]")
+    ax.set_ylabel("final UUV depth [m] (clipped to -0.5)")
+    ax.invert_yaxis()
+    ax.legend(fontsize=7, loc="lower right")
+    ax.grid(alpha=0.3)
+    ax.set_title("(a) every run: no point in 003's box with small pitch", fontsize=9)
+    ax = axs[1]
+    for w, col in zip(sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
+                      ("C0", "C1", "C2")):
+        for ld, ls in ((0.5, "-"), (1.3, ":")):
+            for ctrl, m in mk.items():
+                ss = sorted([r for r in ok if r["kind"] == "grid" and r["uuv.weight_in_water_kgf"] == w
+                             and r["formation.l_d"] == ld and r["control.uuv"] == ctrl], key=lambda r: r["cable.top_x"])
+                if ss:
+                    ax.plot([r["cable.top_x"] for r in ss], [r["pitch_late_deg"] for r in ss], ls, marker=m, color=col,
+                            ms=4, label=f"{w:g} kgf, l^d {ld:g}, {'PID' if ctrl == 'pid' else 'BS'}")
+    pas = sorted([r for r in ok if r["kind"] == "passive"], key=lambda r: r["cable.top_x"])
+    if pas:
+        ax.plot([r["cable.top_x"] for r in pas], [r["pitch_late_deg"] for r in pas], "kx--", label="thrusters off")
+    ax.axhspan(*PUBLISHED["field_pitch_deg"], color="C3", alpha=0.3, label="003 ch. 6.2: -2..-4 deg")
+    ax.set_xlabel("cable attachment on the USV, x forward of CG [m]")
+    ax.set_ylabel("UUV pitch, last 10 s [deg]")
+    ax.set_ylim(-90, 90)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=6, ncol=2)
+    ax.set_title("(b) pitch: only the towed (thrusters off) UUV stays near 003's", fontsize=9)
+    ax = axs[2]
+    for w, col in zip(sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
+                      ("C0", "C1", "C2")):
+        for ld, ls in ((0.5, "-"), (1.3, ":")):
+            xs, ds = [], []
+            for x in sorted({r["cable.top_x"] for r in ok if r["kind"] == "grid"}):
+                pair = {r["control.uuv"]: r for r in ok if r["kind"] == "grid" and r["cable.top_x"] == x
+                        and r["uuv.weight_in_water_kgf"] == w and r["formation.l_d"] == ld}
+                if len(pair) == 2:
+                    xs.append(x)
+                    ds.append(pair["pid"]["rel_mean_m"] - pair["backstepping"]["rel_mean_m"])
+            if xs:
+                ax.plot(xs, ds, ls, marker="o", color=col, label=f"{w:g} kgf, l^d {ld:g}")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xlabel("cable attachment on the USV, x forward of CG [m]")
+    ax.set_ylabel("mean distance PID - backstepping [m]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title("(c) > 0: backstepping holds closer (only where the pitch is absurd)", fontsize=9)
+    fig.suptitle("combined-survey sensitivity (003 ch. 4): attachment point, UUV submerged weight, formation "
+                 "offset l^d, controller and gains", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=80)
     plt.close(fig)
     return path
 

@@ -195,7 +195,12 @@ def backstepping_lyapunov(s0=(0, 0, 0, -2.0, 1.5, 0.5, 0, 0, 0), t_end=60.0, uuv
     leader with varying speed and yaw rate (solve_ivp, rtol 1e-9), and the numerical dV/dt."""
     from scipy.integrate import solve_ivp
 
-    from ..control.backstepping import BacksteppingConfig, control_law, errors, model_from_uuv
+    from ..control.backstepping import (
+        BacksteppingConfig,
+        control_law,
+        errors,
+        model_from_uuv,
+    )
     from ..models.uuv import UUVConfig
 
     g = BacksteppingConfig(**(bs_over or {}))

@@ -11,8 +11,8 @@ from __future__ import annotations
 import datetime as _dt
 import html
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 from . import Outcome
 
@@ -82,7 +82,7 @@ def write_report(outcomes: Sequence[Outcome], out_dir: Path, overrides: dict | N
             if p is not None:
                 imgs[o.case.id] = f"img/{p.name}"
     c = summary_counts(outcomes)
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     head = (f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
             f"{c['error']} error(s)")
     over = ", ".join(f"`{k}={v}`" for k, v in (overrides or {}).items()) or "none (the scenarios' defaults)"
