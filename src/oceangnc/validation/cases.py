@@ -490,8 +490,10 @@ CASES: list[Case] = [
          group="003 combined"),
     Case("003-ch6.2-field-pitch", "field-test, sensors on", f"{D003} ch. 6.2", "UUV pitch while moving", "deg", None,
          "-2 to -4 deg", ("range", -4.0, -2.0), "the printed range", _field_pitch,
-         deviation="Our UUV, towed with its thrusters holding the formation, pitches more nose-down; a UUV dragged "
-                   "behind the tow point pitches -0.5 to -3 deg (docs/combined-vehicle.md).", group="003 combined"),
+         deviation="Held near the USV at 0.96 m/s, our UUV pitches far more nose-down: the forward cable pull acts "
+                   "0.125 m above the centre of buoyancy against a pitch stiffness of ~11 N m/rad. A UUV dragged "
+                   "1.5-1.8 m behind its tow point pitches -0.2 to -3.3 deg, as 003 reports "
+                   "(docs/combined-vehicle.md, 'The flagship result').", group="003 combined"),
     Case("003-ch6.2-ahrs-gps", "field-test, AHRS vs GPS course while moving", f"{D003} ch. 6.1, fig 6-2",
          "mean |AHRS heading - GPS course|", "deg", 3.53, "mean 3.53 deg (sd 3.88)", ("abs", 2.0),
          "half the printed standard deviation", _ahrs, group="003 combined"),

@@ -10,15 +10,20 @@ from pathlib import Path
 FLAGSHIP_MD = """## The flagship result (003 ch. 4): what reproduces and what does not
 
 Backstepping and PID give nearly the same distance in `combined-survey` (0.496 vs 0.506 m) because the cable,
-not the controller, holds the UUV: the 12 kgf UUV hangs on a 3 m cable whose pendulum stiffness (about 50 N/m)
+not the controller, holds the UUV: the 12 kgf UUV hangs on a 3 m cable whose pendulum stiffness (about 41 N/m)
 equals the controllers' own, the stern thrusters deliver only 1-2 N of their 2 x 75 N during the survey, and the
-formation target (0.5 m astern) is where the towed UUV trails anyway. With the UUV's thrusters held at zero the
-UUV is dragged broadside 1.5-1.8 m behind, and only then rises to 2.65-2.79 m with a pitch of -0.5 to -3 deg, the
-depth and pitch 003 reports. A rise from 3 m to 2.77 m on a taut 3 m cable needs the tow point at least 1.15 m
-(horizontally) from the attachment; a controller that keeps the UUV about 0.4 m from the USV excludes that unless
-the attachment is moved, and the sweep below shows that moving it (x = +-0.75 m) pitches the UUV by 30-80 deg. No
-sensible set of the unprinted parameters gives 0.4 m, 2.77 m and -2..-4 deg together; the defaults are unchanged
-and the two cases are reported as documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
+formation target (0.5 m astern) is where the towed UUV trails anyway.
+
+The depth is geometry: on a taut 3 m cable a rise from 3 m to 2.77 m needs the tow point at least 1.15 m
+(horizontally) from the attachment. With the UUV's thrusters held at zero the UUV is dragged broadside 1.6-1.8 m
+behind and rises to 2.65-2.79 m with a pitch of -0.2 to -3.3 deg: 003's depth and pitch. Held at 0.4-0.5 m, it
+stays within centimetres of its hanging depth, unless the cable leaves the USV about 1.15 m ahead of the
+reference point (its bow): then PID gives 0.47 m and 2.80 m but the UUV pitches -34 to -45 deg, and backstepping
+(no integral action) cannot hold the target.
+
+No sensible set of the unprinted parameters gives 0.4 m, 2.77 m and -2..-4 deg together (sweep below: attachment
+point, submerged weight, formation offset, gains, drag); the defaults are unchanged and the depth, margin and
+field-test pitch cases are documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
 
 ![flagship sweep](flagship_sweep.png)"""
 

@@ -64,6 +64,8 @@ EXTRA = [
     # into M_uw), and the appendage drag area x3 / x7 (a draggier UUV with external thrusters)
     *[{"control.uuv": c, "uuv.drag_scale": k} for k in (5.0, 15.0) for c in ("pid", "backstepping")],
     *[{"control.uuv": c, "uuv.appendage_drag_area": a} for a in (0.1, 0.2) for c in ("pid", "backstepping")],
+    # attachment 1.15 m forward with the tow point 5 cm ahead of the CB (trims the towed UUV's pitch)
+    *[{"control.uuv": c, "cable.top_x": 1.15, "uuv.x0": 1.10, "cable.tow_x": 0.05} for c in ("pid", "backstepping")],
 ]
 
 
@@ -249,7 +251,7 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
     ax.set_ylabel("mean distance PID - backstepping [m]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    ax.set_title("(c) > 0: backstepping holds closer (only where the pitch is absurd)", fontsize=9)
+    ax.set_title("(c) > 0: backstepping nearer the USV (x > 0: pulled under the bow)", fontsize=9)
     fig.suptitle("combined-survey sensitivity (003 ch. 4): attachment point, UUV submerged weight, formation "
                  "offset l^d, controller and gains", fontsize=10)
     fig.tight_layout()
@@ -258,11 +260,37 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
     return path
 
 
-def main(argv=None) -> int:
+def read_rows(path: Path) -> list[dict]:
+    """Rows of a ``flagship_sweep.csv`` with numbers as floats (to re-plot without re-running)."""
     import csv
 
-    out = Path((argv or sys.argv[1:] or ["flagship-sweep"])[0])
+    rows = []
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            row = {}
+            for k, v in r.items():
+                if v == "":
+                    continue
+                try:
+                    row[k] = float(v)
+                except ValueError:
+                    row[k] = v
+            rows.append(row)
+    return rows
+
+
+def main(argv=None) -> int:
+    """``python -m oceangnc.validation.flagship OUT [--replot]``: run the sweep (or re-plot OUT's CSV)."""
+    import csv
+
+    args = list(argv if argv is not None else sys.argv[1:])
+    replot = "--replot" in args
+    args = [a for a in args if a != "--replot"]
+    out = Path((args or ["flagship-sweep"])[0])
     out.mkdir(parents=True, exist_ok=True)
+    if replot:
+        print(plot_sweep(read_rows(out / "flagship_sweep.csv"), out / "flagship_sweep.png"))
+        return 0
     rows = sweep()
     keys = sorted({k for r in rows for k in r})
     with open(out / "flagship_sweep.csv", "w", newline="") as f:
