@@ -384,6 +384,56 @@ def _ekf(maneuver):
     return m
 
 
+def _leg_switch(r):
+    s, df = _survey(r, "backstepping")
+    t = df["t"].to_numpy()
+    leg = df["guidance.leg"].to_numpy()
+    ts = float(t[np.argmax(leg >= 1)]) if (leg >= 1).any() else float("nan")
+    return Measured(ts, [("USV heading", t, np.degrees(np.unwrap(df["usv.psi"].to_numpy()))),
+                         ("USV target heading", t, np.degrees(np.unwrap(df["guidance.psi_d"].to_numpy())))],
+                    [("003 ch. 4: switch at about 25 s", [25.0], [0.0])], xlabel="t [s]", ylabel="heading [deg]",
+                    band=False, note=f"second leg starts at {ts:.1f} s (acceptance radius 2 m)")
+
+
+def _growth(r):
+    from ..scenarios.combined import rel_distance
+
+    s, df = _survey(r, "backstepping")
+    sp, dfp = _survey(r, "pid")
+    t = df["t"].to_numpy()
+    rd = rel_distance(df)
+    i25, i30 = int(np.argmin(abs(t - 25.0))), int(np.argmin(abs(t - 30.0)))
+    tp = dfp["t"].to_numpy()
+    rdp = rel_distance(dfp)
+    j25, j30 = int(np.argmin(abs(tp - 25.0))), int(np.argmin(abs(tp - 30.0)))
+    return Measured(float(rdp[j30] - rdp[j25]), [_rel_series(df, "backstepping"), _rel_series(dfp, "PID")],
+                    xlabel="t [s]", ylabel="USV-UUV horizontal distance [m]", band=False,
+                    note=f"distance change 25 -> 30 s: PID {rdp[j30] - rdp[j25]:+.3f} m, backstepping "
+                         f"{rd[i30] - rd[i25]:+.3f} m")
+
+
+def _ekf_sigma(maneuver):
+    def m(r):
+        s, _ = r.run("ekf-zigzag", maneuver=maneuver)
+        return Measured(float(s["n_within_3sigma"]), xlabel="", ylabel="", band=False,
+                        note=f"{s['n_within_3sigma']} of {s['n_estimated']} final estimates within 3 sigma of the truth")
+    return m
+
+
+def _plan_phi(r):
+    from ..api import resolve_config
+
+    s, df = r.run("uuv-profile-plan", **{"guidance.mode": "hybrid"})
+    _, cfg = resolve_config("uuv-profile-plan", overrides=r._applicable("uuv-profile-plan"))
+    phi = math.degrees(math.atan(cfg.tow.cable_length_m / cfg.profile.turn_radius_m))
+    return Measured(s["plan.phi_max_deg"], [("UUV plan (east, north)", df["uuv.y"].to_numpy(), df["uuv.x"].to_numpy()),
+                                            ("USV", df["usv.y"].to_numpy(), df["usv.x"].to_numpy())],
+                    published=phi, xlabel="east [m]", ylabel="north [m]", band=False,
+                    note=f"tan(phi_d) = -L r_UUV / u_UUV with L = {cfg.tow.cable_length_m:g} m, R = "
+                         f"{cfg.profile.turn_radius_m:g} m: {phi:.4f} deg; USV speed in the turn "
+                         f"{s['plan.usv_speed_max_mps']:.3f} m/s (= u / cos phi)")
+
+
 # --- the registry ------------------------------------------------------------------------------------------
 
 _DEV_DEPTH = ("The UUV does not rise toward 2.77 m: on a taut 3 m cable a 0.23 m rise needs the tow point ≥ 1.15 m "
@@ -481,6 +531,14 @@ CASES: list[Case] = [
     Case("003-fig4-14-depth", "combined-survey, backstepping", f"{D003} fig 4-14 (ch. 4 text)", "final UUV depth", "m",
          2.77, "3 m -> near 2.77 m", ("abs", 0.05), "the printed 2.77 read to ±0.05 m", _survey_depth,
          deviation=_DEV_DEPTH, group="003 combined"),
+    Case("003-fig4-12-leg-switch", "combined-survey, USV heading", f"{D003} figs 4-12, 4-13 (ch. 4 text)",
+         "time of the switch to the second leg", "s", 25.0, "the desired heading switches at about 25 s",
+         ("abs", 4.0), "the waypoint acceptance radius is unprinted: ours (2 m at 0.6 m/s) moves the switch by "
+         "3.3 s; plus the figure reading", _leg_switch, group="003 combined"),
+    Case("003-fig4-15-distance-growth", "combined-survey, PID, 25-30 s", f"{D003} fig 4-15 (ch. 4 text)",
+         "PID distance at 30 s minus at 25 s", "m", None, "the relative distance grows over 25-30 s",
+         ("min", 0.02), "'grows': by more than the 0.02 m noise of the distance", _growth, deviation=_DEV_BS,
+         group="003 combined"),
     Case("003-fig4-6-square", "waypoints-square", f"{D003} fig 4-6", "waypoints reached", "-", 4.0, "all four",
          ("abs", 0.0), "count", _square, group="003 combined"),
     Case("003-ch6.2-field-waypoints", "field-test, sensors on", f"{D003} ch. 6.2, fig 6-13", "waypoints reached", "-",
@@ -511,6 +569,9 @@ CASES: list[Case] = [
     Case("000-fig18-speed-error", "pole-placed speed P, 0 -> 5 m/s", f"{D000} fig 18 (eq. 28-31)",
          "steady speed error", "m/s", None, "P control leaves v_c / (1 + K K1)", ("rel", 0.1),
          "the schedule K_v(u) varies along the rise", _speed_err, group="000"),
+    Case("000-table3-plan-offset", "USV planned from the UUV's table 3 profile", f"{D000} table 3, eq. 32-34",
+         "largest planned offset angle phi_d", "deg", None, "tan(phi_d) = -L r_UUV / u_UUV in the 40 m turns",
+         ("abs", 0.01), "closed form; the plan is sampled", _plan_phi, group="000"),
     Case("000-fig21-waypoints-7", "hybrid guidance through seven waypoints", f"{D000} fig 21", "path error rms", "m",
          None, "the USV follows the path", ("max", 3.0), "a tenth of the 30 m legs", _wp7, group="000"),
     Case("000-figs25-26-hybrid-beats-los", "USV planned from the UUV profile", f"{D000} figs 25-26 (eq. 32-34, table 3)",
@@ -536,6 +597,12 @@ CASES: list[Case] = [
     Case("002-table5.3-10-5", "EKF, 10-5 zig-zag, noise-free", f"{D002} table 5.3, fig 5.4",
          "largest |estimate/true - 1|", "%", None, "worst published 3.75 % (Zqdot)", ("max", 3.75),
          "no worse than the paper's worst estimate", _ekf("10-5"), group="002"),
+    Case("002-fig5.3-3sigma-5-5", "EKF, 5-5 zig-zag, noise-free", f"{D002} fig 5.3", "coefficients within 3 sigma at "
+         "the end", "-", 10.0, "the estimates converge to the true values", ("min", 10.0), "all ten",
+         _ekf_sigma("5-5"), group="002"),
+    Case("002-fig5.4-3sigma-10-5", "EKF, 10-5 zig-zag, noise-free", f"{D002} fig 5.4", "coefficients within 3 sigma "
+         "at the end", "-", 10.0, "the estimates converge to the true values", ("min", 10.0), "all ten",
+         _ekf_sigma("10-5"), group="002"),
 ]
 
 
