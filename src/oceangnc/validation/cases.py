@@ -436,10 +436,12 @@ def _plan_phi(r):
 
 # --- the registry ------------------------------------------------------------------------------------------
 
-_DEV_DEPTH = ("The UUV does not rise toward 2.77 m: on a taut 3 m cable a 0.23 m rise needs the tow point ≥ 1.15 m "
-              "aft of the attachment, which the formation target (0.4-0.5 m) excludes; see docs/combined-vehicle.md "
-              "'The flagship result' and the sweep in docs/validation/flagship_sweep.png.")
-_DEV_BS = ("Backstepping and PID are within 1-2 cm: the cable carries the UUV (stern thrust 1-2 N of 2 x 75 N), and the "
+_DEV_DEPTH = ("The UUV does not rise toward 2.77 m: on a taut 3 m cable a 0.23 m rise needs the tow point >= 1.15 m "
+              "(horizontally) from the attachment, which holding the UUV 0.4-0.5 m from the USV excludes unless the "
+              "cable leaves the USV's bow, 1.15 m ahead; that pitches the UUV 34-45 deg (003: -2 to -4). A UUV dragged "
+              "with its thrusters off rises to 2.65-2.79 m at -0.2 to -3.3 deg. See docs/combined-vehicle.md 'The "
+              "flagship result' and the sweep in docs/validation/flagship_sweep.png.")
+_DEV_BS = ("Backstepping and PID are within 1-2 cm: the cable carries the UUV (stern thrust 1-2 N each of 75 N: the cable tows it), and the "
            "formation target sits where the towed UUV trails anyway; see docs/combined-vehicle.md 'The flagship result'.")
 
 CASES: list[Case] = [

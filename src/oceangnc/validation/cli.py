@@ -11,7 +11,7 @@ FLAGSHIP_MD = """## The flagship result (003 ch. 4): what reproduces and what do
 
 Backstepping and PID give nearly the same distance in `combined-survey` (0.496 vs 0.506 m) because the cable,
 not the controller, holds the UUV: the 12 kgf UUV hangs on a 3 m cable whose pendulum stiffness (about 41 N/m)
-equals the controllers' own, the stern thrusters deliver only 1-2 N of their 2 x 75 N during the survey, and the
+equals the controllers' own, the stern thrusters deliver only 1-2 N each of their 75 N during the survey (the cable tows the UUV), and the
 formation target (0.5 m astern) is where the towed UUV trails anyway.
 
 The depth is geometry: on a taut 3 m cable a rise from 3 m to 2.77 m needs the tow point at least 1.15 m
