@@ -132,3 +132,18 @@ def test_report_opens_in_chromium(tmp_path):
         page.screenshot(path=str(tmp_path / "report.png"), full_page=True)
         browser.close()
     assert (tmp_path / "report.png").stat().st_size > 10_000
+
+
+def test_flagship_geometry_and_the_dragged_uuv():
+    """The flagship explanation (docs/combined-vehicle.md): a 0.23 m rise on a 3 m taut cable needs a 1.15 m
+    horizontal offset; the survey's 0.5 m offset gives 0.04 m on the 3.23 m hanging length; and the UUV dragged
+    with its thrusters at zero trails > 1.2 m behind, rises above 2.85 m and pitches less than 4 deg, 003's
+    depth and pitch, while the controlled UUV stays near 3.19 m."""
+    from oceangnc.validation.flagship import depth_rise, offset_for_rise, run_uncontrolled
+
+    assert offset_for_rise(0.23, 3.0) == pytest.approx(1.15, abs=0.01)
+    assert depth_rise(0.5, 3.233) == pytest.approx(0.039, abs=0.002)
+    m = run_uncontrolled()
+    assert m["rel_mean_m"] > 1.2
+    assert m["depth_final_m"] < 2.85
+    assert abs(m["pitch_late_deg"]) < 4.0
