@@ -82,12 +82,17 @@ def test_unknown_pattern_is_an_input_error(tmp_path, capsys):
 
 
 def test_check_reports_limits_accuracy_and_rates():
-    """cable-current: the axial limit of each integrator (the split one is larger), the step in use below
-    it, a fourth-order-small step-halving difference, and the 10 Hz environment loop."""
+    """cable-current: the axial limit of each integrator (the split one is larger, and equal to the limit
+    from the linearised right-hand side), the step in use below it, a fourth-order-small step-halving difference, and the 10 Hz environment loop."""
     rep = check("cable-current", horizon=2.0)
     assert not rep.refused
     lim = {i: v for _, i, v, _ in rep.limits}
-    assert set(lim) == {"rk4", "rk4-split"} and lim["rk4-split"] > lim["rk4"]
+    assert {"rk4", "rk4-split", "rk4 (linearised)", "euler (linearised)"} <= set(lim)
+    assert lim["rk4-split"] > lim["rk4"]
+    # the split step integrates the right-hand side without the axial dampers: its linearisation at the
+    # settled state gives the same limit as the analytic chain
+    assert lim["rk4 (linearised)"] == pytest.approx(lim["rk4-split"], rel=0.05)
+    assert lim["euler (linearised)"] < 1e-3 * lim["rk4-split"]  # near-undamped axial modes: Euler is useless
     used = [v for _, _, v, u in rep.limits if u]
     assert len(used) == 1 and rep.dt <= used[0]
     assert rep.accuracy and max(d for _, d, _, u in rep.accuracy if u == "m") < 1e-3

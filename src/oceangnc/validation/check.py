@@ -4,8 +4,10 @@ For a scenario's clocked simulation it reports
 
 * each plant's stability limit for each integrator it offers: the lumped-mass cable's axial chain
   for classical RK4 and for the split integrator (RK4 + backward-Euler axial damping), from the
-  eigenvalues of the linearised chain (:func:`oceangnc.models.cable.axial_stability_limit`); other
-  plants' own ``max_dt`` (RK4);
+  eigenvalues of the linearised chain (:func:`oceangnc.models.cable.axial_stability_limit`); for
+  every plant also the limits of RK4 and explicit Euler from the eigenvalues of its whole
+  right-hand side linearised at the state reached after the horizon (damped modes only; other plants: the smaller of
+  their own ``max_dt`` and the linearised RK4 limit);
 * the step the scenario will use (``sim.dt`` or the scenario's automatic choice);
 * its expected accuracy: the scenario run for a short horizon at dt and at dt/2, the largest
   difference of the plants' states between the two, and the Richardson estimate of the error at dt
@@ -42,11 +44,12 @@ class CheckReport:
         if self.dt is None:
             return "\n".join(out + [f"  {self.note}"])
         out.append(f"  physics step dt = {self.dt:.6g} s")
-        out.append("  stability limits (largest stable step):")
+        out.append("  stability limits (largest stable step" + (f"; linearised at t = {self.horizon:g} s" if
+                                                                  self.horizon else "") + "):")
         for plant, integ, lim, used in self.limits:
             mark = " <- in use" if used else ""
             ratio = f"  (dt = {self.dt / lim:.2f} x limit)" if used and math.isfinite(lim) else ""
-            out.append(f"    {plant:<10} {integ:<10} {lim:.4g} s{mark}{ratio}")
+            out.append(f"    {plant:<10} {integ:<20} {lim:.4g} s{mark}{ratio}")
         if self.loops:
             out.append("  loop rates:")
             for name, per in self.loops:
@@ -61,6 +64,58 @@ class CheckReport:
         if self.note:
             out.append(f"  {self.note}")
         return "\n".join(out)
+
+
+def _explicit_limit(lam: np.ndarray, amplification) -> float:
+    """Largest h with amplification(h lambda) <= 1 for every damped eigenvalue (Re < 0), by bisection from
+    below; inf if there is none."""
+    lam = lam[(np.abs(lam) > 1e-9) & (lam.real < -1e-12 * np.abs(lam))]
+    if lam.size == 0:
+        return math.inf
+    rmax = float(np.max(np.abs(lam)))
+    ok = lambda h: bool(np.all(amplification(h * lam) <= 1.0 + 1e-12))  # noqa: E731
+    lo = 1e-4 / rmax
+    if not ok(lo):
+        return 0.0
+    hi = lo
+    while ok(hi) and hi < 100.0 / rmax:
+        lo = hi
+        hi *= 1.25
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if ok(mid):
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def linearised_eigenvalues(pl, t: float = 0.0) -> np.ndarray:
+    """Eigenvalues (1/s) of the plant's right-hand side linearised at its current state and inputs (central
+    differences, relative step 1e-6)."""
+    x = np.array(pl.x, dtype=float)
+    n = x.size
+    J = np.zeros((n, n))
+    fp, fm = np.zeros(n), np.zeros(n)
+    for j in range(n):
+        h = 1e-6 * max(1.0, abs(x[j]))
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h
+        xm[j] -= h
+        pl.rhs(t, xp, pl.u, pl.p, fp)
+        pl.rhs(t, xm, pl.u, pl.p, fm)
+        J[:, j] = (fp - fm) / (2 * h)
+    return np.linalg.eigvals(J)
+
+
+def _linear_rows(pl) -> list:
+    """(plant, integrator, limit, in use) from the linearised dynamics: RK4 and, for comparison, explicit Euler."""
+    from ..models.cable import _rk4_amplification
+
+    lam = linearised_eigenvalues(pl)
+    name = getattr(pl, "name", type(pl).__name__)
+    return [(name, "rk4 (linearised)", _explicit_limit(lam, _rk4_amplification), False),
+            (name, "euler (linearised)", _explicit_limit(lam, lambda z: np.abs(1 + z)), False)]
 
 
 def _plant_limits(sim, cfg) -> list:
@@ -84,9 +139,13 @@ def _plant_limits(sim, cfg) -> list:
             for integ in ("rk4", "rk4-split"):
                 lim = axial_stability_limit(cable, end_mass=end_mass, last_damper_only=(integ == "rk4-split"))
                 rows.append((name, integ, lim, integ == cable.integrator))
+            rows += _linear_rows(pl)
         else:
-            lim = pl.max_dt if getattr(pl, "max_dt", None) is not None else math.inf
+            lin = _linear_rows(pl)
+            stated = pl.max_dt if getattr(pl, "max_dt", None) is not None else math.inf
+            lim = min(stated, lin[0][2])
             rows.append((name, "rk4", lim, True))
+            rows += lin[1:]
     return rows
 
 
@@ -145,6 +204,12 @@ def check(scenario: str, overrides: dict | None = None, horizon: float = 5.0) ->
     T = min(horizon, float(cfg.sim.duration))
     rep.horizon = T
     sim.run(T)
+    # linearise again where the run has brought the plants (a cable starting slack has no axial stiffness)
+    rep.limits = _plant_limits(sim, cfg)
+    over_limit = [r for r in rep.limits if r[3] and dt > r[2] * (1 + 1e-9)]
+    if over_limit:
+        rep.refused = _advice(rep, f"at t = {T:g} s")
+        return rep
     _, cfg2 = resolve_config(scenario, overrides={**(overrides or {}), "sim.dt": dt / 2})
     sim2 = sc.build(cfg2, np.random.default_rng(cfg.sim.seed))
     sim2.run(T)
