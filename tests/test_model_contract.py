@@ -193,3 +193,24 @@ def test_plant_from_model_matches_the_model_plant():
         pl.read_inputs(bus)
         pl.advance(0.0, 0.01, 200)
     assert np.array_equal(a.x, b.x)
+
+
+def test_closure_kernels_have_their_own_cache_files():
+    """Jacobian kernels of two models are cached in separate numba index files (no cross-model
+    overwrite when processes compile different models at once), and the same model maps to the same
+    file (a new process reuses it)."""
+    from oceangnc.core.linearize import cached_closure, jacobian_functions
+    from oceangnc.models.first_order import first_order_rhs
+    from oceangnc.models.usv import usv_rhs
+
+    a, _ = jacobian_functions(usv_rhs, None, None, "complex-step")
+    b, _ = jacobian_functions(first_order_rhs, None, None, "complex-step")
+    name = lambda d: d._cache._cache_file._index_name  # noqa: E731
+    assert name(a) != name(b)
+
+    def make(g):
+        def k(t, x, u, p, out):
+            g(t, x, u, p, out)
+        return k
+
+    assert name(cached_closure(make(usv_rhs))) == name(cached_closure(make(usv_rhs)))

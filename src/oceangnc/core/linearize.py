@@ -65,19 +65,29 @@ def cached_closure(fn):
     """``njit(fn)`` for a closure over other compiled functions, cached on disk by numba.
 
     Numba's cache index key pickles the closure cells; a dispatcher pickles with a per-process id, so
-    the key never matches in a new process. Here the key uses :func:`_fingerprint` of the cells. As
-    with any numba cache, edits to functions in *other* files than the closed-over ones are not seen
-    (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
+    the key never matches in a new process. Here both the index key and the cache file name carry a
+    hash of :func:`_fingerprint` of the cells: every (closure, closed-over functions) pair has its own
+    index and data files, so processes compiling kernels of different models at the same time (pytest
+    workers, a benchmark next to the tests) never write into each other's files. As with any numba
+    cache, edits to functions in *other* files than the closed-over ones are not seen (clear
+    ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
     """
     import hashlib
 
-    from numba.core.caching import FunctionCache
+    from numba.core.caching import FunctionCache, IndexDataCacheFile
 
     class _ClosureCache(FunctionCache):
+        def __init__(self, py_func):
+            super().__init__(py_func)
+            cells = "".join(_fingerprint(c.cell_contents) for c in (py_func.__closure__ or ()))
+            self._cells_hash = hashlib.sha256(cells.encode()).hexdigest()
+            self._cache_file = IndexDataCacheFile(
+                cache_path=self._cache_path, filename_base=f"{self._impl.filename_base}-{self._cells_hash[:20]}",
+                source_stamp=self._impl.locator.get_source_stamp())
+
         def _index_key(self, sig, codegen):
-            cells = "".join(_fingerprint(c.cell_contents) for c in (self._py_func.__closure__ or ()))
             return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(),
-                                                 hashlib.sha256(cells.encode()).hexdigest()))
+                                                 self._cells_hash))
 
     d = njit(fn)
     try:
