@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import DivergenceError, OceanGNCError
+from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, read_log
 from .scenarios.base import RunContext, get_scenario, registry
@@ -65,6 +66,8 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
 
     ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
+    The environment variable ``OCEANGNC_MAX_DURATION`` (s), if set, caps ``sim.duration`` (smoke
+    runs of the examples in the test suite).
     Returns ``(scenario_object, config_model)``.
     """
     from .io.config import set_dotted
@@ -78,8 +81,10 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     sc = get_scenario(name)
     over: dict = {}
     for k, v in (overrides or {}).items():
-        if isinstance(v, dict):
-            over = deep_merge(over, {k: v})
+        if isinstance(v, dict):  # a section, possibly under a dotted key: merged into what is there
+            nested: dict = {}
+            set_dotted(nested, k, v)
+            over = deep_merge(over, nested)
         else:
             set_dotted(over, k, v)
     if duration is not None:
@@ -87,6 +92,9 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     data = deep_merge(deep_merge(sc.defaults, file_cfg), over)
     data["scenario"] = sc.name
     cfg = validate(sc.Config, data)
+    cap = os.environ.get("OCEANGNC_MAX_DURATION")
+    if cap:  # smoke runs of the examples and docs (tests/test_examples.py): every run made short
+        cfg.sim.duration = min(cfg.sim.duration, float(cap))
     return sc, cfg
 
 

@@ -37,8 +37,11 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from .api import run
+    from .core.registry import load_plugin
     from .io.config import flatten, parse_sets
 
+    for path in args.plugin or []:
+        load_plugin(path)
     overrides = flatten(parse_sets(args.set))
     res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
               plots=not args.no_plots, progress=not args.quiet)
@@ -77,6 +80,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--plugin", action="append", metavar="PATH",
+                   help="a Python file registering blocks (@register_block), loaded before the config is "
+                        "read, so a --set ...kind= can pick them (repeatable)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")

@@ -22,11 +22,19 @@ from .csmath import ccos, csin
 
 @njit(cache=True)
 def wrap(a):
-    """Wrap one angle (rad) to (-pi, pi]."""
+    """Wrap one angle (rad) to (-pi, pi]: the one home of the angle wrap (compiled; callable from
+    Python blocks and from numba right-hand sides). :func:`wrap_array` is the same for arrays."""
     w = (a + math.pi) % (2.0 * math.pi) - math.pi
     if w == -math.pi:
         w = math.pi
     return w
+
+
+def wrap_array(a):
+    """:func:`wrap` of a scalar or an array (rad) to (-pi, pi], vectorised with numpy (for logs)."""
+    w = np.mod(np.asarray(a, dtype=np.float64) + np.pi, 2.0 * np.pi) - np.pi
+    w = np.where(w == -np.pi, np.pi, w)
+    return float(w) if np.ndim(w) == 0 else w
 
 
 @njit(cache=True)

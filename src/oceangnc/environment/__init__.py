@@ -1,7 +1,7 @@
 """Environment: ocean current and wind, as discrete blocks publishing NED velocities on the bus."""
 
 from .current import CurrentConfig, OceanCurrent
-from .wind import WindConfig, Wind, beaufort_speed
+from .wind import Wind, WindConfig, beaufort_speed
 
 __all__ = ["CurrentConfig", "OceanCurrent", "WindConfig", "Wind", "beaufort_speed", "EnvironmentConfig"]
 

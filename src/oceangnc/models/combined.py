@@ -33,6 +33,7 @@ from numba import njit
 
 from ..core.blocks import Plant
 from ..core.rotations import rzyx_entries, wrap
+from ..core.signals import CALM
 from ..errors import ConfigError
 from ..units import G
 from .cable import CableConfig, axial_stability_limit, cable_loads, solve_sym3
@@ -43,6 +44,7 @@ from .uuv import P_MA, P_MRB, P_RC
 from .uuv import STATE_NAMES as UUV_STATES
 from .uuv import UUVConfig, uuv_deriv, uuv_energy
 
+USV_UNITS, UUV_UNITS = ("m", "m", "rad", "m/s", "m/s", "rad/s"), ("m",) * 3 + ("rad",) * 3 + ("m/s",) * 3 + ("rad/s",) * 3
 INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n",
                "env.wind_e", "uuv.thrust_port", "uuv.thrust_stbd", "uuv.thrust_bow")
 
@@ -461,7 +463,7 @@ class CombinedPlant(Plant):
         self.stability_limit = axial_stability_limit(c, end_mass=end_mass,
                                                      last_damper_only=(integrator == "rk4-split"))
         super().__init__(name, combined_rhs, x0, p, names, INPUT_NAMES, state_bound=1e6,
-                         max_dt=self.stability_limit)
+                         max_dt=self.stability_limit, input_units=("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N"), input_defaults=CALM)
         self._nodes = np.zeros(3 * (n + 1))
         self._ends = np.zeros(8)
         self.o_uuv = 6 + 6 * (n - 1)
@@ -471,6 +473,7 @@ class CombinedPlant(Plant):
         self._out_keys = [*self._usv_keys, "usv.speed", *self._uuv_keys, "uuv.speed", "cable.top_tension",
                           "cable.bottom_tension", "cable.angle_deg", *self._node_keys]
         self._out = np.zeros(len(self._out_keys))
+        self.output_units = dict(zip(self._out_keys, [*USV_UNITS, "m/s", *UUV_UNITS, "m/s", "N", "N", "deg", *["m"] * len(self._node_keys)]))
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """RK4 steps, or for ``integrator="rk4-split"`` Strang-split steps (see :func:`split_advance`)."""

@@ -68,6 +68,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Plant
+from ..core.signals import CALM
 from ..core.csmath import cabs, catan2, ccos, csin, csqrt
 from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
@@ -419,7 +420,8 @@ class ShipPlant(Plant):
         inputs = [k.replace("ship.", f"{name}.") for k in INPUT_NAMES]
         tau_min = min(cfg.tau_prop, cfg.tau_rudder, cfg.tau_thruster)
         super().__init__(**ship_model(cfg).plant_args(name, x0, inputs), state_bound=1e8,
-                         max_dt=min(1.0, 2.5 * tau_min))
+                         max_dt=min(1.0, 2.5 * tau_min),
+                         state_units=("m", "m", "rad", "m/s", "m/s", "rad/s", "rad", "Hz", "Hz", "Hz"), input_units=("rad", "Hz", "Hz", "Hz", "m/s", "m/s", "m/s", "m/s"), input_defaults=CALM, outputs={**{f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("rudder", "rad"), ("rpm_prop", "rpm"), ("rpm_bow", "rpm"), ("rpm_stern", "rpm"), ("speed", "m/s"), ("u_r", "m/s"), ("v_r", "m/s"))}})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

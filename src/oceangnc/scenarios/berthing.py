@@ -30,6 +30,7 @@ from pydantic import Field
 from ..control.berthing import ControlConfig, make_controller
 from ..control.joystick import Joystick, JoystickConfig
 from ..core.clock import Simulation
+from ..core.rotations import wrap
 from ..environment import EnvironmentConfig
 from ..guidance.scripted_pilot import PilotConfig, Route, ScriptedPilot
 from ..io.config import ScenarioConfig, StrictModel
@@ -288,7 +289,7 @@ def hull_corner_margin(df, cfg, pts) -> float:
 def channel_metrics(df, cfg, pts) -> dict:
     route = Route(pts)
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         t = d["t"].to_numpy()
         per.append({
             "error_index": error_index(d["ship.x"], d["ship.y"], route),
@@ -324,12 +325,12 @@ def channel_metrics(df, cfg, pts) -> dict:
 def dock_metrics(df, cfg) -> dict:
     """Final state of each run; with several runs the worst run's value of each metric."""
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         last = d.iloc[-1]
         per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
                     "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
                     "final_heading_error_deg":
-                        abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
+                        abs(math.degrees(wrap(last["ship.psi"]))),
                     "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
                     "time_to_berth_s": float(last["t"])})
     if len(per) == 1:
