@@ -57,7 +57,7 @@ def test_models_declare_names_units_and_layout(name):
     assert isinstance(m, Model)
     assert len(m.state_names) == len(m.state_units) == len(x)
     assert len(m.input_names) == len(m.input_units) == len(u)
-    assert all(un in UNITS or un == "rev/min" for un in (*m.state_units, *m.input_units))
+    assert all(un in UNITS for un in (*m.state_units, *m.input_units))
     assert len(m.param_names) == m.layout.size == m.p.size
     back = m.layout.pack(m.layout.unpack(m.p))
     assert np.array_equal(back, m.p)
