@@ -188,7 +188,8 @@ def test_plant_from_model_matches_the_model_plant():
     a = USVPlant(cfg)
     b = usv_model(cfg).plant("usv", a.x0, input_signals=a.input_names)
     assert b.inputs["usv.thrust_port"] == "N" and b.outputs["usv.psi"] == "rad"
-    bus = {"usv.thrust_port": 250.0, "usv.thrust_stbd": 150.0}
+    bus = {"usv.thrust_port": 250.0, "usv.thrust_stbd": 150.0, "env.current_n": 0.1, "env.current_e": 0.0,
+           "env.wind_n": 0.0, "env.wind_e": 2.0}
     for pl in (a, b):
         pl.read_inputs(bus)
         pl.advance(0.0, 0.01, 200)
