@@ -206,7 +206,9 @@ def test_closure_kernels_have_their_own_cache_files():
 
     a, _ = jacobian_functions(usv_rhs, None, None, "complex-step")
     b, _ = jacobian_functions(first_order_rhs, None, None, "complex-step")
-    name = lambda d: d._cache._cache_file._index_name
+    def name(d):
+        return d._cache._cache_file._index_name
+
     assert name(a) != name(b)
 
     def make(g):

@@ -331,25 +331,26 @@ def trim(model, x0, u0, free, zero, p=None, t: float = 0.0, tol: float = 1e-10, 
     if len(free) != len(zero):
         raise InputError(f"trim: {len(free)} free variables for {len(zero)} equations")
     nx, npar = model.nx, model.layout.size
-    cols, fs = [], []
+    col_list: list[int] = []
+    fs: list[tuple[str, int]] = []
     for k in free:
         if k in model.state_names:
             i = model.state_names.index(k)
-            cols.append(i)
+            col_list.append(i)
             fs.append(("x", i))
         elif k in model.input_names:
             i = model.input_names.index(k)
-            cols.append(nx + npar + i)
+            col_list.append(nx + npar + i)
             fs.append(("u", i))
         else:
             raise InputError(f"trim: '{k}' is neither a state nor an input of {model.name}")
-    rows = []
+    row_list: list[int] = []
     for k in zero:
         if k not in model.state_names:
             raise InputError(f"trim: '{k}' is not a state of {model.name}")
-        rows.append(model.state_names.index(k))
-    cols = np.array(cols, dtype=np.int64)
-    rows = np.array(rows, dtype=np.int64)
+        row_list.append(model.state_names.index(k))
+    cols = np.array(col_list, dtype=np.int64)
+    rows = np.array(row_list, dtype=np.int64)
     pp = model.p if p is None else np.asarray(p, dtype=np.float64)
 
     def resid(xx, uu):
