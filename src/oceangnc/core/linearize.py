@@ -64,30 +64,40 @@ def _fingerprint(obj) -> str:
 def cached_closure(fn):
     """``njit(fn)`` for a closure over other compiled functions, cached on disk by numba.
 
-    Numba's cache index key pickles the closure cells; a dispatcher pickles with a per-process id, so
-    the key never matches in a new process. Here both the index key and the cache file name carry a
-    hash of :func:`_fingerprint` of the cells: every (closure, closed-over functions) pair has its own
-    index and data files, so processes compiling kernels of different models at the same time (pytest
-    workers, a benchmark next to the tests) never write into each other's files. As with any numba
-    cache, edits to functions in *other* files than the closed-over ones are not seen (clear
-    ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
+    Three things make numba's cache safe for such closures:
+
+    * the index key: numba pickles the closure cells, and a dispatcher pickles with a per-process
+      id, so the key would never match in a new process; here it is a hash of :func:`_fingerprint`
+      of the cells (module, name, bytecode, source-file stamp of each closed-over function);
+    * the symbol names: numba names compiled code after the function's qualified name plus a
+      per-process counter, so closures compiled in *different* processes (the USV's and the
+      first-order model's kernel) can carry the same symbol, and loading both cached libraries in
+      one process binds one's calls to the other's code. The closure's ``__qualname__`` therefore
+      gets the fingerprint hash appended;
+    * the files: each (closure, fingerprint) has its own index and data files, so processes
+      compiling different models at once never write into each other's files.
+
+    As with any numba cache, edits to functions in *other* files than the closed-over ones are not
+    seen (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
     """
     import hashlib
 
     from numba.core.caching import FunctionCache, IndexDataCacheFile
 
+    cells = "".join(_fingerprint(c.cell_contents) for c in (fn.__closure__ or ()))
+    cells_hash = hashlib.sha256((cells + fn.__qualname__).encode()).hexdigest()
+    fn.__qualname__ = f"{fn.__qualname__}_{cells_hash[:16]}"
+
     class _ClosureCache(FunctionCache):
         def __init__(self, py_func):
             super().__init__(py_func)
-            cells = "".join(_fingerprint(c.cell_contents) for c in (py_func.__closure__ or ()))
-            self._cells_hash = hashlib.sha256(cells.encode()).hexdigest()
             self._cache_file = IndexDataCacheFile(
-                cache_path=self._cache_path, filename_base=f"{self._impl.filename_base}-{self._cells_hash[:20]}",
+                cache_path=self._cache_path, filename_base=f"{self._impl.filename_base}-{cells_hash[:20]}",
                 source_stamp=self._impl.locator.get_source_stamp())
 
         def _index_key(self, sig, codegen):
             return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(),
-                                                 self._cells_hash))
+                                                 cells_hash))
 
     d = njit(fn)
     try:
