@@ -338,12 +338,12 @@ def trim(model, x0, u0, free, zero, p=None, t: float = 0.0, tol: float = 1e-10, 
         if k not in model.state_names:
             raise InputError(f"trim: '{k}' is not a state of {model.name}")
         rows.append(model.state_names.index(k))
-    cols = np.array(cols, dtype=np.int64)
-    rows = np.array(rows, dtype=np.int64)
+    cols_a = np.array(cols, dtype=np.int64)
+    rows_a = np.array(rows, dtype=np.int64)
     pp = model.p if p is None else np.asarray(p, dtype=np.float64)
 
     def resid(xx, uu):
-        return model.deriv(xx, uu, pp, t)[rows]
+        return model.deriv(xx, uu, pp, t)[rows_a]
 
     def apply(xx, uu, dz):
         xx, uu = xx.copy(), uu.copy()
@@ -360,9 +360,9 @@ def trim(model, x0, u0, free, zero, p=None, t: float = 0.0, tol: float = 1e-10, 
     for it in range(1, max_iter + 1):
         if float(np.max(np.abs(r))) <= tol * r0:
             break
-        F, _ = jacobian_columns(model, x, u, cols, p=pp, t=t, jacobian=jacobian)
+        F, _ = jacobian_columns(model, x, u, cols_a, p=pp, t=t, jacobian=jacobian)
         try:
-            dz = np.linalg.solve(F[rows], -r)
+            dz = np.linalg.solve(F[rows_a], -r)
         except np.linalg.LinAlgError:
             raise InputError(f"trim {model.name}: singular Jacobian at iteration {it}") from None
         step = 1.0

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.pid import PID
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.winch import WinchControlConfig, WinchDepthController
@@ -43,8 +44,8 @@ from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
 from ..models.winch import WinchConfig
 from ..units import KGF
 from ._common import environment_blocks
@@ -193,7 +194,7 @@ class TowDeploy(Scenario):
                   ThrustersOff(["usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd",
                                 "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd"]),
                   WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -264,7 +265,7 @@ class TowSurveyDepth(Scenario):
                   USVController(cfg.usv_control, cfg.usv, g.speed, CONTROL_PERIOD),
                   UUVFollow(cfg.uuv_follow, cfg.uuv),
                   WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
