@@ -135,6 +135,13 @@ class UUVFollow(Block):
                                          ("uuv.psi", "rad"), ("uuv.r", "rad/s"), ("uuv.u", "m/s"))}
         self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
 
+    params_model = UUVFollowConfig
+
+    @classmethod
+    def from_context(cls, params: UUVFollowConfig, ctx) -> UUVFollow:
+        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``)."""
+        return cls(params, ctx.cfg.uuv, ctx.period)
+
     def reset(self, rng) -> None:
         c = self.cfg
         self.speed, self.head = uuv_loops(self.uuv_cfg, c.kp_speed, c.ki_speed, c.kp_heading, c.kd_heading)
