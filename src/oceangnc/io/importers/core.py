@@ -42,10 +42,10 @@ def detect_format(path: Path, fmt: str | None = None) -> str:
         if fmt not in set(FORMATS.values()):
             raise InputError(f"--format {fmt}: allowed {', '.join(sorted(set(FORMATS.values())))}")
         return fmt
-    if path.is_dir():
+    if path.is_dir() and path.suffix.lower() != ".parquet":  # a run's log.parquet is itself a folder of parts
         if (path / "metadata.yaml").is_file():
             return "rosbag2"
-        if (path / "log.parquet").is_file():
+        if (path / "log.parquet").exists():
             return "parquet"
         raise InputError(f"{path}: a folder that is neither a ROS 2 bag (no metadata.yaml) nor a run (no log.parquet)")
     suf = path.suffix.lower()
