@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -65,6 +66,8 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
 
     ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
+    The environment variable ``OCEANGNC_MAX_DURATION`` (s), if set, caps ``sim.duration`` (smoke
+    runs of the examples in the test suite).
     Returns ``(scenario_object, config_model)``.
     """
     from .io.config import set_dotted
@@ -78,8 +81,10 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     sc = get_scenario(name)
     over: dict = {}
     for k, v in (overrides or {}).items():
-        if isinstance(v, dict):
-            over = deep_merge(over, {k: v})
+        if isinstance(v, dict):  # a section, possibly under a dotted key: merged into what is there
+            nested: dict = {}
+            set_dotted(nested, k, v)
+            over = deep_merge(over, nested)
         else:
             set_dotted(over, k, v)
     if duration is not None:
@@ -87,6 +92,9 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     data = deep_merge(deep_merge(sc.defaults, file_cfg), over)
     data["scenario"] = sc.name
     cfg = validate(sc.Config, data)
+    cap = os.environ.get("OCEANGNC_MAX_DURATION")
+    if cap:  # smoke runs of the examples and docs (tests/test_examples.py): every run made short
+        cfg.sim.duration = min(cfg.sim.duration, float(cap))
     return sc, cfg
 
 
@@ -116,7 +124,7 @@ def _jsonable(v):
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
         progress: bool = False, checkpoint_every: float | None = None,
-        resume: str | Path | None = None) -> RunResult:
+        resume: str | Path | None = None, model: str | Path | None = None) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -141,6 +149,9 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         A run folder holding a checkpoint: continue that run (its own ``config.toml``; the other
         config arguments must be absent) from its last checkpoint. The finished log equals the one
         of an uninterrupted run.
+    model : path, optional
+        An identified model file (``identified.toml`` from ``oceangnc identify``): its
+        ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
 
     Raises
     ------
@@ -181,6 +192,10 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
                         start_part=state["log"]["parts"], start_row=state["log"]["rows"])
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
+        if model is not None:
+            from .identification.model_file import load_model_overrides
+
+            overrides = {**load_model_overrides(model), **dict(overrides or {})}
         sc, cfg = resolve_config(scenario, config, overrides, duration)
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
         out_dir.mkdir(parents=True, exist_ok=True)

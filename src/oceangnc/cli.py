@@ -4,7 +4,7 @@ Exit codes: 0 success, 2 bad input (config, file, name), 1 diverged simulation; 
 
 Subcommands of later capabilities live in their own packages and are registered here through a
 ``register(subparsers)`` function in each module of :data:`PLUGINS` (``identify``, ``console``,
-``sweep``); a module that is absent or whose optional dependencies are missing is skipped.
+``sweep``, ``validate``/``check``); a module that is absent or whose optional dependencies are missing is skipped.
 """
 
 from __future__ import annotations
@@ -20,6 +20,9 @@ PLUGINS = (
     "oceangnc.identification.cli",
     "oceangnc.console.cli",
     "oceangnc.sweep.cli",
+    "oceangnc.mavlink.cli",
+    "oceangnc.io.importers.cli",
+    "oceangnc.validation.cli",
 )
 
 
@@ -37,8 +40,12 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from .api import run
+    from .core.registry import load_plugin
     from .errors import InputError
     from .io.config import flatten, parse_sets
+
+    for path in args.plugin or []:
+        load_plugin(path)
 
     if args.scenario and args.scenario.lower().endswith(".toml"):
         from .scenarios.base import registry
@@ -53,7 +60,8 @@ def _cmd_run(args) -> int:
     else:
         overrides = flatten(parse_sets(args.set))
         res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-                  plots=not args.no_plots, progress=not args.quiet, checkpoint_every=args.checkpoint_every)
+                  plots=not args.no_plots, progress=not args.quiet, checkpoint_every=args.checkpoint_every,
+                  model=args.model)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -98,6 +106,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): its "
+                                   "[parameters] are the vehicle's parameters (--set still wins)")
+    p.add_argument("--plugin", action="append", metavar="PATH",
+                   help="a Python file registering blocks (@register_block), loaded before the config is "
+                        "read, so a --set ...kind= can pick them (repeatable)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")

@@ -68,11 +68,11 @@ class Simulation:
         self.blocks = list(blocks)
         self.dt = float(dt)
         self.external = dict(external or {})
-        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         for pl in self.plants:
             if pl.max_dt is not None and self.dt > pl.max_dt * (1 + 1e-9):
                 raise ConfigError(f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
                                   f"({pl.max_dt:.4g} s); allowed range 0 < dt <= {pl.max_dt:.4g}")
+        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         self.block_steps = [_steps(b.period, self.dt, f"block '{b.name}'") for b in self.blocks]
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
         self.tick = math.gcd(self.log_steps, *self.block_steps) if self.block_steps else self.log_steps
@@ -99,8 +99,8 @@ class Simulation:
     # -- logging helpers --------------------------------------------------------------------------
     def _row(self) -> dict[str, float]:
         if self.log_signals is None:
-            self.log_signals = sorted(k for k, v in self.bus.items()
-                                      if not k.startswith("_") and isinstance(v, (int, float, bool, np.floating, np.integer)))
+            scalar = (int, float, bool, np.floating, np.integer)
+            self.log_signals = sorted(k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar))
         return {k: float(self.bus.get(k, np.nan)) for k in self.log_signals}
 
     def run(self, duration: float, log=None, progress: bool = False, wall_limit: float | None = None) -> float:

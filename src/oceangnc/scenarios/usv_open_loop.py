@@ -20,15 +20,15 @@ import math
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
 from pydantic import Field
 
+from ..control.actuators import USVThrusterBlock
 from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.usv import USVConfig, USVPlant, USVThrusters
+from ..models.usv import USVConfig, USVPlant
 from ..units import KGF
 from ._common import circle_fit_drifting, environment_blocks
 from .base import Scenario
@@ -67,8 +67,10 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
         bus["usv.volt_port_cmd"] = c.volt_port
         bus["usv.volt_stbd_cmd"] = c.volt_stbd
 
-    blocks = [*environment_blocks(cfg.environment), FunctionBlock("command", h, command),
-              USVThrusters(cfg.usv, h, mode=c.mode)]
+    blocks = [*environment_blocks(cfg.environment), FunctionBlock(
+        "command", h, command, inputs={}, outputs={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N",
+                                                   "usv.volt_port_cmd": "V", "usv.volt_stbd_cmd": "V"}),
+              USVThrusterBlock(cfg.usv, h, mode=c.mode)]
     return Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 
