@@ -88,6 +88,9 @@ class Simulation:
             pl.publish(self.bus)
         self.fire_count = [0] * len(self.blocks)
         self._done_k = -1  # last physics step whose blocks fired and row was logged
+        #: ``(every_steps, callback(sim))``: called at steps that are multiples of ``every_steps``, after
+        #: the blocks fired and the row was logged (checkpoints, :mod:`oceangnc.core.checkpoint`)
+        self.checkpoint_hook = None
 
     def inject(self, values: dict) -> None:
         """Write values onto the bus between runs (console commands, test stimuli)."""
@@ -112,7 +115,10 @@ class Simulation:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False)
+            bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False,
+                       desc="compiling")  # numba compiles on the first steps: no rate, no ETA yet
+        t_start = self.t
+        k_start = self.k
         last_bar = self.t
         t_wall0 = time.perf_counter()
         try:
@@ -135,12 +141,19 @@ class Simulation:
                                               reason=f"non-finite signal {bad[0]}")
                 if self.k >= n_end or self.bus.get("_stop", False):
                     break
+                if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 \
+                        and self.k > 0:
+                    self.checkpoint_hook[1](self)
                 n = min(self.tick, n_end - self.k)
                 for pl in self.plants:
                     pl.read_inputs(self.bus)
                     pl.advance(t, self.dt, n)
                     pl.publish(self.bus)
                 self.k += n
+                if bar is not None and bar.desc == "compiling" and self.k > k_start:
+                    bar.set_description_str("")
+                    bar.reset()  # restart the rate (ETA) clock after compilation
+                    last_bar = t_start
                 if bar is not None and self.k * self.dt - last_bar >= 0.5:
                     bar.update(round(self.k * self.dt - last_bar, 3))
                     last_bar = self.k * self.dt
@@ -148,5 +161,10 @@ class Simulation:
                     break
         finally:
             if bar is not None:
+                if self.bus.get("_stop", False):  # ended early: close the bar at 100 % with the reason
+                    bar.set_description_str("")
+                    bar.n = bar.total
+                    bar.set_postfix_str(str(self.bus.get("_stop_reason", f"scenario ended at t = {self.t:.1f} s")))
+                    bar.leave = True
                 bar.close()
         return self.t

@@ -39,9 +39,14 @@ class RunContext:
     rng: np.random.Generator
     progress: bool = False
     info: dict[str, Any] = field(default_factory=dict)
+    #: :class:`oceangnc.core.checkpoint.Checkpointer` when the run saves checkpoints or resumes
+    checkpointer: Any = None
 
     def simulate(self, sim, duration: float) -> float:
-        """Run a :class:`~oceangnc.core.clock.Simulation` for ``duration`` s into this run's log."""
+        """Run a :class:`~oceangnc.core.clock.Simulation` for ``duration`` s into this run's log
+        (with checkpoints, or from a restored checkpoint, when the run asks for them)."""
+        if self.checkpointer is not None and self.checkpointer.attach(sim):
+            duration = duration - sim.t  # restored: run the rest
         t = sim.run(duration, log=self.log, progress=self.progress)
         self.info["t_end"] = t
         return t

@@ -20,7 +20,8 @@
 
 The physics step: ``sim.dt = 0`` (default) picks 90 % of the cable's RK4 stability limit
 (:func:`oceangnc.models.cable.axial_stability_limit`), rounded down to divide the 10 ms control
-period; an explicit ``sim.dt`` above the limit is refused.
+period; an explicit ``sim.dt`` above the limit is refused. With ``cable.integrator = "imex"`` there is
+no axial limit and ``sim.dt = 0`` gives the 10 ms control period (docs/uuv-and-cable.md).
 """
 
 from __future__ import annotations
