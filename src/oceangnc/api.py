@@ -15,7 +15,7 @@ import numpy as np
 from .errors import DivergenceError, OceanGNCError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, read_log
-from .scenarios.base import RunContext, get_scenario, registry
+from .scenarios.base import RunContext, get_scenario, scenario_summaries
 
 DEFAULT_SCENARIO = "combined-survey"
 FALLBACK_SCENARIO = "usv-turn"
@@ -52,12 +52,12 @@ class RunResult:
 
 def default_scenario() -> str:
     """The flagship scenario if it exists, else the USV turn."""
-    return DEFAULT_SCENARIO if DEFAULT_SCENARIO in registry() else FALLBACK_SCENARIO
+    return DEFAULT_SCENARIO if DEFAULT_SCENARIO in scenario_summaries() else FALLBACK_SCENARIO
 
 
 def list_scenarios() -> dict[str, str]:
     """Scenario name -> one-line description."""
-    return {n: s.summary for n, s in registry().items()}
+    return scenario_summaries()
 
 
 def resolve_config(scenario: str | None = None, config: str | Path | dict | None = None,
@@ -115,7 +115,7 @@ def _jsonable(v):
 
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
-        progress: bool = False) -> RunResult:
+        progress: bool = False, verbose: bool = False) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -134,6 +134,8 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         Draw the PNG plots.
     progress : bool
         Show a progress bar on long runs.
+    verbose : bool
+        Say once (stderr) whether the fused compiled loop runs, or why the Python clock does.
 
     Raises
     ------
@@ -148,7 +150,8 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
     out_dir.mkdir(parents=True, exist_ok=True)
     dump_toml(cfg, out_dir / "config.toml")
     log = LogWriter(out_dir / "log.parquet")
-    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress)
+    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress,
+                     verbose=verbose)
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
     try:

@@ -41,7 +41,7 @@ def _cmd_run(args) -> int:
 
     overrides = flatten(parse_sets(args.set))
     res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-              plots=not args.no_plots, progress=not args.quiet)
+              plots=not args.no_plots, progress=not args.quiet, verbose=args.verbose)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -62,7 +62,11 @@ def _cmd_plot(args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+CORE_COMMANDS = ("list", "run", "plot")
+
+
+def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
+    """The argument parser; ``plugins=False`` leaves out the plugin subcommands (their imports cost ~0.5 s)."""
     ap = argparse.ArgumentParser(prog="oceangnc", description="Guidance, navigation, control and "
                                  "identification of unmanned marine vehicles.")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
@@ -80,13 +84,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
+    p.add_argument("--verbose", action="store_true",
+                   help="say which clock path runs (fused compiled loop or the Python fallback) and why")
     p.set_defaults(func=_cmd_run)
 
     p = sub.add_parser("plot", help="re-draw the plots of a run folder from its log")
     p.add_argument("dir", help="run folder holding log.parquet and config.toml")
     p.set_defaults(func=_cmd_plot)
 
-    for modname in PLUGINS:
+    for modname in PLUGINS if plugins else ():
         try:
             mod = importlib.import_module(modname)
         except ModuleNotFoundError as e:
@@ -107,7 +113,10 @@ def _missing(name: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    first = next((a for a in argv if not a.startswith("-")), None)
+    # a core command needs no plugin subcommand: skip importing them (start-up time)
+    ap = build_parser(plugins=first not in CORE_COMMANDS or "-h" in argv[:1] or "--help" in argv[:1])
     args = ap.parse_args(argv)
     if not getattr(args, "func", None):
         ap.print_help()

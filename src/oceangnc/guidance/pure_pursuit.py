@@ -82,8 +82,7 @@ def uuv_turning_radius_at(cfg, speed: float) -> float:
     :func:`oceangnc.models.uuv.uuv_min_turning_radius` belongs to a speed (several m/s) the towed
     UUV never reaches, so the radius at the formation's speed is the one that limits the path.
     """
-    from scipy.optimize import brentq
-
+    from ..core.roots import bracket_root
     from ..models.uuv import uuv_steady_planar
     from ..units import KGF
 
@@ -92,7 +91,7 @@ def uuv_turning_radius_at(cfg, speed: float) -> float:
         raise ConfigError(f"UUV turning radius: speed must be > 0 m/s, got {speed}")
     if uuv_steady_planar(cfg, hi, hi, 0.0)[0] < speed:
         raise ConfigError(f"UUV turning radius: the UUV cannot reach {speed} m/s")
-    t0 = brentq(lambda T: uuv_steady_planar(cfg, T, T, 0.0)[0] - speed, 1e-6, hi, xtol=1e-6)
+    t0 = bracket_root(lambda T: uuv_steady_planar(cfg, T, T, 0.0)[0] - speed, 1e-6, hi, xtol=1e-10)
     u, v, r = uuv_steady_planar(cfg, t0, t0, hi)
     return math.hypot(u, v) / abs(r)
 

@@ -185,8 +185,9 @@ class USVThrusters(Block):
 
 
 def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
-    """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N), by Newton's method."""
-    from scipy.optimize import fsolve
+    """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N), by Newton's method
+    (:func:`oceangnc.core.roots.newton`; no scipy import at scenario build time)."""
+    from ..core.roots import newton
 
     p = cfg.params()
     out = np.zeros(6)
@@ -196,7 +197,7 @@ def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
         usv_rhs(0.0, x, np.array([t_port, t_stbd, 0.0, 0.0, 0.0, 0.0]), p, out)
         return out[3:6].copy()
 
-    z, info, ier, msg = fsolve(f, [0.5, 0.0, 0.1], full_output=True)
+    z, _ = newton(f, [0.5, 0.0, 0.1])
     return float(z[0]), float(z[1]), float(z[2])
 
 

@@ -425,9 +425,9 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
     """Steady (u, v, r) of the UUV in the horizontal plane for constant thrusts (N), calm water.
 
     Solves the surge, sway and yaw rows of the 6-DOF model with w = p = q = 0 and level attitude
-    (roll/pitch coupling neglected) by Newton's method (scipy ``fsolve``).
+    (roll/pitch coupling neglected) by Newton's method (:func:`oceangnc.core.roots.newton`).
     """
-    from scipy.optimize import fsolve
+    from ..core.roots import newton
 
     p = cfg.params()
     p[P_W] = p[P_B] = 0.0  # level attitude held: no restoring terms in the planar problem
@@ -448,9 +448,9 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
     # no yaw moment: start on the straight-ahead branch (the vehicle is directionally unstable, so
     # spurious spiral equilibria exist; the symmetric start keeps Newton on v = r = 0)
     r_guess = 0.0 if moment == 0.0 else math.copysign(0.1, moment)
-    z, info, ier, msg = fsolve(f, [u_guess, 0.0, r_guess], full_output=True, xtol=1e-12)
-    if ier != 1:
-        raise RuntimeError(f"uuv_steady_planar: no steady turn found ({msg})")
+    z, ok = newton(f, [u_guess, 0.0, r_guess], xtol=1e-12)
+    if not ok:
+        raise RuntimeError("uuv_steady_planar: no steady turn found (Newton did not converge)")
     return float(z[0]), float(z[1]), float(z[2])
 
 

@@ -275,10 +275,13 @@ class CombinedScenario(Scenario):
 
 
 def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
-    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7)."""
-    import matplotlib.pyplot as plt
+    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7).
 
-    fig = plt.figure(figsize=(7, 6))
+    Drawn on a bare Agg figure with fixed margins (no ``tight_layout``, which cost ~0.5 s here).
+    """
+    from ..io.plots import figure, save
+
+    fig = figure((7, 6), margins=(0.1, 0.1, 0.1, 0.4))
     ax = fig.add_subplot(projection="3d")
     ax.plot(df["usv.y"], df["usv.x"], 0 * df["usv.x"], label="USV")
     ax.plot(df["uuv.y"], df["uuv.x"], -df["uuv.z"], label="UUV")
@@ -297,10 +300,7 @@ def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
     ax.set_zlabel("-depth [m]")
     ax.set_title(title)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, path)
 
 
 _SIM = {"dt": 0.001, "log_rate": 10.0}
