@@ -155,6 +155,29 @@ def _fingerprint(mod) -> str:
     return h.hexdigest()[:16]
 
 
+def load_generated(stem: str, src: str):
+    """Write ``src`` as ``<stepper_cache_dir>/<stem>.py`` (only if it changed, atomically) and import it.
+
+    The module is registered in ``sys.modules`` under a fixed name, as numba's disk cache needs to
+    re-import a cached function's module by name. Raises OSError if the cache folder is not writable.
+    """
+    d = stepper_cache_dir()
+    d.mkdir(parents=True, exist_ok=True)
+    path = d / f"{stem}.py"
+    if not path.exists() or path.read_text() != src:
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(src)
+        os.replace(tmp, path)  # atomic: concurrent sweep workers never see half a file
+    name = f"_oceangnc_gen_{stem}"
+    m = sys.modules.get(name)
+    if m is None or getattr(m, "__file__", None) != str(path):
+        spec = importlib.util.spec_from_file_location(name, path)
+        m = importlib.util.module_from_spec(spec)
+        sys.modules[name] = m  # numba's cache rebuilds the function's globals by module name
+        spec.loader.exec_module(m)
+    return m
+
+
 def _cached_stepper(rhs):
     """The disk-cached stepper of a module-level rhs, or None if the rhs cannot be imported by name."""
     modname = getattr(rhs, "__module__", None)
@@ -165,22 +188,8 @@ def _cached_stepper(rhs):
     if mod is None or getattr(mod, qual, None) is not rhs:
         return None
     src = _STEPPER_TEMPLATE.format(module=modname, name=qual, fingerprint=_fingerprint(mod))
-    stem = f"rk4__{modname.replace('.', '_')}__{qual}"
     try:
-        d = stepper_cache_dir()
-        d.mkdir(parents=True, exist_ok=True)
-        path = d / f"{stem}.py"
-        if not path.exists() or path.read_text() != src:
-            tmp = path.with_suffix(f".{os.getpid()}.tmp")
-            tmp.write_text(src)
-            os.replace(tmp, path)  # atomic: concurrent sweep workers never see half a file
-        name = f"_oceangnc_stepper_{stem}"
-        m = sys.modules.get(name)
-        if m is None or getattr(m, "__file__", None) != str(path):
-            spec = importlib.util.spec_from_file_location(name, path)
-            m = importlib.util.module_from_spec(spec)
-            sys.modules[name] = m  # numba's cache rebuilds the function's globals by module name
-            spec.loader.exec_module(m)
+        m = load_generated(f"rk4__{modname.replace('.', '_')}__{qual}", src)
     except OSError:
         return None  # read-only home: fall back to the per-process stepper
     return m.advance

@@ -91,6 +91,18 @@ class LeaderFollower(Block):
         self.follower = follower
         self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled import leader_follower_step
+
+        out = ["lf.lx", "lf.ly", "lf.range", "lf.bearing", "lf.lx_d", "lf.ly_d", "lf.target_n", "lf.target_e",
+               "lf.e_x", "lf.e_y", "lf.rel_heading_err", "lf.los", "lf.los_err", "lf.outside", "lf.psi_d"]
+        pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
+        return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *out], params=pa)
+
     def step(self, t: float, bus: dict) -> None:
         xl, yl, psil = (bus.get(k, 0.0) for k in self.leader)
         xf, yf, psif = (bus.get(k, 0.0) for k in self.follower)

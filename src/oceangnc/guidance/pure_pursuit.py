@@ -183,6 +183,19 @@ class PurePursuit(Block):
         self.done = False
         self._started = False
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.pure_pursuit_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import pure_pursuit_step
+
+        sig = [self.pos_keys[0], self.pos_keys[1], self.psi_key, "guidance.psi_d", "guidance.turn_radius",
+               "guidance.cross_track", "guidance.leg", "guidance.wp_reached", "guidance.lookahead_n",
+               "guidance.lookahead_e", "guidance.done", "_stop"]
+        st = np.array([self.leg, self.reached, 1.0 if self.done else 0.0, 1.0 if self._started else 0.0], float)
+        pa = np.concatenate([[self.l, self.acceptance, 1.0 if self.stop_at_end else 0.0, len(self.wp)],
+                             self.wp.ravel()])
+        return CompiledBlock(pure_pursuit_step, sig, st, pa)
+
     def step(self, t: float, bus: dict) -> None:
         p = np.array([bus.get(self.pos_keys[0], 0.0), bus.get(self.pos_keys[1], 0.0)])
         psi = bus.get(self.psi_key, 0.0)

@@ -46,9 +46,11 @@ class RunContext:
     progress: bool = False
     info: dict[str, Any] = field(default_factory=dict)
     verbose: bool = False
+    fused: bool = True  # run the compiled fused loop when every block has a compiled form
 
     def simulate(self, sim, duration: float) -> float:
         """Run a :class:`~oceangnc.core.clock.Simulation` for ``duration`` s into this run's log."""
+        sim.use_fused = self.fused
         if self.verbose:
             sim.verbose = True
         t = sim.run(duration, log=self.log, progress=self.progress)
