@@ -23,7 +23,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field
 
-from ..core.blocks import FunctionBlock
+from ..core.blocks import ConstantBlock
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
@@ -61,13 +61,10 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
     c = cfg.command
     h = 1.0 / cfg.control_rate
 
-    def command(t, bus):
-        bus["usv.thrust_port_cmd"] = c.thrust_port_kgf * KGF
-        bus["usv.thrust_stbd_cmd"] = c.thrust_stbd_kgf * KGF
-        bus["usv.volt_port_cmd"] = c.volt_port
-        bus["usv.volt_stbd_cmd"] = c.volt_stbd
-
-    blocks = [*environment_blocks(cfg.environment), FunctionBlock("command", h, command),
+    command = ConstantBlock("command", h, {"usv.thrust_port_cmd": c.thrust_port_kgf * KGF,
+                                           "usv.thrust_stbd_cmd": c.thrust_stbd_kgf * KGF,
+                                           "usv.volt_port_cmd": c.volt_port, "usv.volt_stbd_cmd": c.volt_stbd})
+    blocks = [*environment_blocks(cfg.environment), command,
               USVThrusters(cfg.usv, h, mode=c.mode)]
     return Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
