@@ -177,20 +177,8 @@ class Simulation:
             self.t = self._done_k * self.dt if self._done_k >= 0 else self.k * self.dt
             if rows and log_on:
                 log.append_rows(fz.buf[:rows, 0], fz.log_signals, fz.buf[:rows, 1:])
-            if status == 2:
-                fz.to_bus(self.bus)
-                row = self._row()
-                bad = fz.log_signals[int(info)]
-                src = bad.split(".")[0]
-                raise DivergenceError(self.t, src, {c: row[c] for c in row if c.startswith(src + ".")},
-                                      reason=f"non-finite signal {bad}")
-            if status == 3:
-                fz.to_bus(self.bus)
-                pl = self.plants[int(info)]
-                kk = int(-t_new - 1.0)
-                finite = bool(np.all(np.isfinite(pl.x)))
-                raise DivergenceError(self.k * self.dt + (kk + 1) * self.dt, pl.name, pl.state_dict(),
-                                      reason=f"|state| above {pl.state_bound:g}" if finite else "non-finite state")
+            if status in (2, 3):
+                raise self._fused_error(int(status), int(info), float(t_new))
             if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
                 bar.update(round(self.k * self.dt - self._last_bar, 3))
                 self._last_bar = self.k * self.dt
@@ -200,6 +188,23 @@ class Simulation:
                 break
         fz.to_bus(self.bus)
         self.t = self.k * self.dt
+
+    def _fused_error(self, status: int, info: int, t_new: float) -> DivergenceError:
+        """The DivergenceError the Python path raises, for a fused driver's status 2 (bad logged
+        signal, ``info`` its column) or 3 (plant ``info`` diverged, ``t_new`` its stepper's return)."""
+        fz = self._fused
+        fz.to_bus(self.bus)
+        if status == 2:
+            row = self._row()
+            bad = fz.log_signals[info]
+            src = bad.split(".")[0]
+            return DivergenceError(self.t, src, {c: row[c] for c in row if c.startswith(src + ".")},
+                                   reason=f"non-finite signal {bad}")
+        pl = self.plants[info]
+        kk = int(-t_new - 1.0)
+        finite = bool(np.all(np.isfinite(pl.x)))
+        return DivergenceError(self.k * self.dt + (kk + 1) * self.dt, pl.name, pl.state_dict(),
+                               reason=f"|state| above {pl.state_bound:g}" if finite else "non-finite state")
 
     def _run_python(self, n_end, log, bar, wall_limit, t_wall0, max_ticks: int | None = None) -> None:
         ticks = 0
