@@ -164,11 +164,14 @@ def load_generated(stem: str, src: str):
     d = stepper_cache_dir()
     d.mkdir(parents=True, exist_ok=True)
     path = d / f"{stem}.py"
+    name = f"_oceangnc_gen_{stem}"
+    # the module name is part of numba's cached environment: name it in the source so that a change of
+    # naming rewrites the file, whose new time stamp invalidates the old cache entry
+    src = f"# module: {name}\n{src}"
     if not path.exists() or path.read_text() != src:
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(src)
         os.replace(tmp, path)  # atomic: concurrent sweep workers never see half a file
-    name = f"_oceangnc_gen_{stem}"
     m = sys.modules.get(name)
     if m is None or getattr(m, "__file__", None) != str(path):
         spec = importlib.util.spec_from_file_location(name, path)

@@ -125,12 +125,21 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
     the speed it must hold, the surge target capped at the USV's top speed
     (:func:`oceangnc.guidance.pure_pursuit.uuv_turning_radius_at`).
     """
-    r_usv = usv_min_turning_radius(cfg.usv)
-    top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
-    r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
+    start = {"x0", "y0", "z0", "psi0_deg", "u0"}  # the radii do not depend on where the vehicles start
+    key = (cfg.usv.model_dump_json(exclude=start), cfg.uuv.model_dump_json(exclude=start), cfg.control.surge_speed)
+    radii = _RADII.get(key)
+    if radii is None:  # a batch or a sweep builds many runs of the same vehicles: solve once
+        r_usv = usv_min_turning_radius(cfg.usv)
+        top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
+        r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
+        radii = _RADII[key] = (r_usv, r_uuv)
+    r_usv, r_uuv = radii
     if cfg.guidance.look_ahead is not None:
         return cfg.guidance.look_ahead, r_usv, r_uuv
     return look_ahead_distance(r_usv, r_uuv), r_usv, r_uuv
+
+
+_RADII: dict = {}  # (usv config, uuv config, surge target) -> (R_min USV, R UUV), m
 
 
 def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
