@@ -41,3 +41,19 @@ def test_batch_of_a_scenario_without_fused_path_runs_one_by_one(tmp_path):
     r = oceangnc.run("autopilot-speed", overrides={"speed_control.wn": 1.5}, duration=2.0, out=tmp_path / "one",
                      plots=False)
     np.testing.assert_array_equal(read_log(tmp_path / "b" / "run-00001").to_numpy(), read_log(r.out_dir).to_numpy())
+
+
+def test_sweep_with_batch_records_the_same_rows_as_without(tmp_path):
+    from oceangnc.sweep import build_design
+    from oceangnc.sweep.execute import run_sweep
+
+    design = build_design("usv-turn", grid={"command.thrust_stbd_kgf": [10.0, 20.0]}, seeds=2, duration=5.0)
+    one = run_sweep(design, tmp_path / "one", workers=0, progress=False)
+    bat = run_sweep(design, tmp_path / "bat", workers=0, progress=False, batch=3)
+    a = one.table.sort_values("run_id").reset_index(drop=True)
+    b = bat.table.sort_values("run_id").reset_index(drop=True)
+    assert list(a["status"]) == list(b["status"]) == ["ok"] * 4
+    metrics = [c for c in a.columns if c.startswith("usv.")]
+    assert metrics
+    for c in metrics:
+        np.testing.assert_array_equal(a[c].to_numpy(), b[c].to_numpy())

@@ -39,7 +39,8 @@ def _same_structure(loops) -> bool:
 
 def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: list[int] | None = None,
               duration: float | None = None, out: str | Path | None = None, threads: int | None = None,
-              chunk: int = 64) -> list[dict]:
+              chunk: int = 64, config: str | Path | dict | None = None,
+              out_dirs: list[str | Path] | None = None) -> list[dict]:
     """Run K copies of ``scenario`` in compiled batches; returns the K summaries (as ``summary.json``).
 
     Parameters
@@ -56,6 +57,10 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
         Numba threads for the prange over runs (default: numba's default, all cores).
     chunk : int
         Runs stacked per compiled call.
+    config : path or dict, optional
+        A TOML file or dict merged over the defaults of every run (as in :func:`oceangnc.run`).
+    out_dirs : list of path, optional
+        Each run's own folder instead of ``out/run-<i>`` (the sweep's layout).
     """
     from .api import _jsonable, new_run_dir, resolve_config
     from .io.config import dump_toml
@@ -71,8 +76,12 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
         import numba
 
         numba.set_num_threads(int(threads))
-    out_dir = Path(out) if out is not None else new_run_dir("runs", f"batch-{scenario}")
-    out_dir.mkdir(parents=True, exist_ok=True)
+    if out_dirs is not None and len(out_dirs) != n:
+        raise ValueError(f"run_batch: {len(out_dirs)} out_dirs for {n} runs")
+    out_dir = Path(out) if out is not None else (None if out_dirs is not None
+                                                 else new_run_dir("runs", f"batch-{scenario}"))
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
     summaries: list[dict] = [{} for _ in range(n)]
     for c0 in range(0, n, chunk):
         idx = list(range(c0, min(n, c0 + chunk)))
@@ -81,8 +90,8 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
             over = dict((overrides_list or [{}] * n)[i])
             if seeds is not None:
                 over["sim.seed"] = int(seeds[i])
-            sc, cfg = resolve_config(scenario, overrides=over, duration=duration)
-            d = out_dir / f"run-{i:05d}"
+            sc, cfg = resolve_config(scenario, config=config, overrides=over, duration=duration)
+            d = Path(out_dirs[i]) if out_dirs is not None else out_dir / f"run-{i:05d}"
             d.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, d / "config.toml")
             log = LogWriter(d / "log.parquet")
