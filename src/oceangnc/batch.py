@@ -25,11 +25,15 @@ from .errors import DivergenceError
 
 def _same_structure(loops) -> bool:
     f0 = loops[0]
+    if any(isinstance(v, np.random.Generator) for v in f0.args.values()):
+        return False
     for f in loops[1:]:
         if f.module is not f0.module or f.sig.size != f0.sig.size or f.log_signals != f0.log_signals:
             return False
         for a in f0.arg_names:
             x, y = f0.args[a], f.args[a]
+            if isinstance(x, np.random.Generator):
+                return False  # per-run generators cannot be stacked: such runs go one by one
             if isinstance(x, np.ndarray) and (not isinstance(y, np.ndarray) or x.shape != y.shape):
                 return False
         if not np.array_equal(f.nbs, f0.nbs):

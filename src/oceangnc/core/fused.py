@@ -51,6 +51,7 @@ class CompiledBlock:
     signals: list[str]
     state: np.ndarray = field(default_factory=lambda: np.zeros(1))
     params: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    rng: object = None  # the block's numpy Generator, passed as the kernel's 6th argument (sensors)
 
 
 @dataclass
@@ -232,8 +233,12 @@ class FusedLoop:
             args[f"sl{i}"] = slots
             args[f"st{i}"] = np.ascontiguousarray(f.state, dtype=np.float64)
             args[f"pa{i}"] = np.ascontiguousarray(f.params, dtype=np.float64)
+            rg = ""
+            if f.rng is not None:
+                args[f"rg{i}"] = f.rng
+                rg = f", rg{i}"
             block_lines += [f"            if k % nbs[{i}] == 0:",
-                            f"                {alias}(t, sig, sl{i}, st{i}, pa{i})"]
+                            f"                {alias}(t, sig, sl{i}, st{i}, pa{i}{rg})"]
         plant_lines: list[str] = []
         self.plant_forms = []
         for j, pl in enumerate(sim.plants):

@@ -35,7 +35,7 @@ from pydantic import Field, field_validator
 from ..control.backstepping import BacksteppingConfig, UUVBackstepping
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.uuv_control import UUVPIDConfig, UUVPIDController
-from ..core.blocks import FunctionBlock
+from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..errors import ConfigError
@@ -142,6 +142,33 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
 _RADII: dict = {}  # (usv config, uuv config, surge target) -> (R_min USV, R UUV), m
 
 
+class FieldNavigation(Block):
+    """Navigation of the field test: USV position and speed from the GPS, UUV = USV + the held USBL offset.
+
+    Writes ``nav.usv_x``, ``nav.usv_y``, ``nav.uuv_x``, ``nav.uuv_y`` (m) and ``nav.usv_u`` (m/s,
+    the GPS speed over ground); missing inputs read as 0.
+    """
+
+    def __init__(self, name: str, period: float):
+        self.name = name
+        self.period = float(period)
+
+    def step(self, t: float, bus: dict) -> None:
+        bus["nav.usv_x"] = bus.get("gps.x", 0.0)
+        bus["nav.usv_y"] = bus.get("gps.y", 0.0)
+        bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get("nav.usbl.dn", 0.0)
+        bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
+        bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
+
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.nav_step`)."""
+        from ..core.fused import CompiledBlock
+        from ..sensors._compiled import nav_step
+
+        return CompiledBlock(nav_step, ["?gps.x", "?gps.y", "?nav.usbl.dn", "?nav.usbl.de", "?gps.sog",
+                                        "nav.usv_x", "nav.usv_y", "nav.uuv_x", "nav.uuv_y", "nav.usv_u"])
+
+
 def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     """Plant, environment, sensors, navigation, guidance, control and thrusters (module docstring)."""
     if cfg.sim.dt > 0.002:
@@ -156,14 +183,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
                                   "nav.usbl"))
 
-        def nav(t, bus):
-            bus["nav.usv_x"] = bus.get("gps.x", 0.0)
-            bus["nav.usv_y"] = bus.get("gps.y", 0.0)
-            bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get("nav.usbl.dn", 0.0)
-            bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
-            bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
-
-        blocks.append(FunctionBlock("nav", h, nav))
+        blocks.append(FieldNavigation("nav", h))
         usv_pos = ("nav.usv_x", "nav.usv_y")
         usv_psi, usv_r, usv_u = "usv_ahrs.psi", "usv_ahrs.r", "nav.usv_u"
         uuv_pos = ("nav.uuv_x", "nav.uuv_y")
