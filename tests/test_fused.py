@@ -20,6 +20,7 @@ FUSED = [
     ("waypoints-square", {"formation.mode": "relative-angle"}, 4.0),
     ("cable-current", {"environment.current.speed": 0.3}, 3.0),
     ("field-test", {}, 8.0),
+    ("tow-straight", {"command.start_s": 1.0}, 4.0),
     ("field-test", {"sensors.usbl.dropout_start": 2.0, "sensors.usbl.dropout_duration": 3.0,
                     "control.uuv": "backstepping"}, 8.0),
     ("usv-turn", {}, 20.0),

@@ -124,6 +124,21 @@ class TowStraightControl(Block):
         self.uuv_speed = PID(c.uuv_kp_speed, c.uuv_ki_speed, 0.0, -2 * r_uuv, 2 * t_uuv)
         self.uuv_head = PID(c.uuv_kp_heading, 0.0, c.uuv_kd_heading, -r_uuv, t_uuv)
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.tow_straight_step`)."""
+        from ..control._compiled import arr, pid_params, pid_state, tow_straight_step
+        from ..core.fused import CompiledBlock
+
+        c = self.cmd
+        pids = (self.usv_speed, self.usv_head, self.uuv_speed, self.uuv_head)
+        st = arr(sum((pid_state(q) for q in pids), []))
+        pa = arr(sum((pid_params(q) for q in pids), [])
+                 + [self.period, math.radians(c.heading_deg), c.start_s, c.usv_speed, c.uuv_speed,
+                    self.usv_cfg.d11 * c.usv_speed, -self.uuv_cfg.X_uu_total * c.uuv_speed * abs(c.uuv_speed)])
+        sig = ["usv.u", "usv.psi", "usv.r", "uuv.u", "uuv.psi", "uuv.r", "usv.thrust_port_cmd", "usv.thrust_stbd_cmd",
+               "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd"]
+        return CompiledBlock(tow_straight_step, sig, st, pa)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cmd
         h = self.period
