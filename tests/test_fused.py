@@ -21,6 +21,8 @@ FUSED = [
     ("cable-current", {"environment.current.speed": 0.3}, 3.0),
     ("field-test", {}, 8.0),
     ("tow-straight", {"command.start_s": 1.0}, 4.0),
+    ("berthing-channel", {}, 100.0),
+    ("berthing-dock", {"control.mode": "nonlinear"}, 60.0),
     ("field-test", {"sensors.usbl.dropout_start": 2.0, "sensors.usbl.dropout_duration": 3.0,
                     "control.uuv": "backstepping"}, 8.0),
     ("usv-turn", {}, 20.0),

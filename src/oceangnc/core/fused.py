@@ -74,6 +74,11 @@ def _kernel_ref(fn) -> tuple[str, str]:
     return mod, name
 
 
+def plant_bus_keys(slot_of) -> set:
+    """Names the signal array carries (the bus's numeric keys and the blocks' signals)."""
+    return set(getattr(slot_of, "names", ()))
+
+
 def plant_form(plant, slot_of) -> PlantForm | None:
     """The compiled form of a plant, or None. ``slot_of(name)`` gives a signal's slot."""
     own = getattr(plant, "compiled_form", None)
@@ -116,6 +121,16 @@ def plant_form(plant, slot_of) -> PlantForm | None:
                f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
                "{adv} = _rk4_stepper(_rhs_{adv})"]
     names = [f"{plant.name}.{k}" for k in plant.state_names]
+    if cls == "ShipPlant":
+        names += ["ship.speed", "ship.u_r", "ship.v_r"]
+        names = [f"{plant.name}.{k}" for k in ("x", "y", "psi", "u", "v", "r", "rudder", "rpm_prop", "rpm_bow",
+                                               "rpm_stern", "speed", "u_r", "v_r")]
+        imports.append("from oceangnc.models._compiled import ship_publish as _pub_{adv}")
+        slots = [slot_of(k) for k in names] + [slot_of(k) if k in plant_bus_keys(slot_of) else -1
+                                                for k in ("env.current_n", "env.current_e")]
+        args["oslots"] = np.array(slots, dtype=np.int64)
+        code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
+        return PlantForm(imports, args, code)
     if cls == "USVPlant":
         names += [f"{plant.name}.speed"]
         imports.append("from oceangnc.models._compiled import usv_publish as _pub_{adv}")
@@ -221,6 +236,7 @@ class FusedLoop:
                 self.sig = np.append(self.sig, float(bus.get(name, 0.0)))
             return self.slot[name]
 
+        slot_of.names = self.slot
         args: dict = {}
         imports: list[str] = []
         block_lines: list[str] = []
