@@ -3,7 +3,8 @@
 Prints, on one core (set NUMBA_NUM_THREADS=1):
 
 1. the real-time factor of the coupled USV + 20-segment cable (3 m, table 2-6) + UUV plant at its
-   automatic physics step (90 % of the RK4 axial stability limit, dividing the 10 ms control period),
+   automatic physics step (explicit schemes; ``--figure PATH`` instead draws the error-vs-step figure of
+   the three integrators, docs/img/cable-error-vs-step.png) (90 % of the RK4 axial stability limit, dividing the 10 ms control period),
    integrated tick by tick (10 ms, one compiled call per tick) and published to the bus every tick,
    as the simulator does;
 2. for 10, 20, 40 and 80 segments: the stability limit, the chosen step, the cost of one RK4 step
@@ -18,7 +19,9 @@ the load (printed).
 
 from __future__ import annotations
 
+import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -63,7 +66,8 @@ def step_cost(pl: CombinedPlant, dt: float, n_steps: int = 20000):
 
 def accuracy(integrator: str, dt: float, t_sim: float = 20.0) -> np.ndarray:
     """UUV depth and top tension every 0.1 s during the onset of a 0.5 m/s current (top fixed)."""
-    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0), CableConfig(integrator=integrator), top="fixed")
+    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator),
+                       top="fixed")
     pl.u[2] = 0.5
     out = []
     t = 0.0
@@ -73,6 +77,50 @@ def accuracy(integrator: str, dt: float, t_sim: float = 20.0) -> np.ndarray:
         pl.publish(bus)
         out.append((bus["uuv.z"], bus["cable.top_tension"], bus["cable.angle_deg"]))
     return np.array(out)
+
+
+def error_vs_step(out_png: str | None = None, t_sim: float = 20.0) -> dict:
+    """Error against step for each integrator: max |error| of the UUV depth and the top tension every 0.1 s
+    over the onset of a 0.5 m/s current (top fixed, 20 segments), against RK4 at 1/16 of its limit.
+
+    Returns {integrator: [(dt, depth error m, tension error N), ...]}; plots log-log if ``out_png``.
+    """
+    lim = {k: CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=k)).stability_limit
+           for k in ("rk4", "rk4-split")}
+    ref = accuracy("rk4", 0.1 / math.ceil(0.1 / (lim["rk4"] / 16)), t_sim)
+    steps = {"rk4": [f * lim["rk4"] for f in (0.95, 0.5, 0.25, 0.125)],
+             "rk4-split": [f * lim["rk4-split"] for f in (0.95, 0.5, 0.25, 0.125)],
+             "imex": [0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005]}
+    res: dict = {}
+    for integ, hs in steps.items():
+        rows = []
+        for h in hs:
+            h = 0.1 / math.ceil(0.1 / h - 1e-9)  # divides the 0.1 s sampling period
+            a = accuracy(integ, h, t_sim)
+            err = np.max(np.abs(a - ref), axis=0)
+            rows.append((h, float(err[0]), float(err[1])))
+            print(f"   {integ:9s} dt {h * 1e3:8.4f} ms: depth {err[0]:.3e} m, top tension {err[1]:.3e} N")
+        res[integ] = rows
+    if out_png:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, axs = plt.subplots(1, 2, figsize=(10, 4))
+        for integ, rows in res.items():
+            r = np.array(rows)
+            axs[0].loglog(r[:, 0] * 1e3, r[:, 1], "o-", label=integ)
+            axs[1].loglog(r[:, 0] * 1e3, r[:, 2], "o-", label=integ)
+        for ax, lab in zip(axs, ("max |UUV depth error| [m]", "max |top tension error| [N]")):
+            ax.set_xlabel("physics step [ms]")
+            ax.set_ylabel(lab)
+            ax.grid(True, which="both", alpha=0.3)
+            ax.axvline(10.0, color="k", lw=0.8, ls=":")
+            ax.legend()
+        fig.suptitle("20-segment cable, onset of a 0.5 m/s current (20 s), error vs RK4 at limit/16")
+        fig.tight_layout()
+        fig.savefig(out_png, dpi=110)
+        plt.close(fig)
+    return res
 
 
 def main() -> None:
@@ -99,9 +147,31 @@ def main() -> None:
             print(f"   {n:<3d} {pl.stability_limit * 1e3:9.3f} {dt * 1e3:7.3f} {c_us:13.2f} {c_us / n:16.3f}"
                   f" {20.0 / wall:10.0f} {20.0 / cpu:9.0f}")
 
+    print("\n2b. implicit (imex) integrator, fixed top, UUV hanging in 0.5 m/s current: cost per simulated second")
+    print("   n   dt[ms]  us/step(cpu)  RTF plant alone (cpu)  RTF ticks of 10 ms + publish (cpu)")
+    for n in (10, 20, 40, 80):
+        for dt in (0.01, 0.02):
+            pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25),
+                               CableConfig(segments=n, integrator="imex"), top="fixed")
+            pl.u[2] = 0.5
+            _, c_us = step_cost(pl, dt, 5000)
+            pl.reset()
+            pl.advance(0.0, dt, 10)
+            c0 = time.process_time()
+            t = 0.0
+            for _ in range(60):
+                t = pl.advance(t, dt, int(round(1.0 / dt)))
+            c1 = time.process_time() - c0
+            line = f"   {n:<3d} {dt * 1e3:6.1f} {c_us:13.2f} {60.0 / c1:22.0f}"
+            if dt == 0.01:
+                pl.reset()
+                _, cpu = run_ticks(pl, dt, 20.0)
+                line += f" {20.0 / cpu:30.0f}"
+            print(line)
+
     print("\n4. accuracy during the onset of a 0.5 m/s current (20 s), against RK4 at 1/8 of its step")
     ref = accuracy("rk4", stable_step(CombinedPlant(USVConfig(), UUVConfig(), CableConfig()).stability_limit) / 8)
-    for integ in ("rk4", "rk4-split"):
+    for integ in ("rk4", "rk4-split", "imex"):
         pl = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=integ))
         dt = stable_step(pl.stability_limit)
         a = accuracy(integ, dt)
@@ -126,4 +196,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if "--figure" in sys.argv:
+        error_vs_step(sys.argv[sys.argv.index("--figure") + 1])
+    else:
+        main()

@@ -52,6 +52,7 @@ async def client(url: str, seconds: float) -> dict:
 
     out: dict = {}
     async with websockets.connect(url) as ws:
+        await ws.recv()  # role
         await ws.recv()  # hello
         first = None
         n = 0
@@ -107,13 +108,13 @@ def main() -> None:
     port = free_port()
     with tempfile.TemporaryDirectory() as d:
         session = Session("usv-remote", out_root=d)
-        server = uvicorn.Server(uvicorn.Config(create_app(session), host="127.0.0.1", port=port,
+        server = uvicorn.Server(uvicorn.Config(create_app(session, token="bench-token-1"), host="127.0.0.1", port=port,
                                                log_level="warning"))
         th = threading.Thread(target=server.run, daemon=True)
         th.start()
         while not server.started:
             time.sleep(0.05)
-        res = asyncio.run(client(f"ws://127.0.0.1:{port}/ws", a.seconds))
+        res = asyncio.run(client(f"ws://127.0.0.1:{port}/ws?token=bench-token-1", a.seconds))
         server.should_exit = True
         th.join(10)
     print("## live server (usv-remote, 1x)")

@@ -2,11 +2,14 @@
 
 Start the console in one terminal::
 
-    oceangnc console usv-remote            # http://127.0.0.1:8050/
+    oceangnc console usv-remote --token my-secret-token    # http://127.0.0.1:8050/?token=my-secret-token
 
 and run this script in another::
 
-    python examples/console_client.py [--url ws://127.0.0.1:8050/ws] [--out console_log.parquet]
+    python examples/console_client.py --token my-secret-token [--url ws://127.0.0.1:8050/ws] [--out console_log.parquet]
+
+(without ``--token`` the console prints a random one in its URL: pass that). The script connects as
+the operator (it takes control if a page holds it: an explicit, logged take-over).
 
 It switches to remote mode, sends the stick at 20 Hz (10 s ahead, 10 s ahead and to starboard),
 pulls the emergency stop and checks that the thrust is zero in the next state update, resets it,
@@ -24,11 +27,16 @@ import time
 from urllib.request import urlopen
 
 
-async def operate(url: str, out: str) -> None:
+async def operate(url: str, out: str, token: str) -> None:
     import websockets  # pip install 'oceangnc[console]'
 
-    async with websockets.connect(url) as ws:
+    async with websockets.connect(f"{url}?token={token}") as ws:
+        role = json.loads(await ws.recv())
+        if role["role"] != "operator":
+            await ws.send(json.dumps({"type": "control", "take": True, "force": True}))
         hello = json.loads(await ws.recv())
+        while hello["type"] != "hello":
+            hello = json.loads(await ws.recv())
         print(f"connected: scenario {hello['scenario']}, gains {', '.join(hello['gains'])}")
         latest: dict = {}
         stick = {"surge": 0.0, "yaw": 0.0}
@@ -87,7 +95,7 @@ async def operate(url: str, out: str) -> None:
         rx.cancel()
 
     http = url.replace("ws://", "http://").replace("wss://", "https://").rsplit("/ws", 1)[0]
-    with urlopen(http + "/api/log.parquet") as r:
+    with urlopen(f"{http}/api/log.parquet?token={token}") as r:
         data = r.read()
     with open(out, "wb") as f:
         f.write(data)
@@ -101,8 +109,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--url", default="ws://127.0.0.1:8050/ws")
     ap.add_argument("--out", default="console_log.parquet")
+    ap.add_argument("--token", required=True, help="the console's session token (printed in its URL)")
     a = ap.parse_args()
-    asyncio.run(operate(a.url, a.out))
+    asyncio.run(operate(a.url, a.out, a.token))
 
 
 if __name__ == "__main__":

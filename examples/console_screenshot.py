@@ -1,7 +1,7 @@
 """Screenshot of a running console in headless Chromium (how docs/img/console*.png were made).
 
-    oceangnc console combined-survey --speed 2 &
-    python examples/console_screenshot.py --wait 20 --out docs/img/console.png
+    oceangnc console combined-survey --speed 2 --token my-secret-token &
+    python examples/console_screenshot.py --url 'http://127.0.0.1:8050/?token=my-secret-token' --wait 20 --out docs/img/console.png
 
 Uses Playwright with Debian's Chromium (``CHROMIUM_PATH`` overrides the binary). ``--remote``
 switches to remote mode and pushes a simulated gamepad (``navigator.getGamepads`` replaced, as in

@@ -14,10 +14,18 @@ import time
 import pyarrow.parquet as pq
 import pytest
 
-from oceangnc.console.messages import (BURST, RATE_PER_S, RateLimiter, Rejected, check_gains,
-                                       parse_message)
+from oceangnc.console.messages import (
+    BURST,
+    RATE_PER_S,
+    RateLimiter,
+    Rejected,
+    check_gains,
+    parse_message,
+)
 from oceangnc.console.session import Session
 from oceangnc.units import KGF
+
+TOKEN = "test-token-0123"
 
 # -- message validation --------------------------------------------------------------------------------
 
@@ -98,7 +106,7 @@ class FakeClock:
 def session(tmp_path):
     clk = FakeClock()
     s = Session("usv-remote", out_root=tmp_path, clock=clk)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     yield s
     s.stop()
@@ -126,7 +134,7 @@ def thrust(s):
 def test_fake_clock_pacing_follows_speed(tmp_path):
     clk = FakeClock()
     s = Session("usv-remote", out_root=tmp_path, clock=clk, speed=2.0, write_log=False)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     advance(s, 3.0)
     assert s.sim.t == pytest.approx(6.0, abs=s.tick_s + 1e-9)
@@ -300,8 +308,10 @@ def test_websocket_streams_rejects_bad_messages_and_keeps_running(tmp_path):
     from oceangnc.console.server import create_app
 
     s = Session("usv-remote", out_root=tmp_path, write_log=False)
-    with TestClient(create_app(s)) as client:
-        with client.websocket_connect("/ws") as ws:
+    with TestClient(create_app(s, token=TOKEN), base_url="http://127.0.0.1") as client:
+        with client.websocket_connect(f"ws://127.0.0.1/ws?token={TOKEN}") as ws:
+            role = ws.receive_json()
+            assert role == {"type": "role", "client": 1, "role": "operator", "operator": 1}
             hello = ws.receive_json()
             assert hello["type"] == "hello" and hello["scenario"] == "usv-remote"
             assert [b["name"] for b in hello["view"]["bodies"]] == ["usv"]
@@ -321,23 +331,25 @@ def test_websocket_streams_rejects_bad_messages_and_keeps_running(tmp_path):
                     assert not m["ended"]
             assert "malformed JSON" in reasons[0] and "surge = 3" in reasons[1]
             assert t_last >= first["t"] + 1.0  # the run went on
-        r = client.get("/api/log.parquet")
+        r = client.get("/api/log.parquet", headers={"x-oceangnc-token": TOKEN})
         assert r.status_code == 200 and r.content[:4] == b"PAR1"
-        assert client.get("/api/state").json()["type"] == "state"
+        assert client.get(f"/api/state?token={TOKEN}").json()["type"] == "state"
+        assert client.get("/api/state").status_code == 401
 
 
 def test_websocket_from_a_foreign_origin_is_refused(tmp_path):
+    """Refused at the handshake with HTTP 403 (docs/console.md says so), even with the right token."""
     from fastapi.testclient import TestClient
-    from starlette.websockets import WebSocketDisconnect
+    from starlette.testclient import WebSocketDenialResponse
 
     from oceangnc.console.server import create_app
 
     s = Session("usv-remote", out_root=tmp_path, write_log=False)
-    with TestClient(create_app(s)) as client:
-        with pytest.raises(WebSocketDisconnect) as exc:
-            with client.websocket_connect("/ws", headers={"origin": "http://evil.example"}) as ws:
+    with TestClient(create_app(s, token=TOKEN), base_url="http://127.0.0.1") as client:
+        with pytest.raises(WebSocketDenialResponse) as exc:
+            with client.websocket_connect(f"ws://127.0.0.1/ws?token={TOKEN}", headers={"origin": "http://evil.example"}) as ws:
                 ws.receive_json()
-        assert exc.value.code == 1008
+        assert exc.value.status_code == 403 and "origin 'http://evil.example' not allowed" in exc.value.text
 
 
 def test_cli_rejects_bad_options(capsys):
@@ -370,7 +382,7 @@ def test_berthing_pilot_is_silenced_in_remote_mode(tmp_path):
     pytest.importorskip("oceangnc.scenarios.berthing", reason="berthing scenarios not present")
     clk = FakeClock()
     s = Session("berthing-dock", out_root=tmp_path, clock=clk, write_log=False, speed=10.0)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     try:
         advance(s, 3.0)  # 30 s of ship time, scripted pilot
@@ -404,7 +416,7 @@ def test_gps_outage_shows_as_a_sensor_failure(tmp_path):
     clk = FakeClock()
     s = Session("usv-remote", overrides={"gps.outages": [[2.0, 4.0]]}, out_root=tmp_path, clock=clk,
                 write_log=False)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     try:
         assert {"key": "gps.valid", "label": "GPS"} in s.hello["view"]["sensors"]
@@ -429,7 +441,7 @@ def test_combined_vehicle_follows_the_stick_and_tows_the_uuv(tmp_path):
     pytest.importorskip("oceangnc.scenarios.combined", reason="combined scenarios not present")
     clk = FakeClock()
     s = Session("combined-survey", out_root=tmp_path, clock=clk, write_log=False)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     try:
         send(s, type="mode", mode="remote")
@@ -463,7 +475,7 @@ def test_overrides_stay_with_their_scenario(tmp_path):
     """``--set`` keys of the starting scenario are not forced on another scenario's new run."""
     clk = FakeClock()
     s = Session("usv-remote", overrides={"gps.sigma": 0.0}, out_root=tmp_path, clock=clk, write_log=False)
-    s.clients = 1
+    s.client_connected()
     s.fake = clk
     try:
         assert s.cfg.gps.sigma == 0.0

@@ -24,6 +24,7 @@ import pytest
 pytestmark = pytest.mark.browser
 
 T_WAIT = 30_000  # ms, for conditions on the streamed state
+TOKEN = "browser-test-token-1"
 
 
 def _chromium() -> str | None:
@@ -70,7 +71,7 @@ def server(tmp_path_factory):
     out = tmp_path_factory.mktemp("console_runs")
     env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
     proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port),
-                             "--out", str(out)], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             "--out", str(out), "--token", TOKEN], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             text=True)
     url = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 90
@@ -78,7 +79,7 @@ def server(tmp_path_factory):
         if proc.poll() is not None:
             pytest.fail(f"console server exited: {proc.stdout.read()}")
         try:
-            if httpx.get(url + "/api/state", timeout=2).status_code == 200:
+            if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
                 break
         except httpx.HTTPError:
             pass
@@ -86,7 +87,7 @@ def server(tmp_path_factory):
             proc.kill()
             pytest.fail("console server did not start within 90 s")
         time.sleep(0.3)
-    yield {"url": url, "out": out, "proc": proc}
+    yield {"url": url, "out": out, "proc": proc, "page": f"{url}/?token={TOKEN}"}
     proc.terminate()
     try:
         proc.wait(timeout=15)
@@ -110,9 +111,11 @@ def console_page(chromium_browser, server):
     pg = ctx.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.goto(server["url"] + "/")
-    pg.wait_for_function("window.__console.hello && window.__console.state", timeout=T_WAIT)
+    pg.goto(server["page"])
+    pg.wait_for_function("window.__console.hello && window.__console.state && window.__console.role === 'operator'",
+                         timeout=T_WAIT)
     run0 = pg.evaluate("window.__console.hello.run")
+    pg.select_option("#scenario-select", "usv-remote")
     pg.click("#newrun")
     pg.wait_for_function(f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}",
                          timeout=T_WAIT)
@@ -210,17 +213,17 @@ def test_closing_the_page_triggers_the_failsafe(console_page, chromium_browser, 
     page.context.close()  # the operator's browser goes away
     deadline = time.monotonic() + 30
     while True:
-        st = httpx.get(server["url"] + "/api/state", timeout=5).json()
+        st = httpx.get(server["url"] + "/api/state", params={"token": TOKEN}, timeout=5).json()
         if st["failsafe"] and st["signals"]["usv.thrust_port"] == 0.0 and st["signals"]["usv.thrust_stbd"] == 0.0:
             break
         assert time.monotonic() < deadline, f"no failsafe after closing the page: {json.dumps(st)[:400]}"
         time.sleep(0.1)
-    assert st["failsafe_reason"] == "operator link lost" and st["clients"] == 0
+    assert st["failsafe_reason"] == "operator link lost" and st["clients"] == 0 and st["operator"] is None
     # a new page finds the failsafe in its event log; it reconnects with the stick centred, which
     # clears the failsafe (a stick held over would keep it)
     ctx = chromium_browser.new_context()
     pg = ctx.new_page()
-    pg.goto(server["url"] + "/")
+    pg.goto(server["page"])
     pg.wait_for_function("window.__console.events.some(e => e.text.startsWith('FAILSAFE (operator link lost)'))",
                          timeout=T_WAIT)
     pg.wait_for_function("window.__console.state && !window.__console.state.failsafe", timeout=T_WAIT)
@@ -265,3 +268,142 @@ def test_download_gives_the_parquet_log(console_page):
     tab = pq.read_table(path)
     assert tab.column_names[0] == "t" and "usv.x" in tab.column_names
     assert tab.num_rows >= 2.0 * 20 - 1  # 20 Hz log over >= 2 s
+
+
+# -- issue 20: who can drive, layout, strip charts ------------------------------------------------------------
+
+EVIL_PAGE = """<!doctype html><html><body><script>
+window.result = {opened: false, closed: null, error: false};
+const ws = new WebSocket("ws://127.0.0.1:%(port)d/ws?token=%(token)s");
+ws.onopen = () => { window.result.opened = true;
+  ws.send(JSON.stringify({type: "estop", engaged: true}));
+  ws.send(JSON.stringify({type: "mode", mode: "remote"})); };
+ws.onerror = () => { window.result.error = true; };
+ws.onclose = (e) => { window.result.closed = e.code; };
+fetch("http://127.0.0.1:%(port)d/api/state?token=%(token)s", {method: "POST", mode: "no-cors"}).catch(() => {});
+</script></body></html>"""
+
+
+@pytest.fixture
+def evil_site(server):
+    """Another origin on 127.0.0.1 (another port) serving a page that tries to drive the console.
+    It even knows the token: the Origin check alone must stop it."""
+    import http.server
+    import threading
+
+    port = int(server["url"].rsplit(":", 1)[1])
+    body = (EVIL_PAGE % {"port": port, "token": TOKEN}).encode()
+
+    class H(http.server.BaseHTTPRequestHandler):
+        def do_GET(self):
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            self.wfile.write(body)
+
+        def log_message(self, *a):
+            pass
+
+    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), H)
+    th = threading.Thread(target=srv.serve_forever, daemon=True)
+    th.start()
+    yield f"http://127.0.0.1:{srv.server_address[1]}/"
+    srv.shutdown()
+
+
+def test_a_page_from_another_origin_cannot_send_a_command(console_page, chromium_browser, evil_site, server):
+    page = console_page
+    wait_state(page, "st.t > 0.5 && !st.estop && st.mode === 'auto'")
+    ctx = chromium_browser.new_context()
+    evil = ctx.new_page()
+    evil.goto(evil_site)
+    evil.wait_for_function("window.result.closed !== null", timeout=T_WAIT)
+    res = evil.evaluate("window.result")
+    ctx.close()
+    assert res["opened"] is False and res["closed"] == 1006  # the handshake was refused (HTTP 403)
+    page.wait_for_timeout(500)
+    st = httpx.get(server["url"] + "/api/state", params={"token": TOKEN}, timeout=5).json()
+    assert st["estop"] is False and st["mode"] == "auto"
+    origin = evil_site.rstrip("/")
+    page.wait_for_function(f"window.__console.events.some(e => e.text.includes(\"origin '{origin}' not allowed\"))",
+                           timeout=T_WAIT)
+
+
+def test_a_viewer_cannot_send_a_command_and_take_over_is_explicit(console_page, chromium_browser, server):
+    page = console_page
+    wait_state(page, "st.t > 0.5 && !st.estop")
+    ctx = chromium_browser.new_context()
+    viewer = ctx.new_page()
+    viewer.goto(server["page"] + "&role=viewer")
+    viewer.wait_for_function("window.__console.role === 'viewer' && window.__console.state", timeout=T_WAIT)
+    assert viewer.locator("#estop").is_disabled() and viewer.locator("#mode-remote").is_disabled()
+    viewer.evaluate("window.__console.sendRaw(JSON.stringify({type: 'estop', engaged: true}))")
+    viewer.wait_for_function("window.__console.rejected.length >= 1", timeout=T_WAIT)
+    assert "is a viewer; only the operator can send commands" in viewer.evaluate("window.__console.rejected[0]")
+    assert state(page, "st.estop") is False
+    assert viewer.locator("#take").inner_text().startswith("Take over from #")
+    viewer.click("#take")  # explicit take-over: the first page becomes a viewer, and the log says so
+    viewer.wait_for_function("window.__console.role === 'operator'", timeout=T_WAIT)
+    page.wait_for_function("window.__console.role === 'viewer'", timeout=T_WAIT)
+    page.wait_for_function("window.__console.events.some(e => e.text.startsWith('TAKE-OVER'))", timeout=T_WAIT)
+    viewer.click("#estop")
+    wait_state(page, "st.estop === true")
+    viewer.click("#take")  # release: the first page (opened to drive) takes control back
+    page.wait_for_function("window.__console.role === 'operator'", timeout=T_WAIT)
+    ctx.close()
+
+
+def test_layout_keeps_the_vehicle_and_readouts_clear(console_page, tmp_path):
+    page = console_page
+    page.click("#estop")  # the banner shows
+    wait_state(page, "st.estop === true")
+    page.wait_for_timeout(400)
+    boxes = page.evaluate("""(() => { const r = {};
+        for (const id of ['map', 'banner', 'mapinfo', 'routebar']) { const b = document.getElementById(id).getBoundingClientRect();
+          r[id] = [b.left, b.top, b.right, b.bottom]; }
+        const S = window.__console, sig = S.state.signals, d = window.devicePixelRatio || 1;
+        const [x, y] = S.toScreen(sig['usv.x'], sig['usv.y']); const m = r.map;
+        r.usv = [m[0] + x / d, m[1] + y / d]; return r; })()""")
+    page.screenshot(path=str(tmp_path / "layout.png"))
+
+    def overlap(a, b):
+        return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+    m = boxes["map"]
+    for other in ("banner", "mapinfo", "routebar"):
+        assert not overlap(m, boxes[other]), (other, boxes)
+    assert not overlap(boxes["banner"], boxes["mapinfo"])
+    x, y = boxes["usv"]
+    assert m[0] + 20 < x < m[2] - 20 and m[1] + 20 < y < m[3] - 20, boxes  # the vehicle is well inside
+    page.click("#estop-reset")
+
+
+def test_a_rejected_gain_goes_back_in_its_box_and_is_logged_once(console_page):
+    page = console_page
+    box = page.locator("#gains input[data-name='usv_pilot.speed_kp']")
+    orig = box.input_value()
+    box.fill("1e9")
+    page.click("#gains-apply")
+    page.wait_for_function("window.__console.rejected.some(r => r.startsWith('gains:'))", timeout=T_WAIT)
+    page.wait_for_timeout(600)
+    assert box.input_value() == orig
+    n = page.evaluate("window.__console.events.filter(e => e.text.includes('usv_pilot.speed_kp = 1e+09')).length")
+    assert n == 1
+
+
+def test_strip_charts_show_depth_distance_and_tension(console_page):
+    page = console_page
+    page.select_option("#scenario-select", "combined-survey")
+    run0 = page.evaluate("window.__console.hello.run")
+    page.click("#newrun")
+    page.wait_for_function(f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}",
+                           timeout=60_000)
+    page.wait_for_function("window.__console.charts.every(c => c.t.length > 25)", timeout=60_000)
+    charts = page.evaluate("window.__console.charts.map(c => [c.spec.label, c.el.classList.contains('hidden'), "
+                           "c.v[c.v.length - 1], c.t[c.t.length - 1] - c.t[0]])")
+    assert [c[0] for c in charts] == ["UUV depth", "relative distance", "cable tension"]
+    assert not any(c[1] for c in charts)
+    sig = page.evaluate("window.__console.state.signals")
+    assert charts[0][2] == pytest.approx(sig["uuv.z"], abs=0.5) and charts[2][2] > 0
+    assert all(c[3] <= 60.0 for c in charts)

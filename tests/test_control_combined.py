@@ -87,7 +87,7 @@ def test_uuv_pid_switches_loops_at_R_and_saturates():
     ctl = UUVPIDController(UUVPIDConfig(), ucfg, 0.05)
     ctl.reset(None)
     bus = {"lf.e_x": 0.2, "lf.outside": 0.0, "lf.rel_heading_err": 0.1, "lf.los_err": -0.5, "lf.los": 1.0,
-           "usv.psi": 0.3}
+           "usv.psi": 0.3, "usv.r": 0.0, "uuv.r": 0.0}  # every declared input is on the bus
     ctl.step(0.0, bus)
     assert bus["uuv.thrust_port_cmd"] == bus["uuv.thrust_stbd_cmd"] > 0
     assert bus["uuv.thrust_bow_cmd"] > 0 and bus["uuv_ctrl.loop"] == 2 and bus["uuv_ctrl.psi_d"] == 0.3

@@ -94,7 +94,7 @@ class _Counter(Block):
 
 def test_clock_fires_each_block_at_its_period():
     blocks = [_Counter("fast", 0.01), _Counter("mid", 0.05), _Counter("slow", 0.1)]
-    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"])
+    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"], input_defaults={"u": 0.0})
     sim = Simulation([plant], blocks, dt=0.001, log_period=0.02)
     sim.run(1.0)
     for b, n in zip(blocks, (101, 21, 11)):
@@ -105,7 +105,8 @@ def test_clock_fires_each_block_at_its_period():
 
 def test_clock_chunked_run_fires_each_tick_once():
     b = _Counter("c", 0.1)
-    sim = Simulation([Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"])], [b], dt=0.01, log_period=0.1)
+    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"], input_defaults={"u": 0.0})
+    sim = Simulation([plant], [b], dt=0.01, log_period=0.1)
     for _ in range(10):
         sim.run(0.1)
     assert len(b.times) == 11
@@ -114,7 +115,7 @@ def test_clock_chunked_run_fires_each_tick_once():
 
 def test_zero_order_hold_between_firings():
     """x' = u with u set to the firing time every 0.1 s: x(1) = sum of the held steps, 0.45 (not 0.5)."""
-    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"])
+    plant = Plant("p", _integrator_rhs, [0.0], [0.0], ["x"], ["u"], input_defaults={"u": 0.0})
     blk = FunctionBlock("ramp", 0.1, lambda t, bus: bus.__setitem__("u", t))
     sim = Simulation([plant], [blk], dt=0.001, log_period=0.1)
     sim.run(1.0)

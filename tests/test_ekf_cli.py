@@ -38,11 +38,11 @@ def test_cli_identifies_from_the_scenario_log(run_dir, tmp_path, capsys):
     """``oceangnc identify ekf LOG`` estimates the noise sigma from the data (within 20 % of the true
     0.002 m/s), its innovations have the predicted size (mean NIS 3 within 3 %), and the well identified
     pitch-moment coefficients land within 3 sigma of the truth; it writes a JSON table."""
-    dest = tmp_path / "ekf.json"
+    dest = tmp_path / "ident"
     rc = main(["identify", "ekf", str(run_dir.out_dir / "log.parquet"), "--model", "submarine-vertical",
                "--estimate", ",".join(COEFF_NAMES), "--initial-scale", "1.2", "--out", str(dest)])
     assert rc == 0
-    out = json.loads(dest.read_text())
+    out = json.loads((dest / "ekf_submarine-vertical.json").read_text())
     assert out["measurement_sigma"]["sub.w"] == pytest.approx(0.002, rel=0.2)
     assert out["mean_nis"] == pytest.approx(3.0, rel=0.03)
     for k in ("Mw", "Mwdot", "Mq", "Mqdot", "Mds"):
@@ -57,10 +57,10 @@ def test_cli_csv_log_noise_free(tmp_path):
     df = res.df[["t", "sub.w", "sub.theta", "sub.q", "sub.ds"]]
     csv = tmp_path / "trial.csv"
     df.to_csv(csv, index=False)
-    dest = tmp_path / "o.json"
+    dest = tmp_path / "o"
     assert main(["identify", "ekf", str(csv), "--estimate", "Mq,Mds", "--initial", "Mq=-0.0025,Mds=-0.004",
                  "--out", str(dest)]) == 0
-    est = json.loads(dest.read_text())["parameters"]
+    est = json.loads((dest / "ekf_submarine-vertical.json").read_text())["parameters"]
     for k in ("Mq", "Mds"):
         assert est[k]["estimate"] == pytest.approx(TRUE_COEFFS[k], rel=5e-3)
 

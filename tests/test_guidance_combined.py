@@ -6,11 +6,24 @@ import numpy as np
 import pytest
 
 from oceangnc.errors import ConfigError
-from oceangnc.guidance.leader_follower import (LeaderFollower, los_bearing, range_bearing, relative_position,
-                                               target_offset, target_point)
-from oceangnc.guidance.pure_pursuit import (PurePursuit, closest_point, look_ahead_distance, look_ahead_point,
-                                            pursuit_command, pursuit_radius, usv_min_turning_radius,
-                                            uuv_turning_radius_at)
+from oceangnc.guidance.leader_follower import (
+    LeaderFollower,
+    los_bearing,
+    range_bearing,
+    relative_position,
+    target_offset,
+    target_point,
+)
+from oceangnc.guidance.pure_pursuit import (
+    PurePursuit,
+    closest_point,
+    look_ahead_distance,
+    look_ahead_point,
+    pursuit_command,
+    pursuit_radius,
+    usv_min_turning_radius,
+    uuv_turning_radius_at,
+)
 from oceangnc.models.usv import USVConfig, steady_turn
 from oceangnc.models.uuv import UUVConfig
 from oceangnc.units import KGF

@@ -5,11 +5,21 @@ import math
 import numpy as np
 import pytest
 
-from oceangnc.sensors import (AHRS, GPS, USBL, AHRSConfig, DepthSensor, DepthSensorConfig, DropoutHold, GPSConfig,
-                              LowPass, USBLConfig)
+from oceangnc.sensors import (
+    AHRS,
+    GPS,
+    USBL,
+    AHRSConfig,
+    DepthSensor,
+    DepthSensorConfig,
+    DropoutHold,
+    GPSConfig,
+    LowPass,
+    USBLConfig,
+)
 from oceangnc.sensors.depth import ideal_voltage
 from oceangnc.sensors.filters import AngleLowPass, lowpass_array, lowpass_coefficient
-from oceangnc.units import G, RHO_WATER
+from oceangnc.units import RHO_WATER, G
 
 
 def _gps_run(seed, t_end=10.0, speed=0.0, course=0.0, cfg=None):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import math
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,9 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from .errors import DivergenceError, OceanGNCError
+from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
-from .io.logs import LogWriter, read_log
+from .io.logs import LogWriter, atomic_write_text, read_log, read_table
 from .scenarios.base import RunContext, get_scenario, scenario_summaries
 
 DEFAULT_SCENARIO = "combined-survey"
@@ -65,6 +66,8 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
 
     ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
+    The environment variable ``OCEANGNC_MAX_DURATION`` (s), if set, caps ``sim.duration`` (smoke
+    runs of the examples in the test suite).
     Returns ``(scenario_object, config_model)``.
     """
     from .io.config import set_dotted
@@ -78,8 +81,10 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     sc = get_scenario(name)
     over: dict = {}
     for k, v in (overrides or {}).items():
-        if isinstance(v, dict):
-            over = deep_merge(over, {k: v})
+        if isinstance(v, dict):  # a section, possibly under a dotted key: merged into what is there
+            nested: dict = {}
+            set_dotted(nested, k, v)
+            over = deep_merge(over, nested)
         else:
             set_dotted(over, k, v)
     if duration is not None:
@@ -87,6 +92,9 @@ def resolve_config(scenario: str | None = None, config: str | Path | dict | None
     data = deep_merge(deep_merge(sc.defaults, file_cfg), over)
     data["scenario"] = sc.name
     cfg = validate(sc.Config, data)
+    cap = os.environ.get("OCEANGNC_MAX_DURATION")
+    if cap:  # smoke runs of the examples and docs (tests/test_examples.py): every run made short
+        cfg.sim.duration = min(cfg.sim.duration, float(cap))
     return sc, cfg
 
 
@@ -115,7 +123,8 @@ def _jsonable(v):
 
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
-        progress: bool = False, verbose: bool = False) -> RunResult:
+        progress: bool = False, verbose: bool = False, checkpoint_every: float | None = None,
+        resume: str | Path | None = None, model: str | Path | None = None) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -136,6 +145,15 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         Show a progress bar on long runs.
     verbose : bool
         Say once (stderr) whether the fused compiled loop runs, or why the Python clock does.
+    checkpoint_every : float, optional
+        Save a checkpoint (:mod:`oceangnc.core.checkpoint`) every this many simulated seconds.
+    resume : path, optional
+        A run folder holding a checkpoint: continue that run (its own ``config.toml``; the other
+        config arguments must be absent) from its last checkpoint. The finished log equals the one
+        of an uninterrupted run.
+    model : path, optional
+        An identified model file (``identified.toml`` from ``oceangnc identify``): its
+        ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
 
     Raises
     ------
@@ -144,31 +162,87 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
     DivergenceError
         The simulation blew up; ``log.parquet`` up to that point and ``summary.json`` with
         ``status = "diverged"`` are still written (the CLI exits 1).
+    KeyboardInterrupt
+        Ctrl-C: the log so far is kept and ``summary.json`` says ``status = "interrupted"``.
     """
-    sc, cfg = resolve_config(scenario, config, overrides, duration)
-    out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    dump_toml(cfg, out_dir / "config.toml")
-    log = LogWriter(out_dir / "log.parquet")
+    from .core import checkpoint as ckpt
+    from .errors import ConfigError, InputError
+
+    if checkpoint_every is not None and not (math.isfinite(checkpoint_every) and checkpoint_every > 0):
+        raise ConfigError(f"--checkpoint-every {checkpoint_every}: must be a finite number of simulated "
+                          f"seconds > 0")
+    state = None
+    if resume is not None:
+        if scenario or overrides or config is not None or duration is not None:
+            raise InputError("--resume DIR continues that run with its own config.toml; "
+                             "give no scenario, --config, --set or --duration with it")
+        out_dir = Path(resume)
+        if not out_dir.is_dir():
+            raise InputError(f"run folder not found: {out_dir}")
+        summ = out_dir / "summary.json"
+        if summ.is_file():
+            try:
+                status = json.loads(summ.read_text()).get("status")
+            except (ValueError, AttributeError):
+                status = None
+            if status == "ok":
+                raise InputError(f"run {out_dir} finished (summary.json status ok); nothing to resume")
+        state = ckpt.load(out_dir)
+        sc, cfg = resolve_config(None, load_toml(out_dir / "config.toml"))
+        _truncate_log(out_dir / "log.parquet", state["log"]["parts"])
+        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period,
+                        start_part=state["log"]["parts"], start_row=state["log"]["rows"])
+        (out_dir / "summary.json").unlink(missing_ok=True)
+    else:
+        if model is not None:
+            from .identification.model_file import load_model_overrides
+
+            overrides = {**load_model_overrides(model), **dict(overrides or {})}
+        sc, cfg = resolve_config(scenario, config, overrides, duration)
+        out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
+        out_dir.mkdir(parents=True, exist_ok=True)
+        for stale in ("summary.json", ckpt.FILE):
+            (out_dir / stale).unlink(missing_ok=True)
+        old_log = out_dir / "log.parquet"
+        if old_log.is_dir():
+            import shutil
+
+            shutil.rmtree(old_log)
+        elif old_log.exists():
+            old_log.unlink()
+        dump_toml(cfg, out_dir / "config.toml")
+        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period)
     ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress,
                      verbose=verbose)
+    if checkpoint_every is not None or state is not None:
+        ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
+
+    def write_summary():
+        atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2))
+
     try:
         metrics = sc.run(cfg, ctx)
     except DivergenceError as e:
         log.close()
         summary.update({"status": "diverged", "error": str(e), "duration_s": e.t,
                         "wall_time_s": time.perf_counter() - t0})
-        (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
+        write_summary()
+        raise
+    except KeyboardInterrupt:
+        log.close()
+        summary.update({"status": "interrupted", "rows": log.rows_written,
+                        "wall_time_s": time.perf_counter() - t0})
+        write_summary()
         raise
     except BaseException:
         log.close()
         raise
     log.close()
-    import pyarrow.parquet as pq
-
-    table = pq.read_table(out_dir / "log.parquet")
+    if state is not None and ctx.checkpointer.attached == 0:
+        raise InputError(f"scenario {sc.name} runs without a single simulation; it cannot be resumed")
+    table = read_table(out_dir / "log.parquet")
     df = table.to_pandas()
     metrics = dict(metrics or {})
     metrics.update(sc.summarize(df, cfg))
@@ -176,14 +250,38 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
     summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
     summary["status"] = "ok"
     summary["wall_time_s"] = time.perf_counter() - t0
-    (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
+    if ctx.checkpointer is not None:
+        summary["checkpoints"] = ctx.checkpointer.saved
+        if state is not None:
+            summary["resumed_from_t"] = float(state["t"])
+    write_summary()
     plot_paths = sc.plot(df, cfg, out_dir) if plots else []
     return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
 
 
+def _truncate_log(folder: Path, parts: int) -> None:
+    """Drop the log parts written after a checkpoint (and half-written temporaries) before resuming."""
+    from .io.logs import list_parts
+
+    if not folder.is_dir():
+        return
+    for p in list(folder.iterdir()):
+        if p.name.startswith(".") and p.name.endswith(".tmp"):
+            p.unlink()
+    for p in list_parts(folder):
+        if int(p.name[5:-8]) >= parts:
+            p.unlink()
+
+
 def replot(run_dir: str | Path) -> list[Path]:
     """Re-draw a finished run's plots from its ``log.parquet`` and ``config.toml``."""
+    from .errors import InputError
+
     d = Path(run_dir)
+    if not d.is_dir():
+        raise InputError(f"run folder not found: {d}")
+    if not (d / "config.toml").is_file():
+        raise InputError(f"{d} is not a run folder: it has no config.toml")
     cfg_dict = load_toml(d / "config.toml")
     sc, cfg = resolve_config(cfg_dict.get("scenario"), cfg_dict)
     df = read_log(d / "log.parquet")

@@ -4,7 +4,7 @@ Exit codes: 0 success, 2 bad input (config, file, name), 1 diverged simulation; 
 
 Subcommands of later capabilities live in their own packages and are registered here through a
 ``register(subparsers)`` function in each module of :data:`PLUGINS` (``identify``, ``console``,
-``sweep``); a module that is absent or whose optional dependencies are missing is skipped.
+``sweep``, ``validate``/``check``); a module that is absent or whose optional dependencies are missing is skipped.
 """
 
 from __future__ import annotations
@@ -20,6 +20,9 @@ PLUGINS = (
     "oceangnc.identification.cli",
     "oceangnc.console.cli",
     "oceangnc.sweep.cli",
+    "oceangnc.mavlink.cli",
+    "oceangnc.io.importers.cli",
+    "oceangnc.validation.cli",
 )
 
 
@@ -37,11 +40,29 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from .api import run
+    from .core.registry import load_plugin
+    from .errors import InputError
     from .io.config import flatten, parse_sets
 
-    overrides = flatten(parse_sets(args.set))
-    res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-              plots=not args.no_plots, progress=not args.quiet, verbose=args.verbose)
+    for path in args.plugin or []:
+        load_plugin(path)
+
+    if args.scenario and args.scenario.lower().endswith(".toml"):
+        from .scenarios.base import registry
+
+        if args.scenario not in registry():
+            raise InputError(f"unknown scenario '{args.scenario}': to run a config file use "
+                             f"'oceangnc run --config {args.scenario}'")
+    if args.resume is not None:
+        res = run(resume=args.resume, checkpoint_every=args.checkpoint_every, plots=not args.no_plots,
+                  progress=not args.quiet, scenario=args.scenario, config=args.config,
+                  overrides=flatten(parse_sets(args.set)) or None, duration=args.duration)
+    else:
+        overrides = flatten(parse_sets(args.set))
+        res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
+                  plots=not args.no_plots, progress=not args.quiet, verbose=args.verbose,
+                  checkpoint_every=args.checkpoint_every,
+                  model=args.model)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -59,6 +80,15 @@ def _cmd_plot(args) -> int:
 
     for p in replot(args.dir):
         print(p)
+    return 0
+
+
+def _cmd_log_repair(args) -> int:
+    from .io.logs import repair_log
+
+    r = repair_log(args.dir)
+    removed = ", ".join(r["removed"]) or "nothing"
+    print(f"log repaired: {r['rows']} rows in {r['parts']} part file(s); removed {removed}")
     return 0
 
 
@@ -81,12 +111,26 @@ def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
                    help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
+    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): its "
+                                   "[parameters] are the vehicle's parameters (--set still wins)")
+    p.add_argument("--plugin", action="append", metavar="PATH",
+                   help="a Python file registering blocks (@register_block), loaded before the config is "
+                        "read, so a --set ...kind= can pick them (repeatable)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
-    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
-    p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
     p.add_argument("--verbose", action="store_true",
                    help="say which clock path runs (fused compiled loop or the Python fallback) and why")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
+    p.add_argument("--checkpoint-every", type=float, metavar="S",
+                   help="save a checkpoint every S simulated seconds (resume with --resume DIR)")
+    p.add_argument("--resume", metavar="DIR", help="continue the run in DIR from its last checkpoint")
     p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("log", help="log utilities: 'oceangnc log repair DIR'")
+    lsub = p.add_subparsers(dest="log_command", metavar="ACTION", required=True)
+    q = lsub.add_parser("repair", help="make a crashed run's log.parquet whole (drop half-written parts)")
+    q.add_argument("dir", help="run folder or its log.parquet folder")
+    q.set_defaults(func=_cmd_log_repair)
 
     p = sub.add_parser("plot", help="re-draw the plots of a run folder from its log")
     p.add_argument("dir", help="run folder holding log.parquet and config.toml")
@@ -124,10 +168,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except OceanGNCError as e:
-        print(f"error: {e}", file=sys.stderr)
+        print("error: " + str(e).replace("\n", " "), file=sys.stderr)
         return e.exit_code
     except KeyboardInterrupt:
-        print("interrupted: the log written so far is kept", file=sys.stderr)
+        print("interrupted: the log written so far is kept (summary.json status: interrupted)",
+              file=sys.stderr)
         return 130
 
 

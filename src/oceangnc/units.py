@@ -43,9 +43,7 @@ def rpm_to_rad_s(rpm):
 
 
 def wrap_angle(a):
-    """Wrap an angle (rad, scalar or array) to (-pi, pi]."""
-    import numpy as np
+    """Wrap an angle (rad, scalar or array) to (-pi, pi]: :func:`oceangnc.core.rotations.wrap_array`."""
+    from .core.rotations import wrap_array
 
-    w = np.mod(np.asarray(a) + np.pi, 2.0 * np.pi) - np.pi
-    w = np.where(w == -np.pi, np.pi, w)
-    return float(w) if np.ndim(w) == 0 else w
+    return wrap_array(a)

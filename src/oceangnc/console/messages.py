@@ -14,7 +14,14 @@ Every message from the page (or a scripted client) is one JSON object with a ``t
 ``waypoints``   ``points``: 1 to 200 (north, east) points, m, each within +-100 km
 ``new_run``     ``scenario`` (optional name): restart with a fresh simulation and log
 ``ping``        ``id``: echoed back (link latency)
+``control``     ``take``: true asks for control (``force``: true takes it over from the current
+                operator, logged), false releases it
 ==============  =================================================================================
+
+Fields are strictly typed: a number field takes a JSON number (not ``true``, not ``"0.5"``), a
+boolean field takes ``true``/``false`` (not ``1``, not ``"yes"``), a string field a JSON string.
+Only ``ping`` and ``control`` are accepted from a viewer; every other message needs the operator's
+role (:mod:`oceangnc.console.server`).
 
 A bad message is rejected with a one-line reason and never reaches the simulation. The size of a
 message is capped (``MAX_MESSAGE_BYTES``) and each connection may send at most ``RATE_PER_S``
@@ -28,7 +35,14 @@ import math
 import time
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    TypeAdapter,
+    ValidationError,
+    field_validator,
+)
 
 MAX_MESSAGE_BYTES = 16_384
 RATE_PER_S = 60.0
@@ -38,7 +52,7 @@ Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 
 class _Msg(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=False)
+    model_config = ConfigDict(extra="forbid", strict=True)
 
 
 class Stick(_Msg):
@@ -75,7 +89,7 @@ class Pause(_Msg):
 
 class Waypoints(_Msg):
     type: Literal["waypoints"]
-    points: list[tuple[Finite, Finite]] = Field(min_length=1, max_length=200)
+    points: list[Annotated[list[Finite], Field(min_length=2, max_length=2)]] = Field(min_length=1, max_length=200)
 
     @field_validator("points")
     @classmethod
@@ -83,7 +97,7 @@ class Waypoints(_Msg):
         for i, (n, e) in enumerate(pts):
             if abs(n) > 1e5 or abs(e) > 1e5:
                 raise ValueError(f"point {i} ({n:g}, {e:g}) is farther than 100 km from the origin")
-        return pts
+        return [(float(n), float(e)) for n, e in pts]
 
 
 class NewRun(_Msg):
@@ -96,10 +110,17 @@ class Ping(_Msg):
     id: int = Field(ge=0, le=2**53)
 
 
-Message = Annotated[Union[Stick, Mode, Loop, EStop, Gains, Pause, Waypoints, NewRun, Ping],
+class Control(_Msg):
+    type: Literal["control"]
+    take: bool
+    force: bool = False
+
+
+Message = Annotated[Union[Stick, Mode, Loop, EStop, Gains, Pause, Waypoints, NewRun, Ping, Control],
                     Field(discriminator="type")]
 _ADAPTER = TypeAdapter(Message)
-TYPES = ("stick", "mode", "loop", "estop", "gains", "pause", "waypoints", "new_run", "ping")
+TYPES = ("stick", "mode", "loop", "estop", "gains", "pause", "waypoints", "new_run", "ping", "control")
+VIEWER_TYPES = ("ping", "control")  #: what a viewer may send
 
 
 class Rejected(ValueError):
@@ -132,6 +153,8 @@ def parse_message(text: str | bytes):
         data = json.loads(text)
     except (json.JSONDecodeError, RecursionError) as e:
         raise Rejected(f"malformed JSON: {e.msg if hasattr(e, 'msg') else e}") from None
+    except ValueError as e:  # e.g. an integer literal too long to convert
+        raise Rejected(f"malformed JSON: {str(e)[:80]}") from None
     if not isinstance(data, dict):
         raise Rejected(f"a message must be a JSON object, got {type(data).__name__}")
     kind = data.get("type")

@@ -2,43 +2,115 @@
 
 Routes
 ------
-``GET /``                 the console page (``static/index.html``)
+``GET /``                 the console page (``static/index.html``); open it as ``/?token=TOKEN``
 ``GET /static/...``       its script and style sheet
 ``GET /api/state``        the latest state message (JSON), for scripts and health checks
 ``GET /api/scenarios``    the scenarios that run live
-``GET /api/log.parquet``  the current run's log, same Parquet format as ``oceangnc run``
-``WS  /ws``               state stream (``hello`` on connect and on every new run, then ``state``
-                          messages at ``stream_hz``, with new events attached) and commands back
-                          (:mod:`oceangnc.console.messages`); a rejected command gets
-                          ``{"type": "rejected", "reason": ...}``.
+``GET /api/log.parquet``  the current run's log, a single Parquet file (same columns as ``oceangnc run``)
+``WS  /ws``               state stream (``role`` on connect and on every change of control, ``hello`` on
+                          connect and on every new run, then ``state`` messages at ``stream_hz``, with
+                          new events attached) and commands back (:mod:`oceangnc.console.messages`); a
+                          rejected command gets ``{"type": "rejected", "reason": ...}``.
 
-Safety: the server binds to 127.0.0.1 unless told otherwise; a WebSocket whose ``Origin`` header
-names another host than the page's is refused (another web site open in the same browser cannot
-drive the vehicle); every message is validated for type, range and rate before it reaches the
-simulation.
+Who can connect (docs/reliability.md)
+-------------------------------------
+* **Token.** Every ``/api/...`` request and every WebSocket must present the session token (query
+  ``?token=``, header ``X-Oceangnc-Token`` or ``Authorization: Bearer``); the page takes it from its
+  own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401).
+* **Origin.** A request that carries an ``Origin`` header must come from the page's own origin
+  (scheme, host and port equal to the request's ``Host``), else HTTP 403 (WebSocket: refused at the
+  handshake with HTTP 403: a page of another web site cannot open a WebSocket to the console,
+  cross-site WebSocket hijacking). Requests without ``Origin`` (scripts) still need the token.
+  Every request other than GET/HEAD (a state change) is checked the same way.
+* **Host.** On a loopback binding, a ``Host`` header that is not a loopback name is refused (HTTP
+  403), which defeats DNS rebinding.
+* **Roles.** One client at a time is the *operator* (the first that asks for control; a take-over
+  from another operator is explicit, ``{"type": "control", "take": true, "force": true}``, and logged);
+  every other client is a *viewer*: it receives the stream, and only ``ping`` and ``control`` are
+  accepted from it.
+* **Slow clients.** Each connection has a bounded send queue (``send_queue`` messages); a client
+  that stops reading fills it and is dropped, with an event in the log, so it cannot slow the others
+  or grow the server's memory.
+
+Every message is validated for type, range and rate before it reaches the simulation.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import ipaddress
 import json
+import secrets
 import sys
 from pathlib import Path
 from urllib.parse import urlparse
 
-from fastapi import FastAPI, WebSocket, WebSocketDisconnect
-from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi import FastAPI, Request, WebSocket, WebSocketDisconnect
+from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
 
 from .messages import RateLimiter, Rejected, parse_message
 from .session import Session
 
 STATIC = Path(__file__).parent / "static"
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
+SEND_QUEUE = 64  #: messages queued per client before it counts as not reading (2.5 s at 25 Hz)
 
 
-def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool = True):
-    """The ASGI app around a :class:`Session` (started and stopped with the app when ``manage_session``)."""
+def is_loopback(host: str) -> bool:
+    """True for 127.0.0.0/8, ::1 and ``localhost``."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False
+
+
+def new_token() -> str:
+    """A random session token (128 bits, URL-safe)."""
+    return secrets.token_urlsafe(16)
+
+
+class Guard:
+    """The checks of the module docstring, for HTTP requests and WebSocket handshakes alike."""
+
+    def __init__(self, token: str, loopback_only: bool):
+        self.token = token
+        self.loopback_only = loopback_only
+
+    def presented_token(self, conn) -> str:
+        tok = conn.query_params.get("token") or conn.headers.get("x-oceangnc-token") or ""
+        auth = conn.headers.get("authorization", "")
+        if not tok and auth.lower().startswith("bearer "):
+            tok = auth[7:].strip()
+        return tok
+
+    def check(self, conn, need_token: bool = True) -> tuple[int, str] | None:
+        """None when allowed, else (HTTP status, reason)."""
+        host = conn.headers.get("host", "")
+        hostname = urlparse("//" + host).hostname or ""
+        if self.loopback_only and not is_loopback(hostname):
+            return 403, f"host {host!r} not allowed (the console listens on loopback only)"
+        origin = conn.headers.get("origin")
+        if origin is not None:
+            scheme = conn.url.scheme.replace("ws", "http")
+            o = urlparse(origin)
+            if origin == "null" or o.netloc != host or o.scheme != scheme:
+                return 403, f"origin {origin!r} not allowed (only pages served by this console)"
+        if need_token and not secrets.compare_digest(self.presented_token(conn).encode(), self.token.encode()):
+            return 401, "missing or wrong session token (open the URL printed by 'oceangnc console')"
+        return None
+
+
+def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool = True, token: str | None = None,
+               loopback_only: bool = True, send_queue: int = SEND_QUEUE):
+    """The ASGI app around a :class:`Session` (started and stopped with the app when ``manage_session``).
+
+    ``token`` is the session token every API request and WebSocket must present (a new random one
+    when None: ``app.state.token``); ``loopback_only`` refuses ``Host`` headers that are not loopback.
+    """
     @contextlib.asynccontextmanager
     async def lifespan(app):
         if manage_session:
@@ -49,9 +121,30 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
             if manage_session:
                 await asyncio.to_thread(session.stop)
 
-    app = FastAPI(title="oceangnc operator console", lifespan=lifespan, docs_url=None, redoc_url=None)
+    app = FastAPI(title="oceangnc operator console", lifespan=lifespan, docs_url=None, redoc_url=None,
+                  openapi_url=None)
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     app.state.session = session
+    app.state.token = token or new_token()
+    guard = Guard(app.state.token, loopback_only)
+    app.state.guard = guard
+
+    @app.middleware("http")
+    async def security(request: Request, call_next):
+        path = request.url.path
+        changes = request.method not in ("GET", "HEAD", "OPTIONS")
+        # the page and its static files are public; the API and anything that changes state are not
+        need_token = path.startswith("/api") or changes
+        bad = guard.check(request, need_token=need_token)
+        if bad is not None:
+            if changes or path.startswith("/api"):
+                session.event("warning", f"refused {request.method} {path}: {bad[1]}")
+            return PlainTextResponse(bad[1], status_code=bad[0])
+        resp = await call_next(request)
+        resp.headers.setdefault("X-Frame-Options", "DENY")
+        resp.headers.setdefault("X-Content-Type-Options", "nosniff")
+        resp.headers.setdefault("Referrer-Policy", "no-referrer")
+        return resp
 
     @app.get("/")
     def index():
@@ -73,51 +166,75 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
 
     @app.websocket("/ws")
     async def ws_endpoint(ws: WebSocket):
-        origin = ws.headers.get("origin")
-        host = ws.headers.get("host", "")
-        if origin and urlparse(origin).netloc != host:
-            await ws.close(code=1008, reason="origin not allowed")
+        bad = guard.check(ws)
+        if bad is not None:
+            session.event("warning", f"refused WebSocket: {bad[1]}")
+            try:
+                await ws.send_denial_response(PlainTextResponse(bad[1], status_code=bad[0]))
+            except RuntimeError:  # server without the denial-response extension
+                await ws.close(code=1008, reason=bad[1][:120])
             return
         await ws.accept()
-        send_lock = asyncio.Lock()
+        want = ws.query_params.get("role", "operator") != "viewer"
+        cid, _ = session.attach(want)
+        queue: asyncio.Queue = asyncio.Queue(maxsize=send_queue)
+        dropped = asyncio.Event()
         limiter = RateLimiter()
-        session.client_connected()
 
-        async def send(obj):
+        def send(obj) -> None:
+            """Queue a message; a full queue means the client stopped reading: drop it."""
+            if dropped.is_set():
+                return
             text = obj if isinstance(obj, str) else json.dumps(obj, separators=(",", ":"))
-            async with send_lock:
+            try:
+                queue.put_nowait(text)
+            except asyncio.QueueFull:
+                dropped.set()
+                session.event("warning", f"client #{cid} dropped: it stopped reading ({send_queue} messages "
+                                         f"queued); the others are not slowed")
+
+        async def sender():
+            while True:
+                text = await queue.get()
                 await ws.send_text(text)
+
+        def role_msg():
+            return {"type": "role", "client": cid, "role": session.role(cid), "operator": session.operator}
 
         async def streamer():
             run = -1
             last_event = 0
+            shown_role = None
             period = 1.0 / stream_hz
             loop = asyncio.get_running_loop()
             nxt = loop.time()
-            while True:
+            while not dropped.is_set():
+                r = (session.role(cid), session.operator)
+                if r != shown_role:
+                    shown_role = r
+                    send(role_msg())
                 if session.run_id != run:
                     hello = session.hello_message()
                     run = hello["run"]
-                    await send(hello)
+                    send(hello)
                 st = session.snapshot_json
                 evs = session.events_since(last_event)
                 if evs:
                     last_event = evs[-1]["id"]
                     st = st[:-1] + ',"events":' + json.dumps(evs, separators=(",", ":")) + "}"
-                await send(st)
+                send(st)
                 nxt += period
                 delay = nxt - loop.time()
                 if delay < -1.0:  # fell far behind (loaded machine): do not burst to catch up
                     nxt = loop.time()
                 await asyncio.sleep(max(0.0, delay))
 
-        task = asyncio.create_task(streamer())
-        last_reject_note = 0.0
-        try:
+        async def receiver():
+            last_reject_note = 0.0
             while True:
                 m = await ws.receive()
                 if m["type"] == "websocket.disconnect":
-                    break
+                    return
                 raw = m.get("text") if m.get("text") is not None else m.get("bytes")
                 if raw is None:
                     continue
@@ -131,48 +248,103 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
                                        f"(burst {limiter.burst:g}); message dropped")
                     msg = parse_message(raw)
                     if msg.type == "ping":
-                        await send({"type": "pong", "id": msg.id})
+                        send({"type": "pong", "id": msg.id})
                         continue
+                    if msg.type == "control":
+                        if msg.take:
+                            session.take_control(cid, force=msg.force)
+                        else:
+                            session.release_control(cid)
+                        continue
+                    if session.role(cid) != "operator":
+                        raise Rejected(f"{msg.type}: client #{cid} is a viewer; only the operator can send "
+                                       f"commands (take control first)")
                     session.submit(msg)
                 except Rejected as e:
-                    session.event("warning", f"rejected message: {e}")
-                    await send({"type": "rejected", "reason": str(e)})
-        except WebSocketDisconnect:
-            pass
+                    session.event("warning", f"rejected message from #{cid}: {e}")
+                    send({"type": "rejected", "reason": str(e)})
+
+        tasks = [asyncio.create_task(sender()), asyncio.create_task(streamer()),
+                 asyncio.create_task(receiver())]
+        drop_wait = asyncio.create_task(dropped.wait())
+        try:
+            await asyncio.wait([tasks[0], tasks[2], drop_wait], return_when=asyncio.FIRST_COMPLETED)
         finally:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError, Exception):
-                await task
-            session.client_disconnected()
+            for tk in (*tasks, drop_wait):
+                tk.cancel()
+            for tk in (*tasks, drop_wait):
+                with contextlib.suppress(asyncio.CancelledError, WebSocketDisconnect, Exception):
+                    await tk
+            if dropped.is_set():
+                with contextlib.suppress(Exception):
+                    await asyncio.wait_for(ws.close(code=1013, reason="not reading: dropped"), 1.0)
+            session.detach(cid)
 
     return app
 
 
 def serve(session: Session, host: str = "127.0.0.1", port: int = 8050, stream_hz: float = 25.0,
-          log_level: str = "warning", ready=None):
-    """Run the console on uvicorn until interrupted (blocking). ``ready`` is called once listening."""
+          log_level: str = "warning", ready=None, token: str | None = None, ssl_certfile: str | None = None,
+          ssl_keyfile: str | None = None):
+    """Run the console on uvicorn until interrupted (blocking). ``ready`` is called once listening.
+
+    ``ssl_certfile`` / ``ssl_keyfile`` (PEM) serve HTTPS and WSS through uvicorn's TLS options."""
     import uvicorn
 
-    app = create_app(session, stream_hz=stream_hz)
+    app = create_app(session, stream_hz=stream_hz, token=token, loopback_only=is_loopback(host))
     config = uvicorn.Config(app, host=host, port=port, log_level=log_level, ws_max_size=1 << 20,
-                            lifespan="on", access_log=False)
+                            lifespan="on", access_log=False, ssl_certfile=ssl_certfile, ssl_keyfile=ssl_keyfile)
     server = uvicorn.Server(config)
+    sock = listen_socket(host, port)
     if ready is not None:
         orig = server.startup
 
         async def startup(sockets=None):
             await orig(sockets=sockets)
-            ready(server)
+            ready(server, app)
 
         server.startup = startup
-    server.run()
+    server.run(sockets=[sock])
     return server
 
 
-def main_banner(host: str, port: int, session: Session) -> None:
-    url = f"http://{host}:{port}/"
+#: kernel send buffer of each connection (inherited from the listening socket): small enough that a
+#: client that stops reading fills its send queue within seconds (and is dropped), far above the
+#: 25 Hz stream's need (~50 kB/s)
+SNDBUF = 128 * 1024
+
+
+def listen_socket(host: str, port: int):
+    """The listening socket, with a bounded per-connection send buffer (:data:`SNDBUF`)."""
+    import socket
+
+    fam = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(fam, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SNDBUF)
+    sock.bind((host, port))
+    sock.listen(128)
+    sock.set_inheritable(True)
+    return sock
+
+
+def console_url(host: str, port: int, token: str, tls: bool = False) -> str:
+    """The URL to open: loopback for a wildcard or loopback binding (never ``0.0.0.0``)."""
+    shown = host
+    if host in ("0.0.0.0", "localhost") or is_loopback(host):
+        shown = "127.0.0.1"
+    elif host == "::":
+        shown = "[::1]"
+    elif ":" in host:
+        shown = f"[{host}]"
+    return f"{'https' if tls else 'http'}://{shown}:{port}/?token={token}"
+
+
+def main_banner(host: str, port: int, session: Session, token: str, tls: bool = False) -> None:
+    url = console_url(host, port, token, tls)
     print(f"oceangnc console: scenario {session.scenario.name} at {session.speed:g}x real time; open {url}",
           flush=True)
-    if host not in ("127.0.0.1", "localhost", "::1"):
-        print(f"warning: listening on {host}: the console has no authentication, anyone who can reach "
-              f"this address can drive the vehicle", file=sys.stderr, flush=True)
+    if not is_loopback(host):
+        print(f"note: listening on {host}: anyone who can reach it and holds the token can watch; the first "
+              f"to take control drives{'' if tls else ' (no TLS: the token crosses the network in clear)'}",
+              file=sys.stderr, flush=True)

@@ -32,9 +32,9 @@ which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet fil
 
 from __future__ import annotations
 
+import io
 import json
 import math
-import tempfile
 import threading
 import time
 import traceback
@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DivergenceError, OceanGNCError
-from ..io.logs import LogWriter
+from ..io.logs import LogWriter, atomic_write_text
 from .messages import Pause, Rejected, check_gains
 from .view import infer_view
 
@@ -148,6 +148,7 @@ class Session:
         self.speed = float(speed)
         self.out_root = Path(out_root)
         self.stick_timeout = float(stick_timeout)
+        self.resume_ramp_s = 2.0  #: after an e-stop / failsafe, controller outputs ramp up over this, s
         self.loop_period = 1.0 / loop_hz
         self.max_lag = float(max_lag)
         self.write_log = write_log
@@ -158,7 +159,10 @@ class Session:
         self._thread: threading.Thread | None = None
         self.events: deque = deque(maxlen=1000)
         self._event_id = 0
-        self.clients = 0
+        self.clients = 0  # connected pages and scripts (operator + viewers)
+        self.operator: int | None = None  # client id holding control
+        self._next_client = 0
+        self._held = False  # controllers' integrators held (e-stop / failsafe)
         self.run_id = 0
         self.snapshot: dict = {}
         self.snapshot_json = "{}"
@@ -209,7 +213,7 @@ class Session:
             run_dir = new_run_dir(self.out_root, f"console-{sc.name}")
             run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, run_dir / "config.toml")
-            writer = LogWriter(run_dir / "log.parquet")
+            writer = LogWriter(run_dir / "log.parquet", flush_period=cfg.log.flush_period)
         with self._lock:
             self.scenario, self.cfg, self.sim = sc, cfg, sim
             self.run_dir = run_dir
@@ -220,6 +224,7 @@ class Session:
                 self.mode = "auto"
             self.loop = str(sim.bus.get("console.loop", "closed"))
             self.estop = False
+            self._held = False
             self.failsafe = False
             self.failsafe_reason = ""
             self.paused = False
@@ -260,7 +265,7 @@ class Session:
                 s = self.scenario.summarize(df, self.cfg)
                 s = {"scenario": self.scenario.name, "source": "console", "duration_s": float(self.sim.t),
                      **{k: _finite(v) if isinstance(v, (float, np.floating)) else v for k, v in s.items()}}
-                (tee.writer.path.parent / "summary.json").write_text(json.dumps(s, indent=2))
+                atomic_write_text(tee.writer.path.parent / "summary.json", json.dumps(s, indent=2))
         except Exception as e:  # summary is a convenience; never lose the session over it
             self.event("warning", f"summary not written: {e}")
         tee.writer = None
@@ -328,7 +333,7 @@ class Session:
             "type": "state", "run": self.run_id, "t": float(sim.t), "mode": self.mode, "loop": self.loop,
             "estop": self.estop, "failsafe": self.failsafe, "failsafe_reason": self.failsafe_reason,
             "paused": self.paused, "ended": self.ended, "error": self.error, "speed": self.speed,
-            "rtf": self.rtf, "clients": self.clients,
+            "rtf": self.rtf, "clients": self.clients, "operator": self.operator,
             "stick": {"surge": self.stick[0], "yaw": self.stick[1], "source": self.stick_source,
                       "age": age if math.isfinite(age) else None},
             "waypoints": [list(p) for p in bus.get("console.waypoints", ())] or None,
@@ -358,20 +363,78 @@ class Session:
                 self.t_stick = self.clock()
         self._cmds.append(msg)
 
-    def client_connected(self) -> None:
+    # -- clients and roles ---------------------------------------------------------------------------------
+    def attach(self, want_control: bool = True) -> tuple[int, str]:
+        """A page or script connected: returns ``(client id, role)``. It becomes the operator when it
+        asks for control and nobody holds it; otherwise a viewer (watches, cannot command)."""
         with self._lock:
+            self._next_client += 1
+            cid = self._next_client
             self.clients += 1
+            role = "viewer"
+            if want_control and self.operator is None:
+                self.operator = cid
+                role = "operator"
+            first = role == "operator" and self._await_operator
+            if first:
+                self._await_operator = False
+        self.event("info", f"client #{cid} connected as {role} ({self.clients} client(s))")
+        if first:
+            self._cmds.append(Pause(type="pause", paused=False))
+        return cid, role
+
+    def detach(self, cid: int) -> None:
+        """A client left; when it was the operator, nobody holds control (remote mode: failsafe)."""
+        with self._lock:
+            self.clients = max(0, self.clients - 1)
+            was_op = self.operator == cid
+            if was_op:
+                self.operator = None
+        if was_op:
+            self.event("warning", f"operator #{cid} disconnected ({self.clients} client(s) left); "
+                                  f"nobody holds control")
+        else:
+            self.event("info", f"viewer #{cid} disconnected ({self.clients} client(s) left)")
+
+    def take_control(self, cid: int, force: bool = False) -> None:
+        """Client ``cid`` asks for control; taking it from another operator needs ``force`` (an
+        explicit take-over, logged with both ids). Raises :class:`Rejected` otherwise."""
+        with self._lock:
+            cur = self.operator
+            if cur == cid:
+                return
+            if cur is not None and not force:
+                raise Rejected(f"control: operator #{cur} holds control; send force=true to take it over")
+            self.operator = cid
             first = self._await_operator
             self._await_operator = False
-        self.event("info", f"operator connected ({self.clients} client(s))")
+        if cur is None:
+            self.event("info", f"client #{cid} took control (operator)")
+        else:
+            self.event("alarm", f"TAKE-OVER: client #{cid} took control from operator #{cur}")
         if first:
             self._cmds.append(Pause(type="pause", paused=False))
 
-    def client_disconnected(self) -> None:
+    def release_control(self, cid: int) -> None:
         with self._lock:
-            self.clients = max(0, self.clients - 1)
-        self.event("warning" if self.clients == 0 else "info",
-                   f"operator disconnected ({self.clients} client(s) left)")
+            if self.operator != cid:
+                return
+            self.operator = None
+        self.event("info", f"operator #{cid} released control")
+
+    def role(self, cid: int) -> str:
+        return "operator" if self.operator == cid else "viewer"
+
+    def client_connected(self) -> int:
+        """Legacy helper (tests, scripts): attach as operator; returns the client id."""
+        cid, _ = self.attach(True)
+        if self.operator != cid:
+            self.take_control(cid, force=True)
+        return cid
+
+    def client_disconnected(self, cid: int | None = None) -> None:
+        """Legacy helper: detach ``cid`` (default: the operator)."""
+        self.detach(self.operator if cid is None else cid)
 
     def _apply(self, msg) -> None:
         kind = msg.type
@@ -430,7 +493,7 @@ class Session:
     def _watchdog(self, now: float) -> None:
         if self.mode != "remote" or self.paused or self.ended:
             return
-        if self.clients == 0:
+        if self.operator is None:
             reason = "operator link lost"
         elif now - self.t_stick > self.stick_timeout:
             reason = f"no stick input for {self.stick_timeout:g} s"
@@ -482,6 +545,9 @@ class Session:
             was_stopped = bool(self.sim.bus.get("_estop", False))
             self._push_bus()
             sim = self.sim
+            if bool(sim.bus["_estop"]) != self._held:
+                self._held = bool(sim.bus["_estop"])
+                hold_controllers(sim, self._held, ramp_s=self.resume_ramp_s)
             if self.sim.bus["_estop"] and not was_stopped:
                 # all thrust to zero at once: fire the blocks now with _estop set, so the actuators'
                 # outputs are zero before the next integration step (not one actuator period later)
@@ -560,13 +626,68 @@ class Session:
             t = tee.t[:n]
             data = {c: tee.data[c][:n] for c in cols}
             name = f"{self.scenario.name}-run{self.run_id}.parquet"
-        with tempfile.TemporaryDirectory() as d:
-            p = Path(d) / "log.parquet"
-            w = LogWriter(p, flush_rows=20000)
-            for i in range(n):
-                w.append(t[i], {c: data[c][i] for c in cols})
-            w.close()
-            return p.read_bytes(), name
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        table = pa.table({"t": pa.array(t, type=pa.float64()),
+                          **{c: pa.array(data[c], type=pa.float64()) for c in cols}})
+        buf = io.BytesIO()
+        pq.write_table(table, buf, compression="zstd")
+        return buf.getvalue(), name
+
+    # -- warm-up ----------------------------------------------------------------------------------------------
+    def warmup(self, seconds: float = 1.0) -> float:
+        """Compile and exercise the scenario's code before anyone connects (numba compiles on first
+        use: without this the first page would see simulated time frozen for seconds). Runs a
+        throwaway copy of the scenario in autonomous then remote mode; returns the wall time taken."""
+        t0 = time.perf_counter()
+        sc, cfg = self.scenario, self.cfg
+        sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+        gate_pilots(sim)
+        half = max(sim.tick * sim.dt, seconds / 2)
+        try:
+            sim.inject({"console.mode": "auto", "console.loop": "closed", "_estop": False})
+            sim.run(half)
+            sim.inject({"console.mode": "remote", "joystick.surge": 0.5, "joystick.yaw": 0.2})
+            sim.run(half)
+            sim.inject({"_estop": True})
+            sim.run(sim.tick * sim.dt)
+        except Exception as e:  # a warm-up failure shows up again in the real run, with its message
+            self.event("warning", f"warm-up stopped early: {type(e).__name__}: {e}")
+        with self._lock:
+            self._anchor = (self.clock(), self.sim.t)
+            self._rtf_ref = self._anchor
+        return time.perf_counter() - t0
+
+
+def _pids(obj, depth=0, seen=None):
+    """PID objects inside a block (attributes, one level of nesting, gated pilots)."""
+    from ..control.pid import PID
+
+    seen = set() if seen is None else seen
+    if id(obj) in seen or depth > 2:
+        return
+    seen.add(id(obj))
+    for v in list(vars(obj).values()) if hasattr(obj, "__dict__") else []:
+        if isinstance(v, PID):
+            if id(v) not in seen:
+                seen.add(id(v))
+                yield v
+        elif hasattr(v, "__dict__") and not isinstance(v, type) and type(v).__module__.startswith("oceangnc."):
+            yield from _pids(v, depth + 1, seen)
+
+
+def hold_controllers(sim, on: bool, ramp_s: float = 2.0) -> int:
+    """Hold (``on``) or release every PID of the simulation's blocks (see
+    :meth:`oceangnc.control.pid.PID.hold`): integrators frozen while stopped, outputs ramped from zero
+    over ``ramp_s`` s on release (no thrust step at Reset). Returns how many PIDs."""
+    n = 0
+    seen: set = set()
+    for b in sim.blocks:
+        for pid in _pids(b, 0, seen):
+            pid.hold(on, ramp_s=ramp_s)
+            n += 1
+    return n
 
 
 class _RemoteGate:

@@ -29,20 +29,24 @@ import math
 
 from numba import njit
 
-from ..models.ship_lowspeed import rudder_normal_force
+from ..models.ship_lowspeed import LAYOUT, rudder_normal_force
+
+#: offsets of the ship parameters used here, from the model's generated layout
+(_A_H, _X_H, _X_R, _B_B, _B_S, _X_TB, _X_TS, _DELTA_MAX, _NB_MAX) = LAYOUT.indices(
+    "a_H", "x_H", "x_R", "b_B", "b_S", "x_TB", "x_TS", "delta_max", "nB_max")
 
 
 @njit(cache=True)
 def thruster_gain(c, d, p):
     """K of c Y_T + d N_T = K n_B|n_B| for n_S = -n_B (N m / rev^2 s^2 weighted by M1^-1)."""
-    return c * (p[39] - p[40]) + d * (p[39] * p[41] - p[40] * p[42])
+    return c * (p[_B_B] - p[_B_S]) + d * (p[_B_B] * p[_X_TB] - p[_B_S] * p[_X_TS])
 
 
 @njit(cache=True)
 def rudder_term(delta, ur, vr, r, n, c, d, p):
     """R(delta) = c Y_R + d N_R of the rudder at angle ``delta`` (rad) in the present inflow (001 eq. 37)."""
     fn = rudder_normal_force(delta, ur, vr, r, n, p)
-    return -(c * (1.0 + p[26]) + d * (p[28] + p[26] * p[27])) * fn * math.cos(delta)
+    return -(c * (1.0 + p[_A_H]) + d * (p[_X_R] + p[_A_H] * p[_X_H])) * fn * math.cos(delta)
 
 
 @njit(cache=True)
@@ -58,7 +62,7 @@ def allocate(u_rd, ur, vr, r, n, c, d, p, u_switch, n_grid, d_lo, d_hi):
     The rudder angle is searched over [d_lo, d_hi] (within +-delta_max): the whole range, or the
     angles the rudder can reach before the next update (rate-aware use, see the controller).
     """
-    dmax = p[48]
+    dmax = p[_DELTA_MAX]
     d_lo = max(-dmax, d_lo)
     d_hi = min(dmax, d_hi)
     U = math.sqrt(ur * ur + vr * vr)
@@ -103,7 +107,7 @@ def allocate(u_rd, ur, vr, r, n, c, d, p, u_switch, n_grid, d_lo, d_hi):
     nb = math.sqrt(abs(w))
     if w < 0.0:
         nb = -nb
-    nbmax = p[50]
+    nbmax = p[_NB_MAX]
     if nb > nbmax:
         nb = nbmax
     elif nb < -nbmax:

@@ -70,6 +70,8 @@ from dataclasses import dataclass
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KGF
 
@@ -82,8 +84,11 @@ class BacksteppingConfig(StrictModel):
     k6: float = Field(1.5, gt=0, le=100, description="surge velocity gain, 1/s")
     k7: float = Field(2.0, gt=0, le=100, description="yaw rate gain, 1/s")
     h: float = Field(0.9, gt=0, le=10, description="control point ahead of the UUV's centre (the bow), m")
-    bow_side_force: bool = Field(True, description="design model includes the bow thruster's side force (False: eq. 3.32 as printed)")
-    accel_cutoff_hz: float = Field(0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz")
+    bow_side_force: bool = Field(True,
+                                 description="design model includes the bow thruster's side force (False: eq. 3.32 "
+                                             "as printed)")
+    accel_cutoff_hz: float = Field(0.5, gt=0, le=50,
+                                   description="low-pass cut-off of the leader acceleration estimate, Hz")
 
 
 @dataclass(frozen=True)
@@ -138,7 +143,7 @@ def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     hn = xf + h * cf
     he = yf + h * sf
     dn, de = hn - tn, he - te
-    e_psi = (psil - psif + math.pi) % (2 * math.pi) - math.pi
+    e_psi = wrap(psil - psif)
     return cf * dn + sf * de, -sf * dn + cf * de, e_psi
 
 
@@ -187,6 +192,7 @@ def lyapunov(eps1, eps2, u_e, r_e) -> float:
     return 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
 
 
+@register_block("uuv.backstepping")
 class UUVBackstepping(Block):
     """The backstepping law as a block; writes the UUV thruster commands (N).
 
@@ -197,6 +203,8 @@ class UUVBackstepping(Block):
     ``uuv_bs.eps2``, ``uuv_bs.tau_u``, ``uuv_bs.tau_r`` and ``uuv_ctrl.psi_d`` (the leader's heading,
     the relative-angle target of eq. 3.9).
     """
+
+    role = "controller"
 
     name = "uuv_control"
 
@@ -215,7 +223,25 @@ class UUVBackstepping(Block):
              "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
         k.update(keys or {})
         self.keys = k
+        unit = {"x": "m", "y": "m", "p": "rad", "u": "m/s", "v": "m/s", "r": "rad/s"}
+        # an internal key ("_zero": no measurement, read as 0) is an optional input
+        self.inputs = {key: unit[n[0]] for n, key in k.items() if not key.startswith("_")}
+        self.optional_inputs = {key: unit[n[0]] for n, key in k.items() if key.startswith("_")}
+        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
+                        "uuv_bs.V": "J", "uuv_bs.Vdot": "W", "uuv_bs.eps1": "m", "uuv_bs.eps2": "m",
+                        "uuv_bs.tau_u": "N", "uuv_bs.tau_r": "N m", "uuv_ctrl.psi_d": "rad"}
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
+
+    params_model = BacksteppingConfig
+
+    @classmethod
+    def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
+        """Built from a scenario's ``control.uuv`` slot: leader (USV) and follower (UUV) signals by
+        role from ``ctx.signal``, the target geometry ``ctx.info["l_d"]``, ``ctx.info["lambda_d"]`` (rad)."""
+        roles = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
+                 "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
+        keys = {n: ctx.signal(r) for n, r in roles.items()}
+        return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
 
     def reset(self, rng) -> None:
         self.prev = None
@@ -238,7 +264,7 @@ class UUVBackstepping(Block):
         return CompiledBlock(backstepping_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
-        g = {n: float(bus.get(k, 0.0)) for n, k in self.keys.items()}
+        g = {n: float(bus[k] if k in self.inputs else bus.get(k, 0.0)) for n, k in self.keys.items()}
         lv = (g["ul"], g["vl"], g["rl"])
         if self.prev is not None:
             for i in range(3):

@@ -45,12 +45,25 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..models.ship_lowspeed import (ShipConfig, hull_forces, inverse_mass, prop_thrust_coef, rudder_forces,
-                                    thruster_forces)
+from ..models.ship_lowspeed import (
+    LAYOUT,
+    ShipConfig,
+    hull_forces,
+    inverse_mass,
+    prop_thrust_coef,
+    rudder_forces,
+    thruster_forces,
+)
 from ..models.usv import wind_load
 from .allocation import allocate
 from .pid import PID
+
+#: offsets of the ship parameters used here, from the model's generated layout
+(_RHO, _M, _XG, _M11, _T_P, _W_P, _TAU_D, _DELTA_MAX, _DELTA_RATE, _NB_MAX, _RHO_AIR, _A_F, _A_L, _L_OA, _C_X, _C_Y,
+ _C_N) = LAYOUT.indices("rho", "m", "xG", "m11", "t_p", "w_p", "tau_d", "delta_max", "delta_rate", "nB_max",
+                        "rho_air", "A_F", "A_L", "L_oa", "c_x", "c_y", "c_n")
 
 CMD_KEYS = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd")
 
@@ -96,8 +109,8 @@ def rps_for_thrust(x_pd, ur, p, n_lim):
     X_P is monotonic in n except in a tiny band near n = 0 when K_T(J) < 0; bisection on the sign
     change from -n_lim to +n_lim always returns a root when one exists, else the nearer limit.
     """
-    up = (1.0 - p[35]) * ur
-    k = (1.0 - p[34]) * p[2]
+    up = (1.0 - p[_W_P]) * ur
+    k = (1.0 - p[_T_P]) * p[_RHO]
     target = x_pd / k
     lo = -n_lim
     hi = n_lim
@@ -125,6 +138,10 @@ class _Base(Block):
         self.ship = ship
         self.p = ship.params()
         self.period = float(cfg.period)
+        self.inputs = {"ship.u": "m/s", "ship.r": "rad/s", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
+        self.optional_inputs = {"_estop": "bool"}
+        self.outputs = {"ship.rudder_cmd": "rad", "ship.n_prop_cmd": "Hz", "ship.n_bow_cmd": "Hz",
+                        "ship.n_stern_cmd": "Hz", "ctrl.e_u": "m/s", "ctrl.e_r": "rad/s"}
 
     def _write(self, bus, delta, n, nb, ns, e_u, e_r):
         if bus.get("_estop", False):
@@ -137,36 +154,46 @@ class _Base(Block):
         bus["ctrl.e_r"] = float(e_r)
 
 
+@register_block("ship.open")
 class OpenLoopController(_Base):
     """Stick straight to propeller, rudder and thrusters (001 fig. 3); see the module docstring."""
 
+    role = "controller"
+
+    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+        super().__init__(cfg, ship)
+        self.inputs.update({"joystick.surge_db": "1", "joystick.yaw_db": "1"})
+
     def step(self, t, bus):
         c = self.cfg
-        su = bus.get("joystick.surge_db", 0.0)
-        sy = bus.get("joystick.yaw_db", 0.0)
+        su = bus["joystick.surge_db"]
+        sy = bus["joystick.yaw_db"]
         n = su * c.n_open_rpm / 60.0
         delta = max(-1.0, min(1.0, sy / c.rudder_open_stick)) * math.radians(c.delta_open_deg)
         nb = sy * c.thruster_open * self.ship.thruster_rpm_max / 60.0
-        e_u = bus.get("ship.u", 0.0) - bus.get("cmd.u_d", 0.0)
-        e_r = bus.get("ship.r", 0.0) - bus.get("cmd.r_d", 0.0)
+        e_u = bus["ship.u"] - bus["cmd.u_d"]
+        e_r = bus["ship.r"] - bus["cmd.r_d"]
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
 
+@register_block("ship.pid")
 class PIDController(_Base):
     """PID per actuator, 001 eq. 39-42 (n_S = -n_B)."""
+
+    role = "controller"
 
     def reset(self, rng):
         c = self.cfg
         p = self.p
         nlim = c.n_limit_rpm / 60.0
         self.pid_n = PID(c.kp_prop, c.ki_prop, c.kd_prop, -nlim, nlim)
-        self.pid_d = PID(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[48], p[48])
-        self.pid_t = PID(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[50], p[50])
+        self.pid_d = PID(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[_DELTA_MAX], p[_DELTA_MAX])
+        self.pid_t = PID(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[_NB_MAX], p[_NB_MAX])
 
     def step(self, t, bus):
         h = self.period
-        e_u = bus.get("ship.u", 0.0) - bus.get("cmd.u_d", 0.0)
-        e_r = bus.get("ship.r", 0.0) - bus.get("cmd.r_d", 0.0)
+        e_u = bus["ship.u"] - bus["cmd.u_d"]
+        e_r = bus["ship.r"] - bus["cmd.r_d"]
         # the PID class acts on (reference - measurement) = -e: n_c = -k_P e - k_I int e - k_D e'
         n = self.pid_n.step(-e_u, h)
         delta = self.pid_d.step(-e_r, h)
@@ -174,8 +201,18 @@ class PIDController(_Base):
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
 
+@register_block("ship.nonlinear")
 class NonlinearController(_Base):
     """Feedback-linearising MIMO controller, 001 eq. 27-38 (SPEC corrections); module docstring."""
+
+    role = "controller"
+
+    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+        super().__init__(cfg, ship)
+        self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm"})
+        self.optional_inputs.update({"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s",
+                                     "env.wind_e": "m/s"})
+        self.outputs.update({"ctrl.u_rd": "m/s", "ctrl.u_d": "m/s", "ctrl.r_d": "rad/s", "ctrl.x_pd": "N"})
 
     def reset(self, rng):
         self._ud = None
@@ -207,17 +244,15 @@ class NonlinearController(_Base):
         cfg = self.cfg
         p = self.p
         h = self.period
-        u = bus.get("ship.u", 0.0)
-        v = bus.get("ship.v", 0.0)
-        r = bus.get("ship.r", 0.0)
-        psi = bus.get("ship.psi", 0.0)
-        delta = bus.get("ship.rudder", 0.0)
-        n = bus.get("ship.rpm_prop", 0.0) / 60.0
-        nb = bus.get("ship.rpm_bow", 0.0) / 60.0
-        ns = bus.get("ship.rpm_stern", 0.0) / 60.0
+        u = bus["ship.u"]
+        v = bus["ship.v"]
+        r = bus["ship.r"]
+        psi = bus["ship.psi"]
+        delta = bus["ship.rudder"]
+        n = bus["ship.rpm_prop"] / 60.0
         # setpoint filter T u_d' = u_cmd - u_d (exact discretisation): smooth u_d(s), r_d(s) and rates
-        u_cmd = bus.get("cmd.u_d", 0.0)
-        r_cmd = bus.get("cmd.r_d", 0.0)
+        u_cmd = bus["cmd.u_d"]
+        r_cmd = bus["cmd.r_d"]
         if self._ud is None:
             self._ud, self._rd = u_cmd, r_cmd
         if cfg.t_ref > 0:
@@ -237,13 +272,13 @@ class NonlinearController(_Base):
         uc = cps * cn + sps * ce
         vc = -sps * cn + cps * ce
         ur, vr = u - uc, v - vc
-        m, xg = p[3], p[4]
+        m, xg = p[_M], p[_XG]
         Xh, Yh, Nh = hull_forces(ur, vr, r, p)
         XR, _, _ = rudder_forces(delta, ur, vr, r, n, p)
-        XW, YW, NW = wind_load(u, v, psi, wn, we, p[52], p[53], p[54], p[55], p[56], p[57], p[58])
+        XW, YW, NW = wind_load(u, v, psi, wn, we, p[_RHO_AIR], p[_A_F], p[_A_L], p[_L_OA], p[_C_X], p[_C_Y], p[_C_N])
         # surge (29)-(31)
         e_u = u - u_d
-        x_pd = p[5] * (ud_dot - cfg.lambda1 * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
+        x_pd = p[_M11] * (ud_dot - cfg.lambda1 * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
         n_c = rps_for_thrust(x_pd, ur, p, cfg.n_limit_rpm / 60.0)
         # yaw rate (32)-(34)
         e_r = r - r_d
@@ -251,11 +286,11 @@ class NonlinearController(_Base):
         fn0 = -m * xg * ur * r + Nh + NW
         u_rd = rd_dot - cfg.lambda2 * e_r - self.c * fy0 - self.d * fn0
         if cfg.rate_aware_rudder:
-            reach = p[49] * max(h, p[44])
+            reach = p[_DELTA_RATE] * max(h, p[_TAU_D])
             delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21,
                                      delta - reach, delta + reach)
         else:
-            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[48], p[48])
+            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX], p[_DELTA_MAX])
         self._write(bus, delta_c, n_c, nb_c, -nb_c, e_u, e_r)
         bus["ctrl.u_rd"] = float(u_rd)
         bus["ctrl.u_d"] = float(u_d)
@@ -264,8 +299,10 @@ class NonlinearController(_Base):
 
 
 def make_controller(cfg: ControlConfig, ship: ShipConfig) -> Block:
-    """The controller block selected by ``cfg.mode``."""
-    return {"open": OpenLoopController, "pid": PIDController, "nonlinear": NonlinearController}[cfg.mode](cfg, ship)
+    """The controller block selected by ``cfg.mode``: the kind ``ship.<mode>`` of the block registry."""
+    from ..core.registry import lookup
+
+    return lookup(f"ship.{cfg.mode}", "control.mode")(cfg, ship)
 
 
 def actuator_moment_check(ship: ShipConfig, delta: float, n: float, nb: float, ur: float, vr: float, r: float):

@@ -27,6 +27,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -70,8 +71,11 @@ def stick_to_command(surge: float, yaw: float, cfg: JoystickConfig) -> tuple[flo
     return u_d, sy * math.radians(cfg.r_max_degps)
 
 
+@register_block("ship.joystick")
 class Joystick(Block):
     """Filter and scale the two stick axes (001 sec. 3.1, eq. 26); see the module docstring."""
+
+    role = "controller"
 
     name = "joystick"
 
@@ -79,6 +83,10 @@ class Joystick(Block):
         self.cfg = cfg
         self.period = float(cfg.period)
         self._z = np.zeros(cfg.samples)
+        self.inputs = {}
+        self.optional_inputs = {"joystick.surge": "1", "joystick.yaw": "1"}  # centred stick when absent
+        self.outputs = {"joystick.surge_f": "1", "joystick.yaw_f": "1", "joystick.surge_db": "1",
+                        "joystick.yaw_db": "1", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng

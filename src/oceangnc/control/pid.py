@@ -14,6 +14,13 @@ microcontroller. The derivative uses the given rate (e.g. the measured yaw rate,
 derivative kick) or a backward difference of the error.
 
 The gains are plain attributes so that an operator console can change them while running.
+
+Hold and bumpless resume. ``hold(True)`` freezes the integrator (an emergency stop holds the
+actuators at zero: integrating the error then would wind the integrator up, and the release would
+jump to full thrust). ``hold(False, ramp_s)`` resumes: for ``ramp_s`` seconds of controller steps
+the output is blended from the output held during the stop (0) to the live PID output,
+``u = u_hold + w (sat(v) - u_hold)``, ``w = elapsed / ramp_s``; the back-calculation sees this
+ramped ``u`` as its limit, so the integrator does not wind up during the ramp either.
 """
 
 from __future__ import annotations
@@ -59,6 +66,22 @@ class PID:
         self._e_prev: float | None = None
         self.v = 0.0  # last unsaturated output
         self.u = 0.0  # last saturated output
+        self.held = False
+        self._u_hold = 0.0
+        self._ramp_left = 0.0
+        self._ramp_s = 0.0
+
+    def hold(self, on: bool, ramp_s: float = 2.0, u_hold: float = 0.0) -> None:
+        """Freeze (``on``) or release the integrator; a release ramps the output from ``u_hold`` over
+        ``ramp_s`` seconds (bumpless resume after an emergency stop)."""
+        if on and not self.held:
+            self.held = True
+            self._u_hold = float(u_hold)
+            self._ramp_left = 0.0
+        elif not on and self.held:
+            self.held = False
+            self._ramp_s = max(0.0, float(ramp_s))
+            self._ramp_left = self._ramp_s
 
     def step(self, e: float, dt: float, e_dot: float | None = None, feedforward: float = 0.0) -> float:
         """One controller update with error ``e`` over period ``dt`` (s); returns the saturated output.
@@ -71,6 +94,14 @@ class PID:
         self._e_prev = e
         v = self.kp * e + self.integral + self.kd * e_dot + feedforward
         u = min(self.u_max, max(self.u_min, v))
+        if self.held:  # stopped: the integrator keeps its value, the output is what the stop holds
+            self.v = v
+            self.u = self._u_hold
+            return self._u_hold
+        if self._ramp_left > 0.0:
+            w = 1.0 - self._ramp_left / self._ramp_s
+            u = self._u_hold + w * (u - self._u_hold)
+            self._ramp_left = max(0.0, self._ramp_left - dt)
         self.integral += dt * self.ki * (e + self.kw * (u - v))
         self.v = v
         self.u = u

@@ -27,6 +27,8 @@ from __future__ import annotations
 import math
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..errors import ConfigError
 
 
@@ -61,12 +63,16 @@ def predicted_overshoot(zeta: float) -> float:
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
 
 
-def wrap(a: float) -> float:
-    """Angle wrapped to (-pi, pi]."""
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
+def _design(block, coefficients, zeta: float, wn: float, period: float, body: str) -> None:
+    """The design data both autopilots keep: the coefficient schedule, the poles (zeta, w_n), rate, body."""
+    block.coefficients = coefficients
+    block.zeta = float(zeta)
+    block.wn = float(wn)
+    block.period = float(period)
+    block.body = body
 
 
+@register_block("usv.heading_pd")
 class HeadingAutopilot(Block):
     """Heading PD (000 eq. 22) with pole-placed gains (26, 27).
 
@@ -77,14 +83,14 @@ class HeadingAutopilot(Block):
     ``coefficients(u)`` returns the Nomoto (K_r [1/s], T_r [s]) at speed u.
     """
 
+    role = "controller"
+
     name = "heading_autopilot"
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
-        self.coefficients = coefficients
-        self.zeta = float(zeta)
-        self.wn = float(wn)
-        self.period = float(period)
-        self.body = body
+        _design(self, coefficients, zeta, wn, period, body)
+        self.inputs = {f"{body}.psi_cmd": "rad", f"{body}.psi": "rad", f"{body}.r": "rad/s", f"{body}.u": "m/s"}
+        self.outputs = {f"{body}.delta_s_cmd": "rad", f"{body}.hdg_k1": "1", f"{body}.hdg_k2": "1/s"}
 
     def gains(self, u: float) -> tuple[float, float]:
         K, T = self.coefficients(u)
@@ -92,13 +98,14 @@ class HeadingAutopilot(Block):
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
-        k1, k2 = self.gains(bus.get(f"{b}.u", 0.0))
-        e = wrap(bus.get(f"{b}.psi_cmd", 0.0) - bus[f"{b}.psi"])
-        bus[f"{b}.delta_s_cmd"] = k1 * (k2 * e - bus.get(f"{b}.r", 0.0))
+        k1, k2 = self.gains(bus[f"{b}.u"])
+        e = wrap(bus[f"{b}.psi_cmd"] - bus[f"{b}.psi"])
+        bus[f"{b}.delta_s_cmd"] = k1 * (k2 * e - bus[f"{b}.r"])
         bus[f"{b}.hdg_k1"] = k1
         bus[f"{b}.hdg_k2"] = k2
 
 
+@register_block("usv.speed_p")
 class SpeedAutopilot(Block):
     """Speed P controller (000 eq. 28) with the pole-placed gain (31), designed at the commanded speed.
 
@@ -106,19 +113,19 @@ class SpeedAutopilot(Block):
     first-order USV) and ``<b>.spd_k1``. ``coefficients(u)`` returns (K_v, T_v) at speed u.
     """
 
+    role = "controller"
+
     name = "speed_autopilot"
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
-        self.coefficients = coefficients
-        self.zeta = float(zeta)
-        self.wn = float(wn)
-        self.period = float(period)
-        self.body = body
+        _design(self, coefficients, zeta, wn, period, body)
+        self.inputs = {f"{body}.u_cmd": "m/s", f"{body}.u": "m/s"}
+        self.outputs = {f"{body}.rpm_cmd": "rpm", f"{body}.spd_k1": "1"}
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
-        vc = bus.get(f"{b}.u_cmd", 0.0)
+        vc = bus[f"{b}.u_cmd"]
         K, T = self.coefficients(vc)
         k1 = speed_gain(K, T, self.zeta, self.wn)
-        bus[f"{b}.rpm_cmd"] = k1 * (vc - bus.get(f"{b}.u", 0.0))
+        bus[f"{b}.rpm_cmd"] = k1 * (vc - bus[f"{b}.u"])
         bus[f"{b}.spd_k1"] = k1

@@ -21,6 +21,13 @@ controller ignores the guidance and follows
 
 with the same speed loop and a yaw-rate PI loop PID_3(r_d - r) in place of the heading loop.
 Inputs outside [-1, 1] are clipped.
+
+:class:`USVRateController` (``usv.rate_pid``) is the inner loop pair of the console's USV: speed and
+yaw-rate PIDs on setpoints ``usv.u_d`` / ``usv.r_d`` (from :class:`oceangnc.guidance.route_pilot.RoutePilot`)
+with the steady-state feed-forwards of the linear model (003 eq. 2.3), ``U_speed = d11 u_d / 2 + PID``
+(N per thruster) and ``U_heading = d33 r_d / B + PID`` (N), and an open-loop stick mode.
+
+Every USV controller of the project mixes through :func:`mix` (003 eq. 3.11).
 """
 
 from __future__ import annotations
@@ -30,9 +37,19 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KGF
 from .pid import PID
+
+
+def mix(u_speed: float, u_heading: float) -> tuple[float, float]:
+    """Thruster mixing of 003 eq. 3.11: ``(T_port, T_stbd) = (U_speed + U_heading, U_speed - U_heading)`` (N).
+
+    A positive ``U_heading`` turns to starboard: N = (T_port - T_stbd) B / 2 = U_heading B (003 eq. 2.4).
+    """
+    return u_speed + u_heading, u_speed - u_heading
 
 
 def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
@@ -40,10 +57,6 @@ def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
     :class:`~oceangnc.control.pid.PID` default: back-calculation rate K_I / K_p (tracking time
     constant T_t = T_i), so the integrator settles at the limit instead of growing by K_I e per s."""
     return PID(kp, ki, kd, lo, hi)
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 class USVControlConfig(StrictModel):
@@ -63,6 +76,7 @@ class USVControlConfig(StrictModel):
     r_max_degps: float = Field(15.0, gt=0, le=90, description="remote mode: yaw rate at full stick, deg/s")
 
 
+@register_block("usv.pid")
 class USVController(Block):
     """Speed + heading loops and mixing (module docstring); writes ``usv.thrust_port_cmd``/``_stbd_cmd`` (N).
 
@@ -79,6 +93,8 @@ class USVController(Block):
         Bus keys of the measured surge speed, heading and yaw rate (``u``, ``psi``, ``r``).
     """
 
+    role = "controller"
+
     name = "usv_control"
 
     def __init__(self, cfg: USVControlConfig, usv_cfg, u_d: float, period: float = 0.05, meas=None):
@@ -93,6 +109,21 @@ class USVController(Block):
         self.speed = aw_pid(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)
         self.heading = aw_pid(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
         self.yaw_rate = aw_pid(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
+        self.inputs = {self.meas["u"]: "m/s", self.meas["psi"]: "rad", self.meas["r"]: "rad/s"}
+        self.optional_inputs = {"console.mode": "str", "joystick.surge": "1", "joystick.yaw": "1",
+                                "usv.u_d": "m/s", "guidance.psi_d": "rad"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "usv_ctrl.u_d": "m/s",
+                        "usv_ctrl.psi_d": "rad", "usv_ctrl.u_speed": "N", "usv_ctrl.u_heading": "N",
+                        "usv_ctrl.r_d": "rad/s"}
+
+    params_model = USVControlConfig
+
+    @classmethod
+    def from_context(cls, params: USVControlConfig, ctx) -> USVController:
+        """Built from a scenario's ``control.usv`` slot: ``ctx.cfg.usv`` (thrust limits, d11), the surge
+        target ``ctx.info["surge_speed"]`` (m/s) and the measured u, psi, r by role."""
+        meas = {"u": ctx.signal("usv.u"), "psi": ctx.signal("usv.psi"), "r": ctx.signal("usv.r")}
+        return cls(params, ctx.cfg.usv, ctx.info["surge_speed"], ctx.period, meas=meas)
 
     def reset(self, rng) -> None:
         self.speed.reset()
@@ -115,13 +146,13 @@ class USVController(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         h = self.period
-        u = bus.get(self.meas["u"], 0.0)
-        psi = bus.get(self.meas["psi"], 0.0)
-        r = bus.get(self.meas["r"], 0.0)
+        u = bus[self.meas["u"]]
+        psi = bus[self.meas["psi"]]
+        r = bus[self.meas["r"]]
         remote = bus.get("console.mode") == "remote"
         if remote:
-            js = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
-            jy = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))
+            js = max(-1.0, min(1.0, float(bus["joystick.surge"])))
+            jy = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
             u_d = js * c.u_max if js >= 0 else 0.5 * js * c.u_max
             r_d = jy * math.radians(c.r_max_degps)
             u_h = self.yaw_rate.step(r_d - r, h)
@@ -130,15 +161,112 @@ class USVController(Block):
         else:
             u_d = float(bus.get("usv.u_d", self.u_d))
             psi_d = bus.get("guidance.psi_d", psi)
-            u_h = self.heading.step(_wrap(psi_d - psi), h, e_dot=-r)
+            u_h = self.heading.step(wrap(psi_d - psi), h, e_dot=-r)
         # heading priority: the speed loop gets what is left of each thruster's range
         self.speed.u_max = max(0.0, self.t_max - abs(u_h))
         self.speed.u_min = min(0.0, self.t_min + abs(u_h))
         ff = 0.5 * self.d11 * u_d if c.speed_ff else 0.0
         u_s = self.speed.step(u_d - u, h, feedforward=ff)
-        bus["usv.thrust_port_cmd"] = u_s + u_h
-        bus["usv.thrust_stbd_cmd"] = u_s - u_h
+        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_s, u_h)
         bus["usv_ctrl.u_d"] = u_d
         bus["usv_ctrl.psi_d"] = psi_d
         bus["usv_ctrl.u_speed"] = u_s
         bus["usv_ctrl.u_heading"] = u_h
+
+
+class RateControlConfig(StrictModel):
+    """Inner-loop PID gains (003 eq. 3.10) of :class:`USVRateController`; adjustable from the console."""
+
+    rate: float = Field(50.0, gt=0, le=1000, description="pilot (guidance + control) rate, Hz")
+    speed_kp: float = Field(300.0, ge=0, le=1e5, description="surge-speed PID proportional gain, N/(m/s)")
+    speed_ki: float = Field(150.0, ge=0, le=1e5, description="surge-speed PID integral gain, N/m")
+    yaw_kp: float = Field(300.0, ge=0, le=1e5, description="yaw-rate PID proportional gain, N/(rad/s)")
+    yaw_ki: float = Field(200.0, ge=0, le=1e5, description="yaw-rate PID integral gain, N/rad")
+
+
+@register_block("usv.rate_pid")
+class USVRateController(Block):
+    """Speed and yaw-rate PIDs with model feed-forwards, mixed by 003 eq. 3.11 (module docstring).
+
+    Reads ``usv.u_d`` (m/s), ``usv.r_d`` (rad/s), ``usv.u`` (m/s), ``usv.r`` (rad/s); in remote mode
+    with ``console.loop == "open"`` the stick goes straight to the thrusters (``U_speed`` =
+    surge x the open-loop thrust, ``U_heading`` = yaw x the open-loop differential thrust). On an
+    emergency stop (``_estop``) both integrators are cleared so that nothing has wound up when the
+    stop is reset. Writes ``usv.thrust_port_cmd`` / ``usv.thrust_stbd_cmd`` (N).
+
+    Parameters
+    ----------
+    cfg : RateControlConfig
+    usv_cfg : USVConfig
+        Thrust limits, d11, d33 and the thruster spacing B.
+    stick : StickConfig
+        Open-loop thrusts at full stick (:class:`oceangnc.guidance.route_pilot.StickConfig`).
+    mode, loop : str
+        Initial console mode and loop when the console has not written them.
+    """
+
+    role = "controller"
+    name = "usv_pilot"
+
+    def __init__(self, cfg: RateControlConfig, usv_cfg, stick, mode: str = "auto", loop: str = "closed"):
+        self.period = 1.0 / cfg.rate
+        self.usv_cfg = usv_cfg
+        self.stick = stick
+        self.mode, self.loop = mode, loop
+        hi = usv_cfg.max_thrust_kgf * KGF
+        lo = usv_cfg.max_reverse_kgf * KGF
+        self.speed_pid = PID(cfg.speed_kp, cfg.speed_ki, 0.0, -lo, hi)
+        self.yaw_pid = PID(cfg.yaw_kp, cfg.yaw_ki, 0.0, -hi, hi)
+        self.inputs = {"usv.u_d": "m/s", "usv.r_d": "rad/s", "usv.u": "m/s", "usv.r": "rad/s"}
+        self.optional_inputs = {"console.mode": "str", "console.loop": "str", "joystick.surge": "1",
+                                "joystick.yaw": "1", "_estop": "bool"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
+
+    def gain_specs(self) -> list[dict]:
+        """The gains an operator may change while running: name, value, range, unit, description."""
+        return [
+            {"name": "speed_kp", "value": self.speed_pid.kp, "min": 0.0, "max": 5000.0, "unit": "N/(m/s)",
+             "description": "surge-speed PID proportional gain"},
+            {"name": "speed_ki", "value": self.speed_pid.ki, "min": 0.0, "max": 5000.0, "unit": "N/m",
+             "description": "surge-speed PID integral gain"},
+            {"name": "yaw_kp", "value": self.yaw_pid.kp, "min": 0.0, "max": 5000.0, "unit": "N/(rad/s)",
+             "description": "yaw-rate PID proportional gain"},
+            {"name": "yaw_ki", "value": self.yaw_pid.ki, "min": 0.0, "max": 5000.0, "unit": "N/rad",
+             "description": "yaw-rate PID integral gain"},
+        ]
+
+    def set_gain(self, name: str, value: float) -> None:
+        """Set one gain listed by :meth:`gain_specs` (the console validates the range first)."""
+        target = {"speed_kp": (self.speed_pid, "kp"), "speed_ki": (self.speed_pid, "ki"),
+                  "yaw_kp": (self.yaw_pid, "kp"), "yaw_ki": (self.yaw_pid, "ki")}
+        if name not in target:
+            raise KeyError(name)
+        obj, attr = target[name]
+        setattr(obj, attr, float(value))
+
+    def reset(self, rng) -> None:
+        self.speed_pid.reset()
+        self.yaw_pid.reset()
+
+    def step(self, t: float, bus: dict) -> None:
+        h = self.period
+        p = self.usv_cfg
+        u_d, r_d = bus["usv.u_d"], bus["usv.r_d"]
+        mode = bus.get("console.mode", self.mode)
+        loop = bus.get("console.loop", self.loop)
+        if bus.get("_estop", False):
+            self.speed_pid.reset()
+            self.yaw_pid.reset()
+            u_speed = u_head = 0.0
+        elif mode == "remote" and loop == "open":
+            st = self.stick
+            surge = max(-1.0, min(1.0, float(bus["joystick.surge"])))
+            yaw = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
+            u_speed = surge * (st.open_loop_thrust_kgf if surge >= 0 else st.open_loop_reverse_kgf) * KGF
+            u_head = yaw * st.open_loop_diff_kgf * KGF
+            self.speed_pid.reset()
+            self.yaw_pid.reset()
+        else:
+            u_speed = self.speed_pid.step(u_d - bus["usv.u"], h, feedforward=0.5 * p.d11 * u_d)
+            u_head = self.yaw_pid.step(r_d - bus["usv.r"], h, feedforward=p.d33 * r_d / p.thruster_spacing)
+        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_speed, u_head)

@@ -17,7 +17,8 @@ our choice; 003 does not say).
 
 Derivatives: the range loop differentiates its error by a backward difference passed through a
 first-order low-pass (``range_d_cutoff_hz``: the USBL updates the error in steps of 0.5 s, and the
-raw difference would turn each step into a thrust spike); the heading loops use the measured yaw rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
+raw difference would turn each step into a thrust spike); the heading loops use the measured yaw
+rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
 """
 
 from __future__ import annotations
@@ -25,11 +26,11 @@ from __future__ import annotations
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..units import KGF
 from ..sensors.filters import LowPass
+from ..units import KGF
 from .usv_control import aw_pid
-
 
 
 class UUVPIDConfig(StrictModel):
@@ -47,6 +48,7 @@ class UUVPIDConfig(StrictModel):
     los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
 
 
+@register_block("uuv.pid")
 class UUVPIDController(Block):
     """PID leader-follower controller of the UUV (module docstring).
 
@@ -55,6 +57,8 @@ class UUVPIDController(Block):
     ``uuv.thrust_port_cmd``, ``uuv.thrust_stbd_cmd``, ``uuv.thrust_bow_cmd`` (N),
     ``uuv_ctrl.psi_d`` (rad, the heading the active loop follows) and ``uuv_ctrl.loop`` (2 or 3).
     """
+
+    role = "controller"
 
     name = "uuv_control"
 
@@ -69,6 +73,21 @@ class UUVPIDController(Block):
         self.pos = aw_pid(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
         self.ang = aw_pid(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
         self.los = aw_pid(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
+        m = self.meas
+        self.inputs = {"lf.e_x": "m", "lf.outside": "bool", "lf.rel_heading_err": "rad", "lf.los_err": "rad",
+                       "lf.los": "rad", m["r_usv"]: "rad/s", m["r_uuv"]: "rad/s", m["psi_usv"]: "rad"}
+        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
+                        "uuv_ctrl.psi_d": "rad", "uuv_ctrl.loop": "count"}
+
+    params_model = UUVPIDConfig
+
+    @classmethod
+    def from_context(cls, params: UUVPIDConfig, ctx) -> UUVPIDController:
+        """Built from a scenario's ``control.uuv`` slot (:func:`oceangnc.core.registry.build_block`):
+        ``ctx.cfg.uuv`` for the thrust limits, ``ctx.info["mode"]`` the formation mode, measured yaw
+        rates and USV heading from ``ctx.signal``."""
+        return cls(params, ctx.cfg.uuv, ctx.period, mode=ctx.info.get("mode", "relative-angle-plus-heading"),
+                   meas={"r_usv": ctx.signal("usv.r"), "r_uuv": ctx.signal("uuv.r"), "psi_usv": ctx.signal("usv.psi")})
 
     def reset(self, rng) -> None:
         self.pos.reset()
@@ -98,24 +117,24 @@ class UUVPIDController(Block):
 
     def step(self, t: float, bus: dict) -> None:
         h = self.period
-        e1 = bus.get("lf.e_x", 0.0)
+        e1 = bus["lf.e_x"]
         d = 0.0 if self.e1_prev is None else (e1 - self.e1_prev) / h
         self.e1_prev = e1
         u1 = self.pos.step(e1, h, e_dot=self.e1_rate(d))
-        r_uuv = bus.get(self.meas["r_uuv"], 0.0)
-        outside = bus.get("lf.outside", 0.0) > 0.5 and self.mode != "relative-angle"
+        r_uuv = bus[self.meas["r_uuv"]]
+        outside = bus["lf.outside"] > 0.5 and self.mode != "relative-angle"
         loop = 3 if outside else 2
         if loop != self.active:
             (self.los if loop == 3 else self.ang).integral = (self.ang if loop == 3 else self.los).integral
             (self.los if loop == 3 else self.ang)._e_prev = None
             self.active = loop
         if loop == 2:
-            ub = self.ang.step(bus.get("lf.rel_heading_err", 0.0), h,
-                               e_dot=bus.get(self.meas["r_usv"], 0.0) - r_uuv)
-            psi_d = bus.get(self.meas["psi_usv"], 0.0)
+            ub = self.ang.step(bus["lf.rel_heading_err"], h,
+                               e_dot=bus[self.meas["r_usv"]] - r_uuv)
+            psi_d = bus[self.meas["psi_usv"]]
         else:
-            ub = self.los.step(bus.get("lf.los_err", 0.0), h, e_dot=-r_uuv)
-            psi_d = bus.get("lf.los", 0.0)
+            ub = self.los.step(bus["lf.los_err"], h, e_dot=-r_uuv)
+            psi_d = bus["lf.los"]
         bus["uuv.thrust_port_cmd"] = u1
         bus["uuv.thrust_stbd_cmd"] = u1
         bus["uuv.thrust_bow_cmd"] = ub

@@ -73,10 +73,14 @@ class Block:
 class FunctionBlock(Block):
     """A stateless block made from a function ``fn(t, bus)``; handy for commands and glue."""
 
-    def __init__(self, name: str, period: float, fn):
+    def __init__(self, name: str, period: float, fn, inputs: dict[str, str] | None = None,
+                 outputs: dict[str, str] | None = None, optional_inputs: dict[str, str] | None = None):
         self.name = name
         self.period = float(period)
         self._fn = fn
+        self.inputs = dict(inputs) if inputs is not None else None
+        self.outputs = dict(outputs) if outputs is not None else None
+        self.optional_inputs = dict(optional_inputs) if optional_inputs is not None else None
 
     def step(self, t: float, bus: dict) -> None:
         self._fn(t, bus)
@@ -103,15 +107,30 @@ class Plant:
         Largest stable physics step (s), if the model knows it; the simulator refuses larger steps.
     state_units, input_units : sequence of str, optional
         Units of the states and inputs (:data:`oceangnc.core.signals.UNITS`); when given, the
-        plant's signals are declared and checked by the simulation's wiring check.
+        plant's signals are declared and checked by the simulation's wiring check. Inputs whose
+        name starts with ``_`` are internal (set by the plant itself, not read from the bus).
+    input_defaults : dict, optional
+        ``{input: value}`` for inputs that may legitimately be absent from the bus (declared as
+        optional inputs; e.g. calm water when no environment block runs). Every other input must
+        be written by some block: reading one that is absent raises
+        :class:`~oceangnc.core.signals.WiringError` (it never reads as zero).
+    extra_outputs : dict, optional
+        Derived signals published besides the states, ``{signal: unit}``.
+    outputs : dict, optional
+        The complete ``{signal: unit}`` the plant publishes, for plants whose published names are
+        not ``<name>.<state>`` (the combined vehicle); replaces the states + ``extra_outputs`` rule.
     """
 
     #: derived signals a subclass publishes besides its states, ``{signal: unit}``
     extra_outputs: dict[str, str] = {}
+    #: explicit output declaration (see ``outputs`` above); None: states + extra_outputs
+    output_units: dict[str, str] | None = None
 
     def __init__(self, name: str, rhs, x0, p, state_names: Sequence[str], input_names: Sequence[str],
                  state_bound: float = 1e7, max_dt: float | None = None,
-                 state_units: Sequence[str] | None = None, input_units: Sequence[str] | None = None):
+                 state_units: Sequence[str] | None = None, input_units: Sequence[str] | None = None,
+                 input_defaults: dict[str, float] | None = None, extra_outputs: dict[str, str] | None = None,
+                 outputs: dict[str, str] | None = None):
         self.name = name
         self.rhs = rhs
         self.x = np.array(x0, dtype=np.float64)
@@ -128,17 +147,37 @@ class Plant:
         self._advance = rk4_stepper(rhs)
         self.state_units = list(state_units) if state_units is not None else None
         self.input_units = list(input_units) if input_units is not None else None
+        if self.input_units is not None and len(self.input_units) != len(self.input_names):
+            raise ValueError(f"plant {name}: {len(self.input_units)} input units for {len(self.input_names)} inputs")
+        if self.state_units is not None and len(self.state_units) != len(self.state_names):
+            raise ValueError(f"plant {name}: {len(self.state_units)} state units for {len(self.state_names)} states")
+        self.input_defaults = dict(input_defaults or {})
+        if extra_outputs is not None:
+            self.extra_outputs = dict(extra_outputs)
+        if outputs is not None:
+            self.output_units = dict(outputs)
+
+    def _declared_inputs(self, optional: bool) -> dict[str, str] | None:
+        if self.input_units is None:
+            return None
+        return {k: u for k, u in zip(self.input_names, self.input_units)
+                if not k.startswith("_") and (k in self.input_defaults) == optional}
 
     @property
     def inputs(self) -> dict[str, str] | None:
-        """Declared inputs ``{signal: unit}`` (None if the plant gave no input units)."""
-        if self.input_units is None:
-            return None
-        return dict(zip(self.input_names, self.input_units))
+        """Declared required inputs ``{signal: unit}`` (None if the plant gave no input units)."""
+        return self._declared_inputs(False)
+
+    @property
+    def optional_inputs(self) -> dict[str, str] | None:
+        """Declared inputs with a default (``input_defaults``), ``{signal: unit}``."""
+        return self._declared_inputs(True)
 
     @property
     def outputs(self) -> dict[str, str] | None:
         """Declared outputs: every ``<name>.<state>`` and :attr:`extra_outputs` (None if undeclared)."""
+        if self.output_units is not None:
+            return dict(self.output_units)
         if self.state_units is None:
             return None
         out = {f"{self.name}.{k}": u for k, u in zip(self.state_names, self.state_units)}
@@ -150,9 +189,23 @@ class Plant:
         self.x[:] = self.x0
 
     def read_inputs(self, bus: dict) -> None:
-        """Copy the plant's inputs from the bus (missing inputs are zero)."""
+        """Copy the plant's inputs from the bus (zero-order hold).
+
+        An input absent from the bus takes its ``input_defaults`` value if it has one; otherwise
+        it is a wiring error (a mistyped or unproduced signal never silently reads as zero).
+        Internal inputs (``_`` prefix) are left to the plant.
+        """
         for i, k in enumerate(self.input_names):
-            self.u[i] = bus.get(k, 0.0)
+            try:
+                self.u[i] = bus[k]
+            except KeyError:
+                if k in self.input_defaults:
+                    self.u[i] = self.input_defaults[k]
+                elif not k.startswith("_"):
+                    from .signals import WiringError
+
+                    raise WiringError(f"plant '{self.name}' reads '{k}' but no block has written it "
+                                      f"(declare a producer or give the plant an input default)") from None
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """Integrate ``n`` RK4 steps of ``dt`` s from time ``t``; raises :class:`DivergenceError`."""

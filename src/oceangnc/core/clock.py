@@ -15,8 +15,8 @@ A block may set ``bus["_stop"] = True`` to end the run early (e.g. the last wayp
 **Fused path** (issue 19): with ``use_fused = True`` (what :func:`oceangnc.run` and the sweeps
 set) and a compiled form for every block and plant, the first tick runs here in Python (fixing the
 signal set and the log columns) and the rest in one compiled driver per call
-(:mod:`oceangnc.core.fused`), many ticks at a time, the log buffered in row blocks. Otherwise the
-Python loop runs; ``verbose = True`` says once which path runs and why.
+(:mod:`oceangnc.core.fused`), many ticks at a time, the log buffered in row blocks. Otherwise (or
+with a checkpoint hook) the Python loop runs; ``verbose = True`` says once which path runs and why.
 """
 
 from __future__ import annotations
@@ -74,11 +74,11 @@ class Simulation:
         self.blocks = list(blocks)
         self.dt = float(dt)
         self.external = dict(external or {})
-        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         for pl in self.plants:
             if pl.max_dt is not None and self.dt > pl.max_dt * (1 + 1e-9):
                 raise ConfigError(f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
                                   f"({pl.max_dt:.4g} s); allowed range 0 < dt <= {pl.max_dt:.4g}")
+        self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         self.block_steps = [_steps(b.period, self.dt, f"block '{b.name}'") for b in self.blocks]
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
         self.tick = math.gcd(self.log_steps, *self.block_steps) if self.block_steps else self.log_steps
@@ -94,6 +94,9 @@ class Simulation:
             pl.publish(self.bus)
         self.fire_count = [0] * len(self.blocks)
         self._done_k = -1  # last physics step whose blocks fired and row was logged
+        #: ``(every_steps, callback(sim))``: called at steps that are multiples of ``every_steps``, after
+        #: the blocks fired and the row was logged (checkpoints, :mod:`oceangnc.core.checkpoint`)
+        self.checkpoint_hook = None
         self.use_fused = False  # set by oceangnc.run / sweeps: run the compiled fused loop when possible
         self.verbose = False
         self._fused = None  # FusedLoop, or the reason string why not, once decided
@@ -106,8 +109,8 @@ class Simulation:
     # -- logging helpers --------------------------------------------------------------------------
     def _row(self) -> dict[str, float]:
         if self.log_signals is None:
-            self.log_signals = sorted(k for k, v in self.bus.items()
-                                      if not k.startswith("_") and isinstance(v, (int, float, bool, np.floating, np.integer)))
+            scalar = (int, float, bool, np.floating, np.integer)
+            self.log_signals = sorted(k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar))
         return {k: float(self.bus.get(k, np.nan)) for k in self.log_signals}
 
     def run(self, duration: float, log=None, progress: bool = False, wall_limit: float | None = None) -> float:
@@ -122,11 +125,12 @@ class Simulation:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False)
-        self._last_bar = self.t
+            bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False,
+                       desc="compiling")  # numba compiles on the first steps: no rate, no ETA yet
+        self._t_start, self._k_start, self._last_bar = self.t, self.k, self.t
         t_wall0 = time.perf_counter()
         try:
-            if self.use_fused:
+            if self.use_fused and self.checkpoint_hook is None:
                 if self._done_k < 0:  # the first tick in Python: it fixes the signals and log columns
                     self._run_python(n_end, log, bar, wall_limit, t_wall0, max_ticks=1)
                 if self._fused is None:
@@ -137,6 +141,11 @@ class Simulation:
             self._run_python(n_end, log, bar, wall_limit, t_wall0)
         finally:
             if bar is not None:
+                if self.bus.get("_stop", False):  # ended early: close the bar at 100 % with the reason
+                    bar.set_description_str("")
+                    bar.n = bar.total
+                    bar.set_postfix_str(str(self.bus.get("_stop_reason", f"scenario ended at t = {self.t:.1f} s")))
+                    bar.leave = True
                 bar.close()
         return self.t
 
@@ -179,6 +188,10 @@ class Simulation:
                 log.append_rows(fz.buf[:rows, 0], fz.log_signals, fz.buf[:rows, 1:])
             if status in (2, 3):
                 raise self._fused_error(int(status), int(info), float(t_new))
+            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
+                bar.set_description_str("")
+                bar.reset()
+                self._last_bar = self._t_start
             if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
                 bar.update(round(self.k * self.dt - self._last_bar, 3))
                 self._last_bar = self.k * self.dt
@@ -230,12 +243,19 @@ class Simulation:
             ticks += fresh
             if max_ticks is not None and ticks >= max_ticks:
                 break
+            if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 \
+                    and self.k > 0:
+                self.checkpoint_hook[1](self)
             n = min(self.tick, n_end - self.k)
             for pl in self.plants:
                 pl.read_inputs(self.bus)
                 pl.advance(t, self.dt, n)
                 pl.publish(self.bus)
             self.k += n
+            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
+                bar.set_description_str("")
+                bar.reset()  # restart the rate (ETA) clock after compilation
+                self._last_bar = self._t_start
             if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
                 bar.update(round(self.k * self.dt - self._last_bar, 3))
                 self._last_bar = self.k * self.dt

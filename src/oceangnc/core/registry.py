@@ -13,11 +13,28 @@ the registered kinds of that family.
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
 import sys
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, ClassVar
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..errors import ConfigError, InputError
+
+#: modules whose blocks register themselves on import (the built-in kinds)
+BUILTIN_MODULES = (
+    "oceangnc.environment.current", "oceangnc.environment.wind",
+    "oceangnc.sensors.gps", "oceangnc.sensors.ahrs", "oceangnc.sensors.usbl", "oceangnc.sensors.depth",
+    "oceangnc.sensors.filters", "oceangnc.sensors.navigation",
+    "oceangnc.guidance.pure_pursuit", "oceangnc.guidance.los", "oceangnc.guidance.leader_follower",
+    "oceangnc.guidance.scripted_pilot", "oceangnc.guidance.route_pilot",
+    "oceangnc.control.usv_control", "oceangnc.control.uuv_control", "oceangnc.control.backstepping",
+    "oceangnc.control.pole_placement", "oceangnc.control.joystick", "oceangnc.control.berthing",
+    "oceangnc.control.tow", "oceangnc.control.actuators", "oceangnc.identification.trials",
+)
 
 _KINDS: dict[str, type] = {}
 _ENTRY_POINTS_LOADED = False
@@ -30,7 +47,8 @@ def register_block(kind: str):
 
     def deco(cls):
         prev = _KINDS.get(kind)
-        if prev is not None and prev is not cls and getattr(prev, "__qualname__", None) != getattr(cls, "__qualname__", None):
+        same = getattr(prev, "__qualname__", None) == getattr(cls, "__qualname__", None)
+        if prev is not None and prev is not cls and not same:
             raise ValueError(f"block kind '{kind}' registered twice ({prev!r} and {cls!r})")
         _KINDS[kind] = cls
         try:
@@ -43,14 +61,25 @@ def register_block(kind: str):
 
 
 def _load_entry_points() -> None:
+    """Import the built-in block modules and every ``oceangnc.blocks`` entry point (once)."""
     global _ENTRY_POINTS_LOADED
     if _ENTRY_POINTS_LOADED:
         return
     _ENTRY_POINTS_LOADED = True
+    for mod in BUILTIN_MODULES:
+        try:
+            importlib.import_module(mod)
+        except ModuleNotFoundError as e:  # a capability not present in this install
+            if e.name != mod:
+                raise
     from importlib.metadata import entry_points
 
     for ep in entry_points(group="oceangnc.blocks"):
-        ep.load()
+        try:
+            ep.load()
+        except Exception as exc:  # a user's package: report, don't trace back
+            raise InputError(f"entry point {ep.name} = {ep.value} (group oceangnc.blocks): "
+                             f"{type(exc).__name__}: {exc}") from exc
 
 
 def kinds(family: str | None = None) -> list[str]:
@@ -59,14 +88,31 @@ def kinds(family: str | None = None) -> list[str]:
     return sorted(k for k in _KINDS if family is None or k.startswith(family + "."))
 
 
+def kinds_for(family: str, role: str | None = None) -> list[str]:
+    """Kinds of ``family`` whose class declares ``role`` (or declares no role)."""
+    return [k for k in kinds(family) if role is None or getattr(_KINDS[k], "role", None) in (None, role)]
+
+
+def full_kind(kind: str, family: str | None = None, role: str | None = None) -> str:
+    """``kind`` as registered: a short name is looked up in ``family`` (``"pid"`` -> ``"uuv.pid"``),
+    a dotted one as is (a user's ``"my.ctrl"`` may fill any slot). ValueError listing the kinds."""
+    _load_entry_points()
+    if not isinstance(kind, str) or not kind:
+        raise ValueError(f"block kind must be a non-empty string, got {kind!r}")
+    full = kind if "." in kind or family is None else f"{family}.{kind}"
+    if full not in _KINDS:
+        fam = family or (kind.split(".")[0] if "." in kind else None)
+        known = (kinds_for(fam, role) if fam else []) or kinds()
+        raise ValueError(f"unknown block kind '{kind}'; registered: {', '.join(known)}")
+    return full
+
+
 def lookup(kind: str, key: str = "kind"):
     """The class registered under ``kind``; ConfigError naming ``key`` and the known kinds otherwise."""
-    _load_entry_points()
-    if kind not in _KINDS:
-        family = kind.split(".")[0] if "." in kind else None
-        known = kinds(family) or kinds()
-        raise ConfigError(f"{key}: unknown block kind '{kind}'; registered: {', '.join(known)}")
-    return _KINDS[kind]
+    try:
+        return _KINDS[full_kind(kind)]
+    except ValueError as e:
+        raise ConfigError(f"{key}: {e}") from None
 
 
 def make_block(kind: str, *args, key: str = "kind", **kwargs):
@@ -89,3 +135,95 @@ def load_plugin(path: str | Path) -> None:
         spec.loader.exec_module(mod)
     except Exception as exc:  # a user's file: report, don't trace back
         raise InputError(f"--plugin {p}: {type(exc).__name__}: {exc}") from exc
+
+
+# -- picking blocks from a scenario's config ---------------------------------------------------------
+
+@dataclass
+class BlockContext:
+    """What a scenario offers a block it builds from a ``kind``.
+
+    Attributes
+    ----------
+    period : float
+        Firing period, s.
+    signals : dict
+        Role -> bus key of the measurements the scenario wires (roles are the truth signal
+        names, e.g. ``"usv.psi"`` -> ``"usv_ahrs.psi"`` when sensors are on); see :meth:`signal`.
+    cfg : pydantic model
+        The scenario's resolved config (vehicle configs: ``cfg.usv``, ``cfg.uuv``, ...).
+    info : dict
+        Scenario-specific values (e.g. the formation geometry ``l_d``, ``lambda_d``, ``mode``).
+    """
+
+    period: float
+    signals: dict[str, str] = field(default_factory=dict)
+    cfg: Any = None
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def signal(self, role: str) -> str:
+        """The bus key wired to ``role`` (the role itself when the scenario maps nothing)."""
+        return self.signals.get(role, role)
+
+
+class BlockChoice(BaseModel):
+    """A config slot picking a registered block: ``kind`` plus the block's own parameters.
+
+    Subclasses set ``family`` (and optionally ``role``); ``kind = "pid"`` then means
+    ``"uuv.pid"`` in the ``uuv`` family, a dotted kind (``"my.ctrl"``) is taken as is. Every other
+    key is a parameter of the block, validated by the block's ``params_model`` (a pydantic model)
+    when it is built. A plain string is accepted for the whole slot (``control.uuv = "pid"``, the
+    older spelling).
+    """
+
+    model_config = ConfigDict(extra="allow", validate_assignment=True)
+    family: ClassVar[str] = ""
+    role: ClassVar[str | None] = None
+    kind: str = Field(..., description="registered block kind: a name in the slot's family or family.name")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_string(cls, v):
+        return {"kind": v} if isinstance(v, str) else v
+
+    @field_validator("kind")
+    @classmethod
+    def _known(cls, v: str) -> str:
+        full_kind(v, cls.family or None, cls.role)
+        return v
+
+    @property
+    def full_kind(self) -> str:
+        return full_kind(self.kind, self.family or None, self.role)
+
+    @property
+    def params(self) -> dict:
+        """The block's parameters (every key but ``kind``)."""
+        return dict(self.model_extra or {})
+
+
+def build_block(choice: BlockChoice, ctx: BlockContext, key: str, base: dict | None = None):
+    """Build the block ``choice`` picks, with ``base`` parameters (the scenario's section for a
+    built-in kind) updated by the choice's own keys.
+
+    A class with ``params_model`` gets its parameters validated into that model (a bad value is a
+    ConfigError naming ``<key>.<param>``); one with a ``from_context(params, ctx)`` classmethod is
+    built by it, any other as ``cls(params, ctx)``.
+    """
+    cls = lookup(choice.full_kind, f"{key}.kind")
+    params: Any = {**(base or {}), **choice.params}
+    model = getattr(cls, "params_model", None)
+    if model is not None:
+        try:
+            params = model.model_validate(params)
+        except ValidationError as err:
+            from ..io.config import format_validation_error
+
+            msg = format_validation_error(model, err)
+            if msg.startswith("config error: unknown key '"):
+                msg = msg.replace("unknown key '", f"unknown key '{key}.", 1)
+            else:
+                msg = msg.replace("config error: ", f"config error: {key}.", 1)
+            raise ConfigError(msg) from None
+    factory = getattr(cls, "from_context", None)
+    return factory(params, ctx) if factory is not None else cls(params, ctx)

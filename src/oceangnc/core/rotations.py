@@ -17,14 +17,24 @@ import math
 import numpy as np
 from numba import njit
 
+from .csmath import ccos, csin
+
 
 @njit(cache=True)
 def wrap(a):
-    """Wrap one angle (rad) to (-pi, pi]."""
+    """Wrap one angle (rad) to (-pi, pi]: the one home of the angle wrap (compiled; callable from
+    Python blocks and from numba right-hand sides). :func:`wrap_array` is the same for arrays."""
     w = (a + math.pi) % (2.0 * math.pi) - math.pi
     if w == -math.pi:
         w = math.pi
     return w
+
+
+def wrap_array(a):
+    """:func:`wrap` of a scalar or an array (rad) to (-pi, pi], vectorised with numpy (for logs)."""
+    w = np.mod(np.asarray(a, dtype=np.float64) + np.pi, 2.0 * np.pi) - np.pi
+    w = np.where(w == -np.pi, np.pi, w)
+    return float(w) if np.ndim(w) == 0 else w
 
 
 @njit(cache=True)
@@ -58,14 +68,15 @@ def rot3(psi):
 def rzyx_entries(phi, theta, psi):
     """The nine entries (r00, r01, r02, r10, ..., r22) of R_b^n(phi, theta, psi) (Fossen 2011 eq. 2.18).
 
-    A tuple of scalars, so compiled right-hand sides can rotate without allocating a matrix.
+    A tuple of scalars, so compiled right-hand sides can rotate without allocating a matrix; real or
+    complex angles (:mod:`oceangnc.core.csmath`, for complex-step Jacobians).
     """
-    cphi = math.cos(phi)
-    sphi = math.sin(phi)
-    cth = math.cos(theta)
-    sth = math.sin(theta)
-    cpsi = math.cos(psi)
-    spsi = math.sin(psi)
+    cphi = ccos(phi)
+    sphi = csin(phi)
+    cth = ccos(theta)
+    sth = csin(theta)
+    cpsi = ccos(psi)
+    spsi = csin(psi)
     return (cpsi * cth, -spsi * cphi + cpsi * sth * sphi, spsi * sphi + cpsi * cphi * sth,
             spsi * cth, cpsi * cphi + sphi * sth * spsi, -cpsi * sphi + sth * spsi * cphi,
             -sth, cth * sphi, cth * cphi)

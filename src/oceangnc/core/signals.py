@@ -22,11 +22,17 @@ from ..errors import ConfigError
 
 #: Units a signal may declare (SI; angles in rad; ``"1"`` dimensionless; ``"bool"``/``"str"``/``"enum"`` flags).
 UNITS = frozenset({
-    "1", "bool", "str", "enum", "count", "s", "Hz",
+    "1", "bool", "str", "enum", "count", "s", "Hz", "1/s",
     "m", "m/s", "m/s^2", "m^2", "m^3", "kg", "kg/m", "kg m^2",
     "rad", "rad/s", "rad/s^2",
     "N", "N m", "N/m", "W", "J", "Pa", "V", "A", "rpm_frac", "K",
+    # display units, only for signals whose name says so (``*_deg``, ``*_rpm``, ``*_kn``); SI stays inside
+    "deg", "deg/s", "rpm", "kn",
 })
+
+
+#: defaults of the environment inputs of the plants: calm water and air when no environment block runs
+CALM = {"env.current_n": 0.0, "env.current_e": 0.0, "env.wind_n": 0.0, "env.wind_e": 0.0}
 
 
 class WiringError(ConfigError):
@@ -36,6 +42,10 @@ class WiringError(ConfigError):
 def _decl(obj, attr: str) -> dict[str, str] | None:
     d = getattr(obj, attr, None)
     return None if d is None else dict(d)
+
+
+def _what(p) -> str:
+    return f"{'plant' if hasattr(p, 'state_names') else 'block'} '{getattr(p, 'name', repr(p))}'"
 
 
 def check_units(owner: str, decl: Mapping[str, str]) -> None:
@@ -50,18 +60,24 @@ def check_wiring(parts: Iterable, external: Mapping[str, str] | None = None) -> 
     """Check declared signals of ``parts`` (plants and blocks); return ``{signal: unit}`` of all writers.
 
     Parts that declare ``inputs = None`` / ``outputs = None`` (undeclared, e.g. a quick
-    :class:`~oceangnc.core.blocks.FunctionBlock`) are skipped for the side they do not declare.
+    :class:`~oceangnc.core.blocks.FunctionBlock`) are skipped for the side they do not declare;
+    when any part leaves its outputs undeclared, a missing producer cannot be decided and is left
+    to the plant's read at run time (every shipped scenario declares everything).
     Raises :class:`WiringError` naming the block and the signal.
     """
     writers: dict[str, tuple[str, str]] = {}
     for sig, unit in (external or {}).items():
         writers[sig] = ("<external>", unit)
     parts = list(parts)
+    # an undeclared (legacy) writer may write anything: then a missing producer cannot be decided here
+    # (the plant's read still fails at run time); double writers and units are still checked
+    all_declared = True
     for p in parts:
         outs = _decl(p, "outputs")
         if outs is None:
+            all_declared = False
             continue
-        check_units(f"block '{p.name}'", outs)
+        check_units(_what(p), outs)
         for sig, unit in outs.items():
             if sig in writers:
                 raise WiringError(f"signal '{sig}' is written by two blocks: '{writers[sig][0]}' and '{p.name}'")
@@ -71,15 +87,22 @@ def check_wiring(parts: Iterable, external: Mapping[str, str] | None = None) -> 
             ins = _decl(p, attr)
             if not ins:
                 continue
-            check_units(f"block '{p.name}'", ins)
+            check_units(_what(p), ins)
             for sig, unit in ins.items():
                 w = writers.get(sig)
                 if w is None:
-                    if required:
-                        raise WiringError(f"block '{p.name}' reads '{sig}' ({unit}) but no block, plant or "
+                    if required and all_declared:
+                        raise WiringError(f"{_what(p)} reads '{sig}' ({unit}) but no block, plant or "
                                           f"external source writes it")
                     continue
                 if unit != w[1]:
-                    raise WiringError(f"unit mismatch on '{sig}': '{w[0]}' writes {w[1]} but block "
-                                      f"'{p.name}' reads {unit}")
+                    raise WiringError(f"unit mismatch on '{sig}': '{w[0]}' writes {w[1]} but "
+                                      f"{_what(p)} reads {unit}")
     return {k: v[1] for k, v in writers.items()}
+
+
+def undeclared(parts: Iterable) -> list[str]:
+    """Names of the parts that do not declare their inputs or outputs (``None``): the wiring
+    check cannot see them. Every shipped block and plant declares both (tests assert it)."""
+    return [getattr(p, "name", repr(p)) for p in parts
+            if getattr(p, "inputs", None) is None or getattr(p, "outputs", None) is None]

@@ -21,6 +21,7 @@ import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -37,10 +38,17 @@ class CurrentConfig(StrictModel):
                                        description="Gauss-Markov direction standard deviation, deg")
 
 
+@register_block("env.current")
 class OceanCurrent(Block):
     """Discrete block publishing the current's NED velocity every ``period`` s."""
 
+    role = "environment"
+
     name = "current"
+
+    outputs = {"env.current_n": "m/s", "env.current_e": "m/s", "env.current_speed": "m/s",
+               "env.current_direction_deg": "deg"}
+    inputs: dict[str, str] = {}
 
     def __init__(self, cfg: CurrentConfig, period: float = 0.1):
         self.cfg = cfg

@@ -16,6 +16,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 #: WMO Beaufort bands (lower, upper) in m/s; force 12 has no upper bound (taken as 36.9 m/s).
@@ -50,10 +51,16 @@ class WindConfig(StrictModel):
         return self
 
 
+@register_block("env.wind")
 class Wind(Block):
     """Discrete block publishing the wind's NED velocity (with optional first-order gusts)."""
 
+    role = "environment"
+
     name = "wind"
+
+    outputs = {"env.wind_n": "m/s", "env.wind_e": "m/s", "env.wind_speed": "m/s", "env.wind_direction_deg": "deg"}
+    inputs: dict[str, str] = {}
 
     def __init__(self, cfg: WindConfig, period: float = 0.1):
         self.cfg = cfg

@@ -30,7 +30,8 @@ from __future__ import annotations
 import math
 
 from ..core.blocks import Block
-from .pure_pursuit import wrap
+from ..core.registry import register_block
+from ..core.rotations import wrap
 
 
 def relative_position(x_l, y_l, psi_l, x_f, y_f):
@@ -64,6 +65,7 @@ def los_bearing(x_f, y_f, x_l, y_l):
     return math.atan2(y_l - y_f, x_l - x_f)
 
 
+@register_block("uuv.leader_follower")
 class LeaderFollower(Block):
     """Leader-follower guidance of the UUV: geometry, targets and the desired heading.
 
@@ -76,6 +78,8 @@ class LeaderFollower(Block):
     (rad): the UUV's desired heading, the USV's heading inside R and the LOS outside it (in
     ``relative-angle`` mode always the USV's heading).
     """
+
+    role = "guidance"
 
     name = "leader_follower"
 
@@ -90,6 +94,11 @@ class LeaderFollower(Block):
         self.leader = leader
         self.follower = follower
         self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
+        self.inputs = {**{k: u for k, u in zip(leader, ("m", "m", "rad"))},
+                       **{k: u for k, u in zip(follower, ("m", "m", "rad"))}}
+        m = ("lx", "ly", "range", "lx_d", "ly_d", "target_n", "target_e", "e_x", "e_y")
+        self.outputs = {**{f"lf.{k}": "m" for k in m}, "lf.bearing": "rad", "lf.rel_heading_err": "rad",
+                        "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}
 
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
@@ -104,8 +113,8 @@ class LeaderFollower(Block):
         return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *out], params=pa)
 
     def step(self, t: float, bus: dict) -> None:
-        xl, yl, psil = (bus.get(k, 0.0) for k in self.leader)
-        xf, yf, psif = (bus.get(k, 0.0) for k in self.follower)
+        xl, yl, psil = (bus[k] for k in self.leader)
+        xf, yf, psif = (bus[k] for k in self.follower)
         lx, ly = relative_position(xl, yl, psil, xf, yf)
         rng, lam = range_bearing(lx, ly)
         tn, te = target_point(xl, yl, psil, self.lx_d, self.ly_d)

@@ -34,6 +34,8 @@ import math
 import numpy as np
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 
 BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
 
@@ -102,6 +104,7 @@ def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray
     return out
 
 
+@register_block("usv.los")
 class WaypointGuidance(Block):
     """Waypoint following with conventional LOS or the hybrid law of 000 table 1.
 
@@ -122,6 +125,8 @@ class WaypointGuidance(Block):
     speeds : array (n,), optional
         Speed command per waypoint (m/s), used on the leg that starts at it.
     """
+
+    role = "guidance"
 
     name = "guidance"
 
@@ -147,6 +152,9 @@ class WaypointGuidance(Block):
         self.period = float(period)
         self.body = body
         self.stop_at_end = stop_at_end
+        self.inputs = {f"{body}.x": "m", f"{body}.y": "m"}
+        self.outputs = {f"{body}.psi_cmd": "rad", f"{body}.u_cmd": "m/s", "guidance.d": "m", "guidance.e": "m",
+                        "guidance.band": "enum", "guidance.leg": "count"}
         self.k = 1
         self.done = False
 
@@ -180,7 +188,7 @@ class WaypointGuidance(Block):
             psi, band = conventional_los(pn, pe, an, ae, bn, be, self.R), BAND_LOS
         else:
             psi, band = hybrid_los(pn, pe, an, ae, bn, be, self.R, self.R1, self.R2)
-        bus[f"{b}.psi_cmd"] = (psi + math.pi) % (2 * math.pi) - math.pi
+        bus[f"{b}.psi_cmd"] = wrap(psi)
         bus[f"{b}.u_cmd"] = self.speed if self.speeds is None else float(self.speeds[k - 1])
         bus["guidance.d"] = abs(e)
         bus["guidance.e"] = e

@@ -37,13 +37,8 @@ import math
 import numpy as np
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..errors import ConfigError
-
-
-def wrap(a: float) -> float:
-    """Angle wrapped to (-pi, pi] (rad)."""
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
 
 
 def pursuit_radius(l: float, d: float) -> float:
@@ -146,6 +141,7 @@ def pursuit_command(p, psi: float, g):
     return psi_d, l, d, pursuit_radius(l, d)
 
 
+@register_block("usv.pure_pursuit")
 class PurePursuit(Block):
     """Waypoint-following pure-pursuit guidance (see module docstring).
 
@@ -155,6 +151,8 @@ class PurePursuit(Block):
     waypoints reached, the start point included once the run starts within ``acceptance`` of it),
     ``guidance.lookahead_n/e`` (m) and ``guidance.done`` (1 when the last waypoint is reached).
     """
+
+    role = "guidance"
 
     name = "pure_pursuit"
 
@@ -175,6 +173,10 @@ class PurePursuit(Block):
         self.pos_keys = pos_keys
         self.psi_key = psi_key
         self.stop_at_end = stop_at_end
+        self.inputs = {pos_keys[0]: "m", pos_keys[1]: "m", psi_key: "rad"}
+        self.outputs = {"guidance.psi_d": "rad", "guidance.turn_radius": "m", "guidance.cross_track": "m",
+                        "guidance.leg": "count", "guidance.wp_reached": "count", "guidance.lookahead_n": "m",
+                        "guidance.lookahead_e": "m", "guidance.done": "bool"}
         self.reset(None)
 
     def reset(self, rng) -> None:
@@ -197,8 +199,8 @@ class PurePursuit(Block):
         return CompiledBlock(pure_pursuit_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
-        p = np.array([bus.get(self.pos_keys[0], 0.0), bus.get(self.pos_keys[1], 0.0)])
-        psi = bus.get(self.psi_key, 0.0)
+        p = np.array([bus[self.pos_keys[0]], bus[self.pos_keys[1]]])
+        psi = bus[self.psi_key]
         if not self._started:
             self._started = True
             if math.hypot(*(p - self.wp[0])) <= self.acceptance:

@@ -44,6 +44,8 @@ import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KNOT
 
@@ -116,6 +118,7 @@ class Route:
         return np.interp(north, self.p[:, 0], self.p[:, 1])
 
 
+@register_block("ship.scripted_pilot")
 class ScriptedPilot(Block):
     """Scripted joystick pilot; see the module docstring.
 
@@ -133,6 +136,8 @@ class ScriptedPilot(Block):
         Propeller speed at full surge stick in the open loop, rev/s.
     """
 
+    role = "guidance"
+
     name = "pilot"
 
     def __init__(self, cfg: PilotConfig, route: Route, mode: str, joy, speed_per_rps: float, n_open_rps: float):
@@ -143,6 +148,10 @@ class ScriptedPilot(Block):
         self.period = float(cfg.period)
         self.speed_per_rps = speed_per_rps
         self.n_open = n_open_rps
+        self.inputs = {"ship.x": "m", "ship.y": "m", "ship.psi": "rad", "ship.u": "m/s", "ship.v": "m/s",
+                       "ship.r": "rad/s"}
+        self.outputs = {"joystick.surge": "1", "joystick.yaw": "1", "pilot.u_target": "m/s", "pilot.psi_des": "rad",
+                        "pilot.cross_track": "m", "pilot.s_remaining": "m", "pilot.done": "bool"}
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng
@@ -167,7 +176,7 @@ class ScriptedPilot(Block):
         psi_des = math.atan2(aim[1] - e, aim[0] - n)
         # steer the track, not the bow: course over ground (the crab in current / wind comes free)
         course = psi + math.atan2(v, u) if c.steer_course and math.hypot(u, v) > 0.1 else psi
-        e_psi = (psi_des - course + math.pi) % (2 * math.pi) - math.pi
+        e_psi = wrap(psi_des - course)
         s_rem = self.route.length - s
         u_cruise = c.cruise_kn * KNOT
         if c.stop_at_end:
@@ -228,9 +237,9 @@ class ScriptedPilot(Block):
         c = self.cfg
         a = math.exp(-self.period / c.noise_time_s)
         self.err = a * self.err + math.sqrt(1 - a * a) * self.sig * self.rng.standard_normal(3)
-        obs = (bus.get("ship.x", 0.0), bus.get("ship.y", 0.0), bus.get("ship.psi", 0.0) + self.err[0],
-               bus.get("ship.u", 0.0) + self.err[1], bus.get("ship.r", 0.0) + self.err[2],
-               bus.get("ship.v", 0.0))
+        obs = (bus["ship.x"], bus["ship.y"], bus["ship.psi"] + self.err[0],
+               bus["ship.u"] + self.err[1], bus["ship.r"] + self.err[2],
+               bus["ship.v"])
         self.memory.append((t, obs))
         while len(self.memory) > 1 and self.memory[1][0] <= t - self.delay + 1e-9:
             self.memory.popleft()
@@ -239,10 +248,10 @@ class ScriptedPilot(Block):
         self.stick_u = self._move(self.stick_u, want_u)
         self.stick_r = self._move(self.stick_r, want_r)
         # done: stopped at the end of a berthing route, or past the end of a transit
-        true_s, true_cross, _ = self.route.project(bus.get("ship.x", 0.0), bus.get("ship.y", 0.0))
+        true_s, true_cross, _ = self.route.project(bus["ship.x"], bus["ship.y"])
         rem = self.route.length - true_s
         if c.stop_at_end:
-            if abs(rem) < 3.0 and abs(bus.get("ship.u", 0.0)) < 0.03 and abs(bus.get("ship.v", 0.0)) < 0.05:
+            if abs(rem) < 3.0 and abs(bus["ship.u"]) < 0.03 and abs(bus["ship.v"]) < 0.05:
                 self.done = True
                 self.stick_u = 0.0
                 self.stick_r = 0.0

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..models.towed_trailer import trailer_offset_for
+
 
 @dataclass
 class Profile:
@@ -98,7 +100,7 @@ def plan_usv(profile: Profile, L: float) -> USVPlan:
     u = np.asarray(profile.u, float)
     if np.any(u <= 0):
         raise ValueError("the UUV profile speed must be > 0 everywhere (eq. 32 divides by it)")
-    phi = np.arctan(-L * profile.r / u)
+    phi = trailer_offset_for(u, profile.r, L)  # eq. 32/34: the inverse of the trailer's eq. 3-4
     psi = profile.psi - phi
     us = u / np.cos(phi)
     t = profile.t

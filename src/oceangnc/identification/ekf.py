@@ -15,15 +15,19 @@ of table 3.1:
   P = (I - K H) P (I - K H)^T + K R K^T (the table's (I - K H) P is algebraically equal but loses
   symmetry and positive definiteness in floating point).
 
-The filter is generic: a model is an :class:`EKFModel` made of two numba-compiled functions,
-``f(x, p, u, out)`` writing dx/dt of the n_s physical states and ``h(x, p, out)`` writing the n_z
-predicted measurements, where ``p`` is the model's full parameter vector; any subset of ``p`` can be
-estimated (the others stay at their nominal values). Jacobians are exact:
+The filter is generic: a model is a :class:`~oceangnc.core.model.Model` (the project's one system
+contract: ``f(t, x, u, p, out)``, optional ``h(t, x, u, p, out)``, declared names and units, a
+generated parameter layout), so any plant of the project (:func:`get_model`: ``usv``, ``uuv``,
+``ship``, ``first-order``, ``submarine-vertical``) is identified by naming the parameters to
+estimate (the others stay at their nominal values). The older :class:`EKFModel` (``f(x, p, u,
+out)``, ``h(x, p, out)``) is still accepted and wrapped (:func:`as_model`). Jacobians are exact and
+come from :mod:`oceangnc.core.linearize` (the one implementation, shared with ``linearize``/``trim``):
 
-* ``"analytic"``: the model's own ``jac(x, p, u, J)`` (J[:, :n_s] = df/dx, J[:, n_s + j] = df/dp_j);
+* ``"analytic"``: the model's own ``jac`` (J[:, :n_s] = df/dx, J[:, n_s + j] = df/dp_j);
 * ``"complex-step"`` (default when no analytic Jacobian is given): df/dy_j = Im f(y + i h e_j) / h
   with h ~ 1e-20 |y_j|, exact to rounding because nothing is subtracted. It needs ``f`` and ``h``
-  written with numpy functions (``np.sin``, not ``math.sin``) and no branches on the state;
+  written for complex arithmetic (numpy functions or :mod:`oceangnc.core.csmath`, branches on
+  real parts);
 * ``"finite-difference"`` (central, for models that are neither): O(h^2) approximate, a fallback.
 
 The whole filter loop is one numba function; 200 s of 100 Hz data with 3 states and 10 parameters
@@ -32,22 +36,14 @@ takes well under a second on one core (``benchmarks/bench_ekf.py``).
 
 from __future__ import annotations
 
-import hashlib
-import importlib.util
-import inspect
-import os
-import sys
-import tempfile
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Callable, Sequence
 
 import numpy as np
 
+from ..core.linearize import _call, default_mode, jacobian_columns
+from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError, InputError
-
-JACOBIAN_MODES = ("analytic", "complex-step", "finite-difference")
-
 
 
 class FilterDivergedError(InputError):
@@ -56,98 +52,50 @@ class FilterDivergedError(InputError):
     better initial guesses, not a code fix."""
 
 
-# -- compiled kernels, one private copy of _ekf_kernel.py per (model, Jacobian mode) --------------------
+# -- compiled kernels -------------------------------------------------------------------------------------
 
-_KERNELS: dict[tuple, object] = {}
-
-
-def _placeholder_jac(x, p, u, J):  # never called: bound when a model has no analytic Jacobian
-    raise NotImplementedError
+_ADAPTERS: dict[tuple, tuple] = {}
 
 
-def _source_of(fn) -> str:
-    """The whole source file defining ``fn`` (so that edits to helpers it calls also change the hash)."""
-    py = getattr(fn, "py_func", fn)
-    try:
-        return inspect.getsource(inspect.getmodule(py)) + py.__qualname__
-    except (OSError, TypeError):
-        return f"<no source: {getattr(py, '__module__', '')}.{getattr(py, '__qualname__', repr(py))} {id(py)}>"
+def as_model(model) -> Model:
+    """A :class:`~oceangnc.core.model.Model` for ``model`` (a Model already, or a legacy :class:`EKFModel`
+    whose ``f(x, p, u, out)``, ``h(x, p, out)`` and ``jac(x, p, u, J)`` are wrapped into the
+    ``(t, x, u, p, out)`` contract by thin compiled adapters)."""
+    if isinstance(model, Model):
+        return model
+    from ..core.linearize import cached_closure
+
+    f0, h0, j0 = model.f, model.h, model.jac
+    key = (f0, h0, j0)
+    if key not in _ADAPTERS:
+        @cached_closure
+        def f(t, x, u, p, out):
+            f0(x, p, u, out)
+
+        @cached_closure
+        def h(t, x, u, p, out):
+            h0(x, p, out)
+
+        jac = None
+        if j0 is not None:
+            @cached_closure
+            def jac(t, x, u, p, J):
+                j0(x, p, u, J)
+        _ADAPTERS[key] = (f, h, jac)
+    f, h, jac = _ADAPTERS[key]
+    return Model(model.name, f, [(k, "1") for k in model.state_names], [(k, "1") for k in model.input_names],
+                 ParamLayout([Param(k) for k in model.param_names]), model.params, h=h,
+                 outputs=[(k, "1") for k in model.measurement_names], jac=jac, bound=model.bound,
+                 description=model.description)
 
 
-def _kernel_dir() -> Path:
-    root = os.environ.get("OCEANGNC_CACHE_DIR")
-    base = Path(root) if root else Path.home() / ".cache" / "oceangnc"
-    d = base / "ekf_kernels"
-    try:
-        d.mkdir(parents=True, exist_ok=True)
-        probe = d / ".write_test"
-        probe.write_text("")
-        probe.unlink()
-        return d
-    except OSError:
-        d = Path(tempfile.gettempdir()) / f"oceangnc_ekf_kernels_{os.getuid() if hasattr(os, 'getuid') else 0}"
-        d.mkdir(parents=True, exist_ok=True)
-        return d
-
-
-def kernel_for(model: "EKFModel", mode: str):
-    """The compiled filter kernel bound to ``model``'s f, h, jac and the Jacobian ``mode``.
-
-    A copy of :mod:`oceangnc.identification._ekf_kernel` named after a hash of the kernel's and the
-    model functions' source is written to ``~/.cache/oceangnc/ekf_kernels`` (or
-    ``$OCEANGNC_CACHE_DIR``), imported, and its globals bound to the model, so numba compiles the loop
-    once per model and mode and caches the machine code on disk (edits to f, h or jac change the hash).
-    """
-    from numba import njit
-
-    from . import _ekf_kernel
-
-    jac = model.jac
-    key = (id(model.f), id(model.h), id(jac), mode)
-    if key in _KERNELS:
-        return _KERNELS[key]
-    template = Path(_ekf_kernel.__file__).read_text()
-    digest = hashlib.sha1("\x00".join([template, _source_of(model.f), _source_of(model.h),
-                                        _source_of(jac) if jac is not None else "-", mode]).encode()).hexdigest()[:16]
-    path = _kernel_dir() / f"ekf_kernel_{digest}.py"
-    if not path.is_file() or path.read_text() != template:
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(template)
-        os.replace(tmp, path)
-    name = f"oceangnc_ekf_kernel_{digest}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    mod._f = model.f
-    mod._h = model.h
-    mod._jac = jac if jac is not None else njit(_placeholder_jac)
-    mod._fjac = {"analytic": mod.fjac_analytic, "complex-step": mod.fjac_cs, "finite-difference": mod.fjac_fd}[mode]
-    mod._hjac = mod.hjac_fd if mode == "finite-difference" else mod.hjac_cs
-    _KERNELS[key] = mod
-    return mod
-
-
-def model_jacobians(model: "EKFModel", x, u, estimate=(), jacobian: str | None = None, params=None):
+def model_jacobians(model, x, u, estimate=(), jacobian: str | None = None, params=None):
     """(F, H) of ``model`` at state ``x``, input ``u``: derivatives of f and h with respect to
-    [x, estimated parameters], by the filter's own Jacobian code (for checks and linearisation)."""
-    idx = resolve_estimate(model, estimate) if len(estimate) else np.zeros(0, dtype=np.int64)
-    mode = _mode(model, jacobian)
-    ns = len(model.state_names)
-    cols = np.concatenate([np.arange(ns), ns + idx]).astype(np.int64)
-    p = np.array(model.params if params is None else params, dtype=np.float64)
-    k = kernel_for(model, mode)
-    return k.jacobians(np.asarray(x, dtype=np.float64), p, np.atleast_1d(np.asarray(u, dtype=np.float64)),
-                       cols, len(model.measurement_names))
-
-
-def _mode(model: "EKFModel", jacobian: str | None) -> str:
-    mode = jacobian or ("analytic" if model.jac is not None else "complex-step")
-    if mode not in JACOBIAN_MODES:
-        raise ConfigError(f"jacobian = {mode!r}: allowed values: {', '.join(JACOBIAN_MODES)}")
-    if mode == "analytic" and model.jac is None:
-        raise ConfigError(f"model {model.name} has no analytic Jacobian; use 'complex-step'")
-    return mode
+    [x, estimated parameters], by the filter's own Jacobian code (:mod:`oceangnc.core.linearize`)."""
+    m = as_model(model)
+    idx = resolve_estimate(m, estimate) if len(estimate) else np.zeros(0, dtype=np.int64)
+    cols = np.concatenate([np.arange(m.nx), m.nx + idx]).astype(np.int64)
+    return jacobian_columns(m, x, u, cols, p=params, jacobian=jacobian)
 
 
 # -- the Python interface -------------------------------------------------------------------------------
@@ -258,16 +206,22 @@ def resolve_estimate(model: EKFModel, estimate: Sequence[str] | str) -> np.ndarr
     dup = sorted({e for e in estimate if estimate.count(e) > 1})
     if dup:
         raise InputError(f"parameter(s) listed twice: {', '.join(dup)}")
+    layout = getattr(model, "layout", None)
+    if layout is not None:
+        derived = [e for e in estimate if layout.derived[names.index(e)]]
+        if derived:
+            raise InputError(f"parameter(s) {', '.join(derived)} of model {model.name} are derived from others "
+                             "(e.g. an inverse mass matrix) and cannot be estimated")
     return np.array([names.index(e) for e in estimate], dtype=np.int64)
 
 
-def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0, P0, Q, R,
+def run_ekf(model: Model | EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0, P0, Q, R,
             substeps: int = 1, jacobian: str | None = None, params=None) -> EKFResult:
     """Identify ``estimate`` (parameter names of ``model``) from measurements by the augmented EKF.
 
     Parameters
     ----------
-    model : EKFModel
+    model : Model (any model of the project, :func:`get_model`) or a legacy EKFModel
     t : (N,) s, strictly increasing sample times
     Z : (N, n_z) measurements (NaN marks a missing component)
     U : (N, n_u) inputs; ``U[k]`` is held over [t_k, t_k+1)
@@ -287,6 +241,7 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     ConfigError : a covariance that is not (semi-)definite, a bad Jacobian mode
     FilterDivergedError : the filter diverged (with the time and the reason)
     """
+    model = as_model(model)
     idx = resolve_estimate(model, estimate)
     est_names = [model.param_names[i] for i in idx]
     ns = len(model.state_names)
@@ -323,7 +278,7 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     check_covariance(Rm, "R")
     if int(substeps) < 1:
         raise ConfigError("substeps must be >= 1")
-    mode = _mode(model, jacobian)
+    mode = default_mode(model, jacobian)
     p = np.array(model.params if params is None else params, dtype=np.float64)
     if p.size != len(model.param_names):
         raise InputError(f"params: expected {len(model.param_names)} values, got {p.size}")
@@ -333,14 +288,11 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
     Sout = np.full((t.size, n), np.nan)
     NIS = np.full(t.size, np.nan)
     P = np.zeros((n, n))
-    kern = kernel_for(model, mode)
-    try:
-        status, k = kern.ekf_loop(X0, P0m, Qm, Rm, p, idx, t, Z, U, int(substeps), bound, Xout, Sout, NIS, P)
-    except Exception as e:  # numba typing errors: a model that cannot run in complex arithmetic
-        if type(e).__module__.startswith("numba") and mode == "complex-step":
-            raise InputError(f"model {model.name}: f/h cannot be evaluated in complex arithmetic "
-                             "(use numpy functions such as np.sin, give an analytic jac, or use jacobian='finite-difference')") from None
-        raise
+    from ._ekf_kernel import make_kernel
+
+    loop = make_kernel(model.f, model.h, model.jac, mode)
+    status, k = _call(loop, X0, P0m, Qm, Rm, p, idx, t, Z, U, int(substeps), bound, Xout, Sout, NIS, P,
+                      model=model, mode=mode)
     if status != 0:
         why = {1: "non-finite estimate", 2: "covariance no longer positive definite",
                3: f"an estimate exceeded {model.bound:g} in magnitude"}[status]
@@ -352,21 +304,42 @@ def run_ekf(model: EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0,
 
 # -- models known by name (CLI) -------------------------------------------------------------------------
 
-def submarine_vertical_model(params=None) -> EKFModel:
-    """The heave-pitch submarine of document 002 as an :class:`EKFModel` (analytic Jacobian)."""
-    from ..models.submarine_vertical import FILTER_STATES, P_NAMES, default_params, sub_f, sub_h, sub_jac
+def submarine_vertical_model(params=None) -> Model:
+    """The heave-pitch submarine of document 002 (filter states w, theta, q; analytic Jacobian)."""
+    from ..models.submarine_vertical import filter_model
 
-    return EKFModel(name="submarine-vertical", f=sub_f, h=sub_h, jac=sub_jac, state_names=FILTER_STATES,
-                    param_names=P_NAMES, input_names=("ds",), measurement_names=("w", "theta", "q"),
-                    params=default_params() if params is None else np.asarray(params, dtype=np.float64),
-                    bound=100.0,  # |w| > 100 m/s, |theta| > 100 rad, |q| > 100 rad/s or |coef'| > 100: diverged
-                    description="002 heave-pitch submarine: states w, theta, q; input stern plane ds")
+    return filter_model(params)
 
 
-MODELS: dict[str, Callable[..., EKFModel]] = {"submarine-vertical": submarine_vertical_model}
+def _usv(params=None) -> Model:
+    from ..models.usv import usv_model
+
+    return usv_model(params=params)
 
 
-def get_model(name: str) -> EKFModel:
+def _uuv(params=None) -> Model:
+    from ..models.uuv import uuv_model
+
+    return uuv_model(params=params)
+
+
+def _ship(params=None) -> Model:
+    from ..models.ship_lowspeed import ship_model
+
+    return ship_model(params=params)
+
+
+def _first_order(params=None) -> Model:
+    from ..models.first_order import first_order_model
+
+    return first_order_model(params=params)
+
+
+MODELS: dict[str, Callable[..., Model]] = {"submarine-vertical": submarine_vertical_model, "usv": _usv,
+                                           "uuv": _uuv, "ship": _ship, "first-order": _first_order}
+
+
+def get_model(name: str) -> Model:
     """A named model; unknown names give InputError listing the known ones."""
     if name not in MODELS:
         raise InputError(f"unknown model '{name}'; known models: {', '.join(MODELS)}")

@@ -3,13 +3,23 @@
 Reads a Parquet (or CSV) log with a time column ``t``, the model's measurement columns
 ``<prefix>.<name>`` (for ``submarine-vertical``: ``sub.w`` m/s, ``sub.theta`` rad, ``sub.q`` rad/s)
 and input columns (``sub.ds`` rad, held over each sample interval), runs the augmented-state EKF
-(:mod:`oceangnc.identification.ekf`) and prints a table of the estimates with their 1-sigma; writes
-the same as JSON (``--out``, default ``<log folder>/ekf_<model>.json``).
+(:mod:`oceangnc.identification.ekf`) and prints a table of the estimates with their 1-sigma; writes,
+into the run folder ``--out`` (default ``runs/identify-ekf-<time>``), the same as JSON
+(``ekf_<model>.json``) and the model file ``identified.toml`` (estimates, standard errors = the
+posterior 1-sigma, 95 % intervals) for ``oceangnc run --model``. Field logs (.bin, .tlog, .ulg, ROS 2
+bags, CSV with ``--map``) are imported on the fly (:mod:`oceangnc.io.importers`).
+
+Identification that cannot cheat: by default the initial guesses are *half* the model's nominal values
+(``--initial-scale 0.5``), because the nominal values are the ones the example data (``ekf-zigzag``)
+were made with; starting there, the filter "converges" without moving. The output says where it
+started, and warns for every coefficient whose estimate never left its initial value (moved by less
+than 0.1 of its initial 1-sigma and its sigma shrank by less than 10 %): such a coefficient is not
+identified by the log.
 
 Tuning defaults: measurement sigma estimated from the log (second differences: for white noise
 e_k, Var(e_k+1 - 2 e_k + e_k-1) = 6 sigma^2; floor 1e-5 x the channel's RMS), initial state = first
-sample with 2-sigma uncertainty, initial guesses = the model's nominal values (``--initial`` to
-change), P0 = (``--p0-rel`` x |guess|)^2, Q = ``--q-rel`` x R per second on the states, 0 on the
+sample with 2-sigma uncertainty, initial guesses = 0.5 x the model's nominal values (``--initial``,
+``--initial-scale`` to change), P0 = (``--p0-rel`` x |guess|)^2, Q = ``--q-rel`` x R per second on the states, 0 on the
 parameters.
 """
 
@@ -55,18 +65,27 @@ def noise_sigma_from_data(z: np.ndarray) -> np.ndarray:
     return out
 
 
+DEFAULT_INITIAL_SCALE = 0.5
+
+
 def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: dict | None = None,
-                 initial_scale: float = 1.0, p0_rel: float = 0.3, r_sigma=None, q_rel: float = 2.5e-5,
-                 passes: int = 1, substeps: int = 1, jacobian: str | None = None) -> dict:
-    """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring)."""
-    from ..io.logs import read_log
+                 initial_scale: float = DEFAULT_INITIAL_SCALE, p0_rel: float = 0.3, r_sigma=None,
+                 q_rel: float = 2.5e-5, passes: int = 1, substeps: int = 1, jacobian: str | None = None,
+                 source: dict | None = None) -> dict:
+    """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring).
+
+    ``source``: options of :func:`oceangnc.io.importers.read_any` for field logs.
+    """
+    from ..io.importers import read_any
 
     model = get_model(model_name)
     idx = resolve_estimate(model, estimate)
     names = [model.param_names[i] for i in idx]
     zcols = [f"{prefix}.{k}" for k in model.measurement_names]
     ucols = [f"{prefix}.{k}" for k in model.input_names]
-    df = read_log(path)
+    df = read_any(path, **dict(source or {}))
+    if len(df) == 0:
+        raise InputError(f"{path}: the log has 0 rows; nothing to identify")
     missing = [c for c in ["t", *zcols, *ucols] if c not in df.columns]
     if missing:
         raise InputError(f"log {path} has no column(s) {', '.join(missing)} needed by model {model.name} "
@@ -116,7 +135,18 @@ def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: 
         a = res.X[-1, len(model.state_names):]
     wall = time.perf_counter() - t0
     fin = res.final()
+    sig0 = p0_rel * np.abs(a0)
+    stuck = [k for i, k in enumerate(names)
+             if abs(fin[k][0] - a0[i]) < 0.1 * sig0[i] and fin[k][1] > 0.9 * sig0[i]]
+    nominal = [float(model.params[i]) for i in idx]
+    at_nominal = [k for k, a, nom in zip(names, a0, nominal) if nom != 0 and abs(a - nom) <= 1e-12 * abs(nom)]
     return {
+        "initial_guess": {"rule": "explicit --initial" if init and len(init) == len(names) else
+                          f"{initial_scale:g} x the model's nominal values" + (" (with --initial for "
+                          + ", ".join(init) + ")" if init else ""),
+                          "at_nominal": at_nominal},
+        "warnings": [f"{k} never left its initial value {a0[names.index(k)]:.6g} (not identified by this log)"
+                     for k in stuck],
         "model": model.name, "log": str(path), "samples": int(t.size), "duration_s": float(t[-1] - t[0]),
         "measurement_sigma": {c: float(s) for c, s in zip(zcols, sd)}, "passes": passes,
         "wall_time_s": wall, "mean_nis": float(np.nanmean(res.nis)), "nis_dof": len(zcols),
@@ -132,21 +162,47 @@ def _cmd(args) -> int:
             r_sigma = [float(v) for v in args.r_sigma.split(",")]
         except ValueError:
             raise InputError(f"--r-sigma {args.r_sigma!r}: expected comma-separated numbers") from None
+    from ..io.importers.cli import source_options
+
     out = identify_log(args.log, args.model, args.estimate, prefix=args.prefix,
                        initial=_parse_kv(args.initial, "--initial"), initial_scale=args.initial_scale,
                        p0_rel=args.p0_rel, r_sigma=r_sigma, q_rel=args.q_rel, passes=args.passes,
-                       substeps=args.substeps, jacobian=args.jacobian)
+                       substeps=args.substeps, jacobian=args.jacobian, source=source_options(args))
+    ig = out["initial_guess"]
+    print(f"initial guesses: {ig['rule']}" + ("" if ig["at_nominal"] else
+          " - not the nominal values that example data are simulated with"))
+    if ig["at_nominal"]:
+        print(f"warning: the initial guess of {', '.join(ig['at_nominal'])} is the model's nominal value; on data "
+              f"simulated with the nominal model the filter starts at the truth")
     print(f"model {out['model']}: {out['samples']} samples over {out['duration_s']:.2f} s, "
           f"filter {out['wall_time_s']:.2f} s, mean NIS {out['mean_nis']:.2f} (expect {out['nis_dof']})")
     print(f"  {'parameter':<10} {'initial':>13} {'estimate':>13} {'1-sigma':>11} {'sigma/|est|':>11}")
     for k, v in out["parameters"].items():
         rel = v["sigma"] / abs(v["estimate"]) if v["estimate"] != 0 else float("inf")
         print(f"  {k:<10} {v['initial']:>13.6g} {v['estimate']:>13.6g} {v['sigma']:>11.3g} {rel:>10.2%}")
-    log = Path(args.log)
-    dest = Path(args.out) if args.out else (log if log.is_dir() else log.parent) / f"ekf_{out['model']}.json"
+    for w in out["warnings"]:
+        print(f"warning: {w}")
+    from ..api import new_run_dir
+    from .model_file import entry, write_model
+
+    folder = Path(args.out) if args.out else new_run_dir("runs", "identify-ekf")
+    if folder.suffix.lower() == ".json":
+        raise InputError(f"--out {folder}: --out is a run folder (like oceangnc run), not a file name")
+    folder.mkdir(parents=True, exist_ok=True)
+    dest = folder / f"ekf_{out['model']}.json"
     dest.write_text(json.dumps(out, indent=2))
     print(f"wrote {dest}")
+    params = {f"{MODEL_SECTION.get(out['model'], 'vehicle')}.{k}": v["estimate"] for k, v in out["parameters"].items()}
+    unc = {f"{MODEL_SECTION.get(out['model'], 'vehicle')}.{k}": entry(v["estimate"], v["sigma"], 0)
+           for k, v in out["parameters"].items()}
+    mp = write_model(folder / "identified.toml", out["model"], "identify ekf", args.log, params, unc,
+                     [f"initial guesses: {ig['rule']}", *out["warnings"]])
+    print(f"wrote {mp}")
     return 0
+
+
+#: config section holding a model's coefficients in the scenarios that simulate it
+MODEL_SECTION = {"submarine-vertical": "vehicle"}
 
 
 def register(sub) -> None:
@@ -157,13 +213,19 @@ def register(sub) -> None:
     p.add_argument("--model", default="submarine-vertical", help=f"model name ({', '.join(MODELS)})")
     p.add_argument("--estimate", required=True, help="comma-separated parameter names, e.g. Zw,Zwdot,Mq")
     p.add_argument("--prefix", default="sub", help="column prefix of measurements and inputs (default sub)")
-    p.add_argument("--initial", help="initial guesses name=value,... (default: model nominal values)")
-    p.add_argument("--initial-scale", type=float, default=1.0, help="multiply the nominal guesses by this")
+    p.add_argument("--initial", help="initial guesses name=value,... (default: --initial-scale x nominal values)")
+    p.add_argument("--initial-scale", type=float, default=DEFAULT_INITIAL_SCALE,
+                   help="initial guesses = this x the model's nominal values (default 0.5: the nominal values "
+                        "are what the example data were simulated with, so 1 would start at the truth)")
     p.add_argument("--p0-rel", type=float, default=0.3, help="initial 1-sigma relative to each guess")
     p.add_argument("--r-sigma", help="measurement sigmas (SI, comma-separated); default estimated from the log")
     p.add_argument("--q-rel", type=float, default=2.5e-5, help="state process noise, units of R per second")
     p.add_argument("--passes", type=int, default=1, help="passes over the record")
     p.add_argument("--substeps", type=int, default=1, help="RK4 steps per sample interval")
     p.add_argument("--jacobian", choices=["analytic", "complex-step", "finite-difference"])
-    p.add_argument("--out", help="JSON output path")
+    p.add_argument("--out", help="run folder for ekf_<model>.json and identified.toml "
+                                 "(default: runs/identify-ekf-<time>)")
+    from ..io.importers.cli import add_source_options
+
+    add_source_options(p)
     p.set_defaults(func=_cmd)

@@ -31,7 +31,7 @@ from numba import njit
 
 from ..core.integrators import rk4_advance
 from ..errors import ConfigError
-from ..models.submarine_vertical import sub_rhs
+from ..models.submarine_vertical import LAYOUT, sub_rhs
 
 MANEUVERS = {"5-5": (5.0, 5.0), "10-5": (10.0, 5.0)}
 
@@ -164,7 +164,8 @@ def zigzag(params, x0, maneuver: str = "10-5", duration: float = 200.0, rate_hz:
     n_fine = max(1, int(round(dt_meas / dt_truth)))
     n_meas = int(round(duration * rate_hz)) + 1
     if response_sign is None:
-        response_sign = math.copysign(1.0, p[9]) if p[9] != 0 else -1.0
+        mds = p[LAYOUT.index("Mds")]
+        response_sign = math.copysign(1.0, mds) if mds != 0 else -1.0
     X = np.zeros((n_meas, 4))
     DS = np.zeros(n_meas)
     n_sw = _zigzag_loop(sub_rhs, np.asarray(x0, dtype=np.float64), p, n_meas, dt_meas, n_fine, math.radians(a_deg),

@@ -16,15 +16,55 @@ from pathlib import Path
 from typing import Any, Literal
 
 import annotated_types as at
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+)
 
 from ..errors import ConfigError
 
+#: largest |coordinate| of a waypoint or route point (m): 10 000 km, more than any mission, small
+#: enough that squared distances stay far from float overflow
+MAX_COORD_M = 1e7
+#: largest |value| inside any list of numbers of a config (gains tables, profiles)
+MAX_LIST_VALUE = 1e12
+
+
+def _walk_numbers(v, path=()):
+    if isinstance(v, bool):
+        return
+    if isinstance(v, (int, float)):
+        yield path, v
+    elif isinstance(v, (list, tuple)):
+        for i, x in enumerate(v):
+            yield from _walk_numbers(x, (*path, i))
+
 
 class StrictModel(BaseModel):
-    """Base of all config sections: unknown keys are errors, assignments are validated."""
+    """Base of all config sections: unknown keys are errors, assignments are validated, every float
+    must be finite (NaN and inf are refused with "must be finite"), and numbers inside lists are
+    bounded (:data:`MAX_COORD_M` for waypoint/route/point lists, :data:`MAX_LIST_VALUE` otherwise)."""
 
-    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+    model_config = ConfigDict(extra="forbid", validate_assignment=True, allow_inf_nan=False)
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _bounded_lists(cls, v, info: ValidationInfo):
+        if not isinstance(v, (list, tuple)):
+            return v
+        name = info.field_name or ""
+        geo = any(w in name for w in ("waypoint", "route", "point"))
+        lim = MAX_COORD_M if geo else MAX_LIST_VALUE
+        for path, x in _walk_numbers(v):
+            if abs(x) > lim:
+                idx = "".join(f"[{i}]" for i in path)
+                what = f"must be within +-{lim:g} m of the origin" if geo else f"must be within +-{lim:g}"
+                raise ValueError(f"item {idx} = {x:g} {what}")
+        return v
 
 
 class SimConfig(StrictModel):
@@ -36,11 +76,19 @@ class SimConfig(StrictModel):
     seed: int = Field(0, ge=0, le=2**63 - 1, description="seed of every random source of the run")
 
 
+class LogConfig(StrictModel):
+    """Run log settings (crash safety: see :mod:`oceangnc.io.logs`)."""
+
+    flush_period: float = Field(1.0, gt=0, le=3600, description="simulated time between log flushes, "
+                                "the most a crash can lose, s")
+
+
 class ScenarioConfig(StrictModel):
-    """Base of every scenario's config: the scenario name and the clock."""
+    """Base of every scenario's config: the scenario name, the clock and the log."""
 
     scenario: str = Field("", description="scenario name (set by the registry)")
     sim: SimConfig = SimConfig()
+    log: LogConfig = LogConfig()
 
 
 # -- loading and merging ------------------------------------------------------------------------------
@@ -146,6 +194,7 @@ def describe_allowed(model: type[BaseModel], loc: tuple) -> str:
         return ""
     lo = hi = None
     lo_s = hi_s = ""
+    nmin = nmax = None
     for m in info.metadata:
         if isinstance(m, at.Ge):
             lo, lo_s = m.ge, "<="
@@ -156,13 +205,19 @@ def describe_allowed(model: type[BaseModel], loc: tuple) -> str:
         elif isinstance(m, at.Lt):
             hi, hi_s = m.lt, "<"
         elif isinstance(m, at.MinLen):
-            lo, lo_s = m.min_length, "len >="
+            nmin = m.min_length
+        elif isinstance(m, at.MaxLen):
+            nmax = m.max_length
     unit = f" ({info.description.split(',')[-1].strip()})" if info.description and "," in info.description else ""
     choices = _literal_choices(info.annotation)
     if choices:
         return "allowed values: " + ", ".join(repr(c) for c in choices)
     if isinstance(info.annotation, type) and issubclass(info.annotation, BaseModel):
         return ""  # a whole section: a model-level validator's own message says what is wrong
+    if nmin is not None or nmax is not None:
+        if nmin is not None and nmax is not None:
+            return f"allowed length {nmin} to {nmax} items"
+        return f"allowed length at least {nmin} items" if nmin is not None else f"allowed length at most {nmax} items"
     if lo is not None or hi is not None:
         left = f"{lo:g} {lo_s} " if isinstance(lo, (int, float)) else ""
         right = f" {hi_s} {hi:g}" if isinstance(hi, (int, float)) else ""
@@ -191,13 +246,28 @@ def format_validation_error(model: type[BaseModel], err: ValidationError) -> str
         allowed = ""
         if isinstance(parent, type) and issubclass(parent, BaseModel):
             allowed = "; allowed keys: " + ", ".join(parent.model_fields)
-        return f"config error: unknown key '{key}'{allowed}{more}"
+        return _one_line(f"config error: unknown key {key!r}{allowed}{more}")
     allowed = describe_allowed(model, loc)
     val = e.get("input")
     shown = "" if isinstance(val, dict) else f" = {val!r}"
-    msg = e["msg"][0].lower() + e["msg"][1:]
+    if len(shown) > 80:
+        shown = shown[:77] + "..."
+    if any(isinstance(p, int) for p in loc) or e["type"] == "value_error":
+        allowed = ""  # an item of a list, or a validator's own message: the range of the list is noise
+    if e["type"] == "finite_number":
+        msg = "must be finite"
+    elif e["type"] in ("too_short", "too_long") and isinstance(val, (list, tuple)):
+        msg = f"{len(val)} item(s)"
+    elif e["type"] == "value_error" and e["msg"].startswith("Value error, "):
+        msg = e["msg"][len("Value error, "):]
+    else:
+        msg = e["msg"][0].lower() + e["msg"][1:]
     tail = f"; {allowed}" if allowed else ""
-    return f"config error: {key}{shown}: {msg}{tail}{more}"
+    return _one_line(f"config error: {key}{shown}: {msg}{tail}{more}")
+
+
+def _one_line(text: str) -> str:
+    return text.replace("\r", "\\r").replace("\n", "\\n")
 
 
 def validate(model: type[BaseModel], data: dict):

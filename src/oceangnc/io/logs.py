@@ -1,13 +1,35 @@
-"""Run logs: one Parquet file per run, one row per logged sample, time column ``t`` (s).
+"""Run logs: a crash-safe Parquet dataset per run, one row per logged sample, time column ``t`` (s).
 
 Signal columns are named ``<body>.<signal>`` (``usv.x``, ``usv.psi``, ``usv.thrust_port``) and hold
-float64 SI values. :class:`LogWriter` buffers rows and writes a Parquet row group every
-``flush_rows`` rows, and closes the file (writing its footer) when the run ends *or fails*, so a run
-that diverges or is interrupted with Ctrl-C keeps everything it simulated.
+float64 SI values.
+
+Layout (crash safety). ``log.parquet`` is a *folder* (a Parquet dataset) holding one complete file
+per flush, ``part-000000.parquet``, ``part-000001.parquet``, ... :class:`LogWriter` buffers rows and
+writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s). Each
+part is written to a hidden temporary name (``.part-000007.parquet.tmp``), flushed to disk and then
+renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL
+or a full disk loses at most the rows buffered since the last flush. Parts are written uncompressed
+(cheap: a few ms each) and ``fsync``-ed at most once per second of wall-clock time (``sync_wall``)
+and always at close and before a checkpoint, so a power cut loses at most the last flush period or
+the last second of computation, whichever is more; a part left empty by a power cut is unreadable
+and skipped (and removed by repair). pyarrow and pandas
+skip names that start with ``.``, and open the folder as one table
+(``pandas.read_parquet("run/log.parquet")``, ``pyarrow.parquet.read_table(...)``, or
+:func:`read_log`). Each part records its first row index and row count in its key-value metadata
+(``oceangnc.row0``, ``oceangnc.rows``).
+
+When the run ends (or fails with an error), :meth:`LogWriter.close` compacts the parts into one
+``part-000000.parquet`` (written beside, renamed over part 0, then the other parts are removed). A
+crash in the middle of compaction can leave parts whose rows are also in part 0; :func:`read_log`
+ignores such covered parts, and :func:`repair_log` (``oceangnc log repair DIR``) removes them, as well
+as temporary files and unreadable parts.
 """
 
 from __future__ import annotations
 
+import math
+import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -16,36 +38,118 @@ import pyarrow.parquet as pq
 
 from ..errors import InputError
 
+PART_FMT = "part-{:06d}.parquet"
+MEM_CELLS = 20_000_000  #: values (rows x columns) of a log kept in memory for compaction (160 MB)
+META_ROW0 = b"oceangnc.row0"
+META_ROWS = b"oceangnc.rows"
+
+
+def _fsync_dir(d: Path) -> None:
+    try:
+        fd = os.open(d, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically: a temporary file in the same folder, fsync, rename."""
+    p = Path(path)
+    tmp = p.with_name(f".{p.name}.tmp")
+    with open(tmp, "wb") as f:
+        f.write(data)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, p)
+    _fsync_dir(p.parent)
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """:func:`atomic_write_bytes` for text (UTF-8); ``summary.json`` is written this way."""
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def _part_index(p: Path) -> int | None:
+    name = p.name
+    if not (name.startswith("part-") and name.endswith(".parquet")):
+        return None
+    try:
+        return int(name[5:-8])
+    except ValueError:
+        return None
+
+
+def list_parts(folder: str | Path) -> list[Path]:
+    """The visible part files of a dataset folder, in write order."""
+    d = Path(folder)
+    parts = [(i, p) for p in d.iterdir() if (i := _part_index(p)) is not None]
+    return [p for _, p in sorted(parts)]
+
 
 class LogWriter:
-    """Append rows of named float signals to a Parquet file.
+    """Append rows of named float signals to a crash-safe Parquet dataset folder (module docstring).
+
+    Parameters
+    ----------
+    path : path
+        The dataset folder, normally ``<run>/log.parquet``.
+    flush_period : float
+        Simulated time between flushes (s): the most a crash can lose.
+    flush_rows : int
+        Also flush when this many rows are buffered (bounds memory on fast log rates).
+    start_part, start_row : int
+        Continue an existing dataset (resume from a checkpoint) at this part index and row count.
 
     The column set is fixed by the first row; later rows may not add columns (a missing signal is NaN).
-    Extra string/int columns that are constant for a whole sub-run (e.g. ``run``) are also floats.
+    Extra columns that are constant for a whole sub-run (``extra``, e.g. ``run``) are also floats.
     """
 
-    def __init__(self, path: str | Path, flush_rows: int = 2000):
+    def __init__(self, path: str | Path, flush_period: float = 1.0, flush_rows: int = 100_000,
+                 start_part: int = 0, start_row: int = 0, compact: bool = True, sync_wall: float = 1.0):
         self.path = Path(path)
+        self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
+        self.compact = bool(compact)
+        self.sync_wall = float(sync_wall)
+        self._t_sync = -math.inf
+        self._unsynced: list[Path] = []
+        # the parts written by this writer, kept for compaction at close (no reading back), up to a
+        # memory cap; a resumed writer (start_part > 0) compacts from disk
+        self._mem: list[pa.Table] | None = [] if start_part == 0 else None
+        self._mem_cells = 0
         self.columns: list[str] | None = None
         self._buf: dict[str, list] = {}
-        self._writer: pq.ParquetWriter | None = None
-        self.rows = 0
+        self._t0: float | None = None
+        self.rows = int(start_row)  # rows appended (including those of a resumed run)
+        self.rows_written = int(start_row)  # rows in visible parts
+        self.parts = int(start_part)
         self.extra: dict[str, float] = {}
+        self.closed = False
 
     def append(self, t: float, row: dict[str, float]) -> None:
         """Add one sample at time ``t`` (s)."""
+        t = float(t)
         if self.columns is None:
             self.columns = ["t", *self.extra.keys(), *[k for k in row if k not in self.extra]]
             self._buf = {c: [] for c in self.columns}
-        self._buf["t"].append(float(t))
+        if self._t0 is None:
+            self._t0 = t
+            # flush at multiples of the period (t = 1, 2, 3 s ...), whatever time the buffer starts at
+            self._t_flush = (math.floor(t / self.flush_period + 1e-9) + 1) * self.flush_period
+        self._buf["t"].append(t)
         for c in self.columns[1:]:
             if c in self.extra:
                 self._buf[c].append(float(self.extra[c]))
             else:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
-        if len(self._buf["t"]) >= self.flush_rows:
+        if (t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0
+                or len(self._buf["t"]) >= self.flush_rows):
             self.flush()
 
     def append_rows(self, t, names: list[str], values) -> None:
@@ -60,7 +164,11 @@ class LogWriter:
         if self.columns is None:
             raise ValueError("append_rows needs a first append() to fix the columns")
         idx = {c: j for j, c in enumerate(names)}
-        self._buf["t"].extend(np.asarray(t, dtype=float).tolist())
+        ts = np.asarray(t, dtype=float).tolist()
+        if self._t0 is None:
+            self._t0 = ts[0]
+            self._t_flush = (math.floor(ts[0] / self.flush_period + 1e-9) + 1) * self.flush_period
+        self._buf["t"].extend(ts)
         vals = np.asarray(values, dtype=float)
         for c in self.columns[1:]:
             if c in self.extra:
@@ -70,30 +178,96 @@ class LogWriter:
             else:
                 self._buf[c].extend([np.nan] * m)
         self.rows += m
-        if len(self._buf["t"]) >= self.flush_rows:
+        if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
             self.flush()
 
+    def _table(self) -> pa.Table:
+        return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
+
+    def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
+        meta = dict(table.schema.metadata or {})
+        meta.update({META_ROW0: str(row0).encode(), META_ROWS: str(table.num_rows).encode()})
+        table = table.replace_schema_metadata(meta)
+        final = self.path / PART_FMT.format(index)
+        tmp = self.path / f".{final.name}.tmp"
+        try:
+            with open(tmp, "wb") as f:
+                if final_part:
+                    pq.write_table(table, f, compression="zstd")
+                    f.flush()
+                    os.fsync(f.fileno())
+                else:  # a part of a running log: small, uncompressed (compaction compresses)
+                    pq.write_table(table, f, compression="none", use_dictionary=False, write_statistics=False)
+            os.replace(tmp, final)
+        except OSError as e:
+            tmp.unlink(missing_ok=True)
+            raise InputError(f"cannot write the log {self.path}: {e.strerror or e}; the "
+                             f"{self.rows_written} rows flushed before are kept") from None
+        if final_part:
+            _fsync_dir(self.path)
+        else:
+            self._unsynced.append(final)
+        return final
+
+    def sync(self) -> None:
+        """fsync the parts written since the last sync, and the folder (durable on power loss)."""
+        for p in self._unsynced:
+            try:
+                fd = os.open(p, os.O_RDONLY)
+            except OSError:
+                continue
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+        self._unsynced.clear()
+        _fsync_dir(self.path)
+        self._t_sync = time.monotonic()
+
     def flush(self) -> None:
-        """Write the buffered rows as one row group."""
+        """Write the buffered rows as one new part file (atomically)."""
         if not self.columns or not self._buf["t"]:
             return
-        table = pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
-        if self._writer is None:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._writer = pq.ParquetWriter(self.path, table.schema, compression="zstd")
-        self._writer.write_table(table)
+        self.path.mkdir(parents=True, exist_ok=True)
+        table = self._table()
+        self._write_part(table, self.parts, self.rows_written, final_part=False)
+        if self._mem is not None:
+            self._mem.append(table)
+            self._mem_cells += table.num_rows * table.num_columns
+            if self._mem_cells > MEM_CELLS:
+                self._mem = None
+        if time.monotonic() - self._t_sync >= self.sync_wall:
+            self.sync()
+        self.parts += 1
+        self.rows_written += table.num_rows
         for c in self.columns:
             self._buf[c].clear()
+        self._t0 = None
 
     def close(self) -> None:
-        """Flush and write the file footer; safe to call twice."""
+        """Flush, then compact the parts into one file; safe to call twice."""
+        if self.closed:
+            return
+        self.closed = True
         self.flush()
-        if self._writer is not None:
-            self._writer.close()
-            self._writer = None
-        elif self.columns is None and not self.path.exists():
+        self.path.mkdir(parents=True, exist_ok=True)
+        self.sync()
+        parts = list_parts(self.path)
+        if not parts:
             # no row at all: still leave a valid, empty log behind
-            pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), self.path)
+            cols = self.columns or ["t"]
+            self._write_part(pa.table({c: pa.array([], type=pa.float64()) for c in cols}), 0, 0)
+            return
+        if self.compact and len(parts) > 1:
+            if self._mem is not None and len(self._mem) == len(parts):
+                merged = pa.concat_tables(self._mem)
+                self._write_part(merged, 0, 0)  # atomic rename over part 0, then drop the others
+                for p in parts[1:]:
+                    p.unlink(missing_ok=True)
+                _fsync_dir(self.path)
+            else:
+                compact_log(self.path)
+        self._mem = None
 
     def __enter__(self):
         return self
@@ -103,21 +277,123 @@ class LogWriter:
         return False
 
 
+def _part_range(p: Path) -> tuple[int, int] | None:
+    """(first row, row count) from a part's metadata, or None when unreadable."""
+    try:
+        md = pq.read_metadata(p)
+    except (pa.ArrowInvalid, OSError, ValueError):
+        return None
+    kv = md.metadata or {}
+    try:
+        return int(kv[META_ROW0]), int(kv[META_ROWS])
+    except (KeyError, ValueError):
+        return -1, md.num_rows  # not written by LogWriter: keep, no order information
+
+
+def _live_parts(folder: Path) -> tuple[list[Path], list[Path]]:
+    """(parts to read in order, parts to drop: unreadable or covered by an earlier compaction)."""
+    keep: list[Path] = []
+    drop: list[Path] = []
+    covered = 0
+    for p in list_parts(folder):
+        r = _part_range(p)
+        if r is None:
+            drop.append(p)
+            continue
+        row0, n = r
+        if row0 >= 0 and row0 + n <= covered and n > 0:
+            drop.append(p)  # its rows are already in a compacted part
+            continue
+        keep.append(p)
+        if row0 >= 0:
+            covered = max(covered, row0 + n)
+    return keep, drop
+
+
+def compact_log(folder: str | Path) -> None:
+    """Merge a dataset's parts into one ``part-000000.parquet`` (crash-safe, see the module docstring)."""
+    d = Path(folder)
+    keep, drop = _live_parts(d)
+    if len(keep) <= 1 and not drop:
+        return
+    table = pa.concat_tables([pq.read_table(p) for p in keep]) if keep else None
+    if table is None:
+        return
+    w = LogWriter(d)
+    w._write_part(table.replace_schema_metadata(None), 0, 0)  # atomic rename over part 0
+    for p in [*keep, *drop]:
+        if p.name != PART_FMT.format(0):
+            p.unlink(missing_ok=True)
+    _fsync_dir(d)
+
+
+def repair_log(path: str | Path) -> dict:
+    """Make a log folder (or a run folder holding ``log.parquet``) whole after a crash.
+
+    Removes temporary files of interrupted writes, unreadable parts and parts already covered by a
+    compacted part, then compacts. Returns ``{"parts": kept, "removed": [...], "rows": n}``.
+    """
+    d = _dataset_path(Path(path))
+    if not d.is_dir():
+        raise InputError(f"log folder not found: {d}")
+    removed = []
+    for p in sorted(d.iterdir()):
+        if p.name.startswith(".") and p.name.endswith(".tmp"):
+            p.unlink()
+            removed.append(p.name)
+    keep, drop = _live_parts(d)
+    for p in drop:
+        p.unlink()
+        removed.append(p.name)
+    if not keep:
+        pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), d / PART_FMT.format(0))
+    elif len(keep) > 1:
+        compact_log(d)
+    parts = list_parts(d)
+    rows = sum(pq.read_metadata(p).num_rows for p in parts)
+    return {"parts": len(parts), "removed": removed, "rows": rows}
+
+
+def _dataset_path(p: Path) -> Path:
+    if p.is_dir() and p.name != "log.parquet" and (p / "log.parquet").exists():
+        return p / "log.parquet"
+    return p
+
+
+def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
+    """A log as a pyarrow Table: a dataset folder (parts in order, covered parts skipped), a single
+    Parquet file, or a run folder holding ``log.parquet``."""
+    p = _dataset_path(Path(path))
+    if p.is_dir():
+        keep, _ = _live_parts(p)
+        if not keep:
+            raise InputError(f"log {p} holds no readable part (try: oceangnc log repair {p.parent})")
+        tables = [pq.read_table(q, columns=columns) for q in keep]
+        schema = tables[0].schema
+        return pa.concat_tables([t.replace_schema_metadata(None) for t in tables]).replace_schema_metadata(
+            {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None)
+    return pq.read_table(p, columns=columns)
+
+
 def read_log(path: str | Path, columns: list[str] | None = None):
-    """Read a Parquet (or CSV) log as a pandas DataFrame; clear error if missing or unreadable."""
+    """Read a Parquet log (dataset folder or file) or a CSV log as a pandas DataFrame.
+
+    ``path`` may be a run folder (its ``log.parquet`` is read). A missing or unreadable log is an
+    :class:`~oceangnc.errors.InputError` with a one-line message.
+    """
     import pandas as pd
 
-    p = Path(path)
-    if p.is_dir():
-        p = p / "log.parquet"
-    if not p.is_file():
+    p = _dataset_path(Path(path))
+    if not p.exists():
         raise InputError(f"log not found: {p}")
     try:
-        if p.suffix.lower() == ".csv":
+        if p.is_file() and p.suffix.lower() == ".csv":
             df = pd.read_csv(p)
         else:
-            df = pq.read_table(p, columns=columns).to_pandas()
-    except (pa.ArrowInvalid, OSError, ValueError) as e:
+            df = read_table(p, columns=columns).to_pandas()
+    except (pa.ArrowInvalid, OSError, ValueError, KeyError) as e:
+        if isinstance(e, InputError):
+            raise
         raise InputError(f"cannot read log {p}: {e}") from None
     if columns:
         missing = [c for c in columns if c not in df.columns]

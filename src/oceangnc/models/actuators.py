@@ -99,5 +99,5 @@ def uuv_thrust_from_voltage(v):
 
 @njit(cache=True)
 def saturate(x, lo, hi):
-    """Clip x to [lo, hi]."""
-    return lo if x < lo else (hi if x > hi else x)
+    """Clip x to [lo, hi] (comparing real parts, so it also runs in complex arithmetic for complex step)."""
+    return lo if x.real < lo.real else (hi if x.real > hi.real else x)

@@ -48,8 +48,9 @@ from typing import Literal
 
 import numpy as np
 from numba import njit
-from pydantic import Field
+from pydantic import Field, model_validator
 
+from ..errors import ConfigError
 from ..io.config import StrictModel
 from ..units import G, RHO_WATER
 
@@ -57,19 +58,35 @@ from ..units import G, RHO_WATER
 class CableConfig(StrictModel):
     """Cable parameters (003 table 2-6) and its attachment points."""
 
-    segments: int = Field(20, ge=1, le=1000, description="number of segments n (003 ch. 4: 20), -")
+    segments: int | None = Field(None, ge=1, le=1000,
+                                 description="number of segments n (003 ch. 4: 20); default from the length: "
+                                             "max(20, ceil(L / 2 m)), or from cable.segment_length, -")
+    segment_length: float | None = Field(None, gt=0, le=1e3,
+                                         description="nominal segment length, alternative to cable.segments: "
+                                                     "n = max(1, round(L / segment_length)), m")
     length: float = Field(3.0, gt=0, le=1e4, description="unstretched length L (003 table 2-6), m")
     diameter: float = Field(0.025, gt=0, le=1.0, description="diameter d_c (003 table 2-6), m")
     density: float = Field(3121.0, gt=0, le=2e4, description="cable density rho_c (003 table 2-6), kg/m3")
     cd: float = Field(2.5, ge=0, le=10, description="drag coefficient C_d (003 table 2-6), -")
+    drag_law: Literal["loading-functions", "normal-tangential"] = Field(
+        "loading-functions", description="loading-functions: 003 eq. 2.24-2.25 with C_d; normal-tangential: "
+                                         "1/2 rho C_dn d |V_n| V_n + 1/2 rho C_dt pi d |v_t| v_t per unit length")
+    cd_normal: float | None = Field(None, ge=0, le=10,
+                                    description="normal drag coefficient C_dn (normal-tangential law; "
+                                                "default: cable.cd), -")
+    cd_tangential: float | None = Field(None, ge=0, le=1,
+                                        description="tangential drag coefficient C_dt on the wetted perimeter pi d "
+                                                    "(normal-tangential law; default 0.02 C_d / pi, eq. 2.25's "
+                                                    "f_q(0)), -")
     damping: float = Field(100.0, ge=0, le=1e6, description="axial damping coefficient C_v (003 eq. 2.23), N s/m")
     E: float = Field(7.5e6, gt=0, le=1e12,
                      description="effective modulus of elasticity (003 table 2-6, read as E in Pa), Pa")
     added_mass_coeff: float = Field(1.0, ge=0, le=5,
                                     description="normal added-mass coefficient C_a (003 eq. 2.27), -")
-    integrator: Literal["rk4", "rk4-split"] = Field(
+    integrator: Literal["rk4", "rk4-split", "imex"] = Field(
         "rk4-split", description="rk4-split: axial damping implicit, the rest RK4 (Strang split, 2.2x larger "
-                                 "stable step); rk4: classical RK4 on everything")
+                                 "stable step); rk4: classical RK4 on everything; imex: ROS2 W-method with the "
+                                 "axial stiffness and damping implicit (no axial step limit, O(n) solve)")
     drag_on: bool = Field(True, description="hydrodynamic drag on the cable (off only for energy checks)")
     rho_water: float = Field(RHO_WATER, gt=900, le=1100, description="water density, kg/m3")
     top_x: float = Field(0.0, ge=-50, le=50, description="USV attachment point, body x (forward of the CG), m")
@@ -78,6 +95,31 @@ class CableConfig(StrictModel):
     tow_x: float = Field(0.0, ge=-10, le=10, description="UUV tow point r_c, body x (ahead of the CB), m")
     tow_y: float = Field(0.0, ge=-10, le=10, description="UUV tow point r_c, body y, m")
     tow_z: float = Field(-0.125, ge=-10, le=10, description="UUV tow point r_c, body z (negative: above the CB), m")
+
+    @model_validator(mode="after")
+    def _resolve_segments(self):
+        """Segment count: explicit ``segments``, else from ``segment_length``, else max(20, ceil(L / 2 m))."""
+        if self.segment_length is not None:
+            if "segments" in self.model_fields_set and self.segments is not None:
+                raise ConfigError("cable.segments and cable.segment_length are alternatives: set only one")
+            n = max(1, int(round(self.length / self.segment_length)))
+            if n > 1000:
+                raise ConfigError(f"cable.segment_length = {self.segment_length:g}: gives {n} segments for "
+                                  f"{self.length:g} m; allowed range: at most 1000 segments")
+            self.__dict__["segments"] = n
+        elif self.segments is None:
+            self.__dict__["segments"] = max(20, math.ceil(self.length / 2.0 - 1e-9))
+        return self
+
+    @property
+    def cd_n(self) -> float:
+        """Normal drag coefficient of the normal-tangential law (-)."""
+        return self.cd if self.cd_normal is None else self.cd_normal
+
+    @property
+    def cd_t(self) -> float:
+        """Tangential drag coefficient of the normal-tangential law, on the perimeter pi d (-)."""
+        return 0.02 * self.cd / math.pi if self.cd_tangential is None else self.cd_tangential
 
     @property
     def area(self) -> float:
@@ -150,24 +192,34 @@ def _loading(c, s, eta):
 
 
 @njit(cache=True)
-def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce, cv_last=-1.0):
+def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce, cv_last=-1.0, law=0,
+                kdt=0.0, l0_top=-1.0, ldot_top=0.0):
     """Accumulate node forces ``F`` (3(n+1)) and node mass matrices ``Mn`` (6(n+1): xx xy xz yy yz zz).
 
     ``pos``, ``vel``: node positions and velocities (3(n+1), NED, node 0 on top). Loads of each segment
     are shared half-half by its end nodes (003 eq. 2.22-2.29); ``kdrag`` = rho C_d d l0 / 2 (0: no
     drag); ``w_seg`` the submerged weight of one segment (N); ``cv_last`` (if >= 0) replaces C_v for the
-    last segment (the split integrator damps the others implicitly). Allocates nothing.
+    last segment (the split integrator damps the others implicitly). ``law`` 0: loading functions (eq.
+    2.25); 1: normal-tangential, normal drag -kdrag |V_p| V_p and tangential -kdt |v_q| v_q t (``kdrag`` =
+    rho C_dn d l0 / 2, ``kdt`` = rho C_dt pi d l0 / 2). ``l0_top`` (if > 0) is the unstretched length of
+    segment 1 (a winch's top segment): its stiffness EA / l0, mass, added mass, weight and drag scale with
+    it; ``ldot_top`` (m/s) is the rate at which that length changes (the winch's line speed): the damper
+    acts on the strain rate, C_v l0 d/dt(l / l0) = C_v (dl/dt - (l / l0) dl0/dt), so material paid out
+    through the sheave is not "damped". Allocates nothing.
     """
     for k in range(3 * (n + 1)):
         F[k] = 0.0
     for k in range(6 * (n + 1)):
         Mn[k] = 0.0
-    half_w = 0.5 * w_seg
-    half_k = 0.5 * kdrag
-    ea_l0 = ea / l0
-    mt = 0.5 * (m_c + m_a)
-    ha = 0.5 * m_a
     for i in range(1, n + 1):
+        sc = l0_top / l0 if (i == 1 and l0_top > 0.0) else 1.0
+        l0i = l0 * sc
+        half_w = 0.5 * w_seg * sc
+        half_k = 0.5 * kdrag * sc
+        kdti = kdt * sc
+        ea_l0 = ea / l0i
+        mt = 0.5 * (m_c + m_a) * sc
+        ha = 0.5 * m_a * sc
         a = 3 * (i - 1)
         b = 3 * i
         dx = pos[b] - pos[a]
@@ -185,17 +237,19 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
             tz = 1.0
         # axial force (eq. 2.22-2.23), tension only
         fax = 0.0
-        if ln > l0:
+        if ln > l0i:
             rel = (vel[b] - vel[a]) * tx + (vel[b + 1] - vel[a + 1]) * ty + (vel[b + 2] - vel[a + 2]) * tz
             c_i = cv_last if (i == n and cv_last >= 0.0) else cv
-            fax = ea_l0 * (ln - l0) + c_i * rel
+            if i == 1:
+                rel -= ln / l0i * ldot_top
+            fax = ea_l0 * (ln - l0i) + c_i * rel
             if fax < 0.0:
                 fax = 0.0
         hx = 0.0
         hy = 0.0
         hz = 0.0
         # drag (eq. 2.24-2.25) on the relative velocity at the segment centre, half to each node
-        if kdrag > 0.0:
+        if kdrag > 0.0 or kdt > 0.0:
             Vx = 0.5 * (vel[a] + vel[b]) - vcn
             Vy = 0.5 * (vel[a + 1] + vel[b + 1]) - vce
             Vz = 0.5 * (vel[a + 2] + vel[b + 2])
@@ -205,7 +259,13 @@ def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce
             pz = Vz - vq * tz
             vp2 = px * px + py * py + pz * pz
             v2 = vq * vq + vp2
-            if v2 > 0.0:
+            if law == 1:
+                cn = -half_k * math.sqrt(vp2)
+                ct = -0.5 * kdti * abs(vq) * vq
+                hx = cn * px + ct * tx
+                hy = cn * py + ct * ty
+                hz = cn * pz + ct * tz
+            elif v2 > 0.0:
                 vp = math.sqrt(vp2)
                 avq = abs(vq)
                 ivn = 1.0 / math.sqrt(v2)

@@ -35,28 +35,39 @@ T_v / (1 - 0.0004 delta_T), about 4 T_v at 12 m/s) and a straight run from rest 
 longer a first-order lag with T_v(U).
 
 State ``x = [x_n, y_e, psi, u, r]`` (m, m, rad, m/s, rad/s); inputs ``[usv.rpm, usv.delta_s, usv.u_op]``
-(rev/min, rad, m/s); parameters :data:`P_NAMES`.
+(rev/min, rad, m/s); parameters :data:`LAYOUT` (generated from the declared names);
+:func:`first_order_model` is the :class:`~oceangnc.core.model.Model` (plant, linearisation, EKF).
 """
 
 from __future__ import annotations
 
 import math
 import warnings
+from typing import Literal
 
 import numpy as np
 from numba import njit
-from typing import Literal
-
 from pydantic import Field, model_validator
 
 from ..core.blocks import Block, Plant
+from ..core.csmath import ccos, csin
+from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
 
 VEHICLE = "usv-first-order"
-STATE_NAMES = ("x", "y", "psi", "u", "r")
+STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("r", "rad/s"))
+INPUTS = (("rpm", "rev/min"), ("delta_s", "rad"), ("u_op", "m/s"))
+STATE_NAMES = tuple(k for k, _ in STATES)
 INPUT_NAMES = ("usv.rpm", "usv.delta_s", "usv.u_op")
-P_NAMES = ("kv_slope", "kv_intercept", "tv_slope", "tv_intercept", "kr_slope", "kr_intercept", "tr_slope",
-           "tr_intercept", "straight_lo", "straight_hi", "turn_lo", "turn_hi", "use_operating_speed")
+#: parameters (000 table 2), generated layout
+LAYOUT = ParamLayout([
+    Param("kv_slope", "(m/s)/rpm per m/s"), Param("kv_intercept", "(m/s)/rpm"), Param("tv_slope", "s per m/s"),
+    Param("tv_intercept", "s"), Param("kr_slope", "1/s per m/s"), Param("kr_intercept", "1/s"),
+    Param("tr_slope", "s per m/s"), Param("tr_intercept", "s"), Param("straight_lo", "m/s"),
+    Param("straight_hi", "m/s"), Param("turn_lo", "m/s"), Param("turn_hi", "m/s"),
+    Param("use_operating_speed", "bool", description="1: coefficients at u_op, 0: at the speed")])
+P_NAMES = LAYOUT.names
+(_KVS, _KVI, _TVS, _TVI, _KRS, _KRI, _TRS, _TRI, _SLO, _SHI, _TLO, _THI, _OPER) = LAYOUT.indices(*P_NAMES)
 
 
 class FirstOrderConfig(StrictModel):
@@ -103,11 +114,11 @@ class FirstOrderConfig(StrictModel):
         return self
 
     def params(self) -> np.ndarray:
-        """Flat parameter array in the layout of :data:`P_NAMES`."""
-        return np.array([self.kv_slope, self.kv_intercept, self.tv_slope, self.tv_intercept, self.kr_slope,
-                         self.kr_intercept, self.tr_slope, self.tr_intercept, self.straight_lo_mps,
-                         self.straight_hi_mps, self.turn_lo_mps, self.turn_hi_mps,
-                         1.0 if self.schedule == "operating" else 0.0])
+        """Flat parameter array in the layout :data:`LAYOUT`."""
+        v = {k: getattr(self, k) for k in P_NAMES[:8]}
+        v.update(straight_lo=self.straight_lo_mps, straight_hi=self.straight_hi_mps, turn_lo=self.turn_lo_mps,
+                 turn_hi=self.turn_hi_mps, use_operating_speed=1.0 if self.schedule == "operating" else 0.0)
+        return LAYOUT.pack(v)
 
     def coefficients(self, u: float) -> dict:
         """K_v ((m/s)/rpm), T_v (s), K_r (1/s), T_r (s) at speed ``u`` (m/s), with the clamped schedule."""
@@ -129,10 +140,12 @@ class FirstOrderConfig(StrictModel):
 
 @njit(cache=True)
 def schedule(u, p):
-    """(K_v, T_v, K_r, T_r) at speed ``u`` (m/s), each law evaluated at u clipped to its trial range."""
-    us = min(max(u, p[8]), p[9])
-    ut = min(max(u, p[10]), p[11])
-    return (p[0] * us + p[1], p[2] * us + p[3], p[4] * ut + p[5], p[6] * ut + p[7])
+    """(K_v, T_v, K_r, T_r) at speed ``u`` (m/s), each law evaluated at u clipped to its trial range.
+
+    The clip compares real parts and keeps ``u`` itself inside the range (complex step: d/du there)."""
+    us = p[_SLO] if u.real < p[_SLO].real else (p[_SHI] if u.real > p[_SHI].real else u)
+    ut = p[_TLO] if u.real < p[_TLO].real else (p[_THI] if u.real > p[_THI].real else u)
+    return (p[_KVS] * us + p[_KVI], p[_TVS] * us + p[_TVI], p[_KRS] * ut + p[_KRI], p[_TRS] * ut + p[_TRI])
 
 
 @njit(cache=True)
@@ -141,12 +154,19 @@ def first_order_rhs(t, x, u, p, out):
     psi = x[2]
     uu = x[3]
     r = x[4]
-    kv, tv, kr, tr = schedule(u[2] if p[12] > 0.5 else uu, p)
-    out[0] = uu * math.cos(psi)
-    out[1] = uu * math.sin(psi)
+    kv, tv, kr, tr = schedule(u[2] + 0.0 * uu if p[_OPER].real > 0.5 else uu, p)
+    out[0] = uu * ccos(psi)
+    out[1] = uu * csin(psi)
     out[2] = r
     out[3] = (kv * u[0] - uu) / tv
     out[4] = (kr * u[1] - r) / tr
+
+
+def first_order_model(cfg: FirstOrderConfig | None = None, params=None) -> Model:
+    """The first-order USV of 000 (eq. 8, 15, 1) as a :class:`~oceangnc.core.model.Model`."""
+    p = (cfg or FirstOrderConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
+    return Model("first-order", first_order_rhs, STATES, INPUTS, LAYOUT, p, bound=1e7,
+                 description="000 first-order speed/yaw-rate USV (Nomoto), states x, y, psi, u, r")
 
 
 class FirstOrderUSV(Plant):
@@ -159,7 +179,8 @@ class FirstOrderUSV(Plant):
     def __init__(self, cfg: FirstOrderConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, math.radians(cfg.r0_degps)])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(name, first_order_rhs, x0, cfg.params(), STATE_NAMES, inputs, max_dt=cfg.max_dt())
+        super().__init__(**first_order_model(cfg).plant_args(name, x0, inputs), max_dt=cfg.max_dt(),
+                         state_units=("m", "m", "rad", "m/s", "rad/s"), input_units=("rpm", "rad", "m/s"), input_defaults={f"{name}.u_op": 0.0}, extra_outputs={f"{name}.speed": "m/s", f"{name}.schedule_clamped": "bool"})
         self.cfg = cfg
         self._warned = False
 

@@ -68,25 +68,40 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Plant
+from ..core.signals import CALM
+from ..core.csmath import cabs, catan2, ccos, csin, csqrt
+from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
 from ..units import RHO_AIR, RHO_WATER
 from .actuators import saturate
 from .usv import wind_load
 
-STATE_NAMES = ("x", "y", "psi", "u", "v", "r", "delta", "n", "n_bow", "n_stern")
+STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("delta", "rad"),
+          ("n", "Hz"), ("n_bow", "Hz"), ("n_stern", "Hz"))  # shaft speeds in rev/s
+INPUTS = (("rudder_cmd", "rad"), ("n_prop_cmd", "Hz"), ("n_bow_cmd", "Hz"), ("n_stern_cmd", "Hz"),
+          ("current_n", "m/s"), ("current_e", "m/s"), ("wind_n", "m/s"), ("wind_e", "m/s"))
+STATE_NAMES = tuple(k for k, _ in STATES)
 INPUT_NAMES = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd",
                "env.current_n", "env.current_e", "env.wind_n", "env.wind_e")
 
-#: parameter layout of :meth:`ShipConfig.params`
-P_NAMES = (
-    "L", "T", "rho", "m", "xG", "m11", "M1_11", "M1_12", "M1_21", "M1_22",          # 0-9
-    "X_uu", "X_vr", "X_vv", "X_rr", "Y_v", "Y_r", "m_x", "Nv_drift", "N_r", "alpha0",  # 10-19
-    "C_D", "C_Yr", "C_Nr", "A_R", "f_alpha", "t_R", "a_H", "x_H", "x_R", "gamma_R",   # 20-29
-    "c_Rr", "eps", "kappa", "D", "t_p", "w_p", "a1", "a2", "a3", "b_B",             # 30-39
-    "b_S", "x_TB", "x_TS", "tau_p", "tau_d", "tau_tb", "tau_ts", "n_max", "delta_max",  # 40-48
-    "delta_rate", "nB_max", "nS_max", "rho_air", "A_F", "A_L", "L_oa", "c_x", "c_y", "c_n",  # 49-58
-)
-P = {k: i for i, k in enumerate(P_NAMES)}
+#: parameter layout of :meth:`ShipConfig.params` (dimensional, SI), generated from the declared names
+LAYOUT = ParamLayout([Param(k, u) for k, u in (
+    ("L", "m"), ("T", "m"), ("rho", "kg/m^3"), ("m", "kg"), ("xG", "m"), ("m11", "kg"), ("M1_11", "kg"),
+    ("M1_12", "kg m"), ("M1_21", "kg m"), ("M1_22", "kg m^2"), ("X_uu", "kg/m"), ("X_vr", "kg"), ("X_vv", "kg/m"),
+    ("X_rr", "kg m"), ("Y_v", "kg/m"), ("Y_r", "kg"), ("m_x", "kg"), ("Nv_drift", "kg"), ("N_r", "kg m"),
+    ("alpha0", "rad"), ("C_D", "1"), ("C_Yr", "1"), ("C_Nr", "1"), ("A_R", "m^2"), ("f_alpha", "1"), ("t_R", "1"),
+    ("a_H", "1"), ("x_H", "m"), ("x_R", "m"), ("gamma_R", "1"), ("c_Rr", "1"), ("eps", "1"), ("kappa", "1"),
+    ("D", "m"), ("t_p", "1"), ("w_p", "1"), ("a1", "1"), ("a2", "1"), ("a3", "1"), ("b_B", "N s^2"),
+    ("b_S", "N s^2"), ("x_TB", "m"), ("x_TS", "m"), ("tau_p", "s"), ("tau_d", "s"), ("tau_tb", "s"), ("tau_ts", "s"),
+    ("n_max", "rev/s"), ("delta_max", "rad"), ("delta_rate", "rad/s"), ("nB_max", "rev/s"), ("nS_max", "rev/s"),
+    ("rho_air", "kg/m^3"), ("A_F", "m^2"), ("A_L", "m^2"), ("L_oa", "m"), ("c_x", "1"), ("c_y", "1"), ("c_n", "1"),
+)])
+P_NAMES = LAYOUT.names
+P = {k: LAYOUT.index(k) for k in P_NAMES}
+(_L, _T, _RHO, _M, _XG, _M11, _M1_11, _M1_12, _M1_21, _M1_22, _X_UU, _X_VR, _X_VV, _X_RR, _Y_V, _Y_R, _M_X,
+    _NV_DRIFT, _N_R, _ALPHA0, _C_D, _C_YR, _C_NR, _A_R, _F_ALPHA, _T_R, _A_H, _X_H, _X_R, _GAMMA_R, _C_RR,
+    _EPS, _KAPPA, _D, _T_P, _W_P, _A1, _A2, _A3, _B_B, _B_S, _X_TB, _X_TS, _TAU_P, _TAU_D, _TAU_TB, _TAU_TS,
+    _N_MAX, _DELTA_MAX, _DELTA_RATE, _NB_MAX, _NS_MAX, _RHO_AIR, _A_F, _A_L, _L_OA, _C_X, _C_Y, _C_N) = LAYOUT.indices(*P_NAMES)
 
 
 class ShipConfig(StrictModel):
@@ -182,7 +197,6 @@ class ShipConfig(StrictModel):
         nmax = self.n_max_rpm / 60.0
         ntmax = self.thruster_rpm_max / 60.0
         b = self.thruster_force_kn * 1e3 / ntmax ** 2
-        p = np.zeros(len(P_NAMES))
         vals = {
             "L": L, "T": T, "rho": rho, "m": m, "xG": self.x_g, "m11": m + mx,
             "M1_11": m + my, "M1_12": m * self.x_g - yrdot, "M1_21": m * self.x_g - nvdot, "M1_22": iz + jz,
@@ -200,21 +214,19 @@ class ShipConfig(StrictModel):
             "nB_max": ntmax, "nS_max": ntmax, "rho_air": self.rho_air, "A_F": self.area_front,
             "A_L": self.area_side, "L_oa": L, "c_x": self.c_x, "c_y": self.c_y, "c_n": self.c_n,
         }
-        for k, v in vals.items():
-            p[P[k]] = v
-        return p
+        return LAYOUT.pack(vals)
 
 
 # -- force components ------------------------------------------------------------------------------
 
 @njit(cache=True)
 def _g3(w):
-    return w * w * abs(w) / 3.0
+    return w * w * cabs(w) / 3.0
 
 
 @njit(cache=True)
 def _g4(w):
-    return w * w * w * abs(w) / 4.0
+    return w * w * w * cabs(w) / 4.0
 
 
 @njit(cache=True)
@@ -226,8 +238,8 @@ def crossflow_integrals(a, b, L):
     I0 = L a|a|, I1 = |a| b L^3 / 6 are exact to O((bL/a)^2) (switch at |b| L/2 < 1e-4 |a|).
     """
     h = 0.5 * L
-    if abs(b) * h <= 1e-4 * abs(a) or b == 0.0:
-        return L * a * abs(a), abs(a) * b * L ** 3 / 6.0
+    if abs(b.real) * h.real <= 1e-4 * abs(a.real) or b == 0.0:
+        return L * a * cabs(a), cabs(a) * b * L ** 3 / 6.0
     w1 = a + b * h
     w0 = a - b * h
     i0 = (_g3(w1) - _g3(w0)) / b
@@ -238,68 +250,68 @@ def crossflow_integrals(a, b, L):
 @njit(cache=True)
 def _drift_shape(beta, alpha0):
     """sgn(beta) sin(2 phi): zero at beta = 0, +-alpha0, +-pi; slope pi/alpha0 at beta = 0."""
-    ab = abs(beta)
-    if ab <= alpha0:
+    ab = cabs(beta)
+    if ab.real <= alpha0.real:
         phi = 0.5 * math.pi * ab / alpha0
     else:
         phi = 0.5 * math.pi + 0.5 * math.pi * (ab - alpha0) / (math.pi - alpha0)
-    s = math.sin(2.0 * phi)
-    return s if beta >= 0.0 else -s
+    s = csin(2.0 * phi)
+    return s if beta.real >= 0.0 else -s
 
 
 @njit(cache=True)
 def hull_forces(ur, vr, r, p):
     """Hull forces without added-mass terms (X_h, Y_h, N_h) of 001 eq. 7-11 (our reading), N, N, N m."""
-    L = p[0]
-    T = p[1]
-    rho = p[2]
+    L = p[_L]
+    T = p[_T]
+    rho = p[_RHO]
     U2 = ur * ur + vr * vr
-    X = p[10] * ur * abs(ur) + p[11] * vr * r + p[13] * r * r
-    if U2 > 0.0:
-        X += p[12] * vr * vr * ur * ur / U2  # X_vv v^2 cos^2(beta): zero in pure sway
-    i0, _ = crossflow_integrals(vr, p[21] * r, L)
-    _, i1 = crossflow_integrals(vr, p[22] * r, L)
-    qcd = 0.5 * rho * T * p[20]
-    Y = p[14] * abs(ur) * vr + p[15] * abs(ur) * r - p[16] * ur * r - qcd * i0
-    N = p[18] * abs(ur) * r - qcd * i1
-    if U2 > 0.0:
-        beta = math.atan2(-vr, ur)  # (10) over all quadrants
-        alpha0 = p[19]
-        N += -p[17] * U2 * (alpha0 / math.pi) * _drift_shape(beta, alpha0)
+    X = p[_X_UU] * ur * cabs(ur) + p[_X_VR] * vr * r + p[_X_RR] * r * r
+    if U2.real > 0.0:
+        X += p[_X_VV] * vr * vr * ur * ur / U2  # X_vv v^2 cos^2(beta): zero in pure sway
+    i0, _ = crossflow_integrals(vr, p[_C_YR] * r, L)
+    _, i1 = crossflow_integrals(vr, p[_C_NR] * r, L)
+    qcd = 0.5 * rho * T * p[_C_D]
+    Y = p[_Y_V] * cabs(ur) * vr + p[_Y_R] * cabs(ur) * r - p[_M_X] * ur * r - qcd * i0
+    N = p[_N_R] * cabs(ur) * r - qcd * i1
+    if U2.real > 0.0:
+        beta = catan2(-vr, ur)  # (10) over all quadrants
+        alpha0 = p[_ALPHA0]
+        N += -p[_NV_DRIFT] * U2 * (alpha0 / math.pi) * _drift_shape(beta, alpha0)
     return X, Y, N
 
 
 @njit(cache=True)
 def prop_thrust_coef(n, up, p):
     """n|n| D^4 K_T(J) expanded (defined at n = 0), with J = u_P/(|n| D): rev^2/s^2 m^4."""
-    D = p[33]
-    sg = 1.0 if n > 0.0 else (-1.0 if n < 0.0 else 0.0)
-    return p[36] * n * abs(n) * D ** 4 + p[37] * n * up * D ** 3 + p[38] * sg * up * up * D * D
+    D = p[_D]
+    sg = 1.0 if n.real > 0.0 else (-1.0 if n.real < 0.0 else 0.0)
+    return p[_A1] * n * cabs(n) * D ** 4 + p[_A2] * n * up * D ** 3 + p[_A3] * sg * up * up * D * D
 
 
 @njit(cache=True)
 def propeller_thrust(n, ur, p):
     """X_P = (1 - t_p) rho n|n| D^4 K_T(J) (001 eq. 16, 17), N."""
-    up = (1.0 - p[35]) * ur
-    return (1.0 - p[34]) * p[2] * prop_thrust_coef(n, up, p)
+    up = (1.0 - p[_W_P]) * ur
+    return (1.0 - p[_T_P]) * p[_RHO] * prop_thrust_coef(n, up, p)
 
 
 @njit(cache=True)
 def rudder_inflow(ur, vr, r, n, p):
     """Rudder inflow (u_R, v_R) in m/s: propeller race ahead (Son & Nomoto), flow straightening."""
-    up = (1.0 - p[35]) * ur
-    D = p[33]
-    eps = p[31]
+    up = (1.0 - p[_W_P]) * ur
+    D = p[_D]
+    eps = p[_EPS]
     race = 0.0
-    if n > 0.0:
+    if n.real > 0.0:
         kt2 = prop_thrust_coef(n, up, p) / D ** 4  # K_T n^2
-        if kt2 > 0.0:
-            race = 8.0 * p[32] * kt2 * D * D / math.pi
+        if kt2.real > 0.0:
+            race = 8.0 * p[_KAPPA] * kt2 * D * D / math.pi
     uR2 = eps * eps * (up * up + race)
-    uR = math.sqrt(uR2)
-    if up < 0.0 and race < up * up:
+    uR = csqrt(uR2)
+    if up.real < 0.0 and race.real < (up * up).real:
         uR = -uR
-    vR = p[29] * vr + p[30] * p[0] * r
+    vR = p[_GAMMA_R] * vr + p[_C_RR] * p[_L] * r
     return uR, vR
 
 
@@ -310,24 +322,24 @@ def rudder_normal_force(delta, ur, vr, r, n, p):
     UR2 = uR * uR + vR * vR
     if UR2 == 0.0:
         return 0.0
-    return 0.5 * p[2] * p[23] * p[24] * UR2 * math.sin(delta + math.atan2(vR, uR))
+    return 0.5 * p[_RHO] * p[_A_R] * p[_F_ALPHA] * UR2 * csin(delta + catan2(vR, uR))
 
 
 @njit(cache=True)
 def rudder_forces(delta, ur, vr, r, n, p):
     """(X_R, Y_R, N_R) of 001 eq. 12-14, N and N m."""
     fn = rudder_normal_force(delta, ur, vr, r, n, p)
-    c = math.cos(delta)
-    return (-(1.0 - p[25]) * fn * math.sin(delta), -(1.0 + p[26]) * fn * c,
-            -(p[28] + p[26] * p[27]) * fn * c)
+    c = ccos(delta)
+    return (-(1.0 - p[_T_R]) * fn * csin(delta), -(1.0 + p[_A_H]) * fn * c,
+            -(p[_X_R] + p[_A_H] * p[_X_H]) * fn * c)
 
 
 @njit(cache=True)
 def thruster_forces(nb, ns, p):
     """(Y_T, N_T) of 001 eq. 18-21, N and N m."""
-    yb = p[39] * nb * abs(nb)
-    ys = p[40] * ns * abs(ns)
-    return yb + ys, p[41] * yb + p[42] * ys
+    yb = p[_B_B] * nb * cabs(nb)
+    ys = p[_B_S] * ns * cabs(ns)
+    return yb + ys, p[_X_TB] * yb + p[_X_TS] * ys
 
 
 @njit(cache=True)
@@ -341,42 +353,42 @@ def ship_rhs(t, x, u, p, out):
     n = x[7]
     nb = x[8]
     ns = x[9]
-    c = math.cos(psi)
-    s = math.sin(psi)
+    c = ccos(psi)
+    s = csin(psi)
     uc = c * u[4] + s * u[5]
     vc = -s * u[4] + c * u[5]
     ur = uu - uc
     vr = vv - vc
-    m = p[3]
-    xg = p[4]
+    m = p[_M]
+    xg = p[_XG]
     Xh, Yh, Nh = hull_forces(ur, vr, r, p)
     XR, YR, NR = rudder_forces(delta, ur, vr, r, n, p)
     XP = propeller_thrust(n, ur, p)
     YT, NT = thruster_forces(nb, ns, p)
-    XW, YW, NW = wind_load(uu, vv, psi, u[6], u[7], p[52], p[53], p[54], p[55], p[56], p[57], p[58])
+    XW, YW, NW = wind_load(uu, vv, psi, u[6], u[7], p[_RHO_AIR], p[_A_F], p[_A_L], p[_L_OA], p[_C_X], p[_C_Y], p[_C_N])
     FX = m * (vr * r + xg * r * r) + Xh + XR + XP + XW
     FY = -m * ur * r + Yh + YR + YT + YW
     FN = -m * xg * ur * r + Nh + NR + NT + NW
-    a11 = p[6]
-    a12 = p[7]
-    a21 = p[8]
-    a22 = p[9]
+    a11 = p[_M1_11]
+    a12 = p[_M1_12]
+    a21 = p[_M1_21]
+    a22 = p[_M1_22]
     det = a11 * a22 - a12 * a21
     dvr = (a22 * FY - a12 * FN) / det
     dr = (-a21 * FY + a11 * FN) / det
     out[0] = c * uu - s * vv
     out[1] = s * uu + c * vv
     out[2] = r
-    out[3] = FX / p[5] + r * vc
+    out[3] = FX / p[_M11] + r * vc
     out[4] = dvr - r * uc
     out[5] = dr
-    dmax = p[48]
-    rate = p[49]
-    dd = (saturate(u[0], -dmax, dmax) - delta) / p[44]
+    dmax = p[_DELTA_MAX]
+    rate = p[_DELTA_RATE]
+    dd = (saturate(u[0], -dmax, dmax) - delta) / p[_TAU_D]
     out[6] = saturate(dd, -rate, rate)
-    out[7] = (saturate(u[1], -p[47], p[47]) - n) / p[43]
-    out[8] = (saturate(u[2], -p[50], p[50]) - nb) / p[45]
-    out[9] = (saturate(u[3], -p[51], p[51]) - ns) / p[46]
+    out[7] = (saturate(u[1], -p[_N_MAX], p[_N_MAX]) - n) / p[_TAU_P]
+    out[8] = (saturate(u[2], -p[_NB_MAX], p[_NB_MAX]) - nb) / p[_TAU_TB]
+    out[9] = (saturate(u[3], -p[_NS_MAX], p[_NS_MAX]) - ns) / p[_TAU_TS]
 
 
 def inverse_mass(p) -> tuple[float, float, float, float]:
@@ -384,6 +396,13 @@ def inverse_mass(p) -> tuple[float, float, float, float]:
     a11, a12, a21, a22 = p[P["M1_11"]], p[P["M1_12"]], p[P["M1_21"]], p[P["M1_22"]]
     det = a11 * a22 - a12 * a21
     return a22 / det, -a12 / det, -a21 / det, a11 / det
+
+
+def ship_model(cfg: ShipConfig | None = None, params=None) -> Model:
+    """The S-175 low-speed ship (001 eq. 1-25) as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
+    p = (cfg or ShipConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
+    return Model("ship", ship_rhs, STATES, INPUTS, LAYOUT, p, bound=1e8,
+                 description="S-175 container ship at low speed with rudder, propeller and tunnel thrusters")
 
 
 class ShipPlant(Plant):
@@ -400,8 +419,9 @@ class ShipPlant(Plant):
         x0[:] = [cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0, 0.0, cfg.n0_rpm / 60.0, 0.0, 0.0]
         inputs = [k.replace("ship.", f"{name}.") for k in INPUT_NAMES]
         tau_min = min(cfg.tau_prop, cfg.tau_rudder, cfg.tau_thruster)
-        super().__init__(name, ship_rhs, x0, cfg.params(), STATE_NAMES, inputs, state_bound=1e8,
-                         max_dt=min(1.0, 2.5 * tau_min))
+        super().__init__(**ship_model(cfg).plant_args(name, x0, inputs), state_bound=1e8,
+                         max_dt=min(1.0, 2.5 * tau_min),
+                         state_units=("m", "m", "rad", "m/s", "m/s", "rad/s", "rad", "Hz", "Hz", "Hz"), input_units=("rad", "Hz", "Hz", "Hz", "m/s", "m/s", "m/s", "m/s"), input_defaults=CALM, outputs={**{f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("rudder", "rad"), ("rpm_prop", "rpm"), ("rpm_bow", "rpm"), ("rpm_stern", "rpm"), ("speed", "m/s"), ("u_r", "m/s"), ("v_r", "m/s"))}})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

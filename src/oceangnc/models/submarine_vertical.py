@@ -53,13 +53,22 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Plant
+from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
 
 COEFF_NAMES = ("Zw", "Zwdot", "Zq", "Zqdot", "Zds", "Mw", "Mwdot", "Mq", "Mqdot", "Mds")
 CONST_NAMES = ("m", "Iy_nd", "W", "B", "xG", "zG", "rho", "L", "U")
-P_NAMES = COEFF_NAMES + CONST_NAMES
+#: parameter layout, generated from the declared names (002 table 2.1 primes, then table 4.1 constants)
+LAYOUT = ParamLayout([Param(k, "1", description=f"{k}' (002 table 2.1 scaling)") for k in COEFF_NAMES]
+                     + [Param("m", "kg"), Param("Iy_nd", "1"), Param("W", "N"), Param("B", "N"), Param("xG", "m"),
+                        Param("zG", "m"), Param("rho", "kg/m^3"), Param("L", "m"), Param("U", "m/s")])
+P_NAMES = LAYOUT.names
+_C0 = LAYOUT.index("Zw")  # the ten coefficients are consecutive, in COEFF_NAMES order
+_M, _IY, _W, _B, _XG, _ZG, _RHO, _L, _U = LAYOUT.indices(*CONST_NAMES)
+(_ZW, _ZWD, _ZQ, _ZQD, _ZDS, _MW, _MWD, _MQ, _MQD, _MDS) = LAYOUT.indices(*COEFF_NAMES)
 FILTER_STATES = ("w", "theta", "q")
 STATE_NAMES = ("w", "theta", "q", "z")
+STATE_UNITS = ("m/s", "rad", "rad/s", "m")
 INPUT_NAMES = ("ds",)
 
 #: True non-dimensional coefficients, 002 tables 5.2 and 5.3 (M_w' with the physical + sign).
@@ -122,41 +131,41 @@ def default_params() -> np.ndarray:
 def dimensional(p) -> dict[str, float]:
     """Dimensional coefficients (SI: N s/m, kg, N s, kg m, N/rad, ...) and I_y (kg m^2) from ``p``."""
     p = np.asarray(p, dtype=np.float64)
-    rho, L, U = p[16], p[17], p[18]
+    rho, L, U = p[_RHO], p[_L], p[_U]
     out = {}
     for i, k in enumerate(COEFF_NAMES):
         a, b = SCALE_POWERS[k]
-        out[k] = float(p[i] * 0.5 * rho * L ** a * U ** b)
-    out["Iy"] = float(p[11] * 0.5 * rho * L ** 5)
+        out[k] = float(p[_C0 + i] * 0.5 * rho * L ** a * U ** b)
+    out["Iy"] = float(p[_IY] * 0.5 * rho * L ** 5)
     return out
 
 
 @njit(cache=True)
 def _accel(w, theta, q, ds, p):
     """(w', q') of eq. 2.4-2.5 and the mass matrix; type-generic (real or complex, for complex step)."""
-    h = 0.5 * p[16]
-    L = p[17]
-    U = p[18]
+    h = 0.5 * p[_RHO]
+    L = p[_L]
+    U = p[_U]
     L2 = L * L
     L3 = L2 * L
     L4 = L3 * L
     L5 = L4 * L
-    m = p[10]
-    W = p[12]
-    Bf = p[13]
-    xG = p[14]
-    zG = p[15]
-    Zw = p[0] * h * L2 * U
-    Zwd = p[1] * h * L3
-    Zq = p[2] * h * L3 * U
-    Zqd = p[3] * h * L4
-    Zds = p[4] * h * L2 * U * U
-    Mw = p[5] * h * L3 * U
-    Mwd = p[6] * h * L4
-    Mq = p[7] * h * L4 * U
-    Mqd = p[8] * h * L5
-    Mds = p[9] * h * L3 * U * U
-    Iy = p[11] * h * L5
+    m = p[_M]
+    W = p[_W]
+    Bf = p[_B]
+    xG = p[_XG]
+    zG = p[_ZG]
+    Zw = p[_ZW] * h * L2 * U
+    Zwd = p[_ZWD] * h * L3
+    Zq = p[_ZQ] * h * L3 * U
+    Zqd = p[_ZQD] * h * L4
+    Zds = p[_ZDS] * h * L2 * U * U
+    Mw = p[_MW] * h * L3 * U
+    Mwd = p[_MWD] * h * L4
+    Mq = p[_MQ] * h * L4 * U
+    Mqd = p[_MQD] * h * L5
+    Mds = p[_MDS] * h * L3 * U * U
+    Iy = p[_IY] * h * L5
     ct = np.cos(theta)
     st = np.sin(theta)
     A = m * U * q + m * zG * q * q + (W - Bf) * ct + Zw * w + Zq * q + Zds * ds
@@ -198,7 +207,7 @@ def sub_rhs(t, x, u, p, out):
     out[0] = wd
     out[1] = x[2]
     out[2] = qd
-    out[3] = -p[18] * np.sin(x[1]) + x[0] * np.cos(x[1])
+    out[3] = -p[_U] * np.sin(x[1]) + x[0] * np.cos(x[1])
 
 
 @njit(cache=True)
@@ -212,14 +221,14 @@ def sub_jac(x, p, u, J):
     th = x[1]
     q = x[2]
     ds = u[0]
-    h = 0.5 * p[16]
-    L = p[17]
-    U = p[18]
-    m = p[10]
-    W = p[12]
-    Bf = p[13]
-    xG = p[14]
-    zG = p[15]
+    h = 0.5 * p[_RHO]
+    L = p[_L]
+    U = p[_U]
+    m = p[_M]
+    W = p[_W]
+    Bf = p[_B]
+    xG = p[_XG]
+    zG = p[_ZG]
     Ls = np.empty(6)
     Ls[0] = 1.0
     for i in range(1, 6):
@@ -231,8 +240,8 @@ def sub_jac(x, p, u, J):
     D = np.empty(10)
     for j in range(10):
         s[j] = h * Ls[la[j]] * U ** ub[j]
-        D[j] = p[j] * s[j]
-    Iy = p[11] * h * Ls[5]
+        D[j] = p[_C0 + j] * s[j]
+    Iy = p[_IY] * h * Ls[5]
     ct = np.cos(th)
     st = np.sin(th)
     M11 = m - D[1]
@@ -287,12 +296,12 @@ def sub_jac(x, p, u, J):
     d[18, 0] = m * q * q                             # zG
     d[18, 1] = -m * w * q - W * st
     # rho: every scaled term is proportional to rho
-    d[19, 0] = (D[0] * w + D[2] * q + D[4] * ds) / p[16]
-    d[19, 1] = (D[5] * w + D[7] * q + D[9] * ds) / p[16]
-    d[19, 2] = -D[1] / p[16]
-    d[19, 3] = -D[3] / p[16]
-    d[19, 4] = -D[6] / p[16]
-    d[19, 5] = (Iy - D[8]) / p[16]
+    d[19, 0] = (D[0] * w + D[2] * q + D[4] * ds) / p[_RHO]
+    d[19, 1] = (D[5] * w + D[7] * q + D[9] * ds) / p[_RHO]
+    d[19, 2] = -D[1] / p[_RHO]
+    d[19, 3] = -D[3] / p[_RHO]
+    d[19, 4] = -D[6] / p[_RHO]
+    d[19, 5] = (Iy - D[8]) / p[_RHO]
     # L: d(D_j)/dL = a_j D_j / L
     d[20, 0] = (2 * D[0] * w + 3 * D[2] * q + 2 * D[4] * ds) / L
     d[20, 1] = (3 * D[5] * w + 4 * D[7] * q + 3 * D[9] * ds) / L
@@ -310,6 +319,37 @@ def sub_jac(x, p, u, J):
         J[2, k] = i21 * ra + i22 * rb
 
 
+@njit(cache=True)
+def sub_filter_f(t, x, u, p, out):
+    """:func:`sub_f` in the model contract ``f(t, x, u, p, out)``."""
+    sub_f(x, p, u, out)
+
+
+@njit(cache=True)
+def sub_filter_jac(t, x, u, p, J):
+    """:func:`sub_jac` in the model contract ``jac(t, x, u, p, J)``."""
+    sub_jac(x, p, u, J)
+
+
+_FILTER_STATES = (("w", "m/s"), ("theta", "rad"), ("q", "rad/s"))
+
+
+def filter_model(params=None) -> Model:
+    """The 3-state (w, theta, q) model the EKF of 002 identifies: outputs = states (w, theta, q
+    measured directly, 002 ch. 4), analytic Jacobian, complex-step safe."""
+    p = default_params() if params is None else np.asarray(params, dtype=np.float64)
+    return Model("submarine-vertical", sub_filter_f, _FILTER_STATES, [("ds", "rad")], LAYOUT, p, jac=sub_filter_jac,
+                 bound=100.0,  # |w| > 100 m/s, |theta| > 100 rad, |q| > 100 rad/s or |coef'| > 100: diverged
+                 description="002 heave-pitch submarine: states w, theta, q; input stern plane ds")
+
+
+def plant_model(params=None) -> Model:
+    """The 4-state plant model (w, theta, q, z) of 002 eq. 2.3-2.5."""
+    p = default_params() if params is None else np.asarray(params, dtype=np.float64)
+    return Model("submarine-vertical-plant", sub_rhs, [*_FILTER_STATES, ("z", "m")], [("ds", "rad")], LAYOUT, p,
+                 description="002 heave-pitch submarine with depth")
+
+
 def eigenvalues(p, ds: float = 0.0) -> np.ndarray:
     """Eigenvalues (1/s) of the (w, theta, q) dynamics linearised at rest: the open-loop modes."""
     J = np.zeros((3, 3 + len(P_NAMES)))
@@ -324,5 +364,6 @@ class SubmarineVerticalPlant(Plant):
     """
 
     def __init__(self, cfg: SubmarineVerticalConfig, name: str = "sub"):
-        super().__init__(name, sub_rhs, cfg.x0(), cfg.params(), STATE_NAMES, [f"{name}.ds"], state_bound=1e6)
+        super().__init__(**plant_model(cfg.params()).plant_args(name, cfg.x0(), [f"{name}.ds"]), state_bound=1e6,
+                         state_units=("m/s", "rad", "rad/s", "m"), input_units=("rad",))
         self.cfg = cfg

@@ -15,6 +15,10 @@ standard planar one (the printed second row has a sign misprint).
 The plant integrates the UUV heading ``psi_UUV' = -u_USV sin(psi_UUV - psi_USV) / L`` (the same
 equation as (7), but without the Dirac that a jump of psi_USV would put into r_USV), reading the
 USV's ``u``, ``psi`` from the bus, and publishes the UUV's position, heading, speed and phi.
+
+The heading equation has one home, :func:`trailer_heading_rate`; the plant's right-hand side, the
+offline :func:`simulate_trailer`, :func:`trailer_rates` and the planner's inverse
+(:func:`trailer_offset_for`, used by :mod:`oceangnc.guidance.towed_planning`) all call it.
 """
 
 from __future__ import annotations
@@ -25,12 +29,32 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Plant
+from ..core.csmath import csin
+from ..core.model import Model, Param, ParamLayout
+
+LAYOUT = ParamLayout([Param("L", "m", description="cable length")])
+(_L,) = LAYOUT.indices("L")
+STATES = (("psi", "rad"),)
+INPUTS = (("u_usv", "m/s"), ("psi_usv", "rad"), ("r_usv", "rad/s"), ("t_ref", "s"))
+
+
+@njit(cache=True)
+def trailer_heading_rate(u_usv, phi, L):
+    """r_UUV = psi_UUV' = -u_USV sin(phi) / L (000 eq. 4), phi = psi_UUV - psi_USV (rad), L (m): rad/s."""
+    return -u_usv * csin(phi) / L
+
+
+def trailer_offset_for(u_uuv, r_uuv, L):
+    """The inverse of eq. 3-4 (000 eq. 32-34): the offset phi (rad) at which a UUV moving at u_UUV (m/s)
+    turns at r_UUV (rad/s): with u_USV = u_UUV / cos(phi), r_UUV = -u_UUV tan(phi) / L, so
+    phi = atan(-L r_UUV / u_UUV) (arrays or floats)."""
+    return np.arctan(-L * np.asarray(r_uuv, dtype=float) / np.asarray(u_uuv, dtype=float))
 
 
 @njit(cache=True)
 def trailer_rates(u_usv, r_usv, phi, L):
     """(u_UUV, r_UUV, phi') from the USV's surge speed (m/s), yaw rate (rad/s), phi (rad), L (m); 000 eq. 3-7."""
-    r_uuv = -u_usv * math.sin(phi) / L
+    r_uuv = trailer_heading_rate(u_usv, phi, L)
     return u_usv * math.cos(phi), r_uuv, r_uuv - r_usv
 
 
@@ -41,7 +65,12 @@ def trailer_rhs(t, x, u, p, out):
     The USV heading inside the step is ``psi_USV + r_USV (t - t_ref)`` (first-order hold about the
     sample time t_ref), which removes the lag a plain zero-order hold of the heading would add.
     """
-    out[0] = -u[0] * math.sin(x[0] - u[1] - u[2] * (t - u[3])) / p[0]
+    out[0] = trailer_heading_rate(u[0], x[0] - u[1] - u[2] * (t - u[3]), p[_L])
+
+
+def trailer_model(L: float) -> Model:
+    """The trailer heading (000 eq. 4-7) as a :class:`~oceangnc.core.model.Model`."""
+    return Model("towed-trailer", trailer_rhs, STATES, INPUTS, LAYOUT, LAYOUT.pack({"L": L}))
 
 
 @njit(cache=True)
@@ -83,10 +112,10 @@ def simulate_trailer(t, u_usv, psi_usv, L, psi_uuv0, substeps):
             ua, pa = _interp(ta, t, u_usv), _interp(ta, t, psi_usv)
             ub, pb = _interp(tb, t, u_usv), _interp(tb, t, psi_usv)
             uc, pc = _interp(tc, t, u_usv), _interp(tc, t, psi_usv)
-            k1 = -ua * math.sin(x - pa) / L
-            k2 = -ub * math.sin(x + 0.5 * h * k1 - pb) / L
-            k3 = -ub * math.sin(x + 0.5 * h * k2 - pb) / L
-            k4 = -uc * math.sin(x + h * k3 - pc) / L
+            k1 = trailer_heading_rate(ua, x - pa, L)
+            k2 = trailer_heading_rate(ub, x + 0.5 * h * k1 - pb, L)
+            k3 = trailer_heading_rate(ub, x + 0.5 * h * k2 - pb, L)
+            k4 = trailer_heading_rate(uc, x + h * k3 - pc, L)
             x += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
         out[k + 1] = x
     return out
@@ -113,8 +142,9 @@ class TowedTrailer(Plant):
             raise ValueError(f"cable length must be > 0 m, got {cable_length}")
         self.usv = usv
         self.L = float(cable_length)
-        super().__init__(name, trailer_rhs, np.array([psi0]), np.array([self.L]), ["psi"],
-                         [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"])
+        super().__init__(**trailer_model(self.L).plant_args(name, np.array([psi0]),
+                                                             [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"]),
+                         state_units=("rad",), input_units=("m/s", "rad", "rad/s", "s"), outputs={f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("r", "rad/s"), ("phi", "rad"))})
 
     def read_inputs(self, bus: dict) -> None:
         self.u[0] = bus.get(f"{self.usv}.u", 0.0)

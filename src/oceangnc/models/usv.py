@@ -28,7 +28,10 @@ so a turning resistance d11_rr r^2 u_r (the X_rr / X_vr terms of MMG-type models
 angle in the turn is set to 15 deg, typical of tight turns, which fixes d22.
 
 State layout ``x = [x_n, y_e, psi, u, v, r]`` (m, m, rad, m/s, m/s, rad/s); inputs
-``u = [T_port, T_stbd, Vc_n, Vc_e, Vw_n, Vw_e]`` (N, N, m/s x4); parameter layout :data:`P_NAMES`.
+``u = [T_port, T_stbd, Vc_n, Vc_e, Vw_n, Vw_e]`` (N, N, m/s x4); parameter layout :data:`LAYOUT`
+(generated from the declared names). :func:`usv_model` is the :class:`~oceangnc.core.model.Model`
+(the plant, :func:`steady_turn` (trim) and the EKF all use it); the right-hand side is written with
+:mod:`oceangnc.core.csmath`, so its Jacobians are exact by complex step.
 """
 
 from __future__ import annotations
@@ -40,14 +43,31 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block, Plant
+from ..core.signals import CALM
+from ..core.csmath import catan2, ccos, csin
+from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
 from ..units import KGF, RHO_AIR
 
-STATE_NAMES = ("x", "y", "psi", "u", "v", "r")
+STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"))
+INPUTS = (("thrust_port", "N"), ("thrust_stbd", "N"), ("current_n", "m/s"), ("current_e", "m/s"),
+          ("wind_n", "m/s"), ("wind_e", "m/s"))
+STATE_NAMES = tuple(k for k, _ in STATES)
+#: bus signals of the inputs (``usv.`` is replaced by the plant's name)
 INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n",
                "env.wind_e")
-P_NAMES = ("m11", "m22", "m33", "d11", "d22", "d33", "d11_rr", "thruster_spacing", "rho_air",
-           "area_front", "area_side", "length_oa", "c_x", "c_y", "c_n")
+#: parameters (003 eq. 2.3-2.9), in this order in ``p``
+LAYOUT = ParamLayout([
+    Param("m11", "kg", description="surge mass incl. added mass"), Param("m22", "kg", description="sway mass"),
+    Param("m33", "kg m^2", description="yaw inertia incl. added inertia"),
+    Param("d11", "N s/m", description="linear surge damping"), Param("d22", "N s/m", description="linear sway damping"),
+    Param("d33", "N m s", description="linear yaw damping"),
+    Param("d11_rr", "N s^3/m", description="surge resistance due to turning"),
+    Param("thruster_spacing", "m"), Param("rho_air", "kg/m^3"), Param("area_front", "m^2"),
+    Param("area_side", "m^2"), Param("length_oa", "m"), Param("c_x", "1"), Param("c_y", "1"), Param("c_n", "1"),
+])
+P_NAMES = LAYOUT.names
+(_M11, _M22, _M33, _D11, _D22, _D33, _D11RR, _SPACING, _RHOA, _AF, _AL, _LOA, _CX, _CY, _CN) = LAYOUT.indices(*P_NAMES)
 
 
 class USVConfig(StrictModel):
@@ -78,17 +98,15 @@ class USVConfig(StrictModel):
     u0: float = Field(0.0, ge=-5, le=10, description="initial surge speed, m/s")
 
     def params(self) -> np.ndarray:
-        """Flat parameter array in the layout of :data:`P_NAMES`."""
-        return np.array([self.m11, self.m22, self.m33, self.d11, self.d22, self.d33, self.d11_rr,
-                         self.thruster_spacing, self.rho_air, self.area_front, self.area_side,
-                         self.length_oa, self.c_x, self.c_y, self.c_n])
+        """Flat parameter array in the layout :data:`LAYOUT`."""
+        return LAYOUT.pack({k: getattr(self, k) for k in P_NAMES})
 
 
 @njit(cache=True)
 def wind_load(u, v, psi, wn, we, rho, a_front, a_side, loa, c_x, c_y, c_n):
     """Wind force and moment (X, Y, N) in body axes (003 eq. 2.6-2.9); wn, we the wind's NED velocity."""
-    c = math.cos(psi)
-    s = math.sin(psi)
+    c = ccos(psi)
+    s = csin(psi)
     uw = c * wn + s * we
     vw = -s * wn + c * we
     urw = u - uw
@@ -96,10 +114,10 @@ def wind_load(u, v, psi, wn, we, rho, a_front, a_side, loa, c_x, c_y, c_n):
     v2 = urw * urw + vrw * vrw
     if v2 == 0.0:
         return 0.0, 0.0, 0.0
-    gamma = -math.atan2(vrw, urw)
+    gamma = -catan2(vrw, urw)
     q = 0.5 * rho * v2
-    return (-q * c_x * math.cos(gamma) * a_front, q * c_y * math.sin(gamma) * a_side,
-            q * c_n * math.sin(2.0 * gamma) * a_side * loa)
+    return (-q * c_x * ccos(gamma) * a_front, q * c_y * csin(gamma) * a_side,
+            q * c_n * csin(2.0 * gamma) * a_side * loa)
 
 
 @njit(cache=True)
@@ -109,22 +127,22 @@ def usv_rhs(t, x, u, p, out):
     uu = x[3]
     vv = x[4]
     r = x[5]
-    c = math.cos(psi)
-    s = math.sin(psi)
+    c = ccos(psi)
+    s = csin(psi)
     uc = c * u[2] + s * u[3]
     vc = -s * u[2] + c * u[3]
     ur = uu - uc
     vr = vv - vc
-    m11 = p[0]
-    m22 = p[1]
-    m33 = p[2]
-    xw, yw, nw = wind_load(uu, vv, psi, u[4], u[5], p[8], p[9], p[10], p[11], p[12], p[13], p[14])
+    m11 = p[_M11]
+    m22 = p[_M22]
+    m33 = p[_M33]
+    xw, yw, nw = wind_load(uu, vv, psi, u[4], u[5], p[_RHOA], p[_AF], p[_AL], p[_LOA], p[_CX], p[_CY], p[_CN])
     X = u[0] + u[1] + xw
     Y = yw
-    N = (u[0] - u[1]) * 0.5 * p[7] + nw
-    dur = (X + m22 * vr * r - (p[3] + p[6] * r * r) * ur) / m11
-    dvr = (Y - m11 * ur * r - p[4] * vr) / m22
-    dr = (N - (m22 - m11) * ur * vr - p[5] * r) / m33
+    N = (u[0] - u[1]) * 0.5 * p[_SPACING] + nw
+    dur = (X + m22 * vr * r - (p[_D11] + p[_D11RR] * r * r) * ur) / m11
+    dvr = (Y - m11 * ur * r - p[_D22] * vr) / m22
+    dr = (N - (m22 - m11) * ur * vr - p[_D33] * r) / m33
     out[0] = c * uu - s * vv
     out[1] = s * uu + c * vv
     out[2] = r
@@ -133,13 +151,21 @@ def usv_rhs(t, x, u, p, out):
     out[5] = dr
 
 
+def usv_model(cfg: USVConfig | None = None, params=None) -> Model:
+    """The USV of 003 ch. 2.1 as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
+    p = (cfg or USVConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
+    return Model("usv", usv_rhs, STATES, INPUTS, LAYOUT, p, bound=1e7,
+                 description="003 3 m USV, 3-DOF (eq. 2.3-2.12): states x, y, psi, u, v, r")
+
+
 class USVPlant(Plant):
     """The USV as a continuous plant; publishes ``usv.<x,y,psi,u,v,r>`` and ``usv.speed`` (m/s)."""
 
     def __init__(self, cfg: USVConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(name, usv_rhs, x0, cfg.params(), STATE_NAMES, inputs, state_bound=1e7)
+        super().__init__(**usv_model(cfg).plant_args(name, x0, inputs), state_bound=1e7,
+                         state_units=("m", "m", "rad", "m/s", "m/s", "rad/s"), input_units=("N", "N", "m/s", "m/s", "m/s", "m/s"), input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:
@@ -196,20 +222,13 @@ class USVThrusters(Block):
 
 
 def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
-    """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N), by Newton's method
-    (:func:`oceangnc.core.roots.newton`; no scipy import at scenario build time)."""
-    from ..core.roots import newton
+    """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N): :func:`oceangnc.core.linearize.trim`
+    of the surge, sway and yaw equations (Newton with the exact complex-step Jacobian)."""
+    from ..core.linearize import trim
 
-    p = cfg.params()
-    out = np.zeros(6)
-
-    def f(z):
-        x = np.array([0.0, 0.0, 0.0, z[0], z[1], z[2]])
-        usv_rhs(0.0, x, np.array([t_port, t_stbd, 0.0, 0.0, 0.0, 0.0]), p, out)
-        return out[3:6].copy()
-
-    z, _ = newton(f, [0.5, 0.0, 0.1])
-    return float(z[0]), float(z[1]), float(z[2])
+    res = trim(usv_model(cfg), [0.0, 0.0, 0.0, 0.5, 0.0, 0.1], [t_port, t_stbd, 0.0, 0.0, 0.0, 0.0],
+               free=("u", "v", "r"), zero=("u", "v", "r"), tol=1e-13)
+    return float(res.x[3]), float(res.x[4]), float(res.x[5])
 
 
 def calibrate(m11=210.0, m22=300.0, m33=247.0, spacing=1.2, straight_kgf=30.0, straight_speed=0.8,

@@ -41,7 +41,10 @@ Mass properties (003 table 2-5): 30 kg in air, 12 kg in water (negatively buoyan
 uniform cylinder; the centre of gravity 2 cm below the CB (REMUS-100: z_g = 1.96 cm).
 
 State layout ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r]`` (m, rad, m/s, rad/s; NED
-position of the CB and zyx Euler angles); the parameter layout is given by the ``P_*`` offsets.
+position of the CB and zyx Euler angles); the parameter layout :data:`LAYOUT` is generated from the
+declared names (the ``P_*`` offsets used by compiled code are taken from it). :func:`uuv_model` is the
+:class:`~oceangnc.core.model.Model` (plant, trim, linearisation and EKF); the right-hand side is
+written with :mod:`oceangnc.core.csmath`, so complex-step Jacobians are exact.
 """
 
 from __future__ import annotations
@@ -53,9 +56,13 @@ from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block, Plant
+from ..core.csmath import cabs, ccos, csin
+from ..core.model import Model, Param, ParamLayout
 from ..core.rotations import rzyx_entries
+from ..core.signals import CALM
+from ..errors import InputError
 from ..io.config import StrictModel
-from ..units import G, KGF, RHO_WATER
+from ..units import KGF, RHO_WATER, G
 from .actuators import UUV_T_FWD_N, UUV_T_REV_N
 
 STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
@@ -78,20 +85,37 @@ REMUS_PRESTERO = {
 REMUS_LENGTH = 1.33  # m, Prestero 2001 table 2-1 (1.33 m)
 REMUS_DIAMETER = 0.191  # m
 
-# parameter layout
-P_W, P_B = 0, 1
-P_RG = 2  # x_g, y_g, z_g (3)
-P_RB = 5  # x_b, y_b, z_b (3)
-P_MRB = 8  # 36
-P_MA = 44  # 36
-P_MINV = 80  # 36
-P_DLIN = 116  # X_u Y_v Z_w K_p M_q N_r (6)
-P_DQUAD = 122  # X_uu Y_vv Z_ww K_pp M_qq N_rr (6)
-P_LIFT = 128  # Y_uv Y_ur Z_uw Z_uq M_uw M_uq N_uv N_ur (8)
-P_STERN_HALF = 136
-P_BOW_X = 137
-P_RC = 138  # tow point (3)
-NP = 141
+STATES = (("x", "m"), ("y", "m"), ("z", "m"), ("phi", "rad"), ("theta", "rad"), ("psi", "rad"), ("u", "m/s"),
+          ("v", "m/s"), ("w", "m/s"), ("p", "rad/s"), ("q", "rad/s"), ("r", "rad/s"))
+INPUTS = (("thrust_port", "N"), ("thrust_stbd", "N"), ("thrust_bow", "N"), ("current_n", "m/s"),
+          ("current_e", "m/s"))
+DLIN_NAMES = ("X_u", "Y_v", "Z_w", "K_p", "M_q", "N_r")
+DQUAD_NAMES = ("X_uu", "Y_vv", "Z_ww", "K_pp", "M_qq", "N_rr")
+LIFT_NAMES = ("Y_uv", "Y_ur", "Z_uw", "Z_uq", "M_uw", "M_uq", "N_uv", "N_ur")
+_DLIN_UNITS = ("N s/m", "N s/m", "N s/m", "N m s", "N m s", "N m s")
+_DQUAD_UNITS = ("kg/m", "kg/m", "kg/m", "kg m^2", "kg m^2", "kg m^2")
+_LIFT_UNITS = ("kg/m", "kg", "kg/m", "kg", "kg", "kg m", "kg", "kg m")
+
+#: parameter layout (003 appendix A), generated from the declared names
+LAYOUT = ParamLayout(
+    [Param("W", "N", description="weight m g"), Param("B", "N", description="buoyancy"),
+     Param("r_g", "m", 3, description="centre of gravity (body axes, from the CB)"),
+     Param("r_b", "m", 3, description="centre of buoyancy"),
+     Param("M_RB", "kg, kg m, kg m^2", 36, description="rigid-body mass matrix, row-major (A-7)"),
+     Param("M_A", "kg, kg m, kg m^2", 36, description="added-mass matrix, row-major (A-9)"),
+     Param("M_inv", "1/kg ...", 36, derived=True, description="(M_RB + M_A)^-1, row-major"),
+     *[Param(k, u, description="linear damping (A-11)") for k, u in zip(DLIN_NAMES, _DLIN_UNITS)],
+     *[Param(k, u, description="quadratic damping (A-12)") for k, u in zip(DQUAD_NAMES, _DQUAD_UNITS)],
+     *[Param(k, u, description="body/fin lift (Prestero) times |u_r|") for k, u in zip(LIFT_NAMES, _LIFT_UNITS)],
+     Param("stern_half", "m", description="half the stern thruster spacing"),
+     Param("bow_x", "m", description="bow thruster position ahead of the CB"),
+     Param("r_c", "m", 3, description="tow point (body axes)")])
+P_W, P_B, P_RG, P_RB, P_MRB, P_MA, P_MINV = LAYOUT.indices("W", "B", "r_g", "r_b", "M_RB", "M_A", "M_inv")
+P_DLIN = LAYOUT.index(DLIN_NAMES[0])  # the six linear terms, consecutive
+P_DQUAD = LAYOUT.index(DQUAD_NAMES[0])  # the six quadratic terms
+P_LIFT = LAYOUT.index(LIFT_NAMES[0])  # the eight lift terms
+P_STERN_HALF, P_BOW_X, P_RC = LAYOUT.indices("stern_half", "bow_x", "r_c")
+NP = LAYOUT.size
 
 
 def scaled_coefficients(length: float, diameter: float) -> dict[str, float]:
@@ -192,28 +216,20 @@ class UUVConfig(StrictModel):
         return self.mass * G - self.weight_in_water_kgf * KGF
 
     def params(self, tow_point=(0.0, 0.0, 0.0)) -> np.ndarray:
-        """Flat parameter array (layout: the ``P_*`` offsets); ``tow_point`` is r_c in body axes (m)."""
-        p = np.zeros(NP)
-        p[P_W] = self.weight
-        p[P_B] = self.buoyancy
-        p[P_RG:P_RG + 3] = (0.0, 0.0, self.zg)
-        p[P_RB:P_RB + 3] = 0.0
+        """Flat parameter array (layout :data:`LAYOUT`); ``tow_point`` is r_c in body axes (m)."""
         mrb, ma = self.mass_matrices()
-        p[P_MRB:P_MRB + 36] = mrb.ravel()
-        p[P_MA:P_MA + 36] = ma.ravel()
-        p[P_MINV:P_MINV + 36] = np.linalg.inv(mrb + ma).ravel()
         on = 1.0 if self.damping_on else 0.0
         c = self.coefficients()
-        s = self.drag_scale * on
-        p[P_DLIN:P_DLIN + 6] = np.array([self.X_u, self.Y_v, self.Z_w, self.K_p, self.M_q, self.N_r]) * on
-        p[P_DQUAD:P_DQUAD + 6] = np.array([self.X_uu_total, c["Y_vv"], c["Z_ww"], c["K_pp"], c["M_qq"], c["N_rr"]]) * s
+        sc = self.drag_scale * on
         lf = self.lift_coefficients()
-        p[P_LIFT:P_LIFT + 8] = np.array([lf[k] for k in ("Y_uv", "Y_ur", "Z_uw", "Z_uq", "M_uw", "M_uq",
-                                                          "N_uv", "N_ur")]) * s
-        p[P_STERN_HALF] = 0.5 * self.stern_spacing
-        p[P_BOW_X] = self.bow_arm
-        p[P_RC:P_RC + 3] = tow_point
-        return p
+        v = {"W": self.weight, "B": self.buoyancy, "r_g": (0.0, 0.0, self.zg), "r_b": (0.0, 0.0, 0.0),
+             "M_RB": mrb, "M_A": ma, "M_inv": np.linalg.inv(mrb + ma),
+             "stern_half": 0.5 * self.stern_spacing, "bow_x": self.bow_arm, "r_c": tow_point}
+        v.update({k: getattr(self, k) * on for k in DLIN_NAMES})
+        v.update({k: q * sc for k, q in zip(DQUAD_NAMES, (self.X_uu_total, c["Y_vv"], c["Z_ww"], c["K_pp"],
+                                                          c["M_qq"], c["N_rr"]))})
+        v.update({k: lf[k] * sc for k in LIFT_NAMES})
+        return LAYOUT.pack(v)
 
     def initial_state(self) -> np.ndarray:
         """x0 (12 states)."""
@@ -265,12 +281,10 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     pp = x[9]
     q = x[10]
     r = x[11]
-    cf = math.cos(phi)
-    sf = math.sin(phi)
-    ct = math.cos(th)
-    st = math.sin(th)
-    cp = math.cos(psi)
-    sp = math.sin(psi)
+    cf = ccos(phi)
+    sf = csin(phi)
+    ct = ccos(th)
+    st = csin(th)
     # R_b^n (Fossen eq. 2.18)
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
     # kinematics (003 eq. 2.13, A-1, A-2)
@@ -312,13 +326,13 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     d = P_DLIN
     e = P_DQUAD
     lf = P_LIFT
-    au = abs(ur)
+    au = cabs(ur)
     t0 += p[d] * ur + p[e] * ur * au
-    t1 += p[d + 1] * vr + p[e + 1] * vr * abs(vr) + (p[lf] * vr + p[lf + 1] * r) * au
-    t2 += p[d + 2] * wr + p[e + 2] * wr * abs(wr) + (p[lf + 2] * wr + p[lf + 3] * q) * au
-    t3 += p[d + 3] * pp + p[e + 3] * pp * abs(pp)
-    t4 += p[d + 4] * q + p[e + 4] * q * abs(q) + (p[lf + 4] * wr + p[lf + 5] * q) * au
-    t5 += p[d + 5] * r + p[e + 5] * r * abs(r) + (p[lf + 6] * vr + p[lf + 7] * r) * au
+    t1 += p[d + 1] * vr + p[e + 1] * vr * cabs(vr) + (p[lf] * vr + p[lf + 1] * r) * au
+    t2 += p[d + 2] * wr + p[e + 2] * wr * cabs(wr) + (p[lf + 2] * wr + p[lf + 3] * q) * au
+    t3 += p[d + 3] * pp + p[e + 3] * pp * cabs(pp)
+    t4 += p[d + 4] * q + p[e + 4] * q * cabs(q) + (p[lf + 4] * wr + p[lf + 5] * q) * au
+    t5 += p[d + 5] * r + p[e + 5] * r * cabs(r) + (p[lf + 6] * vr + p[lf + 7] * r) * au
     # restoring forces (A-13)
     W = p[P_W]
     B = p[P_B]
@@ -380,12 +394,60 @@ def uuv_energy(x, p) -> float:
     return float(ke - p[P_W] * zg + p[P_B] * zb)
 
 
+def uuv_model(cfg: UUVConfig | None = None, params=None, tow_point=(0.0, 0.0, 0.0)) -> Model:
+    """The 6-DOF UUV of 003 ch. 2.2 as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
+    p = (cfg or UUVConfig()).params(tow_point) if params is None else np.asarray(params, dtype=np.float64)
+    return Model("uuv", uuv_rhs, STATES, INPUTS, LAYOUT, p, bound=1e6,
+                 description="003 1.79 m UUV, Fossen 6-DOF with scaled REMUS-100 coefficients")
+
+
+@njit(cache=True)
+def uuv_planar_rhs(t, x, u, p, out):
+    """d/dt [u, v, r] of the UUV in the horizontal plane with roll, pitch and heave held (level attitude).
+
+    The held degrees of freedom take whatever constraint force keeps them at rest, so the surge, sway
+    and yaw rows of M nu' = tau (M = M_RB + M_A, tau the 6-DOF generalised force of :func:`uuv_deriv`
+    at w = p = q = 0, phi = theta = 0) give [u', v', r'] = M_sub^-1 tau_sub. Restoring terms are left to
+    the caller's parameters (set W = B = 0 for the planar problem). Inputs as :func:`uuv_rhs`.
+    """
+    x12 = np.zeros(12, dtype=out.dtype)
+    x12[6] = x[0]
+    x12[7] = x[1]
+    x12[11] = x[2]
+    a = np.zeros(12, dtype=out.dtype)
+    uuv_deriv(x12, a, p, u[0], u[1], u[2], u[3], u[4], 0.0, 0.0, 0.0)
+    # tau = M a (rows 0, 1, 5), M_sub the (0, 1, 5) block of M
+    rows = (0, 1, 5)
+    tau = np.zeros(3, dtype=out.dtype)
+    msub = np.zeros((3, 3), dtype=p.dtype)
+    for i in range(3):
+        ri = rows[i]
+        s = a[6] * 0.0
+        for j in range(6):
+            s += (p[P_MRB + 6 * ri + j] + p[P_MA + 6 * ri + j]) * a[6 + j]
+        tau[i] = s
+        for j in range(3):
+            msub[i, j] = p[P_MRB + 6 * ri + rows[j]] + p[P_MA + 6 * ri + rows[j]]
+    inv = np.linalg.inv(msub)
+    for i in range(3):
+        out[i] = inv[i, 0] * tau[0] + inv[i, 1] * tau[1] + inv[i, 2] * tau[2]
+
+
+def uuv_planar_model(cfg: UUVConfig | None = None) -> Model:
+    """The UUV held level in the horizontal plane (states u, v, r), :func:`uuv_planar_rhs`; W = B = 0."""
+    p = (cfg or UUVConfig()).params()
+    p[P_W] = p[P_B] = 0.0  # level attitude held: no restoring terms in the planar problem
+    return Model("uuv-planar", uuv_planar_rhs, STATES[6:8] + STATES[11:], INPUTS, LAYOUT, p,
+                 description="UUV in the horizontal plane, roll, pitch and heave held")
+
+
 class UUVPlant(Plant):
     """The UUV alone (no cable) as a plant; publishes ``uuv.<states>``, ``uuv.speed`` (m/s)."""
 
     def __init__(self, cfg: UUVConfig, name: str = "uuv"):
         inputs = [k.replace("uuv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(name, uuv_rhs, cfg.initial_state(), cfg.params(), STATE_NAMES, inputs)
+        super().__init__(**uuv_model(cfg).plant_args(name, cfg.initial_state(), inputs),
+                         state_units=("m",) * 3 + ("rad",) * 3 + ("m/s",) * 3 + ("rad/s",) * 3, input_units=("N", "N", "N", "m/s", "m/s"), input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:
@@ -435,33 +497,21 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
     """Steady (u, v, r) of the UUV in the horizontal plane for constant thrusts (N), calm water.
 
     Solves the surge, sway and yaw rows of the 6-DOF model with w = p = q = 0 and level attitude
-    (roll/pitch coupling neglected) by Newton's method (:func:`oceangnc.core.roots.newton`).
+    (roll/pitch held: :func:`uuv_planar_rhs`) by :func:`oceangnc.core.linearize.trim` (Newton, exact Jacobian).
     """
-    from ..core.roots import newton
-
-    p = cfg.params()
-    p[P_W] = p[P_B] = 0.0  # level attitude held: no restoring terms in the planar problem
-    out = np.zeros(12)
-    x = np.zeros(12)
-    # accelerations are M^-1 tau; for the planar steady state we want tau's u, v, r rows of M nu' = 0
-    Minv = p[P_MINV:P_MINV + 36].reshape(6, 6)
-    M = np.linalg.inv(Minv)
-
-    def f(z):
-        x[6], x[7], x[11] = z
-        uuv_deriv(x, out, p, t_port, t_stbd, t_bow, 0.0, 0.0, 0.0, 0.0, 0.0)
-        tau = M @ out[6:12]
-        return [tau[0], tau[1], tau[5]]
+    from ..core.linearize import trim
 
     u_guess = math.sqrt(max(abs(t_port + t_stbd), 1e-3) / max(1e-6, -cfg.X_uu_total))
     moment = (t_port - t_stbd) * 0.5 * cfg.stern_spacing + t_bow * cfg.bow_arm
     # no yaw moment: start on the straight-ahead branch (the vehicle is directionally unstable, so
     # spurious spiral equilibria exist; the symmetric start keeps Newton on v = r = 0)
     r_guess = 0.0 if moment == 0.0 else math.copysign(0.1, moment)
-    z, ok = newton(f, [u_guess, 0.0, r_guess], xtol=1e-12)
-    if not ok:
-        raise RuntimeError("uuv_steady_planar: no steady turn found (Newton did not converge)")
-    return float(z[0]), float(z[1]), float(z[2])
+    try:
+        res = trim(uuv_planar_model(cfg), [u_guess, 0.0, r_guess], [t_port, t_stbd, t_bow, 0.0, 0.0],
+                   free=("u", "v", "r"), zero=("u", "v", "r"), tol=1e-12)
+    except InputError as e:
+        raise RuntimeError(f"uuv_steady_planar: no steady turn found ({e})") from None
+    return float(res.x[0]), float(res.x[1]), float(res.x[2])
 
 
 def uuv_min_turning_radius(cfg: UUVConfig) -> float:

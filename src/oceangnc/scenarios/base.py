@@ -45,12 +45,17 @@ class RunContext:
     rng: np.random.Generator
     progress: bool = False
     info: dict[str, Any] = field(default_factory=dict)
+    #: :class:`oceangnc.core.checkpoint.Checkpointer` when the run saves checkpoints or resumes
+    checkpointer: Any = None
     verbose: bool = False
     fused: bool = True  # run the compiled fused loop when every block has a compiled form
 
     def simulate(self, sim, duration: float) -> float:
-        """Run a :class:`~oceangnc.core.clock.Simulation` for ``duration`` s into this run's log."""
-        sim.use_fused = self.fused
+        """Run a :class:`~oceangnc.core.clock.Simulation` for ``duration`` s into this run's log
+        (with checkpoints, or from a restored checkpoint, when the run asks for them)."""
+        if self.checkpointer is not None and self.checkpointer.attach(sim):
+            duration = duration - sim.t  # restored: run the rest
+        sim.use_fused = self.fused  # the clock keeps the Python path under a checkpoint hook
         if self.verbose:
             sim.verbose = True
         t = sim.run(duration, log=self.log, progress=self.progress)

@@ -30,11 +30,12 @@ from pydantic import Field
 from ..control.berthing import ControlConfig, make_controller
 from ..control.joystick import Joystick, JoystickConfig
 from ..core.clock import Simulation
+from ..core.rotations import wrap
 from ..environment import EnvironmentConfig
 from ..guidance.scripted_pilot import PilotConfig, Route, ScriptedPilot
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals
-from ..models.ship_lowspeed import ShipConfig, ShipPlant
+from ..models.ship_lowspeed import P, ShipConfig, ShipPlant
 from ..units import KNOT
 from ._common import environment_blocks
 from .base import Scenario
@@ -80,7 +81,7 @@ def speed_per_rps(ship: ShipConfig) -> float:
     """
     p = ship.params()
     D, tp, wp, rho = ship.prop_diameter, ship.t_p, ship.w_p, ship.rho
-    xuu = p[10] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
+    xuu = p[P["X_uu"]] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
     a = xuu + (1 - tp) * rho * ship.kt_a3 * (1 - wp) ** 2 * D ** 2
     b = (1 - tp) * rho * ship.kt_a2 * (1 - wp) * D ** 3
     c = (1 - tp) * rho * ship.kt_a1 * D ** 4
@@ -290,7 +291,7 @@ def hull_corner_margin(df, cfg, pts) -> float:
 def channel_metrics(df, cfg, pts) -> dict:
     route = Route(pts)
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         t = d["t"].to_numpy()
         per.append({
             "error_index": error_index(d["ship.x"], d["ship.y"], route),
@@ -326,12 +327,12 @@ def channel_metrics(df, cfg, pts) -> dict:
 def dock_metrics(df, cfg) -> dict:
     """Final state of each run; with several runs the worst run's value of each metric."""
     per = []
-    for run, d in df.groupby("run"):
+    for _run, d in df.groupby("run"):
         last = d.iloc[-1]
         per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
                     "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
                     "final_heading_error_deg":
-                        abs(math.degrees((last["ship.psi"] + math.pi) % (2 * math.pi) - math.pi)),
+                        abs(math.degrees(wrap(last["ship.psi"]))),
                     "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
                     "time_to_berth_s": float(last["t"])})
     if len(per) == 1:

@@ -20,7 +20,8 @@
 
 The physics step: ``sim.dt = 0`` (default) picks 90 % of the cable's RK4 stability limit
 (:func:`oceangnc.models.cable.axial_stability_limit`), rounded down to divide the 10 ms control
-period; an explicit ``sim.dt`` above the limit is refused.
+period; an explicit ``sim.dt`` above the limit is refused. With ``cable.integrator = "imex"`` there is
+no axial limit and ``sim.dt = 0`` gives the 10 ms control period (docs/uuv-and-cable.md).
 """
 
 from __future__ import annotations
@@ -31,21 +32,21 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
-from ..control.pid import PID
-from ..core.blocks import Block
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..control.tow import TowCommand, TowStraightControl
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
 from ..models.cable import CableConfig, stable_step
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
 
-CONTROL_PERIOD = 0.01  # s, 100 Hz vehicle loops
+CONTROL_PERIOD = 0.01  # s, 100 Hz vehicle loops (the tow loops' default period)
 
 
 class CableSimConfig(SimConfig):
@@ -59,23 +60,6 @@ class CableSimConfig(SimConfig):
 class CableAnalysis(StrictModel):
     settle_window_s: float = Field(10.0, gt=0, le=1e4, description="window for the settled test, s")
     settle_tol: float = Field(0.01, gt=0, le=1, description="relative change allowed in the window, -")
-
-
-class TowCommand(StrictModel):
-    """Speed and heading commands of ``tow-straight`` and the loop gains (design values)."""
-
-    usv_speed: float = Field(0.5, ge=0, le=3, description="USV surge speed command (003 ch. 4: 0.5), m/s")
-    uuv_speed: float = Field(0.27, ge=-1, le=3, description="UUV surge speed command (003: 0.27 or 0.48), m/s")
-    heading_deg: float = Field(0.0, ge=-360, le=360, description="heading command of both vehicles, deg")
-    start_s: float = Field(20.0, ge=0, le=1e4, description="time the commands start (hanging before), s")
-    usv_kp_speed: float = Field(800.0, ge=0, le=1e5, description="USV speed P gain (total thrust), N s/m")
-    usv_ki_speed: float = Field(200.0, ge=0, le=1e5, description="USV speed I gain, N/m")
-    usv_kp_heading: float = Field(300.0, ge=0, le=1e5, description="USV heading P gain (differential), N/rad")
-    usv_kd_heading: float = Field(400.0, ge=0, le=1e5, description="USV heading D gain, N s/rad")
-    uuv_kp_speed: float = Field(150.0, ge=0, le=1e5, description="UUV speed P gain (total stern thrust), N s/m")
-    uuv_ki_speed: float = Field(30.0, ge=0, le=1e5, description="UUV speed I gain, N/m")
-    uuv_kp_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading P gain (bow thrust), N/rad")
-    uuv_kd_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading D gain, N s/rad")
 
 
 class CableCurrentConfig(ScenarioConfig):
@@ -94,74 +78,6 @@ class TowStraightConfig(CableCurrentConfig):
 def physics_step(cfg, plant: CombinedPlant) -> float:
     """``cfg.sim.dt`` if set, else 90 % of the plant's stability limit rounded to divide 10 ms."""
     return cfg.sim.dt if cfg.sim.dt > 0 else stable_step(plant.stability_limit, CONTROL_PERIOD, 0.9)
-
-
-class TowStraightControl(Block):
-    """Surge-speed and heading loops of both vehicles for the straight tow (003 ch. 4 a).
-
-    USV: total thrust = PID(u_d - u) + d11 u_d (feed-forward), split equally, plus a differential
-    PD on the heading error (003 eq. 3.11 mixing). UUV: total stern thrust = PID(u_d - u) - X_u|u|
-    u_d |u_d| (feed-forward of the axial drag), split equally; bow thrust = PD on the heading error.
-    Before ``start_s`` both speed commands are 0 and the thrusts are 0. Writes the ``*_cmd`` keys.
-    """
-
-    name = "tow_control"
-
-    def __init__(self, cmd: TowCommand, usv: USVConfig, uuv: UUVConfig, period: float = CONTROL_PERIOD):
-        self.cmd = cmd
-        self.period = period
-        self.usv_cfg = usv
-        self.uuv_cfg = uuv
-
-    def reset(self, rng) -> None:
-        c = self.cmd
-        t_usv = self.usv_cfg.max_thrust_kgf * KGF
-        r_usv = self.usv_cfg.max_reverse_kgf * KGF
-        t_uuv = self.uuv_cfg.max_thrust_kgf * KGF
-        r_uuv = self.uuv_cfg.max_reverse_kgf * KGF
-        self.usv_speed = PID(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)
-        self.usv_head = PID(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)
-        self.uuv_speed = PID(c.uuv_kp_speed, c.uuv_ki_speed, 0.0, -2 * r_uuv, 2 * t_uuv)
-        self.uuv_head = PID(c.uuv_kp_heading, 0.0, c.uuv_kd_heading, -r_uuv, t_uuv)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.tow_straight_step`)."""
-        from ..control._compiled import arr, pid_params, pid_state, tow_straight_step
-        from ..core.fused import CompiledBlock
-
-        c = self.cmd
-        pids = (self.usv_speed, self.usv_head, self.uuv_speed, self.uuv_head)
-        st = arr(sum((pid_state(q) for q in pids), []))
-        pa = arr(sum((pid_params(q) for q in pids), [])
-                 + [self.period, math.radians(c.heading_deg), c.start_s, c.usv_speed, c.uuv_speed,
-                    self.usv_cfg.d11 * c.usv_speed, -self.uuv_cfg.X_uu_total * c.uuv_speed * abs(c.uuv_speed)])
-        sig = ["usv.u", "usv.psi", "usv.r", "uuv.u", "uuv.psi", "uuv.r", "usv.thrust_port_cmd", "usv.thrust_stbd_cmd",
-               "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd"]
-        return CompiledBlock(tow_straight_step, sig, st, pa)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cmd
-        h = self.period
-        psi_d = math.radians(c.heading_deg)
-        if t < c.start_s:
-            for k in ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd",
-                      "uuv.thrust_bow_cmd"):
-                bus[k] = 0.0
-            return
-        # USV
-        ff = self.usv_cfg.d11 * c.usv_speed
-        tot = self.usv_speed.step(c.usv_speed - bus["usv.u"], h, feedforward=ff)
-        e = (psi_d - bus["usv.psi"] + math.pi) % (2 * math.pi) - math.pi
-        dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
-        bus["usv.thrust_port_cmd"] = 0.5 * tot + 0.5 * dif
-        bus["usv.thrust_stbd_cmd"] = 0.5 * tot - 0.5 * dif
-        # UUV
-        ffu = -self.uuv_cfg.X_uu_total * c.uuv_speed * abs(c.uuv_speed)
-        totu = self.uuv_speed.step(c.uuv_speed - bus["uuv.u"], h, feedforward=ffu)
-        bus["uuv.thrust_port_cmd"] = 0.5 * totu
-        bus["uuv.thrust_stbd_cmd"] = 0.5 * totu
-        eu = (psi_d - bus["uuv.psi"] + math.pi) % (2 * math.pi) - math.pi
-        bus["uuv.thrust_bow_cmd"] = self.uuv_head.step(eu, h, e_dot=-bus["uuv.r"])
 
 
 def _settled(w, cols, tol) -> bool:
@@ -230,6 +146,8 @@ class CableCurrent(Scenario):
 
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed")
+        # the USV is held and no thruster runs: every thrust input is zero by composition
+        plant.input_defaults.update({k: 0.0 for k in plant.input_names if ".thrust_" in k})
         dt = physics_step(cfg, plant)
         return Simulation([plant], environment_blocks(cfg.environment), dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -263,8 +181,9 @@ class TowStraight(Scenario):
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
         dt = physics_step(cfg, plant)
-        blocks = [*environment_blocks(cfg.environment), TowStraightControl(cfg.command, cfg.usv, cfg.uuv),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+        blocks = [*environment_blocks(cfg.environment),
+                  TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:

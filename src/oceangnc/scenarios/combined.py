@@ -4,7 +4,9 @@
   relative angle only (``formation.mode = "relative-angle"``, fig. 4-6 (a)) or the relative angle
   plus the heading to the USV outside R (``"relative-angle-plus-heading"``, fig. 4-6 (b)).
 * ``combined-survey`` (003 figs. 4-7 to 4-15; the flagship): 3 m cable, waypoints (0,0) (10,10)
-  (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv = "pid" | "backstepping"``.
+  (20,5), surge target 0.6 m/s, UUV starting 3 m deep; ``control.uuv.kind = "pid" | "backstepping"``
+  or any registered kind (a user's block loaded with ``--plugin``; ``control.uuv = "pid"`` also works);
+  ``control.usv`` is a slot of the same kind (default ``pid``, its gains as keys: ``control.usv.speed_kp``).
 * ``field-test`` (003 ch. 6.2, figs. 6-13 to 6-19): waypoints (50,0) (50,-50) (0,-50) (0,0), USV
   target 1.3 m/s, PID, sensors on (GPS, AHRS, USBL, depth sensor), guidance and control on the
   measured signals.
@@ -27,29 +29,43 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, field_validator
 
-from ..control.backstepping import BacksteppingConfig, UUVBackstepping
-from ..control.usv_control import USVControlConfig, USVController
-from ..control.uuv_control import UUVPIDConfig, UUVPIDController
-from ..core.blocks import Block
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..control.backstepping import BacksteppingConfig
+from ..control.uuv_control import UUVPIDConfig
 from ..core.clock import Simulation
+from ..core.registry import BlockChoice, BlockContext, build_block
+from ..core.rotations import wrap_array
 from ..environment import EnvironmentConfig
-from ..errors import ConfigError
 from ..guidance.leader_follower import LeaderFollower
-from ..guidance.pure_pursuit import (PurePursuit, look_ahead_distance, usv_min_turning_radius,
-                                     uuv_turning_radius_at)
+from ..guidance.pure_pursuit import (
+    PurePursuit,
+    look_ahead_distance,
+    usv_min_turning_radius,
+    uuv_turning_radius_at,
+)
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
-from ..sensors import (AHRS, GPS, USBL, AHRSConfig, DepthSensor, DepthSensorConfig, DropoutHold, GPSConfig,
-                       USBLConfig)
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
+from ..sensors import (
+    AHRS,
+    GPS,
+    USBL,
+    AHRSConfig,
+    DepthSensor,
+    DepthSensorConfig,
+    DropoutHold,
+    GPSConfig,
+    USBLConfig,
+)
+from ..sensors.navigation import USBLNavigation
 from ..units import KGF
 from ._common import environment_blocks
 from .base import Scenario
@@ -85,21 +101,51 @@ class FormationConfig(StrictModel):
     mode: Literal["relative-angle", "relative-angle-plus-heading"] = "relative-angle-plus-heading"
 
 
+class UUVControllerChoice(BlockChoice):
+    """The UUV controller: a registered kind (``pid``, ``backstepping`` or a user's ``family.name``)
+    and its parameters; the built-in kinds start from ``control.uuv_pid`` / ``control.backstepping``."""
+
+    family: ClassVar[str] = "uuv"
+    role: ClassVar[str | None] = "controller"
+    kind: str = Field("pid", description="registered block kind: a name in the uuv family or family.name")
+
+
+class USVControllerChoice(BlockChoice):
+    """The USV controller: a registered kind (``pid``: speed + heading loops, 003 eq. 3.10-3.11, or a
+    user's ``family.name``) and its parameters (for ``pid`` the gains of
+    :class:`~oceangnc.control.usv_control.USVControlConfig`, e.g. ``control.usv.speed_kp``)."""
+
+    family: ClassVar[str] = "usv"
+    role: ClassVar[str | None] = "controller"
+    kind: str = Field("pid", description="registered block kind: a name in the usv family or family.name")
+
+
 class ControlConfig(StrictModel):
     """Controllers and their rate."""
 
-    uuv: Literal["pid", "backstepping"] = "pid"
+    uuv: UUVControllerChoice = Field(UUVControllerChoice(kind="pid"),
+                                     description="UUV controller: kind = pid | backstepping | a registered kind")
     surge_speed: float = Field(0.6, gt=0, le=5, description="USV surge speed target, m/s")
     rate: float = Field(20.0, gt=0, le=1000, description="control and thruster rate, Hz")
-    usv: USVControlConfig = USVControlConfig()
+    usv: USVControllerChoice = Field(USVControllerChoice(),
+                                     description="USV controller: kind = pid | a registered kind, and its gains")
     uuv_pid: UUVPIDConfig = UUVPIDConfig()
     backstepping: BacksteppingConfig = BacksteppingConfig()
+
+
+class SensorChoice(BlockChoice):
+    """A further sensor block by registered kind (``sensor.*`` or a user's ``family.name``) and its parameters."""
+
+    family: ClassVar[str] = "sensor"
+    role: ClassVar[str | None] = "sensor"
 
 
 class SensorsConfig(StrictModel):
     """Sensors (003 ch. 6.1, appendix B); when enabled guidance and control use measured signals."""
 
     enabled: bool = False
+    extra: list[SensorChoice] = Field([], max_length=20, description="further sensor blocks by kind, fired "
+                                      "after the built-in sensors at the control rate (a user's, from --plugin)")
     gps: GPSConfig = GPSConfig()
     usv_ahrs: AHRSConfig = AHRSConfig()
     uuv_ahrs: AHRSConfig = AHRSConfig()
@@ -125,48 +171,12 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
     the speed it must hold, the surge target capped at the USV's top speed
     (:func:`oceangnc.guidance.pure_pursuit.uuv_turning_radius_at`).
     """
-    start = {"x0", "y0", "z0", "psi0_deg", "u0"}  # the radii do not depend on where the vehicles start
-    key = (cfg.usv.model_dump_json(exclude=start), cfg.uuv.model_dump_json(exclude=start), cfg.control.surge_speed)
-    radii = _RADII.get(key)
-    if radii is None:  # a batch or a sweep builds many runs of the same vehicles: solve once
-        r_usv = usv_min_turning_radius(cfg.usv)
-        top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
-        r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
-        radii = _RADII[key] = (r_usv, r_uuv)
-    r_usv, r_uuv = radii
+    r_usv = usv_min_turning_radius(cfg.usv)
+    top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
+    r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
     if cfg.guidance.look_ahead is not None:
         return cfg.guidance.look_ahead, r_usv, r_uuv
     return look_ahead_distance(r_usv, r_uuv), r_usv, r_uuv
-
-
-_RADII: dict = {}  # (usv config, uuv config, surge target) -> (R_min USV, R UUV), m
-
-
-class FieldNavigation(Block):
-    """Navigation of the field test: USV position and speed from the GPS, UUV = USV + the held USBL offset.
-
-    Writes ``nav.usv_x``, ``nav.usv_y``, ``nav.uuv_x``, ``nav.uuv_y`` (m) and ``nav.usv_u`` (m/s,
-    the GPS speed over ground); missing inputs read as 0.
-    """
-
-    def __init__(self, name: str, period: float):
-        self.name = name
-        self.period = float(period)
-
-    def step(self, t: float, bus: dict) -> None:
-        bus["nav.usv_x"] = bus.get("gps.x", 0.0)
-        bus["nav.usv_y"] = bus.get("gps.y", 0.0)
-        bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get("nav.usbl.dn", 0.0)
-        bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get("nav.usbl.de", 0.0)
-        bus["nav.usv_u"] = bus.get("gps.sog", 0.0)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.nav_step`)."""
-        from ..core.fused import CompiledBlock
-        from ..sensors._compiled import nav_step
-
-        return CompiledBlock(nav_step, ["?gps.x", "?gps.y", "?nav.usbl.dn", "?nav.usbl.de", "?gps.sog",
-                                        "nav.usv_x", "nav.usv_y", "nav.uuv_x", "nav.uuv_y", "nav.usv_u"])
 
 
 def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
@@ -181,9 +191,9 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         blocks += [GPS(s.gps, "usv"), AHRS(s.usv_ahrs, "usv"), AHRS(s.uuv_ahrs, "uuv"), USBL(s.usbl),
                    DepthSensor(s.depth)]
         blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
-                                  "nav.usbl"))
+                                  "nav.usbl", units={"dn": "m", "de": "m", "dz": "m"}))
 
-        blocks.append(FieldNavigation("nav", h))
+        blocks.append(USBLNavigation(h))
         usv_pos = ("nav.usv_x", "nav.usv_y")
         usv_psi, usv_r, usv_u = "usv_ahrs.psi", "usv_ahrs.r", "nav.usv_u"
         uuv_pos = ("nav.uuv_x", "nav.uuv_y")
@@ -191,6 +201,8 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     else:
         usv_pos, usv_psi, usv_r, usv_u = ("usv.x", "usv.y"), "usv.psi", "usv.r", "usv.u"
         uuv_pos, uuv_psi, uuv_r = ("uuv.x", "uuv.y"), "uuv.psi", "uuv.r"
+    for i, choice in enumerate(cfg.sensors.extra):
+        blocks.append(build_block(choice, BlockContext(period=h, cfg=cfg), f"sensors.extra.{i}"))
     l, _, _ = look_ahead_for(cfg)
     g = cfg.guidance
     blocks.append(PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi))
@@ -199,23 +211,18 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks.append(LeaderFollower(f.l_d, lam, f.R, 1.0 / g.rate, mode=f.mode, leader=(*usv_pos, usv_psi),
                                  follower=(*uuv_pos, uuv_psi)))
     c = cfg.control
-    blocks.append(USVController(c.usv, cfg.usv, c.surge_speed, h, meas={"u": usv_u, "psi": usv_psi, "r": usv_r}))
-    if c.uuv == "pid":
-        blocks.append(UUVPIDController(c.uuv_pid, cfg.uuv, h, mode=f.mode,
-                                       meas={"r_usv": usv_r, "r_uuv": uuv_r, "psi_usv": usv_psi}))
-    else:
-        keys = {"xl": usv_pos[0], "yl": usv_pos[1], "psil": usv_psi, "ul": usv_u, "rl": usv_r,
-                "xf": uuv_pos[0], "yf": uuv_pos[1], "psif": uuv_psi, "rf": uuv_r}
-        if sens:
-            keys["vl"] = "_zero"  # no sway measurement on the USV: take v_l = 0
-        blocks.append(UUVBackstepping(c.backstepping, cfg.uuv, f.l_d, lam, h, keys=keys))
-    blocks += [USVThrusters(cfg.usv, h), UUVThrusters(cfg.uuv, h)]
+    signals = {"usv.x": usv_pos[0], "usv.y": usv_pos[1], "usv.psi": usv_psi, "usv.u": usv_u, "usv.r": usv_r,
+               "uuv.x": uuv_pos[0], "uuv.y": uuv_pos[1], "uuv.psi": uuv_psi, "uuv.r": uuv_r}
+    if sens:
+        signals["usv.v"] = "_zero"  # no sway measurement on the USV: take v_l = 0
+    ctx = BlockContext(period=h, signals=signals, cfg=cfg,
+                       info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode, "surge_speed": c.surge_speed})
+    blocks.append(build_block(c.usv, ctx, "control.usv"))
+    base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
+    blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
+    blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
     plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
-
-
-def _wrap(a):
-    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
 
 
 def cross_track(df, waypoints) -> np.ndarray:
@@ -249,8 +256,9 @@ class CombinedScenario(Scenario):
         wp = cfg.guidance.waypoints
         xt = cross_track(df, wp)
         rd = rel_distance(df)
-        e_usv = _wrap(df["guidance.psi_d"] - df["usv.psi"])
-        e_uuv = _wrap(df["uuv_ctrl.psi_d"] - df["uuv.psi"])
+        e_usv = wrap_array(df["guidance.psi_d"] - df["usv.psi"])
+        # a user's controller may not publish its heading target: the guidance's then
+        e_uuv = wrap_array(df["uuv_ctrl.psi_d" if "uuv_ctrl.psi_d" in df else "lf.psi_d"] - df["uuv.psi"])
         out = {
             "usv.waypoints_reached": int(df["guidance.wp_reached"].max()),
             "usv.waypoints_total": len(wp),
@@ -266,7 +274,7 @@ class CombinedScenario(Scenario):
         if "usbl.pings_lost" in df:
             out["usbl.pings_lost"] = int(df["usbl.pings_lost"].iloc[-1])
             moving = df["usv.speed"] > 0.3
-            d = np.degrees(np.abs(_wrap(df["usv_ahrs.psi"] - df["gps.cog"])))[moving]
+            d = np.degrees(np.abs(wrap_array(df["usv_ahrs.psi"] - df["gps.cog"])))[moving]
             out["ahrs.gps_heading_diff_mean_deg"] = float(d.mean()) if len(d) else float("nan")
         return out
 
@@ -276,7 +284,7 @@ class CombinedScenario(Scenario):
         df["rel.distance"] = rel_distance(df)
         wp = cfg.guidance.waypoints
         paths = [plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
-                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv})",
+                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv.kind})",
                             waypoints=wp)]
         paths.append(plot_signals(df, [
             ("surge speed [m/s]", [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0),
@@ -304,13 +312,10 @@ class CombinedScenario(Scenario):
 
 
 def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
-    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7).
+    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7)."""
+    import matplotlib.pyplot as plt
 
-    Drawn on a bare Agg figure with fixed margins (no ``tight_layout``, which cost ~0.5 s here).
-    """
-    from ..io.plots import figure, save
-
-    fig = figure((7, 6), margins=(0.1, 0.1, 0.1, 0.4))
+    fig = plt.figure(figsize=(7, 6))
     ax = fig.add_subplot(projection="3d")
     ax.plot(df["usv.y"], df["usv.x"], 0 * df["usv.x"], label="USV")
     ax.plot(df["uuv.y"], df["uuv.x"], -df["uuv.z"], label="UUV")
@@ -329,7 +334,10 @@ def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
     ax.set_zlabel("-depth [m]")
     ax.set_title(title)
     ax.legend(fontsize=8)
-    return save(fig, path)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
 
 
 _SIM = {"dt": 0.001, "log_rate": 10.0}

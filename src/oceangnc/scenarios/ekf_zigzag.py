@@ -26,11 +26,20 @@ import numpy as np
 from pydantic import Field
 
 from ..errors import InputError
-from ..identification.ekf import nees, resolve_estimate, run_ekf, submarine_vertical_model
+from ..identification.ekf import (
+    nees,
+    resolve_estimate,
+    run_ekf,
+    submarine_vertical_model,
+)
 from ..identification.maneuvers import zigzag
 from ..io.config import ScenarioConfig, StrictModel
-from ..models.submarine_vertical import (COEFF_NAMES, PUBLISHED_ESTIMATES, TABLE41_COEFFS,
-                                         SubmarineVerticalConfig)
+from ..models.submarine_vertical import (
+    COEFF_NAMES,
+    PUBLISHED_ESTIMATES,
+    TABLE41_COEFFS,
+    SubmarineVerticalConfig,
+)
 from .base import Scenario
 
 

@@ -1,11 +1,5 @@
-"""Scenarios of document 000: trials for identification, pole-placed autopilots, waypoints, UUV-based planning.
+"""Scenarios of document 000: pole-placed autopilots, waypoints, UUV-based planning (trials: :mod:`.trials`).
 
-* ``trials``: straight-run (thrust step from rest) and turning (10 deg rudder step) trials and ITTC
-  zig-zags generated from a model (``vehicle = "usv-first-order"`` or ``"usv-3dof"``, the 3-DOF USV of
-  :mod:`oceangnc.models.usv`), one trial after another in one log with ``trial.id`` / ``trial.kind``
-  and the measured signals ``trial.*`` (optionally noisy) that ``oceangnc identify first-order``
-  reads by default; the true K, T of each trial are logged (``trial.true_k``, ``trial.true_t``) and
-  the summary identifies the log and reports the errors.
 * ``autopilot-heading``: heading 0 -> 100 deg with the pole-placed PD (000 fig. 17).
 * ``autopilot-speed``: speed 0 -> 5 m/s with the pole-placed P (000 fig. 18).
 * ``usv-waypoints-7``: seven waypoints from heading 90 deg and zero speed (000 fig. 21).
@@ -23,99 +17,21 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..control.pole_placement import HeadingAutopilot, SpeedAutopilot, predicted_overshoot
-from ..core.blocks import Block, FunctionBlock
+from ..control.pole_placement import (
+    predicted_overshoot,
+)
+from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
-from ..errors import ConfigError
-from ..io.config import ScenarioConfig, StrictModel
+from ..io.config import StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.first_order import FirstOrderActuators, FirstOrderConfig, FirstOrderUSV
-from ..models.usv import USVConfig
-from ..units import KGF
+from ..models.first_order import FirstOrderUSV
+from ._first_order_common import (
+    RAD2DEG,
+    ClosedLoopConfig,
+    _settling_time,
+    closed_loop_blocks,
+)
 from .base import Scenario
-
-RAD2DEG = 180.0 / math.pi
-
-
-# -- shared config ----------------------------------------------------------------------------------------
-
-class HeadingDesign(StrictModel):
-    """Pole placement of the heading PD (000 eq. 26-27)."""
-
-    zeta: float = Field(0.7, gt=0, le=2, description="closed-loop damping ratio, -")
-    wn: float = Field(0.6, gt=0, le=10, description="closed-loop natural frequency, rad/s")
-
-
-class SpeedDesign(StrictModel):
-    """Pole placement of the speed P controller (000 eq. 31)."""
-
-    zeta: float = Field(1.0, gt=0, le=2, description="damping ratio used in eq. 31, -")
-    wn: float = Field(2.0, gt=0, le=20, description="natural frequency used in eq. 31 (pole at 2 zeta w_n), rad/s")
-
-
-class ClosedLoopConfig(ScenarioConfig):
-    """The first-order USV with both autopilots."""
-
-    usv: FirstOrderConfig = FirstOrderConfig()
-    heading: HeadingDesign = HeadingDesign()
-    speed_control: SpeedDesign = SpeedDesign()
-    control_rate: float = Field(20.0, gt=0, le=1000, description="autopilot and actuator rate, Hz")
-
-
-def check_design(cfg) -> None:
-    """Refuse a design with 2 zeta w_n T <= 1 anywhere in the trial ranges (000 eq. 26/31), naming the key."""
-    from ..control.pole_placement import heading_gains, speed_gain
-
-    u = cfg.usv
-    for sec, law, fn, speeds in (("heading", ("K_r", "T_r"), heading_gains, (u.turn_lo_mps, u.turn_hi_mps)),
-                                 ("speed_control", ("K_v", "T_v"), speed_gain, (u.straight_lo_mps, u.straight_hi_mps))):
-        d = getattr(cfg, sec)
-        for sp in speeds:
-            c = u.coefficients(sp)
-            try:
-                fn(c[law[0]], c[law[1]], d.zeta, d.wn)
-            except ConfigError as e:
-                raise ConfigError(f"config error: {sec}.wn = {d.wn:g} / {sec}.zeta = {d.zeta:g}: at {sp:g} m/s "
-                                  f"{str(e).split(': ', 1)[1]}") from None
-
-
-def _nomoto(cfg):
-    def f(u):
-        c = cfg.usv.coefficients(u)
-        return c["K_r"], c["T_r"]
-    return f
-
-
-def _speedlaw(cfg):
-    def f(u):
-        c = cfg.usv.coefficients(u)
-        return c["K_v"], c["T_v"]
-    return f
-
-
-def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None):
-    """Guidance/command blocks, heading PD, speed P (or a fixed rpm) and the actuators."""
-    check_design(cfg)
-    h = 1.0 / cfg.control_rate
-    blocks = list(guidance_blocks)
-    blocks.append(HeadingAutopilot(_nomoto(cfg), cfg.heading.zeta, cfg.heading.wn, h))
-    if rpm_open_loop is None:
-        blocks.append(SpeedAutopilot(_speedlaw(cfg), cfg.speed_control.zeta, cfg.speed_control.wn, h))
-    else:
-        n = float(rpm_open_loop)
-        blocks.append(FunctionBlock("engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n)))
-    blocks.append(FirstOrderActuators(cfg.usv, h))
-    return blocks
-
-
-def _settling_time(t, y, target, band, t0):
-    out = np.nonzero(np.abs(y - target) > band)[0]
-    if out.size == 0:
-        return 0.0
-    if out[-1] == y.size - 1:
-        return float("nan")
-    return float(t[out[-1] + 1] - t0)
-
 
 # -- autopilots -------------------------------------------------------------------------------------------
 
@@ -141,7 +57,8 @@ class AutopilotHeading(Scenario):
         cfg_u = cfg.model_copy(update={"usv": usv})
         psi_c = math.radians(c.heading_deg)
         cmd = FunctionBlock("command", 1.0 / cfg.control_rate,
-                            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0))
+                            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0),
+                            inputs={}, outputs={"usv.psi_cmd": "rad"})
         blocks = closed_loop_blocks(cfg_u, [cmd], rpm_open_loop=usv.trim_rpm(c.speed_mps))
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -195,7 +112,8 @@ class AutopilotSpeed(Scenario):
             bus["usv.u_cmd"] = c.speed_mps if t >= c.step_time_s - 1e-9 else 0.0
             bus["usv.psi_cmd"] = 0.0
 
-        blocks = closed_loop_blocks(cfg, [FunctionBlock("command", 1.0 / cfg.control_rate, cmd)])
+        blocks = closed_loop_blocks(cfg, [FunctionBlock("command", 1.0 / cfg.control_rate, cmd, inputs={},
+                                                        outputs={"usv.u_cmd": "m/s", "usv.psi_cmd": "rad"})])
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -315,13 +233,15 @@ class ProfileConfig(StrictModel):
 
 class TowConfig(StrictModel):
     cable_length_m: float = Field(30.0, gt=0, le=1e4, description="cable length L, m")
-    waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3, description="time between USV waypoints sampled from the plan, s")
+    waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3,
+                                      description="time between USV waypoints sampled from the plan, s")
 
 
 class StartPose(StrictModel):
     """Where the USV (and the UUV, aligned a cable length behind it) start, relative to the UUV plan's start."""
 
-    behind_m: float = Field(150.0, ge=-1e4, le=1e4, description="distance behind the plan's start along its first leg, m")
+    behind_m: float = Field(150.0, ge=-1e4, le=1e4,
+                            description="distance behind the plan's start along its first leg, m")
     port_m: float = Field(80.0, ge=-1e4, le=1e4, description="distance to port (left) of the first leg's line, m")
     heading_deg: float = Field(90.0, ge=-360, le=360, description="initial heading of USV and UUV, deg")
     speed_mps: float = Field(0.0, ge=0, le=16, description="initial USV speed, m/s")
@@ -384,7 +304,8 @@ class UUVProfilePlan(Scenario):
         sx, sy, ts = joined("usv", plan.x[0], plan.y[0])
         eu = distance_to_polyline(ux, uy, prof.x, prof.y)
         es = distance_to_polyline(sx, sy, plan.x, plan.y)
-        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,"uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
+        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,
+                "uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
                 "usv.path_error_rms_m": float(np.sqrt(np.mean(es ** 2))), "usv.path_error_max_m": float(np.max(es)),
                 "plan.waypoints": float(len(wp)), "plan.phi_max_deg": float(np.max(np.abs(plan.phi)) * RAD2DEG),
                 "plan.usv_speed_max_mps": float(np.max(plan.u))}
@@ -423,292 +344,4 @@ class UUVProfilePlan(Scenario):
         return paths
 
 
-# -- trials -------------------------------------------------------------------------------------------------------
-
-class TrialsSection(StrictModel):
-    """Which trials to run (speeds for usv-first-order in m/s; the 3-DOF USV uses ``*_3dof`` ones)."""
-
-    straight_speeds_mps: list[float] = Field([5.0, 6.4, 7.8, 9.2, 10.6, 12.0, 13.4, 14.8, 16.0], min_length=1,
-                                             description="final speeds of the straight runs (from rest), m/s")
-    turn_speeds_mps: list[float] = Field([4.2, 5.1, 6.0, 6.9, 7.8, 8.6], min_length=1,
-                                         description="approach speeds of the turning trials, m/s")
-    steer_deg: float = Field(10.0, gt=0, le=35, description="rudder step of the turning trials, deg")
-    zigzag_deg: list[float] = Field([10.0, 20.0], description="ITTC zig-zag amplitudes (10 -> 10/10), deg")
-    zigzag_speed_mps: float = Field(6.0, gt=0, le=20, description="approach speed of the zig-zags, m/s")
-    straight_duration_s: float = Field(200.0, gt=5, le=1e4, description="length of a straight run, s")
-    turn_duration_s: float = Field(40.0, gt=5, le=1e4, description="length of a turning trial, s")
-    zigzag_duration_s: float = Field(120.0, gt=5, le=1e4, description="length of a zig-zag, s")
-    step_time_s: float = Field(5.0, ge=0.5, le=100, description="time of the input step in each trial, s")
-    straight_speeds_3dof_mps: list[float] = Field([0.3, 0.45, 0.6, 0.75, 0.9], min_length=1,
-                                                  description="straight-run speeds of the 3-DOF USV, m/s")
-    turn_speeds_3dof_mps: list[float] = Field([0.4, 0.6, 0.8], min_length=1,
-                                              description="turning-trial speeds of the 3-DOF USV, m/s")
-    steer_3dof_kgf: float = Field(2.0, gt=0, le=15, description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf")
-
-
-class TrialNoise(StrictModel):
-    """Sensor noise on the logged measurements (white, Gaussian)."""
-
-    speed_mps: float = Field(0.0, ge=0, le=5, description="speed noise std, m/s")
-    heading_deg: float = Field(0.0, ge=0, le=30, description="heading noise std, deg")
-    yaw_rate_degps: float = Field(0.0, ge=0, le=30, description="yaw-rate noise std, deg/s")
-
-
-class TrialsConfig(ScenarioConfig):
-    vehicle: Literal["usv-first-order", "usv-3dof"] = "usv-first-order"
-    usv: FirstOrderConfig = FirstOrderConfig()
-    usv3dof: USVConfig = USVConfig()
-    trials: TrialsSection = TrialsSection()
-    noise: TrialNoise = TrialNoise()
-    control_rate: float = Field(20.0, gt=0, le=1000, description="command rate, Hz")
-
-
-class _ZigZag(Block):
-    """ITTC zig-zag: steer +amp until the heading change reaches +psi_z, then -amp until -psi_z, and so on."""
-
-    name = "zigzag"
-
-    def __init__(self, amp, psi_z, t_step, period, key, scale=1.0):
-        self.amp, self.psi_z, self.t_step, self.period, self.key, self.scale = amp, psi_z, t_step, period, key, scale
-        self.sign = 1.0
-        self.psi0 = None
-
-    def reset(self, rng):
-        self.sign = 1.0
-        self.psi0 = None
-
-    def step(self, t, bus):
-        psi = bus["usv.psi"]
-        if self.psi0 is None:
-            self.psi0 = psi
-        dpsi = (psi - self.psi0 + math.pi) % (2 * math.pi) - math.pi
-        if t < self.t_step - 1e-9:
-            bus[self.key] = 0.0
-            return
-        if self.sign > 0 and dpsi >= self.psi_z:
-            self.sign = -1.0
-        elif self.sign < 0 and dpsi <= -self.psi_z:
-            self.sign = 1.0
-        bus[self.key] = self.sign * self.amp * self.scale
-
-
-class _TrialSensors(Block):
-    """Measured trial signals with white noise: trial.speed, trial.heading (wrapped), trial.yaw_rate, inputs."""
-
-    name = "trial_sensors"
-
-    def __init__(self, noise: TrialNoise, period, steer_fn, thrust_fn):
-        self.n = noise
-        self.period = period
-        self.steer_fn, self.thrust_fn = steer_fn, thrust_fn
-
-    def reset(self, rng):
-        self.rng = rng
-
-    def step(self, t, bus):
-        g = self.rng
-        n = self.n
-        bus["trial.speed"] = bus["usv.u"] + (g.normal(0, n.speed_mps) if n.speed_mps else 0.0)
-        psi = bus["usv.psi"] + (g.normal(0, math.radians(n.heading_deg)) if n.heading_deg else 0.0)
-        bus["trial.heading"] = (psi + math.pi) % (2 * math.pi) - math.pi
-        bus["trial.yaw_rate"] = bus["usv.r"] + (g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0)
-        bus["trial.steer"] = self.steer_fn(bus)
-        bus["trial.thrust"] = self.thrust_fn(bus)
-
-
-class _OffsetLog:
-    """Forwards rows to the run's log with a time offset and the trial's constant columns."""
-
-    def __init__(self, log, t0, extra):
-        self.log, self.t0, self.extra = log, t0, extra
-
-    def append(self, t, row):
-        r = dict(row)
-        r.update(self.extra)
-        self.log.append(self.t0 + t, r)
-
-
-def _nomoto_3dof(c, U):
-    """First-order Nomoto (K, T = T1 + T2 - T3) of the linearised 3-DOF USV at speed U, steer in N."""
-    A = np.array([[-c.d22 / c.m22, -c.m11 * U / c.m22], [-(c.m22 - c.m11) * U / c.m33, -c.d33 / c.m33]])
-    b = c.thruster_spacing / c.m33  # N = (Tp - Ts) B / 2 = steer * B
-    lam = np.linalg.eigvals(A)
-    T1, T2 = -1.0 / lam.real
-    T3 = c.m22 / c.d22
-    K = float(np.linalg.solve(-A, np.array([0.0, b]))[1])
-    return K, float(T1 + T2 - T3)
-
-
-class Trials(Scenario):
-    name = "trials"
-    summary = "Straight/turning/zig-zag trials from a model, logged for 'oceangnc identify first-order' (000 sec. 2.2)"
-    Config = TrialsConfig
-    defaults = {"sim": {"dt": 0.05, "log_rate": 20.0}, "usv": {"schedule": "operating"}}
-
-    def _trial_list(self, cfg):
-        tr = cfg.trials
-        out = []
-        if cfg.vehicle == "usv-first-order":
-            out += [("straight", u) for u in tr.straight_speeds_mps]
-            out += [("turn", u) for u in tr.turn_speeds_mps]
-            out += [("zigzag", a) for a in tr.zigzag_deg]
-        else:
-            out += [("straight", u) for u in tr.straight_speeds_3dof_mps]
-            out += [("turn", u) for u in tr.turn_speeds_3dof_mps]
-            out += [("zigzag", a) for a in tr.zigzag_deg]
-        return out
-
-    def _build_one(self, cfg, kind, val, rng):
-        tr = cfg.trials
-        h = 1.0 / cfg.control_rate
-        ts = tr.step_time_s
-        if cfg.vehicle == "usv-first-order":
-            m = cfg.usv
-            U = val if kind != "zigzag" else tr.zigzag_speed_mps
-            n = m.trim_rpm(U)
-            if n > m.rpm_max:
-                raise ConfigError(f"trials: {U:g} m/s needs {n:.0f} rpm, above usv.rpm_max = {m.rpm_max:g} rpm")
-            co = m.coefficients(U)
-            usv = m.model_copy(update={"u0": 0.0 if kind == "straight" else U, "psi0_deg": 0.0})
-            plant = FirstOrderUSV(usv)
-            d = math.radians(tr.steer_deg)
-            blocks = [FunctionBlock("operating_speed", h, lambda t, bus: bus.__setitem__("usv.u_op", U))]
-            if kind == "straight":
-                def cmd(t, bus):
-                    bus["usv.rpm_cmd"] = n if t >= ts - 1e-9 else 0.0
-                    bus["usv.delta_s_cmd"] = 0.0
-                blocks.append(FunctionBlock("command", h, cmd))
-                truth = (co["K_v"], co["T_v"])
-            elif kind == "turn":
-                def cmd(t, bus):
-                    bus["usv.rpm_cmd"] = n
-                    bus["usv.delta_s_cmd"] = d if t >= ts - 1e-9 else 0.0
-                blocks.append(FunctionBlock("command", h, cmd))
-                truth = (co["K_r"], co["T_r"])
-            else:
-                a = math.radians(val)
-                blocks += [FunctionBlock("command", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n)),
-                           _ZigZag(a, a, ts, h, "usv.delta_s_cmd")]
-                truth = (co["K_r"], co["T_r"])
-            blocks.append(FirstOrderActuators(usv, h))
-            blocks.append(_TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"]))
-        else:
-            from ..models.usv import USVPlant, USVThrusters
-
-            c = cfg.usv3dof
-            U = val if kind != "zigzag" else tr.turn_speeds_3dof_mps[len(tr.turn_speeds_3dof_mps) // 2]
-            T0 = c.d11 * U / 2.0
-            s = tr.steer_3dof_kgf * KGF
-            c0 = c.model_copy(update={"u0": 0.0 if kind == "straight" else U})
-            plant = USVPlant(c0)
-
-            def put(bus, thrust, steer):
-                bus["usv.thrust_port_cmd"] = thrust + steer
-                bus["usv.thrust_stbd_cmd"] = thrust - steer
-
-            if kind == "straight":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0))]
-                truth = (2.0 / c.d11, c.m11 / c.d11)
-            elif kind == "turn":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0))]
-                truth = _nomoto_3dof(c, U)
-            else:
-                zz = _ZigZag(s, math.radians(val), ts, h, "_steer")
-                blocks = [zz, FunctionBlock("command", h, lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)))]
-                truth = _nomoto_3dof(c, U)
-            blocks.append(USVThrusters(c0, h))
-            blocks.append(_TrialSensors(cfg.noise, h,
-                                        lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
-                                        lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"])))
-        sim = Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
-        dur = {"straight": tr.straight_duration_s, "turn": tr.turn_duration_s, "zigzag": tr.zigzag_duration_s}[kind]
-        return sim, dur, truth
-
-    def run(self, cfg, ctx) -> dict:
-        import warnings
-
-        t0 = 0.0
-        codes = {"straight": 0.0, "turn": 1.0, "zigzag": 2.0}
-        rngs = ctx.rng.spawn(len(self._trial_list(cfg)))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # trials from rest leave the table-2 range on purpose
-            for i, ((kind, val), g) in enumerate(zip(self._trial_list(cfg), rngs)):
-                sim, dur, truth = self._build_one(cfg, kind, val, g)
-                log = _OffsetLog(ctx.log, t0, {"trial.id": float(i), "trial.kind": codes[kind],
-                                               "trial.true_k": truth[0], "trial.true_t": truth[1]})
-                sim.run(dur, log=log)
-                t0 += dur + 10.0
-        ctx.info["t_end"] = t0
-        return {"trials.count": float(len(self._trial_list(cfg)))}
-
-    def summarize(self, df, cfg) -> dict:
-        from ..errors import InputError
-        from ..identification.first_order import Columns, identify_log
-
-        try:
-            rep = identify_log(df, Columns(), n_mc=50, seed=cfg.sim.seed)
-        except InputError as e:  # the log is still good; say why it cannot be identified as it is
-            return {"ident.error": str(e)}
-        out: dict = {}
-        truth = df.groupby("trial.id")[["trial.true_k", "trial.true_t"]].first()
-        for kind, names in (("straight", ("K_v", "T_v")), ("turn", ("K_r", "T_r"))):
-            st = [s for s in rep.steps if s.kind == kind]
-            if not st:
-                continue
-            ek = [abs(s.K / truth.loc[s.trial, "trial.true_k"] - 1) * 100 for s in st]
-            et = [abs(s.T / truth.loc[s.trial, "trial.true_t"] - 1) * 100 for s in st]
-            out[f"ident.{names[0]}_max_err_pct"] = max(ek)
-            out[f"ident.{names[1]}_max_err_pct"] = max(et)
-            out[f"ident.{names[0]}_max_rel_std_pct"] = max(100 * s.K_std / abs(s.K) for s in st)
-            out[f"ident.{names[1]}_max_rel_std_pct"] = max(100 * s.T_std / abs(s.T) for s in st)
-        for k, f in rep.fits.items():
-            out[f"fit.{k}_slope"] = f.slope
-            out[f"fit.{k}_intercept"] = f.intercept
-            out[f"fit.{k}_residual_rms"] = f.residual_rms
-        zz = [a for k, a in self._trial_list(cfg) if k == "zigzag"]
-        for z, amp in zip(rep.zigzags, zz):
-            tk = truth.loc[z.trial]
-            tag = f"{amp:.0f}_{amp:.0f}"
-            out[f"zigzag.{tag}.K_r_err_pct"] = abs(z.K / tk["trial.true_k"] - 1) * 100
-            out[f"zigzag.{tag}.T_r_err_pct"] = abs(z.T / tk["trial.true_t"] - 1) * 100
-        return out
-
-    def plot(self, df, cfg, out_dir: Path) -> list[Path]:
-        import matplotlib.pyplot as plt
-
-        from ..identification.first_order import Columns, identify_log
-        from ..io.plots import _save
-
-        from ..errors import InputError
-
-        try:
-            rep = identify_log(df, Columns(), n_mc=20)
-        except InputError:
-            return []
-        truth = df.groupby("trial.id")[["trial.true_k", "trial.true_t"]].first()
-        fig, axes = plt.subplots(2, 2, figsize=(9, 6))
-        for col, (kind, names) in enumerate((("straight", ("K_v", "T_v")), ("turn", ("K_r", "T_r")))):
-            st = [s for s in rep.steps if s.kind == kind]
-            if not st:
-                continue
-            u = np.array([s.speed for s in st])
-            for row, attr in enumerate(("K", "T")):
-                ax = axes[row, col]
-                v = np.array([getattr(s, attr) for s in st])
-                e = np.array([getattr(s, attr + "_std") for s in st])
-                tv = np.array([truth.loc[s.trial, "trial.true_k" if attr == "K" else "trial.true_t"] for s in st])
-                ax.errorbar(u, v, yerr=e, fmt="o", label="identified (eq. 12-21)")
-                ax.plot(u, tv, "kx", label="model truth")
-                f = rep.fits.get(names[row])
-                if f is not None:
-                    uu = np.linspace(u.min(), u.max(), 10)
-                    ax.plot(uu, f.slope * uu + f.intercept, "r-", label=f"fit {f.slope:.4g} u + {f.intercept:.4g}")
-                ax.set_xlabel("speed u [m/s]")
-                ax.set_ylabel(names[row])
-                ax.grid(True, alpha=0.3)
-                ax.legend(fontsize=7)
-        axes[0, 0].set_title("coefficients vs speed (000 figs. 11-14, table 2)")
-        return [_save(fig, Path(out_dir) / "coefficients.png")]
-
-
-SCENARIOS = [Trials(), AutopilotHeading(), AutopilotSpeed(), USVWaypoints7(), UUVProfilePlan()]
+SCENARIOS = [AutopilotHeading(), AutopilotSpeed(), USVWaypoints7(), UUVProfilePlan()]

@@ -20,15 +20,15 @@ import math
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
 from pydantic import Field
 
+from ..control.actuators import USVThrusterBlock
 from ..core.blocks import ConstantBlock
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.usv import USVConfig, USVPlant, USVThrusters
+from ..models.usv import USVConfig, USVPlant
 from ..units import KGF
 from ._common import circle_fit_drifting, environment_blocks
 from .base import Scenario
@@ -63,9 +63,11 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
 
     command = ConstantBlock("command", h, {"usv.thrust_port_cmd": c.thrust_port_kgf * KGF,
                                            "usv.thrust_stbd_cmd": c.thrust_stbd_kgf * KGF,
-                                           "usv.volt_port_cmd": c.volt_port, "usv.volt_stbd_cmd": c.volt_stbd})
+                                           "usv.volt_port_cmd": c.volt_port, "usv.volt_stbd_cmd": c.volt_stbd},
+                            units={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N",
+                                   "usv.volt_port_cmd": "V", "usv.volt_stbd_cmd": "V"})
     blocks = [*environment_blocks(cfg.environment), command,
-              USVThrusters(cfg.usv, h, mode=c.mode)]
+              USVThrusterBlock(cfg.usv, h, mode=c.mode)]
     return Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 

@@ -26,11 +26,9 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..io.config import StrictModel
-
-
-def _wrap(a):
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 class AHRSConfig(StrictModel):
@@ -44,14 +42,22 @@ class AHRSConfig(StrictModel):
     gyro_noise_degps: float = Field(0.1, ge=0, le=10, description="gyro white noise, deg/s")
 
 
+@register_block("sensor.ahrs")
 class AHRS(Block):
     """AHRS on body ``body`` (module docstring)."""
+
+    role = "sensor"
 
     def __init__(self, cfg: AHRSConfig, body: str = "usv", name: str | None = None):
         self.cfg = cfg
         self.body = body
         self.name = name or f"{body}_ahrs"
         self.period = 1.0 / cfg.rate
+        self.inputs = {f"{body}.psi": "rad", f"{body}.r": "rad/s"}
+        # a surface vessel has no roll/pitch states: level (0) when nobody publishes them
+        self.optional_inputs = {f"{body}.phi": "rad", f"{body}.theta": "rad"}
+        self.outputs = {f"{self.name}.psi": "rad", f"{self.name}.r": "rad/s", f"{self.name}.phi": "rad",
+                        f"{self.name}.theta": "rad"}
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -79,19 +85,19 @@ class AHRS(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         b = self.body
-        psi = bus.get(f"{b}.psi", 0.0)
+        psi = bus[f"{b}.psi"]
         if self.psi_f is None:
             self.psi_f = psi
         elif c.lag > 0:
             a = 1.0 - math.exp(-self.period / c.lag)
-            self.psi_f = _wrap(self.psi_f + a * _wrap(psi - self.psi_f))
+            self.psi_f = wrap(self.psi_f + a * wrap(psi - self.psi_f))
         else:
             self.psi_f = psi
         am = math.exp(-self.period / c.mag_time_constant)
         w = self.rng.standard_normal(5)
         self.mag = am * self.mag + math.radians(c.mag_sigma_deg) * math.sqrt(1 - am * am) * w[0]
-        bus[f"{self.name}.psi"] = _wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
-        bus[f"{self.name}.r"] = bus.get(f"{b}.r", 0.0) + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
+        bus[f"{self.name}.psi"] = wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
+        bus[f"{self.name}.r"] = bus[f"{b}.r"] + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
         sa = math.radians(c.attitude_noise_deg)
         bus[f"{self.name}.phi"] = bus.get(f"{b}.phi", 0.0) + sa * w[3]
         bus[f"{self.name}.theta"] = bus.get(f"{b}.theta", 0.0) + sa * w[4]

@@ -14,14 +14,13 @@ Outputs ``depth.volt`` (V), ``depth.z_raw`` (m, calibrated, unfiltered), ``depth
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
-from ..units import G, RHO_WATER
+from ..units import RHO_WATER, G
 from .filters import LowPass
 
 FULL_SCALE_PA = 10e5  #: 10 bar
@@ -44,8 +43,11 @@ def ideal_voltage(z: float) -> float:
     return FULL_SCALE_V * RHO_WATER * G * max(z, 0.0) / FULL_SCALE_PA
 
 
+@register_block("sensor.depth")
 class DepthSensor(Block):
     """Depth sensor on body ``body`` (module docstring)."""
+
+    role = "sensor"
 
     name = "depth"
 
@@ -53,6 +55,8 @@ class DepthSensor(Block):
         self.cfg = cfg
         self.body = body
         self.period = 1.0 / cfg.rate
+        self.inputs = {f"{body}.z": "m"}
+        self.outputs = {"depth.volt": "V", "depth.z_raw": "m", "depth.z": "m"}
 
     def reset(self, rng) -> None:
         c = self.cfg
@@ -83,7 +87,7 @@ class DepthSensor(Block):
                              rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:
-        v = self.read_voltage(bus.get(f"{self.body}.z", 0.0))
+        v = self.read_voltage(bus[f"{self.body}.z"])
         z = self.c1 * v + self.c0
         bus["depth.volt"] = v
         bus["depth.z_raw"] = z

@@ -20,6 +20,8 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
 
 
 def lowpass_coefficient(cutoff_hz: float, period: float) -> float:
@@ -60,11 +62,12 @@ class AngleLowPass(LowPass):
         if self.y is None:
             self.y = x
         else:
-            d = (x - self.y + math.pi) % (2.0 * math.pi) - math.pi
-            self.y = (self.y + self.a * d + math.pi) % (2.0 * math.pi) - math.pi
+            d = wrap(x - self.y)
+            self.y = wrap(self.y + self.a * d)
         return self.y
 
 
+@register_block("sensor.dropout_hold")
 class DropoutHold(Block):
     """Hold-last-value dropout handling (module docstring).
 
@@ -80,14 +83,23 @@ class DropoutHold(Block):
         Output signal name -> input bus key.
     out_prefix : str
         Prefix of the output keys.
+    units : dict, optional
+        Output signal name -> unit (declared signals; default ``"1"``).
     """
 
-    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str):
+    role = "sensor"
+
+    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str,
+                 units: dict | None = None):
         self.name = name
         self.period = float(period)
         self.valid_key = valid_key
         self.signals = dict(signals)
         self.out = out_prefix
+        units = units or {}
+        self.inputs = {valid_key: "bool", **{k: units.get(o, "1") for o, k in self.signals.items()}}
+        self.outputs = {**{f"{out_prefix}.{o}": units.get(o, "1") for o in self.signals},
+                        f"{out_prefix}.ok": "bool", f"{out_prefix}.age": "s", f"{out_prefix}.dropouts": "count"}
         self.reset(None)
 
     def reset(self, rng) -> None:
@@ -110,7 +122,7 @@ class DropoutHold(Block):
         return CompiledBlock(dropout_hold_step, sig, st, np.array([float(len(outs))]))
 
     def step(self, t: float, bus: dict) -> None:
-        valid = bool(bus.get(self.valid_key, 0.0))
+        valid = bool(bus[self.valid_key])
         if valid or self.held is None:
             if all(k in bus for k in self.signals.values()):
                 self.held = {o: float(bus[k]) for o, k in self.signals.items()}

@@ -30,6 +30,7 @@ import math
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.registry import register_block
 from ..io.config import StrictModel
 
 
@@ -37,15 +38,19 @@ class USBLConfig(StrictModel):
     rate: float = Field(2.0, gt=0, le=40, description="ping (update) rate, Hz")
     range_resolution: float = Field(0.05, ge=0, le=10, description="range error bound (table C-3: 50 mm), m")
     angle_resolution_deg: float = Field(1.0, ge=0, le=30, description="angle error bound (table C-3: 1 deg), deg")
-    q_max: float = Field(5.0, gt=0, le=1e3, description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)")
+    q_max: float = Field(5.0, gt=0, le=1e3,
+                         description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)")
     p_drop: float = Field(0.5, ge=0, le=1, description="probability of losing a ping beyond q_max")
     degraded_gain: float = Field(5.0, ge=1, le=100, description="error scale of fixes beyond q_max")
     dropout_start: float = Field(-1.0, ge=-1, le=1e6, description="start of a forced dropout window (-1: none), s")
     dropout_duration: float = Field(0.0, ge=0, le=1e6, description="length of the forced dropout window, s")
 
 
+@register_block("sensor.usbl")
 class USBL(Block):
     """USBL between bodies ``top`` and ``bottom`` (module docstring)."""
+
+    role = "sensor"
 
     name = "usbl"
 
@@ -54,6 +59,10 @@ class USBL(Block):
         self.period = 1.0 / cfg.rate
         self.top = top
         self.bottom = bottom
+        self.inputs = {f"{top}.x": "m", f"{top}.y": "m", f"{bottom}.x": "m", f"{bottom}.y": "m", f"{bottom}.z": "m"}
+        self.optional_inputs = {f"{top}.z": "m"}  # a surface vessel: z = 0
+        self.outputs = {"usbl.dn": "m", "usbl.de": "m", "usbl.dz": "m", "usbl.range": "m", "usbl.hrange": "m",
+                        "usbl.bearing": "rad", "usbl.valid": "bool", "usbl.pings_lost": "count"}
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -85,9 +94,9 @@ class USBL(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a, b = self.top, self.bottom
-        dn = bus.get(f"{b}.x", 0.0) - bus.get(f"{a}.x", 0.0)
-        de = bus.get(f"{b}.y", 0.0) - bus.get(f"{a}.y", 0.0)
-        dz = bus.get(f"{b}.z", 0.0) - bus.get(f"{a}.z", 0.0)
+        dn = bus[f"{b}.x"] - bus[f"{a}.x"]
+        de = bus[f"{b}.y"] - bus[f"{a}.y"]
+        dz = bus[f"{b}.z"] - bus.get(f"{a}.z", 0.0)
         h = math.hypot(dn, de)
         q = h / max(abs(dz), 1e-6)
         u = self.rng.uniform(-1.0, 1.0, 4)

@@ -4,8 +4,11 @@
 "use strict";
 
 const $ = (id) => document.getElementById(id);
+// the session token comes with the URL printed by `oceangnc console` (/?token=...); kept for reloads
+const TOKEN = new URLSearchParams(location.search).get("token") || sessionStorage.getItem("oceangnc-token") || "";
+if (TOKEN) sessionStorage.setItem("oceangnc-token", TOKEN);
 const S = {
-  ws: null, hello: null, state: null, lastStateWall: 0, tracks: {}, route: [], draft: [],
+  ws: null, role: null, client: null, operator: null, charts: [], hello: null, state: null, lastStateWall: 0, tracks: {}, route: [], draft: [],
   scenarioRoute: [], rejected: [], recent: [], events: [], rtt: null, gaugeEls: {}, readoutEls: {},
   view: { cx: 0, cy: 0, scale: 5, auto: true },
   stick: { surge: 0, yaw: 0, source: "none" },
@@ -22,19 +25,43 @@ function send(obj) {
 
 // ---------------------------------------------------------------- connection
 function connect() {
-  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws");
+  const want = S.want = new URLSearchParams(location.search).get("role") === "viewer" ? "viewer" : "operator";
+  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws?token=" +
+    encodeURIComponent(TOKEN) + "&role=" + want);
   S.ws = ws;
   ws.onmessage = (ev) => {
     let m;
     try { m = JSON.parse(ev.data); } catch (e) { return; }
     if (m.type === "hello") onHello(m);
     else if (m.type === "state") onState(m);
-    else if (m.type === "rejected") { S.rejected.push(m.reason); addEvent({ level: "warning", t: S.state ? S.state.t : 0, text: "rejected: " + m.reason }, true); }
+    else if (m.type === "rejected") onRejected(m.reason);  // the server logs it once, as an event
+    else if (m.type === "role") onRole(m);
     else if (m.type === "pong") { if (m.id === S.pingId) S.rtt = performance.now() - S.pingSent; }
   };
   ws.onclose = () => { S.ws = null; setTimeout(connect, 1000); };
 }
 setInterval(() => { S.pingId += 1; S.pingSent = performance.now(); send({ type: "ping", id: S.pingId }); }, 2000);
+
+function onRole(m) {
+  S.role = m.role; S.client = m.client; S.operator = m.operator;
+  // a page opened to drive takes control as soon as nobody holds it (never from another operator)
+  if (S.want === "operator" && m.role === "viewer" && m.operator == null) send({ type: "control", take: true });
+  const el = $("role");
+  el.textContent = m.role === "operator" ? `operator #${m.client}` : `viewer #${m.client}`;
+  el.className = "lamp " + (m.role === "operator" ? "ok" : "warn");
+  el.dataset.role = m.role;
+  const btn = $("take");
+  btn.textContent = m.role === "operator" ? "Release control" : m.operator == null ? "Take control" : `Take over from #${m.operator}`;
+  document.body.classList.toggle("viewer", m.role !== "operator");
+  for (const b of document.querySelectorAll("[data-cmd]")) b.disabled = m.role !== "operator";
+}
+
+function onRejected(reason) {
+  S.rejected.push(reason);
+  if (reason.startsWith("gains:")) {  // a refused gain goes back to the value the controller has
+    for (const inp of document.querySelectorAll("#gains input")) { inp.value = inp.dataset.orig; inp.classList.remove("pending"); }
+  }
+}
 
 function onHello(h) {
   S.hello = h;
@@ -59,6 +86,7 @@ function onHello(h) {
   buildReadouts(h.view.readouts || []);
   buildGauges(h.view.gauges || []);
   buildGains(h.gains || {});
+  buildCharts(h);
 }
 
 function onState(st) {
@@ -74,6 +102,7 @@ function onState(st) {
     if (!last || Math.hypot(last[0] - x, last[1] - y) > 0.05) { tr.push([x, y]); if (tr.length > 20000) tr.splice(0, 5000); }
   }
   if (st.events) for (const e of st.events) addEvent(e);
+  pushCharts(st);
   updatePanels();
 }
 
@@ -123,11 +152,13 @@ $("gains-apply").onclick = () => {
     if (inp.value !== inp.dataset.orig) gains[inp.dataset.name] = Number(inp.value);
   }
   if (Object.keys(gains).length && send({ type: "gains", gains })) {
-    for (const inp of document.querySelectorAll("#gains input")) if (inp.dataset.name in gains) inp.dataset.orig = inp.value;
+    for (const inp of document.querySelectorAll("#gains input")) if (inp.dataset.name in gains) inp.classList.add("pending");
   }
 };
 
 function addEvent(e, local) {
+  const g = /^gain (\S+) = (\S+)/.exec(e.text || "");  // an applied gain: it is the box's value now
+  if (g) for (const inp of document.querySelectorAll("#gains input")) if (inp.dataset.name === g[1]) { inp.dataset.orig = g[2]; inp.classList.remove("pending"); }
   const ol = $("events"); const li = document.createElement("li");
   li.className = e.level; li.textContent = `${fmt(e.t, 1)} s  ${e.text}`;
   ol.insertBefore(li, ol.firstChild);
@@ -159,7 +190,7 @@ function updatePanels() {
   $("loop-open").classList.toggle("active", st.loop === "open");
   $("pause").textContent = st.paused ? "Resume" : "Pause";
   $("estop").classList.toggle("engaged", st.estop);
-  $("estop-reset").disabled = !st.estop;
+  $("estop-reset").disabled = !st.estop || S.role !== "operator";
   const ban = $("banner");
   let text = "", cls = "";
   if (st.estop) text = "EMERGENCY STOP — thrust zero (latched)";
@@ -180,7 +211,9 @@ function updatePanels() {
     const v = sig[s.key]; const ok = v != null && v >= 0.5;
     const el = lamp(`${s.label} ${ok ? "OK" : "FAIL"}`, ok, s.key); el.dataset.sensor = s.key;
   }
-  $("mapinfo").textContent = `t = ${fmt(st.t, 1)} s   ${st.mode.toUpperCase()} / ${st.loop} loop   clients ${st.clients}`;
+  $("mapinfo").textContent = `t = ${fmt(st.t, 1)} s   ${st.mode.toUpperCase()} / ${st.loop} loop   clients ${st.clients}` +
+    `   operator ${st.operator == null ? "none" : "#" + st.operator}`;
+  drawCharts();
 }
 
 function linkLamp() {
@@ -205,6 +238,61 @@ $("route-send").onclick = () => { if (S.draft.length) { send({ type: "waypoints"
 $("route-clear").onclick = () => { S.draft = []; };
 $("route-scenario").onclick = () => { if (S.scenarioRoute.length) send({ type: "waypoints", points: S.scenarioRoute }); };
 $("fit").onclick = () => { S.view.auto = true; };
+$("take").onclick = () => {
+  if (S.role === "operator") send({ type: "control", take: false });
+  else send({ type: "control", take: true, force: S.operator != null });  // explicit take-over, logged
+};
+$("download").href = "/api/log.parquet?token=" + encodeURIComponent(TOKEN);
+
+// ---------------------------------------------------------------- strip charts (last 60 s)
+const CHART_SPAN = 60;
+const CHARTS = [
+  { label: "UUV depth", unit: "m", fn: (g) => g["uuv.z"] },
+  { label: "relative distance", unit: "m", fn: (g) => (g["usv.x"] == null || g["uuv.x"] == null ? null : Math.hypot(g["usv.x"] - g["uuv.x"], g["usv.y"] - g["uuv.y"])) },
+  { label: "cable tension", unit: "N", fn: (g) => g["cable.top_tension"] },
+];
+function buildCharts(h) {
+  const box = $("charts"); box.innerHTML = ""; S.charts = [];
+  for (const c of CHARTS) {
+    const d = document.createElement("div"); d.className = "chart";
+    d.innerHTML = `<div class="lbl"><span></span><span class="cv">—</span></div><canvas width="340" height="54"></canvas>`;
+    d.querySelector(".lbl span").textContent = `${c.label} [${c.unit}]`;
+    box.appendChild(d);
+    S.charts.push({ spec: c, el: d, cv: d.querySelector("canvas"), t: [], v: [], seen: false });
+  }
+}
+function pushCharts(st) {
+  for (const ch of S.charts) {
+    const v = ch.spec.fn(st.signals);
+    if (v == null || !isFinite(v)) continue;
+    ch.seen = true;
+    if (ch.t.length && st.t < ch.t[ch.t.length - 1]) { ch.t = []; ch.v = []; }
+    ch.t.push(st.t); ch.v.push(v);
+    while (ch.t.length && ch.t[0] < st.t - CHART_SPAN) { ch.t.shift(); ch.v.shift(); }
+  }
+}
+function drawCharts() {
+  let none = $("charts-none");
+  if (!none) { none = document.createElement("div"); none.id = "charts-none"; none.className = "muted";
+    none.textContent = "no UUV depth, USV-UUV distance or cable tension in this scenario"; $("charts").appendChild(none); }
+  none.classList.toggle("hidden", S.charts.some((c) => c.seen));
+  for (const ch of S.charts) {
+    ch.el.classList.toggle("hidden", !ch.seen);
+    if (!ch.seen || !ch.t.length) continue;
+    const c = ch.cv.getContext("2d"), W = ch.cv.width, H = ch.cv.height;
+    c.fillStyle = "#0d1a26"; c.fillRect(0, 0, W, H);
+    let lo = Math.min(...ch.v), hi = Math.max(...ch.v);
+    if (hi - lo < 1e-6) { lo -= 0.5; hi += 0.5; }
+    const pad = 0.08 * (hi - lo); lo -= pad; hi += pad;
+    const t1 = ch.t[ch.t.length - 1], t0 = t1 - CHART_SPAN;
+    c.strokeStyle = "#3aa0ff"; c.lineWidth = 1.5; c.beginPath();
+    ch.t.forEach((t, i) => { const x = (t - t0) / CHART_SPAN * W, y = H - (ch.v[i] - lo) / (hi - lo) * H; if (i) c.lineTo(x, y); else c.moveTo(x, y); });
+    c.stroke();
+    c.fillStyle = "#8fa3b8"; c.font = "10px monospace";
+    c.fillText(hi.toFixed(2), 2, 10); c.fillText(lo.toFixed(2), 2, H - 2); c.fillText("-60 s", W - 34, H - 2);
+    ch.el.querySelector(".cv").textContent = ch.v[ch.v.length - 1].toFixed(2);
+  }
+}
 
 // ---------------------------------------------------------------- stick input
 const KEYMAP = { ArrowUp: ["surge", 1], KeyW: ["surge", 1], ArrowDown: ["surge", -1], KeyS: ["surge", -1],
@@ -254,7 +342,7 @@ function inputTick() {
   S.stick = { surge: clamp1(surge), yaw: clamp1(yaw), source: src, pad: pad ? (pad.id || "gamepad") : null };
   $("stick-src").textContent = src + (pad ? ` (${pad.id || "pad"})` : "");
   $("stick-val").innerHTML = `surge ${fmt(S.stick.surge)}<br>yaw ${fmt(S.stick.yaw)}`;
-  if (S.state && S.state.mode === "remote") {
+  if (S.state && S.state.mode === "remote" && S.role === "operator") {
     send({ type: "stick", surge: S.stick.surge, yaw: S.stick.yaw, source: src });
   }
   drawStick();
@@ -304,9 +392,11 @@ function fitView() {
   for (const tr of Object.values(S.tracks)) { const step = Math.max(1, Math.floor(tr.length / 500)); for (let i = 0; i < tr.length; i += step) add(tr[i]); if (tr.length) add(tr[tr.length - 1]); }
   if (S.state) for (const b of S.hello.view.bodies) add([S.state.signals[b.name + ".x"], S.state.signals[b.name + ".y"]]);
   if (!isFinite(lo[0])) { lo = [-10, -10]; hi = [10, 10]; }
-  const span = Math.max(hi[0] - lo[0], hi[1] - lo[1], 10) * 1.15;
+  // fit north span into the height and east span into the width, with a 40 px margin all round
+  const m = 40 * (window.devicePixelRatio || 1);
   S.view.cx = (lo[0] + hi[0]) / 2; S.view.cy = (lo[1] + hi[1]) / 2;
-  S.view.scale = Math.min(cv.width, cv.height) / span;
+  S.view.scale = Math.max(1e-6, Math.min((cv.height - 2 * m) / Math.max(hi[0] - lo[0], 10),
+                                         (cv.width - 2 * m) / Math.max(hi[1] - lo[1], 10)));
 }
 
 function niceStep(px) { const w = px / S.view.scale, p = Math.pow(10, Math.floor(Math.log10(w))); for (const m of [1, 2, 5, 10]) if (m * p >= w) return m * p; return 10 * p; }
@@ -315,7 +405,7 @@ function drawGrid(c) {
   const step = niceStep(80 * (window.devicePixelRatio || 1));
   const [n0, e0] = toWorld(0, cv.height), [n1, e1] = toWorld(cv.width, 0);
   c.strokeStyle = "#17405c"; c.lineWidth = 1; c.fillStyle = "#4d7a99"; c.font = `${11 * (window.devicePixelRatio || 1)}px monospace`;
-  for (let e = Math.ceil(e0 / step) * step; e <= e1; e += step) { const [x] = toScreen(0, e); c.beginPath(); c.moveTo(x, 0); c.lineTo(x, cv.height); c.stroke(); c.fillText(`${+e.toFixed(3)} m E`, x + 3, cv.height - 40); }
+  for (let e = Math.ceil(e0 / step) * step; e <= e1; e += step) { const [x] = toScreen(0, e); c.beginPath(); c.moveTo(x, 0); c.lineTo(x, cv.height); c.stroke(); c.fillText(`${+e.toFixed(3)} m E`, x + 3, cv.height - 6); }
   for (let n = Math.ceil(n0 / step) * step; n <= n1; n += step) { const [, y] = toScreen(n, 0); c.beginPath(); c.moveTo(0, y); c.lineTo(cv.width, y); c.stroke(); c.fillText(`${+n.toFixed(3)} m N`, 4, y - 3); }
   // north arrow
   const d = window.devicePixelRatio || 1, x = cv.width - 30 * d, y = 50 * d;
@@ -364,7 +454,8 @@ function drawCable(c) {
 
 function draw() {
   requestAnimationFrame(draw);
-  if (cv.width !== Math.round(cv.getBoundingClientRect().width * (window.devicePixelRatio || 1))) resize();
+  { const r = cv.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;  // the banner changes the height
+    if (cv.width !== Math.max(10, Math.round(r.width * dpr)) || cv.height !== Math.max(10, Math.round(r.height * dpr))) resize(); }
   const c = cv.getContext("2d");
   c.fillStyle = "#0b2538"; c.fillRect(0, 0, cv.width, cv.height);
   if (!S.hello || !S.state) return;

@@ -1,0 +1,68 @@
+"""Actuator blocks with declared signals, registered under their kinds.
+
+The actuator dynamics (saturation, thrust-voltage curves) live with the vehicle models in
+:mod:`oceangnc.models`; these subclasses add the declared inputs and outputs
+(:mod:`oceangnc.core.signals`) and the registry kinds, so that scenarios compose them like any
+other block and the wiring check covers them:
+
+* ``usv.thrusters`` (:class:`USVThrusterBlock`): ``<b>.thrust_{port,stbd}_cmd`` (N) or
+  ``<b>.volt_{port,stbd}_cmd`` (V) -> ``<b>.thrust_{port,stbd}`` (N), 003 eq. 2.5;
+* ``uuv.thrusters`` (:class:`UUVThrusterBlock`): ``<b>.thrust_{port,stbd,bow}_cmd`` -> ``<b>.thrust_*`` (N);
+* ``usv.rudder_engine`` (:class:`RudderEngineBlock`): ``<b>.delta_s_cmd`` (rad), ``<b>.rpm_cmd`` (rpm) ->
+  ``<b>.delta_s``, ``<b>.rpm`` of the first-order USV (000 sec. 2).
+
+All zero their outputs on an emergency stop (``_estop``, optional input).
+"""
+
+from __future__ import annotations
+
+from ..core.registry import register_block
+from ..models.first_order import FirstOrderActuators
+from ..models.usv import USVThrusters
+from ..models.uuv import UUVThrusters
+
+
+@register_block("usv.thrusters")
+class USVThrusterBlock(USVThrusters):
+    """:class:`~oceangnc.models.usv.USVThrusters` with declared signals."""
+
+    role = "actuator"
+
+    def __init__(self, cfg, period: float = 0.01, mode: str = "thrust", body: str = "usv"):
+        super().__init__(cfg, period, mode, body)
+        b = body
+        if mode == "voltage":
+            self.inputs = {}
+            self.optional_inputs = {f"{b}.volt_port_cmd": "V", f"{b}.volt_stbd_cmd": "V", "_estop": "bool"}
+        else:
+            self.inputs = {f"{b}.thrust_port_cmd": "N", f"{b}.thrust_stbd_cmd": "N"}
+            self.optional_inputs = {"_estop": "bool"}
+        self.outputs = {f"{b}.thrust_port": "N", f"{b}.thrust_stbd": "N"}
+
+
+@register_block("uuv.thrusters")
+class UUVThrusterBlock(UUVThrusters):
+    """:class:`~oceangnc.models.uuv.UUVThrusters` with declared signals."""
+
+    role = "actuator"
+
+    def __init__(self, cfg, period: float = 0.01, body: str = "uuv"):
+        super().__init__(cfg, period, body)
+        sides = ("port", "stbd", "bow")
+        self.inputs = {f"{body}.thrust_{s}_cmd": "N" for s in sides}
+        self.optional_inputs = {"_estop": "bool"}
+        self.outputs = {f"{body}.thrust_{s}": "N" for s in sides}
+
+
+@register_block("usv.rudder_engine")
+class RudderEngineBlock(FirstOrderActuators):
+    """:class:`~oceangnc.models.first_order.FirstOrderActuators` with declared signals."""
+
+    role = "actuator"
+
+    def __init__(self, cfg, period: float = 0.05, body: str = "usv"):
+        super().__init__(cfg, period, body)
+        b = body
+        self.inputs = {f"{b}.delta_s_cmd": "rad", f"{b}.rpm_cmd": "rpm"}
+        self.optional_inputs = {"_estop": "bool"}
+        self.outputs = {f"{b}.delta_s": "rad", f"{b}.rpm": "rpm", f"{b}.delta_s_deg": "deg"}

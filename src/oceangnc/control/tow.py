@@ -1,0 +1,99 @@
+"""Straight-tow loops of both vehicles of the combined system (003 ch. 4 a, figs 4-2 to 4-5).
+
+USV: total thrust = PID(u_d - u) + d11 u_d (feed-forward), split equally, plus a differential PD on
+the heading error, mixed by 003 eq. 3.11 (:func:`oceangnc.control.usv_control.mix`). UUV: total
+stern thrust = PID(u_d - u) - X_u|u| u_d |u_d| (feed-forward of the axial drag), split equally; bow
+thrust = PD on the heading error. The gains are design values of ``tow-straight``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from pydantic import Field
+
+from ..core.blocks import Block
+from ..core.registry import register_block
+from ..core.rotations import wrap
+from ..io.config import StrictModel
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
+from ..units import KGF
+from .pid import PID
+from .usv_control import mix
+
+
+class TowCommand(StrictModel):
+    """Speed and heading commands of ``tow-straight`` and the loop gains (design values)."""
+
+    usv_speed: float = Field(0.5, ge=0, le=3, description="USV surge speed command (003 ch. 4: 0.5), m/s")
+    uuv_speed: float = Field(0.27, ge=-1, le=3, description="UUV surge speed command (003: 0.27 or 0.48), m/s")
+    heading_deg: float = Field(0.0, ge=-360, le=360, description="heading command of both vehicles, deg")
+    start_s: float = Field(20.0, ge=0, le=1e4, description="time the commands start (hanging before), s")
+    usv_kp_speed: float = Field(800.0, ge=0, le=1e5, description="USV speed P gain (total thrust), N s/m")
+    usv_ki_speed: float = Field(200.0, ge=0, le=1e5, description="USV speed I gain, N/m")
+    usv_kp_heading: float = Field(300.0, ge=0, le=1e5, description="USV heading P gain (differential), N/rad")
+    usv_kd_heading: float = Field(400.0, ge=0, le=1e5, description="USV heading D gain, N s/rad")
+    uuv_kp_speed: float = Field(150.0, ge=0, le=1e5, description="UUV speed P gain (total stern thrust), N s/m")
+    uuv_ki_speed: float = Field(30.0, ge=0, le=1e5, description="UUV speed I gain, N/m")
+    uuv_kp_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading P gain (bow thrust), N/rad")
+    uuv_kd_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading D gain, N s/rad")
+
+
+
+@register_block("tow.straight")
+class TowStraightControl(Block):
+    """Surge-speed and heading loops of both vehicles for the straight tow (003 ch. 4 a).
+
+    USV: total thrust = PID(u_d - u) + d11 u_d (feed-forward), split equally, plus a differential
+    PD on the heading error (003 eq. 3.11 mixing). UUV: total stern thrust = PID(u_d - u) - X_u|u|
+    u_d |u_d| (feed-forward of the axial drag), split equally; bow thrust = PD on the heading error.
+    Before ``start_s`` both speed commands are 0 and the thrusts are 0. Writes the ``*_cmd`` keys.
+    """
+
+    role = "controller"
+    name = "tow_control"
+
+    def __init__(self, cmd: TowCommand, usv: USVConfig, uuv: UUVConfig, period: float = 0.01):
+        self.cmd = cmd
+        self.period = period
+        self.usv_cfg = usv
+        self.uuv_cfg = uuv
+        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", "uuv.u": "m/s", "uuv.psi": "rad",
+                       "uuv.r": "rad/s"}
+        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "uuv.thrust_port_cmd": "N",
+                        "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
+
+    def reset(self, rng) -> None:
+        c = self.cmd
+        t_usv = self.usv_cfg.max_thrust_kgf * KGF
+        r_usv = self.usv_cfg.max_reverse_kgf * KGF
+        t_uuv = self.uuv_cfg.max_thrust_kgf * KGF
+        r_uuv = self.uuv_cfg.max_reverse_kgf * KGF
+        self.usv_speed = PID(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)
+        self.usv_head = PID(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)
+        self.uuv_speed = PID(c.uuv_kp_speed, c.uuv_ki_speed, 0.0, -2 * r_uuv, 2 * t_uuv)
+        self.uuv_head = PID(c.uuv_kp_heading, 0.0, c.uuv_kd_heading, -r_uuv, t_uuv)
+
+    def step(self, t: float, bus: dict) -> None:
+        c = self.cmd
+        h = self.period
+        psi_d = math.radians(c.heading_deg)
+        if t < c.start_s:
+            for k in ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd",
+                      "uuv.thrust_bow_cmd"):
+                bus[k] = 0.0
+            return
+        # USV
+        ff = self.usv_cfg.d11 * c.usv_speed
+        tot = self.usv_speed.step(c.usv_speed - bus["usv.u"], h, feedforward=ff)
+        e = wrap(psi_d - bus["usv.psi"])
+        dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
+        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(0.5 * tot, 0.5 * dif)
+        # UUV
+        ffu = -self.uuv_cfg.X_uu_total * c.uuv_speed * abs(c.uuv_speed)
+        totu = self.uuv_speed.step(c.uuv_speed - bus["uuv.u"], h, feedforward=ffu)
+        bus["uuv.thrust_port_cmd"] = 0.5 * totu
+        bus["uuv.thrust_stbd_cmd"] = 0.5 * totu
+        eu = wrap(psi_d - bus["uuv.psi"])
+        bus["uuv.thrust_bow_cmd"] = self.uuv_head.step(eu, h, e_dot=-bus["uuv.r"])

@@ -1,0 +1,246 @@
+"""Resampling, derived signals, gap / time-jump report and the format dispatch (see the package docstring)."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...errors import InputError
+
+#: suffix -> format name
+FORMATS = {".bin": "dataflash", ".log": "dataflash", ".tlog": "tlog", ".ulg": "ulog", ".csv": "csv",
+           ".db3": "rosbag2", ".mcap": "rosbag2"}
+#: signals held (zero-order) between samples instead of interpolated: commands
+HELD = ("act.",)
+ANGLES = ("usv.psi", "usv.phi", "usv.theta")
+
+
+@dataclass
+class ImportResult:
+    """A resampled log and what happened on the way."""
+
+    df: Any  # pandas DataFrame, time column t (s)
+    source: str
+    format: str
+    rate: float
+    report: dict[str, Any] = field(default_factory=dict)
+
+    def summary_line(self) -> str:
+        r = self.report
+        return (f"{self.source}: {self.format}, {len(self.df)} rows at {self.rate:g} Hz over "
+                f"{r.get('duration_s', 0):.1f} s, {len(r.get('gaps', []))} gap(s), "
+                f"{r.get('time_jumps', 0)} time jump(s)")
+
+
+def detect_format(path: Path, fmt: str | None = None) -> str:
+    if fmt:
+        if fmt not in set(FORMATS.values()):
+            raise InputError(f"--format {fmt}: allowed {', '.join(sorted(set(FORMATS.values())))}")
+        return fmt
+    if path.is_dir():
+        if (path / "metadata.yaml").is_file():
+            return "rosbag2"
+        if (path / "log.parquet").is_file():
+            return "parquet"
+        raise InputError(f"{path}: a folder that is neither a ROS 2 bag (no metadata.yaml) nor a run (no log.parquet)")
+    suf = path.suffix.lower()
+    if suf == ".parquet":
+        return "parquet"
+    if suf not in FORMATS:
+        raise InputError(f"{path}: unknown log format '{suf}'; known: .bin .tlog .ulg .db3 .mcap (ROS 2 bag) "
+                         f".csv .parquet")
+    return FORMATS[suf]
+
+
+def _monotone(t: np.ndarray, v: np.ndarray, jump_s: float):
+    """Keep strictly increasing time stamps; returns (t, v, dropped, jumps list)."""
+    t = np.asarray(t, float)
+    v = np.asarray(v, float)
+    ok = np.isfinite(t) & np.isfinite(v)
+    t, v = t[ok], v[ok]
+    if t.size == 0:
+        return t, v, 0, []
+    run = np.maximum.accumulate(t)
+    keep = np.ones(t.size, bool)
+    keep[1:] = t[1:] > run[:-1]
+    jumps = []
+    back = np.nonzero(~keep)[0]
+    if back.size:
+        jumps.append({"kind": "backwards", "at_s": float(t[back[0] - 1]), "samples_dropped": int(back.size)})
+    t, v = t[keep], v[keep]
+    dt = np.diff(t)
+    for i in np.nonzero(dt > jump_s)[0][:20]:
+        jumps.append({"kind": "forward", "at_s": float(t[i]), "length_s": float(dt[i])})
+    return t, v, int((~keep).sum()), jumps
+
+
+def resample(series: dict, rate: float, gap_s: float | None = None, source: str = "log") -> tuple[dict, dict]:
+    """Put raw series ``{name: (t, v)}`` on one grid at ``rate`` Hz over their common span.
+
+    Angles are unwrapped before and wrapped after linear interpolation; ``act.*`` commands are held
+    (zero-order). A grid point with no sample within ``gap_s`` (default max(1 s, 5 / rate)) on either
+    side stays NaN and the gap is reported. Returns (columns dict with ``t``, report dict).
+    """
+    if not (rate > 0 and math.isfinite(rate)):
+        raise InputError(f"--rate {rate}: must be > 0 Hz")
+    gap_s = gap_s if gap_s is not None else max(1.0, 5.0 / rate)
+    clean = {}
+    report: dict[str, Any] = {"gaps": [], "time_jumps": 0, "jumps": [], "dropped_samples": {}, "signals": {}}
+    for k, (t, v) in series.items():
+        t, v, dropped, jumps = _monotone(t, v, gap_s)
+        if t.size < 2:
+            continue
+        clean[k] = (t, v)
+        if dropped:
+            report["dropped_samples"][k] = dropped
+        for j in jumps:
+            report["jumps"].append({"signal": k, **j})
+        report["signals"][k] = {"samples": int(t.size), "start_s": float(t[0]), "end_s": float(t[-1]),
+                                "mean_rate_hz": float((t.size - 1) / (t[-1] - t[0])) if t[-1] > t[0] else 0.0}
+    if not clean:
+        raise InputError(f"{source}: no signal with at least 2 samples")
+    t0 = max(t[0] for t, _ in clean.values())
+    t1 = min(t[-1] for t, _ in clean.values())
+    if t1 - t0 < 1.0 / rate:
+        spans = ", ".join(f"{k} {t[0]:.1f}-{t[-1]:.1f} s" for k, (t, _) in clean.items())
+        raise InputError(f"{source}: the signals do not overlap in time ({spans})")
+    grid = t0 + np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
+    out = {"t": grid - t0}
+    for k, (t, v) in clean.items():
+        if k in ANGLES:
+            v = np.unwrap(v)
+        if k.startswith(HELD):
+            idx = np.clip(np.searchsorted(t, grid, side="right") - 1, 0, t.size - 1)
+            g = v[idx]
+        else:
+            g = np.interp(grid, t, v)
+        j = np.clip(np.searchsorted(t, grid), 1, t.size - 1)
+        hole = (t[j] - t[j - 1]) > gap_s
+        if hole.any():
+            g = g.copy()
+            g[hole] = np.nan
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], hole.astype(int), [0]])))
+            for a, b in zip(edges[::2], edges[1::2]):
+                report["gaps"].append({"signal": k, "from_s": float(grid[a] - t0), "to_s": float(grid[b - 1] - t0),
+                                       "rows_left_nan": int(b - a)})
+        if k in ANGLES:
+            g = (g + np.pi) % (2 * np.pi) - np.pi
+        out[k] = g
+    report["time_jumps"] = len(report["jumps"])
+    report["t0_source_s"] = float(t0)
+    report["duration_s"] = float(t1 - t0)
+    report["rate_hz"] = float(rate)
+    report["gap_s"] = float(gap_s)
+    return out, report
+
+
+def derive(cols: dict, report: dict) -> dict:
+    """Derived standard signals: u, v, speed from (vn, ve, psi); r from psi; throttle / steer from left / right."""
+    notes = report.setdefault("notes", [])
+    if "usv.vn" in cols and "usv.ve" in cols:
+        vn, ve = cols["usv.vn"], cols["usv.ve"]
+        cols.setdefault("usv.speed", np.hypot(vn, ve))
+        if "usv.psi" in cols:
+            c, s = np.cos(cols["usv.psi"]), np.sin(cols["usv.psi"])
+            cols["usv.u"] = c * vn + s * ve
+            cols["usv.v"] = -s * vn + c * ve
+    elif "usv.x" in cols and "usv.y" in cols and len(cols["t"]) > 2:
+        t = cols["t"]
+        cols["usv.vn"] = np.gradient(cols["usv.x"], t)
+        cols["usv.ve"] = np.gradient(cols["usv.y"], t)
+        notes.append("usv.vn/ve/speed differentiated from the position (no velocity in the log)")
+        return derive(cols, report)
+    if "usv.r" not in cols and "usv.psi" in cols and len(cols["t"]) > 2:
+        cols["usv.r"] = np.gradient(np.unwrap(cols["usv.psi"]), cols["t"])
+        notes.append("usv.r differentiated from the heading (no yaw rate in the log)")
+    if "act.left" in cols and "act.right" in cols:
+        cols["act.throttle"] = 0.5 * (cols["act.left"] + cols["act.right"])
+        cols["act.steer"] = 0.5 * (cols["act.left"] - cols["act.right"])
+    return cols
+
+
+def _to_df(cols: dict):
+    import pandas as pd
+
+    order = ["t"] + sorted(k for k in cols if k != "t")
+    return pd.DataFrame({k: np.asarray(cols[k], float) for k in order})
+
+
+def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | None = None,
+               allow_truncated: bool = False, body: str = "usv", **opts) -> ImportResult:
+    """Read a field log (any of :data:`FORMATS`) into a resampled DataFrame with standard signals.
+
+    ``body`` names the vehicle's signals (``usv.*`` by default, ``uuv`` for a UUV's log). ``opts`` go
+    to the format's reader: ``system`` (MAVLink system id, tlog), ``origin`` ((lat, lon)
+    deg, default the first fix), ``topics`` (ROS 2: role -> topic), ``column_map`` (CSV:
+    signal -> "column[:unit]").
+    """
+    from . import formats
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"log not found: {p}")
+    kind = detect_format(p, fmt)
+    if kind == "parquet":
+        raise InputError(f"{p}: already a Parquet log; identification reads it directly")
+    reader = getattr(formats, f"read_{kind}")
+    try:
+        series, meta = reader(p, allow_truncated=allow_truncated, **opts)
+    except ModuleNotFoundError as e:
+        raise InputError(f"{p}: reading a {kind} log needs the optional package '{e.name}'; install with "
+                         f"pip install 'oceangnc[field]'") from None
+    if not series:
+        raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
+    cols, report = resample(series, rate, gap_s, source=str(p))
+    cols = derive(cols, report)
+    if body != "usv":  # e.g. the UUV of a .tlog (--system 2 --body uuv)
+        if not body.isidentifier():
+            raise InputError(f"--body {body!r}: expected a name such as usv or uuv")
+        cols = {(body + k[3:] if k.startswith("usv.") else k): v for k, v in cols.items()}
+    report = {"source": str(p), "format": kind, "body": body, **meta, **report}
+    return ImportResult(_to_df(cols), str(p), kind, rate, report)
+
+
+def read_any(path, **opts):
+    """A log of any supported format as a DataFrame: Parquet / CSV logs as they are, field logs
+    (.bin, .tlog, .ulg, ROS 2 bag, or CSV with ``column_map``) imported with :func:`import_log`."""
+    from ..logs import read_log
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"log not found: {p}")
+    kind = detect_format(p, opts.pop("fmt", None))
+    if kind == "parquet" or (kind == "csv" and not opts.get("column_map")):
+        return read_log(p)
+    return import_log(p, **opts).df
+
+
+def write_run(res: ImportResult, out_dir) -> Path:
+    """Write ``log.parquet`` and ``import.json`` into the run folder ``out_dir``."""
+    from ..logs import LogWriter
+
+    d = Path(out_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    df = res.df
+    cols = [c for c in df.columns if c != "t"]
+    w = LogWriter(d / "log.parquet", flush_rows=50000)
+    t = df["t"].to_numpy()
+    arr = df[cols].to_numpy()
+    for i in range(len(df)):
+        w.append(float(t[i]), dict(zip(cols, arr[i])))
+    w.close()
+    rep = dict(res.report)
+    rep["columns"] = {c: _UNITS.get(c, "") for c in df.columns}
+    (d / "import.json").write_text(json.dumps(rep, indent=2, default=float))
+    return d / "log.parquet"
+
+
+_UNITS = {"t": "s", "usv.x": "m", "usv.y": "m", "usv.z": "m", "usv.psi": "rad", "usv.phi": "rad",
+          "usv.theta": "rad", "usv.r": "rad/s", "usv.vn": "m/s", "usv.ve": "m/s", "usv.speed": "m/s", "usv.u": "m/s",
+          "usv.v": "m/s", "act.left": "1", "act.right": "1", "act.throttle": "1", "act.steer": "1",
+          "cable.top_tension": "N", "uuv.z": "m"}

@@ -1,0 +1,203 @@
+"""Writers of real field-log files for the import tests, each from its format's specification.
+
+* DataFlash (.bin): ArduPilot's self-describing format, as ``pymavlink.DFReader`` reads it: every record
+  is ``0xA3 0x95 <type>`` + payload; type 128 (FMT) defines a type: Type B, Length B (whole record),
+  Name 4s, Format 16s, Columns 64s (format chars: Q uint64, B uint8, H uint16, f float, L int32 x 1e-7 deg).
+  pymavlink ships no DataFlash writer, so we write the FMT/GPS/ATT/IMU/RCOU records ourselves.
+* ULog (.ulg): PX4's format (docs.px4.io "ULog File Format"): 16-byte header ``ULog\\x01\\x12\\x35``,
+  version, start time (us); then messages ``uint16 size, uint8 type`` + body: 'B' flag bits (40 bytes),
+  'F' formats ``name:type field;...``, 'A' add-logged (multi_id, msg_id, name), 'D' data (msg_id + payload).
+* ROS 2 bags: the ``rosbags`` Writer with its own serializer.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from oceangnc.mavlink.geo import ned_to_latlon
+
+KGF = 9.80665
+
+# -- DataFlash ---------------------------------------------------------------------------------------------
+
+_DF_STRUCT = {"Q": "Q", "B": "B", "H": "H", "f": "f", "L": "i", "I": "I"}
+
+
+class DataFlashWriter:
+    def __init__(self, path):
+        self.f = open(path, "wb")  # noqa: SIM115 (closed by close())
+        self.types = {}
+        self._fmt(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns", raw_len=89)
+
+    def _fmt(self, typ, name, fmt, cols, raw_len=None):
+        ln = raw_len or 3 + struct.calcsize("<" + "".join(_DF_STRUCT[c] for c in fmt))
+        body = struct.pack("<BB4s16s64s", typ, ln, name.encode(), fmt.encode(), cols.encode())
+        self.f.write(b"\xa3\x95\x80" + body)
+        self.types[name] = (typ, fmt)
+
+    def define(self, typ, name, fmt, cols):
+        self._fmt(typ, name, fmt, cols)
+
+    def write(self, name, *values):
+        typ, fmt = self.types[name]
+        self.f.write(b"\xa3\x95" + bytes([typ]) + struct.pack("<" + "".join(_DF_STRUCT[c] for c in fmt), *values))
+
+    def close(self):
+        self.f.close()
+
+
+def pwm_of(T, full_fwd, full_rev):
+    full = np.where(T >= 0, full_fwd, full_rev)
+    return np.round(1500 + 400 * np.clip(T / full, -1, 1)).astype(int)
+
+
+def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
+    """GPS at 5 Hz, ATT / IMU / RCOU at 10 Hz from a simulated run's truth ``df`` (t, usv.*)."""
+    w = DataFlashWriter(path)
+    w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")  # GPS week and ms, as ArduPilot
+    w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
+    w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
+    w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
+    t = df["t"].to_numpy()
+    vn = df["usv.u"] * np.cos(df["usv.psi"]) - df["usv.v"] * np.sin(df["usv.psi"])
+    ve = df["usv.u"] * np.sin(df["usv.psi"]) + df["usv.v"] * np.cos(df["usv.psi"])
+    pl = pwm_of(df["usv.thrust_port"].to_numpy(), tmax_n, trev_n)
+    pr = pwm_of(df["usv.thrust_stbd"].to_numpy(), tmax_n, trev_n)
+    for i in range(len(df)):
+        us = round(t[i] * 1e6) + 1_000_000
+        if i % 2 == 0:
+            lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
+            w.write("GPS", us, 3, 302_400_000 + us // 1000, 2390, round(lat * 1e7), round(lon * 1e7),
+                    math.hypot(vn.iat[i], ve.iat[i]),
+                    math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360)
+        w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
+        w.write("IMU", us, df["usv.r"].iat[i])
+        w.write("RCOU", us, int(pl[i]), 1500, int(pr[i]), 1500)
+    w.close()
+
+
+# -- ULog --------------------------------------------------------------------------------------------------
+
+_UL_TYPES = {"uint64_t": "Q", "float": "f", "double": "d", "uint8_t": "B"}
+
+
+class ULogWriter:
+    def __init__(self, path, t0_us=0):
+        self.f = open(path, "wb")  # noqa: SIM115 (closed by close())
+        self.f.write(b"ULog\x01\x12\x35" + bytes([1]) + struct.pack("<Q", t0_us))
+        self._msg("B", bytes(8) + bytes(8) + struct.pack("<QQQ", 0, 0, 0))
+        self.topics = {}
+        self._subscribed = False
+
+    def _msg(self, kind, body):
+        self.f.write(struct.pack("<HB", len(body), ord(kind)) + body)
+
+    def topic(self, name, fields):
+        """``fields``: list of (type, name) after the timestamp; arrays as ('float[4]', 'q')."""
+        spec = "uint64_t timestamp;" + "".join(f"{t} {n};" for t, n in fields)
+        self._msg("F", f"{name}:{spec}".encode())
+        st = "<Q"
+        for t, _ in fields:
+            base, _, n = t.partition("[")
+            st += (n.rstrip("]") if n else "") + _UL_TYPES[base]
+        msg_id = len(self.topics)
+        self.topics[name] = (msg_id, st)
+
+    def write(self, name, t_us, *values):
+        if not self._subscribed:  # the definitions section ends with the first 'A' message
+            self._subscribed = True
+            for n, (i, _) in self.topics.items():
+                self._msg("A", struct.pack("<BH", 0, i) + n.encode())
+        msg_id, st = self.topics[name]
+        self._msg("D", struct.pack("<H", msg_id) + struct.pack(st, t_us, *values))
+
+    def close(self):
+        self.f.close()
+
+
+def write_ulog(path, df, tmax_n, trev_n):
+    w = ULogWriter(path)
+    w.topic("vehicle_local_position", [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"),
+                                       ("float", "vy"), ("float", "vz")])
+    w.topic("vehicle_attitude", [("float[4]", "q")])
+    w.topic("vehicle_angular_velocity", [("float[3]", "xyz")])
+    w.topic("actuator_motors", [("float[12]", "control")])
+    t = df["t"].to_numpy()
+    psi = df["usv.psi"].to_numpy()
+    vn = df["usv.u"] * np.cos(psi) - df["usv.v"] * np.sin(psi)
+    ve = df["usv.u"] * np.sin(psi) + df["usv.v"] * np.cos(psi)
+    for i in range(len(df)):
+        us = round(t[i] * 1e6) + 500_000
+        w.write("vehicle_local_position", us, df["usv.x"].iat[i], df["usv.y"].iat[i], 0.0, vn.iat[i], ve.iat[i], 0.0)
+        w.write("vehicle_attitude", us, math.cos(psi[i] / 2), 0.0, 0.0, math.sin(psi[i] / 2))
+        w.write("vehicle_angular_velocity", us, 0.0, 0.0, df["usv.r"].iat[i])
+        tp, ts = df["usv.thrust_port"].iat[i], df["usv.thrust_stbd"].iat[i]
+        left = tp / (tmax_n if tp >= 0 else trev_n)
+        right = ts / (tmax_n if ts >= 0 else trev_n)
+        w.write("actuator_motors", us, left, right, *([0.0] * 10))
+    w.close()
+
+
+# -- ROS 2 bag ----------------------------------------------------------------------------------------------
+
+def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=None):
+    """Odometry (ENU / FLU, REP 103), Imu and a Float64MultiArray actuator topic, via rosbags' Writer;
+    with ``fix_origin`` = (lat, lon) a NavSatFix topic ``/fix`` instead of the odometry."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    Odometry = ts.types["nav_msgs/msg/Odometry"]
+    Imu = ts.types["sensor_msgs/msg/Imu"]
+    F64 = ts.types["std_msgs/msg/Float64MultiArray"]
+    Header = ts.types["std_msgs/msg/Header"]
+    Time = ts.types["builtin_interfaces/msg/Time"]
+    Pose = ts.types["geometry_msgs/msg/Pose"]
+    PWC = ts.types["geometry_msgs/msg/PoseWithCovariance"]
+    Twist = ts.types["geometry_msgs/msg/Twist"]
+    TWC = ts.types["geometry_msgs/msg/TwistWithCovariance"]
+    P = ts.types["geometry_msgs/msg/Point"]
+    Q = ts.types["geometry_msgs/msg/Quaternion"]
+    V = ts.types["geometry_msgs/msg/Vector3"]
+    Layout = ts.types["std_msgs/msg/MultiArrayLayout"]
+    Fix = ts.types["sensor_msgs/msg/NavSatFix"]
+    FixStatus = ts.types["sensor_msgs/msg/NavSatStatus"]
+    cov = np.zeros(36)
+    with Writer(path, version=8) as w:
+        co = w.add_connection(odom_topic, Odometry.__msgtype__, typestore=ts) if fix_origin is None else None
+        cf = w.add_connection("/fix", Fix.__msgtype__, typestore=ts) if fix_origin is not None else None
+        ci = w.add_connection("/imu", Imu.__msgtype__, typestore=ts)
+        ca = w.add_connection("/actuators", F64.__msgtype__, typestore=ts)
+        for i in range(len(df)):
+            t = float(df["t"].iat[i]) + 100.0
+            ns = round(t * 1e9)
+            hdr = Header(stamp=Time(sec=int(t), nanosec=round((t - int(t)) * 1e9)), frame_id="odom")
+            psi = float(df["usv.psi"].iat[i])
+            yaw = math.pi / 2 - psi  # ENU yaw
+            q = Q(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
+            pose = Pose(position=P(x=float(df["usv.y"].iat[i]), y=float(df["usv.x"].iat[i]), z=0.0), orientation=q)
+            tw = Twist(linear=V(x=float(df["usv.u"].iat[i]), y=-float(df["usv.v"].iat[i]), z=0.0),
+                       angular=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])))
+            od = Odometry(header=hdr, child_frame_id="base_link", pose=PWC(pose=pose, covariance=cov),
+                          twist=TWC(twist=tw, covariance=cov))
+            if co is not None:
+                w.write(co, ns, ts.serialize_cdr(od, Odometry.__msgtype__))
+            else:
+                lat, lon = ned_to_latlon(float(df["usv.x"].iat[i]), float(df["usv.y"].iat[i]), *fix_origin)
+                fx = Fix(header=hdr, status=FixStatus(status=0, service=1), latitude=lat, longitude=lon,
+                         altitude=0.0, position_covariance=np.zeros(9), position_covariance_type=0)
+                w.write(cf, ns, ts.serialize_cdr(fx, Fix.__msgtype__))
+            if i % 2 == 0:
+                im = Imu(header=hdr, orientation=q, orientation_covariance=np.zeros(9),
+                         angular_velocity=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])),
+                         angular_velocity_covariance=np.zeros(9), linear_acceleration=V(x=0.0, y=0.0, z=9.81),
+                         linear_acceleration_covariance=np.zeros(9))
+                w.write(ci, ns, ts.serialize_cdr(im, Imu.__msgtype__))
+            tp, tsb = df["usv.thrust_port"].iat[i], df["usv.thrust_stbd"].iat[i]
+            a = F64(layout=Layout(dim=[], data_offset=0),
+                    data=np.array([tp / (tmax_n if tp >= 0 else trev_n), tsb / (tmax_n if tsb >= 0 else trev_n)]))
+            w.write(ca, ns, ts.serialize_cdr(a, F64.__msgtype__))

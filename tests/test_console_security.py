@@ -1,0 +1,210 @@
+"""Who can drive the console (issue 20): token, Origin and Host checks, operator and viewer roles,
+strict message types, e-stop hold and bumpless resume, warm-up, CLI binding rules."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.testclient import WebSocketDenialResponse
+
+from oceangnc.console.messages import Rejected, parse_message
+from oceangnc.console.server import console_url, create_app
+from oceangnc.console.session import Session
+from oceangnc.units import KGF
+
+TOKEN = "sec-token-42xyz"
+WS = f"ws://127.0.0.1/ws?token={TOKEN}"
+
+
+@pytest.fixture
+def app_client(tmp_path):
+    s = Session("usv-remote", out_root=tmp_path, write_log=False)
+    with TestClient(create_app(s, token=TOKEN), base_url="http://127.0.0.1") as client:
+        client.session = s
+        yield client
+
+
+def recv_until(ws, pred, limit=400):
+    for _ in range(limit):
+        m = ws.receive_json()
+        if pred(m):
+            return m
+    raise AssertionError("message not received")
+
+
+def test_every_api_request_and_websocket_needs_the_token(app_client):
+    c = app_client
+    assert c.get("/api/state").status_code == 401
+    assert c.get("/api/state?token=wrong").status_code == 401
+    assert c.get("/api/log.parquet").status_code == 401
+    assert c.get(f"/api/state?token={TOKEN}").status_code == 200
+    assert c.get("/api/state", headers={"authorization": f"Bearer {TOKEN}"}).status_code == 200
+    assert c.get("/").status_code == 200  # the page itself is public; it carries no data
+    for url in ("ws://127.0.0.1/ws", "ws://127.0.0.1/ws?token=nope"):
+        with pytest.raises(WebSocketDenialResponse) as e, c.websocket_connect(url):
+            pass
+        assert e.value.status_code == 401 and "session token" in e.value.text
+
+
+def test_foreign_origin_and_foreign_host_are_refused_with_403(app_client):
+    c = app_client
+    for origin in ("http://evil.example", "http://127.0.0.1:9999", "null", "https://127.0.0.1"):
+        with pytest.raises(WebSocketDenialResponse) as e, c.websocket_connect(WS, headers={"origin": origin}):
+            pass
+        assert e.value.status_code == 403 and "not allowed" in e.value.text
+        r = c.get(f"/api/state?token={TOKEN}", headers={"origin": origin})
+        assert r.status_code == 403
+    # a state-changing method from another origin, or without the token
+    assert c.post(f"/api/state?token={TOKEN}", headers={"origin": "http://evil.example"}).status_code == 403
+    assert c.post("/api/state").status_code == 401
+    # DNS rebinding: a page of evil.example resolved to 127.0.0.1 sends Host: evil.example
+    r = c.get(f"/api/state?token={TOKEN}", headers={"host": "evil.example:8050", "origin": "http://evil.example:8050"})
+    assert r.status_code == 403 and "host" in r.text
+    # the page's own origin, and scripts that send no Origin, are accepted (with the token)
+    with c.websocket_connect(WS, headers={"origin": "http://127.0.0.1"}) as ws:
+        assert ws.receive_json()["type"] == "role"
+    with c.websocket_connect(WS) as ws:
+        assert ws.receive_json()["type"] == "role"
+    refused = [e["text"] for e in c.session.events if e["text"].startswith("refused")]
+    assert len(refused) >= 8
+
+
+def test_viewer_cannot_command_and_take_over_is_explicit_and_logged(app_client):
+    c, s = app_client, app_client.session
+    with c.websocket_connect(WS) as op, c.websocket_connect(WS + "&role=viewer") as viewer:
+        r_op = op.receive_json()
+        r_v = viewer.receive_json()
+        assert r_op["role"] == "operator" and r_v["role"] == "viewer" and r_v["operator"] == r_op["client"]
+        viewer.send_text(json.dumps({"type": "estop", "engaged": True}))
+        rej = recv_until(viewer, lambda m: m["type"] == "rejected")
+        assert "is a viewer; only the operator can send commands" in rej["reason"]
+        viewer.send_text(json.dumps({"type": "control", "take": True}))  # without force: refused
+        rej = recv_until(viewer, lambda m: m["type"] == "rejected")
+        assert f"operator #{r_op['client']} holds control" in rej["reason"]
+        viewer.send_text(json.dumps({"type": "ping", "id": 5}))  # viewers may ping
+        assert recv_until(viewer, lambda m: m["type"] == "pong")["id"] == 5
+        time.sleep(0.3)
+        assert s.estop is False and s.operator == r_op["client"]
+        viewer.send_text(json.dumps({"type": "control", "take": True, "force": True}))
+        assert recv_until(viewer, lambda m: m["type"] == "role")["role"] == "operator"
+        assert recv_until(op, lambda m: m["type"] == "role")["role"] == "viewer"
+        assert any(e["level"] == "alarm" and f"TAKE-OVER: client #{r_v['client']} took control from operator "
+                   f"#{r_op['client']}" in e["text"] for e in s.events)
+        op.send_text(json.dumps({"type": "mode", "mode": "remote"}))
+        assert "is a viewer" in recv_until(op, lambda m: m["type"] == "rejected")["reason"]
+        viewer.send_text(json.dumps({"type": "estop", "engaged": True}))
+        recv_until(viewer, lambda m: m["type"] == "state" and m["estop"])
+    assert s.operator is None and s.clients == 0
+
+
+def test_a_rejected_gain_is_logged_once(app_client):
+    c, s = app_client, app_client.session
+    with c.websocket_connect(WS) as ws:
+        ws.send_text(json.dumps({"type": "gains", "gains": {"usv_pilot.speed_kp": 1e9}}))
+        recv_until(ws, lambda m: m["type"] == "rejected")
+        time.sleep(0.2)
+    assert sum("usv_pilot.speed_kp" in e["text"] for e in s.events) == 1
+
+
+@pytest.mark.parametrize("raw", [
+    '{"type": "stick", "surge": true, "yaw": 0}',
+    '{"type": "stick", "surge": "0.5", "yaw": 0}',
+    '{"type": "stick", "surge": 0.5, "yaw": "1"}',
+    '{"type": "estop", "engaged": 1}',
+    '{"type": "estop", "engaged": "true"}',
+    '{"type": "pause", "paused": 0}',
+    '{"type": "mode", "mode": 1}',
+    '{"type": "waypoints", "points": [["1", 2]]}',
+    '{"type": "waypoints", "points": [[1, 2, 3]]}',
+    '{"type": "gains", "gains": {"usv_pilot.speed_kp": "800"}}',
+    '{"type": "ping", "id": 1.5}',
+    '{"type": "control", "take": 1}',
+])
+def test_message_fields_are_strictly_typed(raw):
+    with pytest.raises(Rejected):
+        parse_message(raw)
+
+
+def test_integers_still_count_as_numbers():
+    assert parse_message('{"type": "stick", "surge": 1, "yaw": 0}').surge == 1.0
+    assert parse_message('{"type": "waypoints", "points": [[1, 2]]}').points == [(1.0, 2.0)]
+
+
+class FakeClock:
+    def __init__(self):
+        self.t = 1000.0
+
+    def __call__(self):
+        return self.t
+
+
+def test_estop_holds_integrators_and_reset_ramps_thrust_without_a_step(tmp_path):
+    """003's combined vehicle cruising on autopilot: e-stop 10 s, reset. Before the fix the speed PID
+    integrated the growing speed error while the thrusters were held at zero, so Reset gave full
+    thrust at once (36.2 kgf) and a speed overshoot."""
+    clk = FakeClock()
+    s = Session("combined-survey", out_root=tmp_path, clock=clk, write_log=False)
+    s.client_connected()
+
+    def adv(sec, rec=None):
+        for _ in range(round(sec / 0.05)):
+            clk.t += 0.05
+            s.step_once()
+            if rec is not None:
+                rec.append((s.sim.t, s.sim.bus["usv.thrust_port"], s.sim.bus["usv.u"]))
+
+    try:
+        adv(25.0)
+        ctrl = next(b for b in s.sim.blocks if b.name == "usv_control")
+        u_cruise = s.sim.bus["usv.u"]
+        s.submit(parse_message('{"type": "estop", "engaged": true}'))
+        adv(0.05)
+        i_stop = ctrl.speed.integral
+        adv(10.0)
+        assert s.sim.bus["usv.thrust_port"] == 0.0
+        assert ctrl.speed.integral == i_stop  # held, not wound up by the 10 s of speed error
+        assert s.sim.bus["usv.u"] < 0.5 * u_cruise  # the boat did slow down
+        s.submit(parse_message('{"type": "estop", "engaged": false}'))
+        rec: list = []
+        adv(30.0, rec)
+    finally:
+        s.stop()
+    t_max = 36.2 * KGF
+    thrust = [r[1] for r in rec]
+    steps = [abs(b - a) for a, b in zip([0.0, *thrust[:-1]], thrust)]
+    assert thrust[0] < 0.1 * t_max  # no step at Reset ...
+    assert max(steps[:40]) < 0.1 * t_max  # ... and a ramp, not a jump, over the next 2 s
+    assert max(thrust) > 0.5 * t_max  # the autopilot does drive again
+    assert max(r[2] for r in rec) < 1.05 * u_cruise  # no speed overshoot above the cruise speed
+
+
+def test_warmup_compiles_before_the_first_page(tmp_path):
+    s = Session("usv-remote", out_root=tmp_path, write_log=False)
+    took = s.warmup()
+    assert took > 0 and s.sim.t == 0.0  # the live run itself has not moved
+    s.mode = "remote"
+    t0 = time.perf_counter()
+    s.sim.run(1.0)
+    assert time.perf_counter() - t0 < 1.0  # no compilation left on the first second of the live run
+
+
+def test_console_url_is_loopback_never_wildcard():
+    assert console_url("0.0.0.0", 8050, "tok") == "http://127.0.0.1:8050/?token=tok"
+    assert console_url("127.0.0.1", 8050, "tok", tls=True) == "https://127.0.0.1:8050/?token=tok"
+    assert console_url("::", 8050, "t") == "http://[::1]:8050/?token=t"
+    assert console_url("192.168.1.5", 9000, "t") == "http://192.168.1.5:9000/?token=t"
+
+
+def test_cli_refuses_a_network_binding_without_token_or_allow_remote(capsys):
+    from oceangnc.cli import main
+
+    assert main(["console", "--host", "0.0.0.0"]) == 2
+    err = capsys.readouterr().err
+    assert "--host 0.0.0.0" in err and "--token" in err and "--allow-remote" in err and "\n" not in err.strip()
+    assert main(["console", "--token", "short"]) == 2
+    assert "at least 8" in capsys.readouterr().err
+    assert main(["console", "--ssl-certfile", "/nonexistent.pem"]) == 2
+    assert "go together" in capsys.readouterr().err

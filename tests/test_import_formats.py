@@ -1,0 +1,224 @@
+"""Round trips: a simulated USV run (the truth) written as DataFlash .bin, PX4 .ulg, ROS 2 bag, CSV and
+(by the MAVLink vehicle's own telemetry logger) .tlog, imported with ``oceangnc import`` and compared
+with the truth; and the bad-input errors (one line naming the file and what is missing, exit 2)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from log_writers import write_dataflash, write_rosbag, write_ulog
+
+from oceangnc.cli import main
+from oceangnc.io.importers import import_log, read_any
+from oceangnc.mavlink.geo import ned_to_latlon
+
+LAT0, LON0 = 63.4305, 10.3951
+KGF = 9.80665
+
+
+@pytest.fixture(scope="module")
+def truth(tmp_path_factory):
+    import oceangnc
+
+    out = tmp_path_factory.mktemp("truth")
+    res = oceangnc.run("usv-remote", duration=60.0, out=out, plots=False,
+                       overrides={"guidance.waypoints": [(20.0, 0.0), (20.0, 20.0), (0.0, 20.0)], "gps.sigma": 0.0})
+    df = res.df
+    c = res.config.usv
+    return df, c.max_thrust_kgf * KGF, c.max_reverse_kgf * KGF
+
+
+def _compare(res, df, t_shift, pos_tol=0.05, ang_tol=0.01, act=True):
+    """Imported signals against the truth interpolated at the same instants (truth t = t + t0 - shift)."""
+    imp = res.df
+    t_truth = imp["t"].to_numpy() + res.report["t0_source_s"] - t_shift
+    ok = (t_truth >= df["t"].iloc[0]) & (t_truth <= df["t"].iloc[-1])
+    assert ok.sum() > 0.9 * len(imp)
+    tt = df["t"].to_numpy()
+    I = lambda c: np.interp(t_truth[ok], tt, df[c].to_numpy())
+    err = {}
+    err["x"] = np.max(np.abs(imp["usv.x"].to_numpy()[ok] - (I("usv.x") - df["usv.x"].iloc[0] * 0)))
+    err["y"] = np.max(np.abs(imp["usv.y"].to_numpy()[ok] - I("usv.y")))
+    dpsi = imp["usv.psi"].to_numpy()[ok] - np.interp(t_truth[ok], tt, np.unwrap(df["usv.psi"].to_numpy()))
+    err["psi"] = np.max(np.abs((dpsi + np.pi) % (2 * np.pi) - np.pi))
+    err["r"] = np.max(np.abs(imp["usv.r"].to_numpy()[ok] - I("usv.r")))
+    err["speed"] = np.max(np.abs(imp["usv.speed"].to_numpy()[ok] - I("usv.speed")))
+    err["u"] = np.max(np.abs(imp["usv.u"].to_numpy()[ok] - I("usv.u")))
+    assert err["x"] < pos_tol and err["y"] < pos_tol, err
+    assert err["psi"] < ang_tol and err["r"] < ang_tol, err
+    assert err["speed"] < 0.02 and err["u"] < 0.02, err
+    if act:
+        assert imp["act.left"].abs().max() > 0.05  # the boat was driven
+    assert (imp["usv.x"].max() - imp["usv.x"].min()) > 15  # and went somewhere
+    return err
+
+
+def test_dataflash_bin_round_trip(truth, tmp_path):
+    df, tmax, trev = truth
+    p = tmp_path / "00000001.BIN"
+    write_dataflash(p, df, LAT0, LON0, tmax, trev)
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert res.format == "dataflash"
+    _compare(res, df, t_shift=1.0)
+    # thrust commands: PWM 1500 +- 400 us back to -1..1 (quantised at 1/400)
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - 1.0
+    idx = np.clip(np.searchsorted(df["t"].to_numpy(), t_truth + 1e-9, side="right") - 1, 0, len(df) - 1)
+    tp = df["usv.thrust_port"].to_numpy()[idx]
+    want = np.where(tp >= 0, tp / tmax, tp / trev)
+    assert np.max(np.abs(res.df["act.left"].to_numpy() - want)) < 0.003
+
+
+def test_ulog_round_trip(truth, tmp_path):
+    df, tmax, trev = truth
+    p = tmp_path / "log.ulg"
+    write_ulog(p, df, tmax, trev)
+    res = import_log(p, rate=10.0)
+    assert res.format == "ulog"
+    _compare(res, df, t_shift=0.5)
+
+
+def test_rosbag_round_trip_and_unknown_topic(truth, tmp_path):
+    df, tmax, trev = truth
+    p = tmp_path / "bag"
+    write_rosbag(p, df, tmax, trev, odom_topic="/boat/odom")
+    res = import_log(p, rate=10.0, topics={"odometry": "/boat/odom"})
+    assert res.format == "rosbag2"
+    _compare(res, df, t_shift=100.0)
+    with pytest.raises(Exception) as e:
+        import_log(p, topics={"odometry": "/nope"})
+    assert "no topic /nope (odometry)" in str(e.value) and str(p) in str(e.value)
+
+
+def test_rosbag_navsatfix_and_imu_without_odometry(truth, tmp_path):
+    """Position from sensor_msgs/NavSatFix, heading and yaw rate from sensor_msgs/Imu (no odometry)."""
+    df, tmax, trev = truth
+    p = tmp_path / "bagfix"
+    write_rosbag(p, df, tmax, trev, fix_origin=(LAT0, LON0))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert res.report["origin_deg"] == [LAT0, LON0]
+    imp = res.df
+    t_truth = imp["t"].to_numpy() + res.report["t0_source_s"] - 100.0
+    for col in ("usv.x", "usv.y"):
+        assert np.max(np.abs(imp[col] - np.interp(t_truth, df["t"], df[col]))) < 0.05
+    assert np.max(np.abs(imp["usv.r"] - np.interp(t_truth, df["t"], df["usv.r"]))) < 0.01
+    assert any("differentiated from the position" in n for n in res.report["notes"])
+
+
+def test_backward_time_jump_is_dropped_and_reported():
+    from oceangnc.io.importers import resample
+
+    t = np.array([0.0, 0.1, 0.2, 0.3, 0.15, 0.25, 0.4, 0.5, 0.6])  # a clock that steps back at 0.3 s
+    cols, rep = resample({"usv.x": (t, 10 * t)}, rate=10.0)
+    assert rep["time_jumps"] == 1 and rep["jumps"][0]["kind"] == "backwards"
+    assert rep["jumps"][0]["samples_dropped"] == 2 and rep["dropped_samples"]["usv.x"] == 2
+    assert np.allclose(cols["usv.x"], 10 * cols["t"])  # the kept samples are the monotone ones
+
+
+def test_csv_with_column_map_round_trip(truth, tmp_path):
+    df, _tmax, _trev = truth
+    lat, lon = zip(*(ned_to_latlon(n, e, LAT0, LON0) for n, e in zip(df["usv.x"], df["usv.y"])))
+    psi = df["usv.psi"].to_numpy()
+    csv = pd.DataFrame({"time_ms": (df["t"] * 1000).round().astype(int), "lat": lat, "lon": lon,
+                        "heading_deg": np.degrees(psi) % 360, "rot_dps": np.degrees(df["usv.r"]),
+                        "vn_kn": (df["usv.u"] * np.cos(psi) - df["usv.v"] * np.sin(psi)) / (1852 / 3600),
+                        "ve_kn": (df["usv.u"] * np.sin(psi) + df["usv.v"] * np.cos(psi)) / (1852 / 3600)})
+    p = tmp_path / "trial.csv"
+    csv.to_csv(p, index=False)
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0),
+                     column_map=["t=time_ms:ms,lat=lat,lon=lon,usv.psi=heading_deg:deg",
+                                 "usv.r=rot_dps:deg/s,usv.vn=vn_kn:kn,usv.ve=ve_kn:kn"])
+    _compare(res, df, t_shift=0.0, act=False)
+
+
+def test_tlog_from_the_vehicles_own_stream(tmp_path):
+    """The MAVLink vehicle logs its telemetry stream (.tlog) while flying a route; the import matches its
+    own Parquet log. A fake clock steps the vehicle (no sockets needed, no waiting)."""
+    from oceangnc.mavlink.protocol import AUTO
+    from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+    now = [0.0]
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", out_root=tmp_path, clock=lambda: now[0],
+                       tlog=tmp_path / "flight.tlog", overrides={"gps.sigma": 0.0},
+                       mav={"origin_lat_deg": LAT0, "origin_lon_deg": LON0})
+    v._arm(True)
+    v._set_mode(AUTO, "test")
+    while v.sim.t < 40.0:
+        now[0] += 0.01
+        v.step_once()
+    v.close()
+    truth = pd.read_parquet(v.run_dir / "log.parquet")
+    res = import_log(tmp_path / "flight.tlog", rate=10.0, origin=(LAT0, LON0))
+    assert res.format == "tlog" and res.report["system"] == 1
+    err = _compare(res, truth, t_shift=0.0, pos_tol=0.02)  # GLOBAL_POSITION_INT is in 1e-7 deg (1 cm)
+    assert err["x"] < 0.02
+    # the CLI: run folder with log.parquet and import.json
+    assert main(["import", str(tmp_path / "flight.tlog"), "--out", str(tmp_path / "imp"), "--rate", "5"]) == 0
+    out = pd.read_parquet(tmp_path / "imp" / "log.parquet")
+    assert abs(np.median(np.diff(out["t"])) - 0.2) < 1e-9 and "usv.psi" in out
+
+
+def test_gaps_are_reported_not_interpolated(truth, tmp_path):
+    df, tmax, trev = truth
+    cut = df[(df["t"] < 20.0) | (df["t"] > 25.0)]  # a 5 s hole in every signal
+    p = tmp_path / "hole.ulg"
+    write_ulog(p, cut, tmax, trev)
+    res = import_log(p, rate=10.0)
+    gaps = [g for g in res.report["gaps"] if g["signal"] == "usv.x"]
+    assert len(gaps) == 1 and 19.4 < gaps[0]["from_s"] + res.report["t0_source_s"] - 0.5 < 20.2
+    hole = (res.df["t"] + res.report["t0_source_s"] - 0.5).between(20.2, 24.8)
+    assert res.df.loc[hole, "usv.x"].isna().all() and res.df.loc[~hole, "usv.x"].notna().mean() > 0.97
+
+
+def test_read_any_passes_parquet_through(truth, tmp_path):
+    df, _, _ = truth
+    p = tmp_path / "log.parquet"
+    df.to_parquet(p)
+    assert list(read_any(p).columns) == list(df.columns)
+
+
+# -- bad input: one line naming the file and what is missing, exit 2 ----------------------------------------
+
+def _cli_error(capsys, argv):
+    code = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert code == 2, err
+    assert len(err.splitlines()) == 1, err
+    return err
+
+
+def test_truncated_and_corrupt_logs_exit_2(truth, tmp_path, capsys):
+    df, tmax, trev = truth
+    p = tmp_path / "full.bin"
+    write_dataflash(p, df.iloc[:200], LAT0, LON0, tmax, trev)
+    data = p.read_bytes()
+    tr = tmp_path / "truncated.bin"
+    tr.write_bytes(data[:-7])
+    err = _cli_error(capsys, ["import", str(tr), "--out", str(tmp_path / "o1")])
+    assert str(tr) in err and "truncated" in err
+    assert main(["import", str(tr), "--out", str(tmp_path / "o1b"), "--allow-truncated"]) == 0
+    bad = tmp_path / "corrupt.bin"
+    bad.write_bytes(data[:500] + b"\x00" * 50 + data[550:])
+    err = _cli_error(capsys, ["import", str(bad), "--out", str(tmp_path / "o2")])
+    assert str(bad) in err and "corrupt" in err
+    junk = tmp_path / "junk.tlog"
+    junk.write_bytes(bytes(range(256)) * 40)
+    err = _cli_error(capsys, ["import", str(junk), "--out", str(tmp_path / "o3")])
+    assert str(junk) in err and "corrupt" in err
+    ul = tmp_path / "cut.ulg"
+    write_ulog(ul, df.iloc[:100], tmax, trev)
+    ul.write_bytes(ul.read_bytes()[:-5])
+    err = _cli_error(capsys, ["import", str(ul), "--out", str(tmp_path / "o4")])
+    assert str(ul) in err and ("truncated" in err or "corrupt" in err)
+
+
+def test_csv_missing_column_and_unknown_topic_exit_2(truth, tmp_path, capsys):
+    p = tmp_path / "x.csv"
+    pd.DataFrame({"time": [0.0, 0.1, 0.2], "hdg": [0, 1, 2]}).to_csv(p, index=False)
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o"), "--map", "t=time,usv.psi=heading:deg"])
+    assert str(p) in err and "heading (for usv.psi)" in err
+    df, tmax, trev = truth
+    b = tmp_path / "bag"
+    write_rosbag(b, df.iloc[:50], tmax, trev)
+    err = _cli_error(capsys, ["import", str(b), "--out", str(tmp_path / "o5"), "--topic", "odometry=/missing"])
+    assert str(b) in err and "/missing" in err

@@ -1,0 +1,108 @@
+"""The MAVLink vehicle flown by MAVProxy (the ``mavproxy`` package), scripted through its command line on
+stdin: load a 3-waypoint mission, arm, AUTO, wait for the last MISSION_ITEM_REACHED, which MAVProxy
+forwards to a second UDP output where this test listens. 127.0.0.1 only; every wait is bounded."""
+
+from __future__ import annotations
+
+import os
+import queue
+import shutil
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.mavlink.protocol import mavlink as M
+from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+pytest.importorskip("MAVProxy")
+MAVPROXY = shutil.which("mavproxy.py") or os.path.join(os.path.dirname(sys.executable), "mavproxy.py")
+
+
+def _write_wpl(path, pts, lat0, lon0):
+    """QGC WPL 110 file: item 0 home, then NAV_WAYPOINT (16) items, frame 3 (global, relative alt)."""
+    lines = ["QGC WPL 110"]
+    for i, (n, e) in enumerate(pts):
+        lat, lon = ned_to_latlon(n, e, lat0, lon0)
+        lines.append(f"{i}\t{1 if i == 0 else 0}\t{0 if i == 0 else 3}\t16\t0\t0\t0\t0\t{lat:.8f}\t{lon:.8f}\t0\t1")
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.skipif(not os.path.exists(MAVPROXY), reason="mavproxy.py not installed")
+def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path,
+                       mav={"origin_lat_deg": -35.363261, "origin_lon_deg": 149.165230})
+    v.start()
+    # the test's own listener: MAVProxy forwards everything the vehicle sends to it
+    lsock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    lsock.bind(("127.0.0.1", 0))
+    lsock.settimeout(0.05)
+    out_port = lsock.getsockname()[1]
+    pts = [(0.0, 0.0), (15.0, 0.0), (15.0, 15.0), (0.0, 15.0)]
+    _write_wpl(tmp_path / "mission.txt", pts, v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
+    cmd = [sys.executable, MAVPROXY, f"--master=udpout:127.0.0.1:{v.address[1]}",
+           f"--out=udpout:127.0.0.1:{out_port}", "--no-state", "--target-system=1",
+           "--default-modules=wp,arm,mode,cmdlong"]
+    pr = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          bufsize=1, cwd=tmp_path)
+    lines: queue.Queue = queue.Queue()
+    seen: list[str] = []
+    threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()
+
+    def expect(text, timeout):
+        t_end = time.monotonic() + timeout
+        while time.monotonic() < t_end:
+            try:
+                ln = lines.get(timeout=0.1)
+            except queue.Empty:
+                continue
+            seen.append(ln)
+            if text in ln:
+                return ln
+        raise AssertionError(f"MAVProxy did not print {text!r} within {timeout} s; output:\n{''.join(seen[-30:])}")
+
+    def send(line):
+        pr.stdin.write(line + "\n")
+        pr.stdin.flush()
+
+    parser = M.MAVLink(None)
+    parser.robust_parsing = True
+    try:
+        expect("Detected vehicle 1:1", 60.0)  # MAVProxy starts slowly on a busy machine
+        send(f"wp load {tmp_path / 'mission.txt'}")
+        expect("MISSION_ACK: TYPE_MISSION: ACCEPTED", 15.0)
+        assert len(v.mission) == 4
+        send("arm throttle")
+        expect("COMPONENT_ARM_DISARM: ACCEPTED", 15.0)
+        send("mode AUTO")
+        expect("DO_SET_MODE: ACCEPTED", 15.0)
+        # wait (bounded) for MISSION_ITEM_REACHED seq 3 as forwarded by MAVProxy on its --out link
+        reached = []
+        t_end = time.monotonic() + 40.0
+        while time.monotonic() < t_end and 3 not in reached:
+            try:
+                data, _ = lsock.recvfrom(65535)
+            except TimeoutError:
+                continue
+            for m in parser.parse_buffer(data) or []:
+                if m.get_type() == "MISSION_ITEM_REACHED":
+                    reached.append(m.seq)
+        assert reached == [1, 2, 3], reached
+        expect("Reached waypoint #3", 10.0)
+        assert v.reached == [1, 2, 3]
+        assert v.armed and v.counts["rx_bad"] == 0
+    finally:
+        pr.kill()
+        pr.wait(10)
+        lsock.close()
+        v.stop()
+    # the run's log shows the boat within the acceptance radius (3 m) of each waypoint
+    import pandas as pd
+
+    df = pd.read_parquet(v.run_dir / "log.parquet")
+    for n, e in pts[1:]:
+        assert (((df["usv.x"] - n) ** 2 + (df["usv.y"] - e) ** 2) ** 0.5).min() < 3.5

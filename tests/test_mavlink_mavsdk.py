@@ -1,0 +1,61 @@
+"""The MAVLink vehicle driven by MAVSDK (the ``mavsdk`` wheel: MAVSDK's C++ core bundled as a shared library,
+no separate server process): discover the autopilot, upload a mission with MissionRaw, arm, start the
+mission, follow MAVSDK's own mission progress to the end. 127.0.0.1 only, bounded waits."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.mavlink.protocol import mavlink as M
+from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+mavsdk = pytest.importorskip("mavsdk")
+
+
+def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
+    from mavsdk import ComponentType, Configuration, Mavsdk
+    from mavsdk.plugins.action import Action
+    from mavsdk.plugins.mission_raw import MissionItem, MissionRaw
+    from mavsdk.plugins.telemetry import Telemetry
+
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path)
+    v.start()
+    try:
+        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
+        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
+        system = sdk.first_autopilot(10.0)
+        assert system is not None
+        tel, act, mis = Telemetry(system), Action(system), MissionRaw(system)
+        time.sleep(1.0)  # let telemetry arrive
+        assert not tel.armed()  # disarmed at start
+        pos = tel.position()
+        assert abs(pos.latitude_deg - v.cfg_mav.origin_lat_deg) < 1e-5  # at the origin (NED 0, 0)
+        lat0, lon0 = v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg
+        items = []
+        for seq, (n, e) in enumerate([(0.0, 0.0), (12.0, 0.0), (12.0, 12.0), (0.0, 12.0)]):
+            lat, lon = ned_to_latlon(n, e, lat0, lon0)
+            items.append(MissionItem(seq, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
+                                     M.MAV_CMD_NAV_WAYPOINT, 1 if seq == 0 else 0, 1, 0.0, 0.0, 0.0, 0.0,
+                                     round(lat * 1e7), round(lon * 1e7), 0.0, 0))
+        mis.upload_mission(items)
+        assert len(v.mission) == 4
+        down = mis.download_mission()
+        assert [it.seq for it in down] == [0, 1, 2, 3] and abs(down[2].x - items[2].x) <= 1
+        act.arm()
+        assert v.armed
+        mis.start_mission()
+        t_end = time.monotonic() + 40.0
+        prog = None
+        while time.monotonic() < t_end:
+            prog = mis.mission_progress()
+            if v.reached == [1, 2, 3] and prog.current >= 3:
+                break
+            time.sleep(0.2)
+        assert v.reached == [1, 2, 3], (v.reached, prog.current if prog else None)
+        assert prog.current >= 3 and prog.total == 4
+        assert v.counts["rx_bad"] == 0
+    finally:
+        v.stop()
