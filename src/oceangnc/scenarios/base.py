@@ -108,7 +108,9 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
                    "sensors on"),
     "tow-straight": ("cable", "USV tows the UUV straight at 0.5 m/s, UUV at its own speed: depth change "
                      "(003 figs 4-2 to 4-5)"),
-    "trials": ("first_order", "Straight/turning/zig-zag trials from a model, logged for 'oceangnc identify "
+    "tow-deploy": ("tow", "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"),
+    "tow-survey-depth": ("tow", "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"),
+    "trials": ("trials", "Straight/turning/zig-zag trials from a model, logged for 'oceangnc identify "
                "first-order' (000 sec. 2.2)"),
     "usv-remote": ("usv_remote", "USV for the operator console: stick (speed / yaw-rate PIDs) or pure-pursuit "
                    "waypoint autopilot"),
