@@ -41,7 +41,6 @@ def vehicle_throughput(scenario: str, sim_s: float) -> float:
 
 def link_latency() -> tuple[float, float, list[float]]:
     from mavlink_gcs import GCS
-
     from oceangnc.mavlink.protocol import mavlink as M
     from oceangnc.mavlink.vehicle import MavlinkVehicle
 
@@ -71,9 +70,8 @@ def link_latency() -> tuple[float, float, list[float]]:
 
 
 def import_rate() -> dict:
-    from log_writers import write_dataflash, write_ulog
-
     import oceangnc
+    from log_writers import write_dataflash, write_ulog
     from oceangnc.io.importers import import_log
 
     out = {}

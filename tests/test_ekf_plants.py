@@ -76,6 +76,24 @@ def test_uuv_coefficients_from_a_manoeuvre():
     assert 0.5 * 12 < nis < 2.0 * 12
 
 
+def test_first_order_speed_and_nomoto_coefficients():
+    """First-order USV of 000 (speed lag and Nomoto yaw, eq. 8 and 15): the intercepts of K_v, T_v,
+    K_r and T_r from 120 s of 10 deg rudder reversals every 10 s with 1500 +- 300 rpm steps every
+    25 s, 5 states at 10 Hz, guesses 0.5x / 1.5x: each within 0.5 %."""
+    m = get_model("first-order")
+    t = np.arange(0.0, 120.0 + 1e-9, 0.1)
+    U = np.zeros((t.size, 3))
+    U[:, 0] = 1500 + 300 * np.where((t // 25) % 2 == 0, 1.0, -1.0)
+    U[:, 1] = np.radians(10) * np.where((t // 10) % 2 == 0, 1.0, -1.0)
+    sd = np.array([0.5, 0.5, np.radians(0.2), 0.02, np.radians(0.1)])
+    est = ["kv_intercept", "tv_intercept", "kr_intercept", "tr_intercept"]
+    truth, fin, sig, q, nis = _identify(m, t, U, [0.0, 0.0, 0.0, 5.25, 0.0], sd, est, [0.5, 1.5, 0.5, 1.5], seed=1)
+    assert np.all(np.abs(fin / truth - 1) < 5e-3), dict(zip(est, fin / truth - 1))
+    assert np.all(np.abs(fin - truth) < 3 * sig)
+    assert q < chi2.ppf(0.999, len(est))
+    assert 0.5 * 5 < nis < 2.0 * 5
+
+
 def test_estimating_a_derived_parameter_is_refused():
     """The UUV's inverse mass matrix is derived from M_RB + M_A: asking to estimate it is an InputError."""
     from oceangnc.errors import InputError

@@ -157,7 +157,6 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
     steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
     of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
     from log_writers import DataFlashWriter
-
     from oceangnc.mavlink.geo import ned_to_latlon
 
     _d, res = identified

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from log_writers import write_dataflash, write_rosbag, write_ulog
 
+from log_writers import write_dataflash, write_rosbag, write_ulog
 from oceangnc.cli import main
 from oceangnc.io.importers import import_log, read_any
 from oceangnc.mavlink.geo import ned_to_latlon
@@ -36,15 +36,18 @@ def _compare(res, df, t_shift, pos_tol=0.05, ang_tol=0.01, act=True):
     ok = (t_truth >= df["t"].iloc[0]) & (t_truth <= df["t"].iloc[-1])
     assert ok.sum() > 0.9 * len(imp)
     tt = df["t"].to_numpy()
-    I = lambda c: np.interp(t_truth[ok], tt, df[c].to_numpy())
+
+    def at_truth(c):
+        return np.interp(t_truth[ok], tt, df[c].to_numpy())
+
     err = {}
-    err["x"] = np.max(np.abs(imp["usv.x"].to_numpy()[ok] - (I("usv.x") - df["usv.x"].iloc[0] * 0)))
-    err["y"] = np.max(np.abs(imp["usv.y"].to_numpy()[ok] - I("usv.y")))
+    err["x"] = np.max(np.abs(imp["usv.x"].to_numpy()[ok] - at_truth("usv.x")))
+    err["y"] = np.max(np.abs(imp["usv.y"].to_numpy()[ok] - at_truth("usv.y")))
     dpsi = imp["usv.psi"].to_numpy()[ok] - np.interp(t_truth[ok], tt, np.unwrap(df["usv.psi"].to_numpy()))
     err["psi"] = np.max(np.abs((dpsi + np.pi) % (2 * np.pi) - np.pi))
-    err["r"] = np.max(np.abs(imp["usv.r"].to_numpy()[ok] - I("usv.r")))
-    err["speed"] = np.max(np.abs(imp["usv.speed"].to_numpy()[ok] - I("usv.speed")))
-    err["u"] = np.max(np.abs(imp["usv.u"].to_numpy()[ok] - I("usv.u")))
+    err["r"] = np.max(np.abs(imp["usv.r"].to_numpy()[ok] - at_truth("usv.r")))
+    err["speed"] = np.max(np.abs(imp["usv.speed"].to_numpy()[ok] - at_truth("usv.speed")))
+    err["u"] = np.max(np.abs(imp["usv.u"].to_numpy()[ok] - at_truth("usv.u")))
     assert err["x"] < pos_tol and err["y"] < pos_tol, err
     assert err["psi"] < ang_tol and err["r"] < ang_tol, err
     assert err["speed"] < 0.02 and err["u"] < 0.02, err

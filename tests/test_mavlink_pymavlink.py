@@ -9,8 +9,8 @@ import time
 import numpy as np
 import pandas as pd
 import pytest
-from mavlink_gcs import GCS
 
+from mavlink_gcs import GCS
 from oceangnc.mavlink.geo import latlon_to_ned, ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle

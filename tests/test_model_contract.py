@@ -57,7 +57,7 @@ def test_models_declare_names_units_and_layout(name):
     assert isinstance(m, Model)
     assert len(m.state_names) == len(m.state_units) == len(x)
     assert len(m.input_names) == len(m.input_units) == len(u)
-    assert all(un in UNITS or un == "rev/min" for un in (*m.state_units, *m.input_units))
+    assert all(un in UNITS for un in (*m.state_units, *m.input_units))
     assert len(m.param_names) == m.layout.size == m.p.size
     back = m.layout.pack(m.layout.unpack(m.p))
     assert np.array_equal(back, m.p)
@@ -188,8 +188,32 @@ def test_plant_from_model_matches_the_model_plant():
     a = USVPlant(cfg)
     b = usv_model(cfg).plant("usv", a.x0, input_signals=a.input_names)
     assert b.inputs["usv.thrust_port"] == "N" and b.outputs["usv.psi"] == "rad"
-    bus = {"usv.thrust_port": 250.0, "usv.thrust_stbd": 150.0}
+    bus = {"usv.thrust_port": 250.0, "usv.thrust_stbd": 150.0, "env.current_n": 0.1, "env.current_e": 0.0,
+           "env.wind_n": 0.0, "env.wind_e": 2.0}
     for pl in (a, b):
         pl.read_inputs(bus)
         pl.advance(0.0, 0.01, 200)
     assert np.array_equal(a.x, b.x)
+
+
+def test_closure_kernels_have_their_own_cache_files():
+    """Jacobian kernels of two models are cached in separate numba index files (no cross-model
+    overwrite when processes compile different models at once), and the same model maps to the same
+    file (a new process reuses it)."""
+    from oceangnc.core.linearize import cached_closure, jacobian_functions
+    from oceangnc.models.first_order import first_order_rhs
+    from oceangnc.models.usv import usv_rhs
+
+    a, _ = jacobian_functions(usv_rhs, None, None, "complex-step")
+    b, _ = jacobian_functions(first_order_rhs, None, None, "complex-step")
+    def name(d):
+        return d._cache._cache_file._index_name
+
+    assert name(a) != name(b)
+
+    def make(g):
+        def k(t, x, u, p, out):
+            g(t, x, u, p, out)
+        return k
+
+    assert name(cached_closure(make(usv_rhs))) == name(cached_closure(make(usv_rhs)))

@@ -290,7 +290,8 @@ class NonlinearController(_Base):
             delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21,
                                      delta - reach, delta + reach)
         else:
-            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX], p[_DELTA_MAX])
+            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX],
+                                     p[_DELTA_MAX])
         self._write(bus, delta_c, n_c, nb_c, -nb_c, e_u, e_r)
         bus["ctrl.u_rd"] = float(u_rd)
         bus["ctrl.u_d"] = float(u_d)

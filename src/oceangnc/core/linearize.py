@@ -64,20 +64,40 @@ def _fingerprint(obj) -> str:
 def cached_closure(fn):
     """``njit(fn)`` for a closure over other compiled functions, cached on disk by numba.
 
-    Numba's cache index key pickles the closure cells; a dispatcher pickles with a per-process id, so
-    the key never matches in a new process. Here the key uses :func:`_fingerprint` of the cells. As
-    with any numba cache, edits to functions in *other* files than the closed-over ones are not seen
-    (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
+    Three things make numba's cache safe for such closures:
+
+    * the index key: numba pickles the closure cells, and a dispatcher pickles with a per-process
+      id, so the key would never match in a new process; here it is a hash of :func:`_fingerprint`
+      of the cells (module, name, bytecode, source-file stamp of each closed-over function);
+    * the symbol names: numba names compiled code after the function's qualified name plus a
+      per-process counter, so closures compiled in *different* processes (the USV's and the
+      first-order model's kernel) can carry the same symbol, and loading both cached libraries in
+      one process binds one's calls to the other's code. The closure's ``__qualname__`` therefore
+      gets the fingerprint hash appended;
+    * the files: each (closure, fingerprint) has its own index and data files, so processes
+      compiling different models at once never write into each other's files.
+
+    As with any numba cache, edits to functions in *other* files than the closed-over ones are not
+    seen (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
     """
     import hashlib
 
-    from numba.core.caching import FunctionCache
+    from numba.core.caching import FunctionCache, IndexDataCacheFile
+
+    cells = "".join(_fingerprint(c.cell_contents) for c in (fn.__closure__ or ()))
+    cells_hash = hashlib.sha256((cells + fn.__qualname__).encode()).hexdigest()
+    fn.__qualname__ = f"{fn.__qualname__}_{cells_hash[:16]}"
 
     class _ClosureCache(FunctionCache):
+        def __init__(self, py_func):
+            super().__init__(py_func)
+            self._cache_file = IndexDataCacheFile(
+                cache_path=self._cache_path, filename_base=f"{self._impl.filename_base}-{cells_hash[:20]}",
+                source_stamp=self._impl.locator.get_source_stamp())
+
         def _index_key(self, sig, codegen):
-            cells = "".join(_fingerprint(c.cell_contents) for c in (self._py_func.__closure__ or ()))
             return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(),
-                                                 hashlib.sha256(cells.encode()).hexdigest()))
+                                                 cells_hash))
 
     d = njit(fn)
     try:
@@ -321,25 +341,26 @@ def trim(model, x0, u0, free, zero, p=None, t: float = 0.0, tol: float = 1e-10, 
     if len(free) != len(zero):
         raise InputError(f"trim: {len(free)} free variables for {len(zero)} equations")
     nx, npar = model.nx, model.layout.size
-    cols, fs = [], []
+    col_list: list[int] = []
+    fs: list[tuple[str, int]] = []
     for k in free:
         if k in model.state_names:
             i = model.state_names.index(k)
-            cols.append(i)
+            col_list.append(i)
             fs.append(("x", i))
         elif k in model.input_names:
             i = model.input_names.index(k)
-            cols.append(nx + npar + i)
+            col_list.append(nx + npar + i)
             fs.append(("u", i))
         else:
             raise InputError(f"trim: '{k}' is neither a state nor an input of {model.name}")
-    rows = []
+    row_list: list[int] = []
     for k in zero:
         if k not in model.state_names:
             raise InputError(f"trim: '{k}' is not a state of {model.name}")
-        rows.append(model.state_names.index(k))
-    cols = np.array(cols, dtype=np.int64)
-    rows = np.array(rows, dtype=np.int64)
+        row_list.append(model.state_names.index(k))
+    cols = np.array(col_list, dtype=np.int64)
+    rows = np.array(row_list, dtype=np.int64)
     pp = model.p if p is None else np.asarray(p, dtype=np.float64)
 
     def resid(xx, uu):

@@ -24,7 +24,8 @@ def register(subparsers) -> None:
                                    "vehicle's parameters (--set still wins)")
     p.add_argument("--out", default="runs", help="folder for the run's log (default runs/)")
     p.add_argument("--no-tlog", action="store_true",
-                   help="do not write telemetry.tlog (every packet sent, stamped with simulated time) in the run folder")
+                   help="do not write telemetry.tlog (every packet sent, stamped with simulated time) "
+                        "in the run folder")
     p.add_argument("--quiet", action="store_true", help="do not print the vehicle's events")
     p.set_defaults(func=_cmd)
 

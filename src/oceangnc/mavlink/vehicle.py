@@ -212,18 +212,28 @@ def _gate_pilots(sim) -> None:
     gate_pilots(sim)
 
 
-def _warm_up(sim) -> None:
-    """Compile the plants' integrators now, on copies of their state (numba compiles on the first call):
-    a multi-second compile inside the served loop would delay the link watchdog."""
-    for pl in sim.plants:
-        adv = getattr(pl, "_advance", None)
-        if adv is None:
-            continue
-        try:
-            pl.read_inputs(sim.bus)
-            adv(sim.t, pl.x.copy(), pl.u.copy(), pl.p.copy(), sim.dt, 1, pl.work.copy(), pl.state_bound)
-        except Exception:  # noqa: BLE001, S110 a warm-up only; the real run reports any error
-            pass
+def _warm_up(sim, seconds: float = 0.5) -> None:
+    """Run the simulation ``seconds`` ahead and restore it exactly (blocks' ``get_state`` / ``set_state``,
+    plant states, bus, clock: the checkpoint of the core contract), so that numba compiles every path
+    now and not inside the served loop, where a multi-second compile would delay the link watchdog."""
+    import copy
+
+    blocks = [b.get_state() for b in sim.blocks]
+    xs = [pl.x.copy() for pl in sim.plants]
+    bus = copy.deepcopy(sim.bus)
+    clock = (sim.k, sim.t, sim._done_k, list(sim.fire_count))
+    try:
+        sim.run(seconds)
+    except Exception:  # noqa: BLE001, S110 a warm-up only; the real run reports any error
+        pass
+    finally:
+        for blk, st in zip(sim.blocks, blocks):
+            blk.set_state(st)
+        for pl, x in zip(sim.plants, xs):
+            pl.x[:] = x
+        sim.bus.clear()
+        sim.bus.update(bus)
+        sim.k, sim.t, sim._done_k, sim.fire_count = clock[0], clock[1], clock[2], list(clock[3])
 
 
 class MavlinkVehicle:
@@ -877,7 +887,8 @@ class MavlinkVehicle:
 
     def _body(self, name: str) -> dict:
         b = self.sim.bus
-        g = lambda k, d=0.0: float(b.get(f"{name}.{k}", d))
+        def g(k, d=0.0):
+            return float(b.get(f"{name}.{k}", d))
         x, y, z = g("x"), g("y"), g("z")
         psi, u, v, w = g("psi"), g("u"), g("v"), g("w")
         vn = u * math.cos(psi) - v * math.sin(psi)
@@ -892,7 +903,8 @@ class MavlinkVehicle:
         depth = s["z"] if uuv else 0.0
         hdg = round(math.degrees(s["psi"]) % 360.0 * 100) % 36000
         tms = int(self.sim.t * 1000) & 0xFFFFFFFF
-        cl = lambda v: int(max(-32767, min(32767, round(v * 100))))
+        def cl(v):
+            return int(max(-32767, min(32767, round(v * 100))))
         self._send((self.mav_uuv if uuv else self.mav).global_position_int_encode(
             tms, round(lat * 1e7), round(lon * 1e7), round((c.origin_alt_m - depth) * 1000),
             round(-depth * 1000), cl(s["vn"]), cl(s["ve"]), cl(s["vd"]), hdg), uuv=uuv)
@@ -935,10 +947,12 @@ class MavlinkVehicle:
         if self._due("SYS_STATUS", now):
             sensors = M.MAV_SYS_STATUS_SENSOR_GPS | M.MAV_SYS_STATUS_SENSOR_3D_GYRO | \
                 M.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
-            healthy = sensors if float(self.sim.bus.get("gps.valid", 1.0)) > 0.5 else sensors & ~M.MAV_SYS_STATUS_SENSOR_GPS
+            gps_ok = float(self.sim.bus.get("gps.valid", 1.0)) > 0.5
+            healthy = sensors if gps_ok else sensors & ~M.MAV_SYS_STATUS_SENSOR_GPS
             n = max(1, self.counts["rx_packets"])
             drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
-            cap = lambda v: min(65535, int(v))
+            def cap(v):
+                return min(65535, int(v))
             self._send(self.mav.sys_status_encode(sensors, sensors, healthy, 0, 0, -1, -1, drop, 0,
                                                   cap(self.counts["rx_bad"]), cap(self.counts["rx_unknown"]),
                                                   cap(self.counts["rx_out_of_range"]), 0))

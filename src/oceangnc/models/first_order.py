@@ -56,7 +56,7 @@ from ..io.config import StrictModel
 
 VEHICLE = "usv-first-order"
 STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("r", "rad/s"))
-INPUTS = (("rpm", "rev/min"), ("delta_s", "rad"), ("u_op", "m/s"))
+INPUTS = (("rpm", "rpm"), ("delta_s", "rad"), ("u_op", "m/s"))
 STATE_NAMES = tuple(k for k, _ in STATES)
 INPUT_NAMES = ("usv.rpm", "usv.delta_s", "usv.u_op")
 #: parameters (000 table 2), generated layout
@@ -179,8 +179,9 @@ class FirstOrderUSV(Plant):
     def __init__(self, cfg: FirstOrderConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, math.radians(cfg.r0_degps)])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**first_order_model(cfg).plant_args(name, x0, inputs), max_dt=cfg.max_dt(),
-                         state_units=("m", "m", "rad", "m/s", "rad/s"), input_units=("rpm", "rad", "m/s"), input_defaults={f"{name}.u_op": 0.0}, extra_outputs={f"{name}.speed": "m/s", f"{name}.schedule_clamped": "bool"})
+        super().__init__(**first_order_model(cfg).plant_args(name, x0, inputs, declare=True), max_dt=cfg.max_dt(),
+                         input_defaults={f"{name}.u_op": 0.0},
+                         extra_outputs={f"{name}.speed": "m/s", f"{name}.schedule_clamped": "bool"})
         self.cfg = cfg
         self._warned = False
 

@@ -419,9 +419,8 @@ class ShipPlant(Plant):
         x0[:] = [cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0, 0.0, cfg.n0_rpm / 60.0, 0.0, 0.0]
         inputs = [k.replace("ship.", f"{name}.") for k in INPUT_NAMES]
         tau_min = min(cfg.tau_prop, cfg.tau_rudder, cfg.tau_thruster)
-        super().__init__(**ship_model(cfg).plant_args(name, x0, inputs), state_bound=1e8,
-                         max_dt=min(1.0, 2.5 * tau_min),
-                         state_units=("m", "m", "rad", "m/s", "m/s", "rad/s", "rad", "Hz", "Hz", "Hz"), input_units=("rad", "Hz", "Hz", "Hz", "m/s", "m/s", "m/s", "m/s"), input_defaults=CALM, outputs={**{f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("rudder", "rad"), ("rpm_prop", "rpm"), ("rpm_bow", "rpm"), ("rpm_stern", "rpm"), ("speed", "m/s"), ("u_r", "m/s"), ("v_r", "m/s"))}})
+        super().__init__(**ship_model(cfg).plant_args(name, x0, inputs, declare=True), state_bound=1e8,
+                         max_dt=min(1.0, 2.5 * tau_min), input_defaults=CALM, outputs={**{f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("rudder", "rad"), ("rpm_prop", "rpm"), ("rpm_bow", "rpm"), ("rpm_stern", "rpm"), ("speed", "m/s"), ("u_r", "m/s"), ("v_r", "m/s"))}})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

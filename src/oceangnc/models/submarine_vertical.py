@@ -364,6 +364,6 @@ class SubmarineVerticalPlant(Plant):
     """
 
     def __init__(self, cfg: SubmarineVerticalConfig, name: str = "sub"):
-        super().__init__(**plant_model(cfg.params()).plant_args(name, cfg.x0(), [f"{name}.ds"]), state_bound=1e6,
-                         state_units=("m/s", "rad", "rad/s", "m"), input_units=("rad",))
+        super().__init__(**plant_model(cfg.params()).plant_args(name, cfg.x0(), [f"{name}.ds"], declare=True),
+                         state_bound=1e6)
         self.cfg = cfg

@@ -164,8 +164,8 @@ class USVPlant(Plant):
     def __init__(self, cfg: USVConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**usv_model(cfg).plant_args(name, x0, inputs), state_bound=1e7,
-                         state_units=("m", "m", "rad", "m/s", "m/s", "rad/s"), input_units=("N", "N", "m/s", "m/s", "m/s", "m/s"), input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
+        super().__init__(**usv_model(cfg).plant_args(name, x0, inputs, declare=True), state_bound=1e7,
+                         input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

@@ -446,8 +446,8 @@ class UUVPlant(Plant):
 
     def __init__(self, cfg: UUVConfig, name: str = "uuv"):
         inputs = [k.replace("uuv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**uuv_model(cfg).plant_args(name, cfg.initial_state(), inputs),
-                         state_units=("m",) * 3 + ("rad",) * 3 + ("m/s",) * 3 + ("rad/s",) * 3, input_units=("N", "N", "N", "m/s", "m/s"), input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
+        super().__init__(**uuv_model(cfg).plant_args(name, cfg.initial_state(), inputs, declare=True),
+                         input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:

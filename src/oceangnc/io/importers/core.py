@@ -45,7 +45,8 @@ def detect_format(path: Path, fmt: str | None = None) -> str:
     if path.is_dir():
         if (path / "metadata.yaml").is_file():
             return "rosbag2"
-        if (path / "log.parquet").is_file():
+        # a run folder, or a log.parquet dataset folder (crash-safe logs are folders of parts)
+        if path.suffix.lower() == ".parquet" or (path / "log.parquet").exists():
             return "parquet"
         raise InputError(f"{path}: a folder that is neither a ROS 2 bag (no metadata.yaml) nor a run (no log.parquet)")
     suf = path.suffix.lower()

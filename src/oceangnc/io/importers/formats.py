@@ -129,7 +129,8 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
     systems = sorted({int(k.split(":")[0]) for k in recs if k.endswith(":HEARTBEAT")} or
                      {int(k.split(":")[0]) for k in recs})
     sysid = system if system is not None else (systems[0] if systems else 1)
-    get = lambda kind: recs.get(f"{sysid}:{kind}", [])
+    def get(kind):
+        return recs.get(f"{sysid}:{kind}", [])
     # clock offset: record stamp - vehicle time
     offs = [s - m.time_boot_ms * 1e-3 for s, m in get("GLOBAL_POSITION_INT") + get("ATTITUDE")]
     off = float(np.median(offs)) if offs else 0.0
