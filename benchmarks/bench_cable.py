@@ -3,8 +3,9 @@
 Prints, on one core (set NUMBA_NUM_THREADS=1):
 
 1. the real-time factor of the coupled USV + 20-segment cable (3 m, table 2-6) + UUV plant at its
-   automatic physics step (explicit schemes; ``--figure PATH`` instead draws the error-vs-step figure of
-   the three integrators, docs/img/cable-error-vs-step.png) (90 % of the RK4 axial stability limit, dividing the 10 ms control period),
+   automatic physics step (90 % of the RK4 axial stability limit, dividing the 10 ms control period;
+   ``--figure PATH`` instead draws the error-vs-step figure of the three integrators,
+   docs/img/cable-error-vs-step.png),
    integrated tick by tick (10 ms, one compiled call per tick) and published to the bus every tick,
    as the simulator does;
 2. for 10, 20, 40 and 80 segments: the stability limit, the chosen step, the cost of one RK4 step

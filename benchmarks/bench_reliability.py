@@ -28,15 +28,15 @@ def main() -> None:
     print(f"load average {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as d:
         oceangnc.run("usv-turn", duration=5, out=Path(d) / "warm", plots=False)  # compile
-        for period in (1.0, 3600.0):
+        for period, fsync in ((1.0, False), (1.0, True), (3600.0, False)):
             best = []
             for i in range(3):
                 t0 = time.perf_counter()
-                oceangnc.run("usv-turn", duration=a.duration, out=Path(d) / f"p{period}-{i}", plots=False,
-                             overrides={"log.flush_period": period})
+                oceangnc.run("usv-turn", duration=a.duration, out=Path(d) / f"p{period}-{fsync}-{i}", plots=False,
+                             overrides={"log.flush_period": period, "log.fsync": fsync})
                 best.append(time.perf_counter() - t0)
-            print(f"usv-turn {a.duration:g} s, flush every {period:g} s: {min(best):.2f} s wall (best of 3), "
-                  f"{a.duration / period if period < a.duration else 1:.0f} parts before compaction")
+            print(f"usv-turn {a.duration:g} s, flush every {period:g} s, fsync {fsync}: {min(best):.2f} s wall "
+                  f"(best of 3), {a.duration / period if period < a.duration else 1:.0f} parts before compaction")
         sc, cfg = oceangnc.resolve_config("combined-survey")
         sim = sc.build(cfg, np.random.default_rng(0))
         sim.run(20.0)

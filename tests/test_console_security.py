@@ -208,3 +208,42 @@ def test_cli_refuses_a_network_binding_without_token_or_allow_remote(capsys):
     assert "at least 8" in capsys.readouterr().err
     assert main(["console", "--ssl-certfile", "/nonexistent.pem"]) == 2
     assert "go together" in capsys.readouterr().err
+
+
+def test_tls_serves_https_with_the_token_url(tmp_path):
+    """``--ssl-certfile/--ssl-keyfile``: uvicorn's TLS; the printed URL is https on loopback."""
+    import os
+    import shutil
+    import socket
+    import subprocess
+    import sys
+
+    import httpx
+
+    if shutil.which("openssl") is None:
+        pytest.skip("no openssl binary to make a test certificate")
+    key, cert = tmp_path / "key.pem", tmp_path / "cert.pem"
+    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", str(key), "-out",
+                    str(cert), "-days", "2", "-subj", "/CN=127.0.0.1", "-addext", "subjectAltName=IP:127.0.0.1"],
+                   check=True, capture_output=True, timeout=60)
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port),
+                             "--out", str(tmp_path / "runs"), "--token", TOKEN, "--ssl-certfile", str(cert),
+                             "--ssl-keyfile", str(key), "--no-warmup"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    try:
+        line = ""
+        deadline = time.monotonic() + 90
+        while "open " not in line and time.monotonic() < deadline:
+            line = proc.stdout.readline()
+            assert line or proc.poll() is None, "console exited"
+        assert f"open https://127.0.0.1:{port}/?token={TOKEN}" in line
+        r = httpx.get(f"https://127.0.0.1:{port}/api/state", params={"token": TOKEN}, verify=str(cert), timeout=10)
+        assert r.status_code == 200 and r.json()["type"] == "state"
+        with pytest.raises(httpx.HTTPError):
+            httpx.get(f"http://127.0.0.1:{port}/api/state", params={"token": TOKEN}, timeout=5)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)

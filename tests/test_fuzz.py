@@ -12,6 +12,7 @@ import importlib.util
 import json
 import math
 import string
+import time
 import tomllib
 
 import pytest
@@ -204,25 +205,110 @@ def test_generated_json_messages_never_break_the_console(live_session, raw):
     json.loads(s.snapshot_json)  # the state message stays valid JSON
 
 
-# -- importers and the MAVLink endpoint, when they exist (other helpers write them) --------------------------
+# -- importers and the MAVLink endpoint -----------------------------------------------------------------------
 
-def _module(name: str):
-    return importlib.util.find_spec(name) is not None
-
-
-@pytest.mark.skipif(not _module("oceangnc.io.importers"), reason="log importers not in this tree yet")
-@settings(max_examples=60, deadline=3000, derandomize=True)
-@given(st.binary(max_size=2000))
-def test_log_importers_refuse_garbage_in_one_line(tmp_path_factory, data):
-    imp = importlib.import_module("oceangnc.io.importers")
-    p = tmp_path_factory.mktemp("imp") / "x.bin"
-    p.write_bytes(data)
-    fn = getattr(imp, "import_log", None) or getattr(imp, "read_any", None)
-    if fn is None:
-        pytest.skip("no import_log() entry point")
+def _module(name: str) -> bool:
     try:
-        fn(p)
+        return importlib.util.find_spec(name) is not None
+    except ModuleNotFoundError:
+        return False
+
+
+@pytest.mark.skipif(not _module("oceangnc.io.importers"), reason="log importers not in this tree")
+@settings(max_examples=60, deadline=5000, derandomize=True,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(st.sampled_from([".bin", ".tlog", ".ulg", ".csv", ".parquet", ".mcap"]),
+       st.one_of(st.binary(max_size=1500),
+                 st.sampled_from([b"", b"PAR1", b"ULog\x01\x12\x35", b"\xa3\x95\x80", b"\xfd\x09\x00",
+                                  b"t,x\n0,1\n", b"t,x\nnan,inf\n"]).flatmap(
+                     lambda head: st.binary(max_size=400).map(lambda tail: head + tail))))
+def test_log_importers_refuse_garbage_in_one_line(tmp_path_factory, suffix, data):
+    from oceangnc.io.importers import read_any
+
+    p = tmp_path_factory.mktemp("imp") / f"x{suffix}"
+    p.write_bytes(data)
+    try:
+        df = read_any(p)
     except OceanGNCError as e:
         _one_line(e)
+        return
+    assert len(df.columns) >= 1  # accepted: a table came out
 
 
+class _Clock:
+    def __init__(self):
+        self.t = 1000.0
+
+    def __call__(self):
+        return self.t
+
+
+@pytest.fixture(scope="module")
+def mav_vehicle():
+    pytest.importorskip("pymavlink")
+    from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+    clk = _Clock()
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", out_root=None, clock=clk)
+    v.fake = clk
+    out = __import__("socket").socket(__import__("socket").AF_INET, __import__("socket").SOCK_DGRAM)
+    v.tx_sock = out
+    yield v
+    out.close()
+    v.close()
+
+
+def _mav_messages():
+    from oceangnc.mavlink.protocol import mavlink as M
+
+    f32 = st.one_of(st.floats(width=32), st.sampled_from([math.nan, math.inf, -math.inf, 1e38, -1e38, 0.0]))
+    i16 = st.integers(-32768, 32767)
+    i32 = st.integers(-(2**31), 2**31 - 1)
+    u16 = st.integers(0, 65535)
+    u8 = st.integers(0, 255)
+    return st.one_of(
+        st.builds(lambda *a: M.MAVLink_manual_control_message(*a), u8, i16, i16, i16, i16, u16),
+        st.builds(lambda ts, cmd, *p: M.MAVLink_command_long_message(ts, 1, cmd, 0, *p),
+                  st.sampled_from([0, 1]), st.sampled_from([176, 185, 400, 300, 20, 21, 179, 511, 512, 1]),
+                  f32, f32, f32, f32, f32, f32, f32),
+        st.builds(lambda base, custom: M.MAVLink_set_mode_message(1, base, custom), u8, st.integers(0, 2**32 - 1)),
+        st.builds(lambda seq, x, y, cmd: M.MAVLink_mission_item_int_message(1, 1, seq, 0, cmd, 0, 1, 0, 0, 0, 0,
+                                                                              x, y, 0.0, 0),
+                  u16, i32, i32, st.sampled_from([16, 21, 22, 177])),
+        st.builds(lambda n: M.MAVLink_mission_count_message(1, 1, n, 0), u16),
+        st.builds(lambda *ch: M.MAVLink_rc_channels_override_message(1, 1, *ch), *[u16] * 8),
+        st.builds(lambda name, v: M.MAVLink_param_set_message(1, 1, name.encode()[:16], v, 9),
+                  st.text(alphabet=string.ascii_uppercase + "_", max_size=16), f32),
+    )
+
+
+@pytest.mark.skipif(not _module("oceangnc.mavlink"), reason="MAVLink endpoint not in this tree")
+@settings(max_examples=120, deadline=5000, derandomize=True,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(st.data())
+def test_mavlink_endpoint_survives_generated_datagrams(mav_vehicle, data):
+    from oceangnc.mavlink.protocol import mavlink as M
+
+    v = mav_vehicle
+    kind = data.draw(st.sampled_from(["bytes", "message", "message+garbage"]))
+    if kind == "bytes":
+        dgram = data.draw(st.binary(max_size=600))
+    else:
+        msg = data.draw(_mav_messages())
+        packer = M.MAVLink(None, srcSystem=255, srcComponent=190)
+        try:
+            dgram = msg.pack(packer)
+        except Exception:  # noqa: BLE001 - a value pymavlink itself cannot pack: not a datagram anyone sends
+            return
+        if kind == "message+garbage":
+            dgram = dgram + data.draw(st.binary(max_size=50))
+    v.tx_sock.sendto(dgram, v.address)
+    time.sleep(0.002)
+    v.fake.t += 0.05
+    v.step_once()
+    assert v.error is None and not v.ended, v.error
+    for k, val in v.sim.bus.items():
+        if isinstance(val, float):
+            assert math.isfinite(val), (k, val, kind)
+    assert all(math.isfinite(x) for x in v.sim.plants[0].x)
+    assert v.counts["rx_packets"] >= 1  # the datagrams do reach the endpoint

@@ -85,7 +85,7 @@ def test_unknown_kind_is_one_line_config_error_listing_kinds(capsys):
     err = capsys.readouterr().err.strip()
     assert rc == 2
     assert err.count("\n") == 0
-    assert "control.uuv.kind = 'lqr'" in err and "registered: uuv.backstepping, uuv.pid" in err
+    assert "control.uuv.kind = 'lqr'" in err and "registered: uuv.backstepping, uuv.follow_tow, uuv.pid" in err
 
 
 def test_cli_swaps_uuv_controller_by_kind(tmp_path):
@@ -163,3 +163,15 @@ def test_usv_controller_slot_takes_gains_and_refuses_unknown_ones():
     sc, cfg = resolve_config("combined-survey", overrides={"control.usv.speed_kq": 1.0})
     with pytest.raises(ConfigError, match=r"unknown key 'control\.usv\.speed_kq'"):
         sc.build(cfg, np.random.default_rng(0))
+
+
+def test_every_module_registering_blocks_is_a_builtin_module():
+    """A block module missing from BUILTIN_MODULES would be unknown until something imports it."""
+    from pathlib import Path
+
+    from oceangnc.core.registry import BUILTIN_MODULES
+
+    src = Path(__file__).resolve().parents[1] / "src"
+    mods = {".".join(p.relative_to(src).with_suffix("").parts) for p in (src / "oceangnc").rglob("*.py")
+            if "\n@register_block(" in p.read_text()}
+    assert mods and mods <= set(BUILTIN_MODULES), sorted(mods - set(BUILTIN_MODULES))

@@ -179,7 +179,7 @@ def test_resume_from_checkpoint_equals_uninterrupted_log(tmp_path, monkeypatch):
 
 def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     out = tmp_path / "run"
-    proc = start("run", "usv-turn", "--duration", "200", "--out", str(out), "--quiet", "--no-plots",
+    proc = start("run", "usv-turn", "--duration", "300", "--out", str(out), "--quiet", "--no-plots",
                  "--checkpoint-every", "10", "--set", "environment.current.speed=0.2")
     try:
         assert wait_for(lambda: (out / "checkpoint.pkl").exists() or proc.poll() is not None)
@@ -193,7 +193,7 @@ def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout.strip().splitlines()[-1])
     assert s["status"] == "ok" and s["resumed_from_t"] > 0 and s["resumed_from_t"] % 10 == 0
-    ref = oceangnc.run("usv-turn", duration=200, out=tmp_path / "ref", plots=False,
+    ref = oceangnc.run("usv-turn", duration=300, out=tmp_path / "ref", plots=False,
                        overrides={"environment.current.speed": 0.2}).df
     pd.testing.assert_frame_equal(read_log(out), ref, check_exact=True)
     r = cli("run", "--resume", str(out), "--quiet")

@@ -34,7 +34,7 @@ def test_lowering_and_hauling_tension_and_mass():
     pl, cc = _hanging()
     bus, t = {}, 0.0
     rows = []
-    for k in range(200):
+    for _ in range(200):
         pl.u[9] = 0.0 if t < 20 else (0.05 if t < 110 else -0.05)
         t = pl.advance(t, 0.01, 100)
         pl.publish(bus)

@@ -190,7 +190,7 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         state = ckpt.load(out_dir)
         sc, cfg = resolve_config(None, load_toml(out_dir / "config.toml"))
         _truncate_log(out_dir / "log.parquet", state["log"]["parts"])
-        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period,
+        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync,
                         start_part=state["log"]["parts"], start_row=state["log"]["rows"])
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
@@ -211,7 +211,7 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         elif old_log.exists():
             old_log.unlink()
         dump_toml(cfg, out_dir / "config.toml")
-        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period)
+        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync)
     ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress,
                      verbose=verbose)
     if checkpoint_every is not None or state is not None:

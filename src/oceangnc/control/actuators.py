@@ -11,11 +11,14 @@ other block and the wiring check covers them:
 * ``usv.rudder_engine`` (:class:`RudderEngineBlock`): ``<b>.delta_s_cmd`` (rad), ``<b>.rpm_cmd`` (rpm) ->
   ``<b>.delta_s``, ``<b>.rpm`` of the first-order USV (000 sec. 2).
 
+* ``thrusters.off`` (:class:`ThrustersOff`): zero thrust commands for the listed keys (a vehicle held still).
+
 All zero their outputs on an emergency stop (``_estop``, optional input).
 """
 
 from __future__ import annotations
 
+from ..core.blocks import Block
 from ..core.registry import register_block
 from ..models.first_order import FirstOrderActuators
 from ..models.usv import USVThrusters
@@ -66,3 +69,21 @@ class RudderEngineBlock(FirstOrderActuators):
         self.inputs = {f"{b}.delta_s_cmd": "rad", f"{b}.rpm_cmd": "rpm"}
         self.optional_inputs = {"_estop": "bool"}
         self.outputs = {f"{b}.delta_s": "rad", f"{b}.rpm": "rpm", f"{b}.delta_s_deg": "deg"}
+
+
+@register_block("thrusters.off")
+class ThrustersOff(Block):
+    """Zero thrust commands for the listed vehicles (the USV holds station, the UUV is passive)."""
+
+    role = "actuator"
+    name = "thrusters_off"
+
+    def __init__(self, keys, period: float = 0.01):
+        self.keys = list(keys)
+        self.period = period
+        self.inputs = {}
+        self.outputs = {k: "N" for k in self.keys}
+
+    def step(self, t: float, bus: dict) -> None:
+        for k in self.keys:
+            bus[k] = 0.0

@@ -41,6 +41,25 @@ class TowCommand(StrictModel):
 
 
 
+def uuv_loops(uuv: UUVConfig, kp_speed: float, ki_speed: float, kp_heading: float, kd_heading: float):
+    """The UUV's tow loops: surge-speed PI on the total stern thrust, limited to twice a thruster's
+    range, and heading PD on the bow thruster (N)."""
+    t_max = uuv.max_thrust_kgf * KGF
+    r_max = uuv.max_reverse_kgf * KGF
+    return (PID(kp_speed, ki_speed, 0.0, -2 * r_max, 2 * t_max), PID(kp_heading, 0.0, kd_heading, -r_max, t_max))
+
+
+def uuv_loops_step(bus: dict, uuv: UUVConfig, speed: PID, head: PID, u_d: float, psi_d: float, h: float) -> None:
+    """One step of :func:`uuv_loops`: stern thrust PID(u_d - u) - X_u|u| u_d |u_d| (axial-drag
+    feed-forward) shared by both stern thrusters; bow thrust PD(wrap(psi_d - psi), -r). Writes the
+    ``uuv.thrust_*_cmd`` keys (N)."""
+    ff = -uuv.X_uu_total * u_d * abs(u_d)
+    tot = speed.step(u_d - bus["uuv.u"], h, feedforward=ff)
+    bus["uuv.thrust_port_cmd"] = 0.5 * tot
+    bus["uuv.thrust_stbd_cmd"] = 0.5 * tot
+    bus["uuv.thrust_bow_cmd"] = head.step(wrap(psi_d - bus["uuv.psi"]), h, e_dot=-bus["uuv.r"])
+
+
 @register_block("tow.straight")
 class TowStraightControl(Block):
     """Surge-speed and heading loops of both vehicles for the straight tow (003 ch. 4 a).
@@ -68,12 +87,10 @@ class TowStraightControl(Block):
         c = self.cmd
         t_usv = self.usv_cfg.max_thrust_kgf * KGF
         r_usv = self.usv_cfg.max_reverse_kgf * KGF
-        t_uuv = self.uuv_cfg.max_thrust_kgf * KGF
-        r_uuv = self.uuv_cfg.max_reverse_kgf * KGF
         self.usv_speed = PID(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)
         self.usv_head = PID(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)
-        self.uuv_speed = PID(c.uuv_kp_speed, c.uuv_ki_speed, 0.0, -2 * r_uuv, 2 * t_uuv)
-        self.uuv_head = PID(c.uuv_kp_heading, 0.0, c.uuv_kd_heading, -r_uuv, t_uuv)
+        self.uuv_speed, self.uuv_head = uuv_loops(self.uuv_cfg, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading,
+                                                  c.uuv_kd_heading)
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cmd
@@ -90,10 +107,49 @@ class TowStraightControl(Block):
         e = wrap(psi_d - bus["usv.psi"])
         dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(0.5 * tot, 0.5 * dif)
-        # UUV
-        ffu = -self.uuv_cfg.X_uu_total * c.uuv_speed * abs(c.uuv_speed)
-        totu = self.uuv_speed.step(c.uuv_speed - bus["uuv.u"], h, feedforward=ffu)
-        bus["uuv.thrust_port_cmd"] = 0.5 * totu
-        bus["uuv.thrust_stbd_cmd"] = 0.5 * totu
-        eu = wrap(psi_d - bus["uuv.psi"])
-        bus["uuv.thrust_bow_cmd"] = self.uuv_head.step(eu, h, e_dot=-bus["uuv.r"])
+        uuv_loops_step(bus, self.uuv_cfg, self.uuv_speed, self.uuv_head, c.uuv_speed, psi_d, h)
+
+
+class UUVFollowConfig(StrictModel):
+    """UUV loops of ``tow-survey-depth``: heading toward the USV, surge speed held (0: thrusters off)."""
+
+    speed: float = Field(0.8, ge=0, le=3, description="UUV surge speed command (0: thrusters off), m/s")
+    kp_speed: float = Field(150.0, ge=0, le=1e5, description="speed P gain (total stern thrust), N s/m")
+    ki_speed: float = Field(30.0, ge=0, le=1e5, description="speed I gain, N/m")
+    kp_heading: float = Field(40.0, ge=0, le=1e4, description="heading P gain (bow thrust), N/rad")
+    kd_heading: float = Field(40.0, ge=0, le=1e4, description="heading D gain, N s/rad")
+
+
+@register_block("uuv.follow_tow")
+class UUVFollow(Block):
+    """UUV heading toward the USV (bow thruster PD) and surge speed (stern PID with drag feed-forward)."""
+
+    role = "controller"
+    name = "uuv_follow"
+
+    def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = 0.01):
+        self.cfg = cfg
+        self.uuv_cfg = uuv
+        self.period = period
+        self.inputs = {k: u for k, u in (("usv.x", "m"), ("usv.y", "m"), ("uuv.x", "m"), ("uuv.y", "m"),
+                                         ("uuv.psi", "rad"), ("uuv.r", "rad/s"), ("uuv.u", "m/s"))}
+        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
+
+    params_model = UUVFollowConfig
+
+    @classmethod
+    def from_context(cls, params: UUVFollowConfig, ctx) -> UUVFollow:
+        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``)."""
+        return cls(params, ctx.cfg.uuv, ctx.period)
+
+    def reset(self, rng) -> None:
+        c = self.cfg
+        self.speed, self.head = uuv_loops(self.uuv_cfg, c.kp_speed, c.ki_speed, c.kp_heading, c.kd_heading)
+
+    def step(self, t: float, bus: dict) -> None:
+        c = self.cfg
+        if c.speed <= 0.0:
+            bus["uuv.thrust_port_cmd"] = bus["uuv.thrust_stbd_cmd"] = bus["uuv.thrust_bow_cmd"] = 0.0
+            return
+        psi_d = math.atan2(bus["usv.y"] - bus["uuv.y"], bus["usv.x"] - bus["uuv.x"])
+        uuv_loops_step(bus, self.uuv_cfg, self.speed, self.head, c.speed, psi_d, self.period)

@@ -125,8 +125,8 @@ class Simulation:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=round(duration, 3), unit="sim s", delay=2.0, mininterval=0.5, leave=False,
-                       desc="compiling")  # numba compiles on the first steps: no rate, no ETA yet
+            # shown at once as "compiling" (numba compiles on the first step: no rate, no ETA yet)
+            bar = tqdm(total=round(duration, 3), unit="sim s", mininterval=0.5, leave=False, desc="compiling")
         self._t_start, self._k_start, self._last_bar = self.t, self.k, self.t
         t_wall0 = time.perf_counter()
         try:

@@ -265,8 +265,12 @@ class Model:
               **kw):
         """A :class:`~oceangnc.core.blocks.Plant` integrating this model (extra keywords: ``max_dt``...)."""
         from .blocks import Plant
+        from .signals import CALM
 
-        return Plant(**self.plant_args(name, x0, input_signals, p, declare), **kw)
+        args = self.plant_args(name, x0, input_signals, p, declare)
+        # environment inputs read calm water and air when no environment block runs
+        kw.setdefault("input_defaults", {k: v for k, v in CALM.items() if k in args["input_names"]})
+        return Plant(**args, **kw)
 
     def __repr__(self) -> str:
         return (f"Model({self.name!r}: states {list(self.state_names)}, inputs {list(self.input_names)}, "

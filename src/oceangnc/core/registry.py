@@ -33,7 +33,7 @@ BUILTIN_MODULES = (
     "oceangnc.guidance.scripted_pilot", "oceangnc.guidance.route_pilot",
     "oceangnc.control.usv_control", "oceangnc.control.uuv_control", "oceangnc.control.backstepping",
     "oceangnc.control.pole_placement", "oceangnc.control.joystick", "oceangnc.control.berthing",
-    "oceangnc.control.tow", "oceangnc.control.actuators", "oceangnc.identification.trials",
+    "oceangnc.control.tow", "oceangnc.control.winch", "oceangnc.control.actuators", "oceangnc.identification.trials",
 )
 
 _KINDS: dict[str, type] = {}

@@ -178,6 +178,7 @@ class WaypointGuidance(Block):
             self.done = True
             if self.stop_at_end:
                 bus["_stop"] = True
+                bus["_stop_reason"] = f"last waypoint reached at t = {t:.1f} s"
         k = min(self.k, n - 1)
         an, ae = self.wp[k - 1]
         bn, be = self.wp[k]

@@ -237,3 +237,4 @@ class PurePursuit(Block):
         bus["guidance.done"] = 1.0 if self.done else 0.0
         if self.done and self.stop_at_end:
             bus["_stop"] = True
+            bus["_stop_reason"] = f"last waypoint reached at t = {t:.1f} s"

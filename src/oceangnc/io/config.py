@@ -81,6 +81,8 @@ class LogConfig(StrictModel):
 
     flush_period: float = Field(1.0, gt=0, le=3600, description="simulated time between log flushes, "
                                 "the most a crash can lose, s")
+    fsync: bool = Field(False, description="force each flushed part to disk (power-cut safety; about 10 ms "
+                        "per part on a busy disk)")
 
 
 class ScenarioConfig(StrictModel):

@@ -8,11 +8,12 @@ per flush, ``part-000000.parquet``, ``part-000001.parquet``, ... :class:`LogWrit
 writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s). Each
 part is written to a hidden temporary name (``.part-000007.parquet.tmp``), flushed to disk and then
 renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL
-or a full disk loses at most the rows buffered since the last flush. Parts are written uncompressed
-(cheap: a few ms each) and ``fsync``-ed at most once per second of wall-clock time (``sync_wall``)
-and always at close and before a checkpoint, so a power cut loses at most the last flush period or
-the last second of computation, whichever is more; a part left empty by a power cut is unreadable
-and skipped (and removed by repair). pyarrow and pandas
+or a full disk loses at most the rows buffered since the last flush (the kernel keeps what a killed
+process wrote). Parts are written uncompressed (a few ms each). Against a power cut, ``fsync=True``
+(config ``log.fsync = true``) also forces each part to disk before the next one is started (about
+10 ms per part on a busy disk, so off by default); the compacted log and the parts a checkpoint
+counts are always forced to disk. A part left empty or torn by a power cut is unreadable: it is
+skipped when reading and removed by repair. pyarrow and pandas
 skip names that start with ``.``, and open the folder as one table
 (``pandas.read_parquet("run/log.parquet")``, ``pyarrow.parquet.read_table(...)``, or
 :func:`read_log`). Each part records its first row index and row count in its key-value metadata
@@ -29,7 +30,6 @@ from __future__ import annotations
 
 import math
 import os
-import time
 from pathlib import Path
 
 import numpy as np
@@ -102,6 +102,8 @@ class LogWriter:
         Simulated time between flushes (s): the most a crash can lose.
     flush_rows : int
         Also flush when this many rows are buffered (bounds memory on fast log rates).
+    fsync : bool
+        Force every part to disk before going on (power-cut safety; costs an fsync per part).
     start_part, start_row : int
         Continue an existing dataset (resume from a checkpoint) at this part index and row count.
 
@@ -110,13 +112,12 @@ class LogWriter:
     """
 
     def __init__(self, path: str | Path, flush_period: float = 1.0, flush_rows: int = 100_000,
-                 start_part: int = 0, start_row: int = 0, compact: bool = True, sync_wall: float = 1.0):
+                 start_part: int = 0, start_row: int = 0, compact: bool = True, fsync: bool = False):
         self.path = Path(path)
         self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
         self.compact = bool(compact)
-        self.sync_wall = float(sync_wall)
-        self._t_sync = -math.inf
+        self.fsync = bool(fsync)
         self._unsynced: list[Path] = []
         # the parts written by this writer, kept for compaction at close (no reading back), up to a
         # memory cap; a resumed writer (start_part > 0) compacts from disk
@@ -222,7 +223,6 @@ class LogWriter:
                 os.close(fd)
         self._unsynced.clear()
         _fsync_dir(self.path)
-        self._t_sync = time.monotonic()
 
     def flush(self) -> None:
         """Write the buffered rows as one new part file (atomically)."""
@@ -236,7 +236,7 @@ class LogWriter:
             self._mem_cells += table.num_rows * table.num_columns
             if self._mem_cells > MEM_CELLS:
                 self._mem = None
-        if time.monotonic() - self._t_sync >= self.sync_wall:
+        if self.fsync:
             self.sync()
         self.parts += 1
         self.rows_written += table.num_rows

@@ -334,9 +334,6 @@ def damping_substep(x, p, h):
     D = p[base + m3:base + m3 + 9 * (n + 1)]  # inverted modified diagonal blocks
     R = p[base + m3 + 9 * (n + 1):base + m3 + 12 * (n + 1)]  # modified right-hand sides
     W = p[base + m3 + 12 * (n + 1):base + m3 + 21 * (n + 1)]  # work 3x3 blocks
-    # tangents of every segment for the node mass matrices (eq. 2.28): the same mass matrix as the RHS,
-    # whether or not the segment's damper is in the implicit part (slack segments, the last one)
-    TM = p[base + m3 + 21 * (n + 1):base + m3 + 24 * (n + 1)]
     l0 = p[H_L0]
     mt = 0.5 * (p[H_MC] + p[H_MA])
     ha = 0.5 * p[H_MA]
@@ -348,14 +345,6 @@ def damping_substep(x, p, h):
         dz = pos[b + 2] - pos[a + 2]
         ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         k = 3 * (i - 1)
-        if ln > 0.0:
-            TM[k] = dx / ln
-            TM[k + 1] = dy / ln
-            TM[k + 2] = dz / ln
-        else:
-            TM[k] = 0.0
-            TM[k + 1] = 0.0
-            TM[k + 2] = 1.0
         if ln > l0 and i < n:  # the last segment's damper stays explicit (its reaction acts on the UUV)
             T[k] = dx / ln
             T[k + 1] = dy / ln
@@ -371,12 +360,14 @@ def damping_substep(x, p, h):
         kb = 3 * i  # segment i+1 (below)
         tax, tay, taz = T[ka], T[ka + 1], T[ka + 2]
         tbx, tby, tbz = T[kb], T[kb + 1], T[kb + 2]
-        # node mass matrix (both adjacent segments, eq. 2.28) with the current tangents of all segments
+        # node mass matrix (both adjacent segments, eq. 2.28), with the *current* tangents
+        # (slack segments and the last one use a zero tangent here, so their added mass counts
+        # isotropically: a small inconsistency with the RHS's mass matrix, see docs/uuv-and-cable.md)
         A = W
         ta = (tax, tay, taz)
         tb = (tbx, tby, tbz)
-        ma = (TM[ka], TM[ka + 1], TM[ka + 2])
-        mb = (TM[kb], TM[kb + 1], TM[kb + 2])
+        ma = ta
+        mb = tb
         for r in range(3):
             for c in range(3):
                 mm = (2.0 * mt if r == c else 0.0) - ha * (ma[r] * ma[c] + mb[r] * mb[c])
@@ -1136,10 +1127,10 @@ class CombinedPlant(Plant):
             if has_bed:  # the explicit contact spring: RK4 limit 2.785 / w on the imaginary axis
                 self.stability_limit = min(self.stability_limit, 2.0 / seabed.contact_frequency)
         inputs = INPUT_NAMES + (("winch.speed_cmd",) if has_winch else ())
+        units = ("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N") + (("m/s",) if has_winch else ())
         super().__init__(name, combined_rhs, x0, p, names, inputs, state_bound=1e6,
                          max_dt=self.stability_limit if math.isfinite(self.stability_limit) else None,
-                         input_units=("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N") + (("m/s",) if has_winch else ()),
-                         input_defaults=CALM)
+                         input_units=units, input_defaults=CALM)
         self._var = has_winch or has_bed
         self._nodes = np.zeros(3 * (nmax + 1))
         self._ends = np.zeros(8)
@@ -1157,8 +1148,8 @@ class CombinedPlant(Plant):
             full = base + VAR_KEYS
             self._out_idx = np.array([full.index(k) for k in self._out_keys])
         self._out_full = np.zeros(len(base) + len(VAR_KEYS))
-        self._out = np.zeros(len(self._out_keys))
         self.output_units = {k: _unit_of(k) for k in self._out_keys}
+        self._out = np.zeros(len(self._out_keys))
 
     @property
     def n(self) -> int:

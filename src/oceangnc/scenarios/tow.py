@@ -26,16 +26,15 @@ seabed above the cable's attachment point is refused (ConfigError naming
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 from pydantic import Field
 
-from ..control.pid import PID
+from ..control.actuators import ThrustersOff, USVThrusterBlock, UUVThrusterBlock
+from ..control.tow import UUVFollow, UUVFollowConfig
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.winch import WinchControlConfig, WinchDepthController
-from ..core.blocks import Block
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..guidance.pure_pursuit import PurePursuit
@@ -43,8 +42,8 @@ from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
-from ..models.usv import USVConfig, USVThrusters
-from ..models.uuv import UUVConfig, UUVThrusters
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
 from ..models.winch import WinchConfig
 from ..units import KGF
 from ._common import environment_blocks
@@ -62,16 +61,6 @@ class TowSimConfig(SimConfig):
 class TowAnalysis(StrictModel):
     settle_s: float = Field(150.0, ge=0, le=1e5, description="tow-survey-depth: time after which the altitude "
                                                              "error is scored, s")
-
-
-class UUVFollowConfig(StrictModel):
-    """UUV loops of ``tow-survey-depth``: heading toward the USV, surge speed held (0: thrusters off)."""
-
-    speed: float = Field(0.8, ge=0, le=3, description="UUV surge speed command (0: thrusters off), m/s")
-    kp_speed: float = Field(150.0, ge=0, le=1e5, description="speed P gain (total stern thrust), N s/m")
-    ki_speed: float = Field(30.0, ge=0, le=1e5, description="speed I gain, N/m")
-    kp_heading: float = Field(40.0, ge=0, le=1e4, description="heading P gain (bow thrust), N/rad")
-    kd_heading: float = Field(40.0, ge=0, le=1e4, description="heading D gain, N s/rad")
 
 
 class TowGuidance(StrictModel):
@@ -98,56 +87,6 @@ class TowSurveyConfig(TowDeployConfig):
     guidance: TowGuidance = TowGuidance()
     usv_control: USVControlConfig = USVControlConfig()
     uuv_follow: UUVFollowConfig = UUVFollowConfig()
-
-
-class ThrustersOff(Block):
-    """Zero thrust commands for the listed vehicles (the USV holds station, the UUV is passive)."""
-
-    name = "thrusters_off"
-
-    def __init__(self, keys, period: float = CONTROL_PERIOD):
-        self.keys = list(keys)
-        self.period = period
-        self.inputs = {}
-        self.outputs = {k: "N" for k in self.keys}
-
-    def step(self, t: float, bus: dict) -> None:
-        for k in self.keys:
-            bus[k] = 0.0
-
-
-class UUVFollow(Block):
-    """UUV heading toward the USV (bow thruster PD) and surge speed (stern PID with drag feed-forward)."""
-
-    name = "uuv_follow"
-
-    def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = CONTROL_PERIOD):
-        self.cfg = cfg
-        self.uuv_cfg = uuv
-        self.period = period
-        self.inputs = {k: u for k, u in (("usv.x", "m"), ("usv.y", "m"), ("uuv.x", "m"), ("uuv.y", "m"),
-                                         ("uuv.psi", "rad"), ("uuv.r", "rad/s"), ("uuv.u", "m/s"))}
-        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
-
-    def reset(self, rng) -> None:
-        c = self.cfg
-        t_max = self.uuv_cfg.max_thrust_kgf * KGF
-        r_max = self.uuv_cfg.max_reverse_kgf * KGF
-        self.speed = PID(c.kp_speed, c.ki_speed, 0.0, -2 * r_max, 2 * t_max)
-        self.head = PID(c.kp_heading, 0.0, c.kd_heading, -r_max, t_max)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        if c.speed <= 0.0:
-            bus["uuv.thrust_port_cmd"] = bus["uuv.thrust_stbd_cmd"] = bus["uuv.thrust_bow_cmd"] = 0.0
-            return
-        psi_d = math.atan2(bus["usv.y"] - bus["uuv.y"], bus["usv.x"] - bus["uuv.x"])
-        e = (psi_d - bus["uuv.psi"] + math.pi) % (2 * math.pi) - math.pi
-        ff = -self.uuv_cfg.X_uu_total * c.speed * abs(c.speed)
-        tot = self.speed.step(c.speed - bus["uuv.u"], self.period, feedforward=ff)
-        bus["uuv.thrust_port_cmd"] = 0.5 * tot
-        bus["uuv.thrust_stbd_cmd"] = 0.5 * tot
-        bus["uuv.thrust_bow_cmd"] = self.head.step(e, self.period, e_dot=-bus["uuv.r"])
 
 
 def _plant(cfg, top="usv") -> CombinedPlant:
@@ -193,7 +132,7 @@ class TowDeploy(Scenario):
                   ThrustersOff(["usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd",
                                 "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd"]),
                   WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -264,7 +203,7 @@ class TowSurveyDepth(Scenario):
                   USVController(cfg.usv_control, cfg.usv, g.speed, CONTROL_PERIOD),
                   UUVFollow(cfg.uuv_follow, cfg.uuv),
                   WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusters(cfg.usv, CONTROL_PERIOD), UUVThrusters(cfg.uuv, CONTROL_PERIOD)]
+                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:

@@ -419,7 +419,7 @@ function polyline(c, pts, color, width, dash) {
   c.beginPath(); pts.forEach((p, i) => { const [x, y] = toScreen(p[0], p[1]); if (i) c.lineTo(x, y); else c.moveTo(x, y); }); c.stroke(); c.setLineDash([]);
 }
 
-function drawBody(c, b, color) {
+function drawBody(c, b, color, idx = 0) {
   const sig = S.state.signals, n = sig[b.name + ".x"], e = sig[b.name + ".y"];
   if (n == null || e == null) return;
   const psi = sig[b.name + ".psi"] || 0, d = window.devicePixelRatio || 1;
@@ -435,8 +435,12 @@ function drawBody(c, b, color) {
   shape.forEach(([bx, by], i) => { const x = bx * L, y = by * B; const [sx, sy] = toScreen(n + x * cps - y * sps, e + x * sps + y * cps); if (i) c.lineTo(sx, sy); else c.moveTo(sx, sy); });
   c.closePath(); c.fill(); c.stroke();
   const [sx, sy] = toScreen(n, e);
-  c.fillStyle = "#fff"; c.font = `${11 * d}px sans-serif`; c.fillText(b.label || b.name, sx + 12 * d, sy - 10 * d);
-  const z = sig[b.name + ".z"]; if (z != null && b.shape === "sub") c.fillText(`${z.toFixed(2)} m`, sx + 12 * d, sy + 4 * d);
+  // labels stacked per body (USV above, UUV below, ...) so two vehicles close together stay readable
+  const ly = sy - 10 * d + idx * 28 * d;
+  c.save(); c.shadowColor = "#000"; c.shadowBlur = 4 * d;  // readable over a hull or a track
+  c.fillStyle = "#fff"; c.font = `${11 * d}px sans-serif`; c.fillText(b.label || b.name, sx + 14 * d, ly);
+  const z = sig[b.name + ".z"]; if (z != null && b.shape === "sub") c.fillText(`${z.toFixed(2)} m`, sx + 14 * d, ly + 13 * d);
+  c.restore();
 }
 
 function drawCable(c) {
@@ -474,7 +478,7 @@ function draw() {
   S.draft.forEach((p, i) => { const [x, y] = toScreen(p[0], p[1]); c.fillStyle = "#ff9800"; c.beginPath(); c.arc(x, y, 5 * d, 0, 6.3); c.fill(); c.fillText(String(i + 1), x + 7 * d, y - 6 * d); });
   S.hello.view.bodies.forEach((b, i) => polyline(c, S.tracks[b.name], BODY_COLORS[i % 4] + "aa", 1.5 * d));
   drawCable(c);
-  S.hello.view.bodies.forEach((b, i) => drawBody(c, b, BODY_COLORS[i % 4]));
+  S.hello.view.bodies.forEach((b, i) => drawBody(c, b, BODY_COLORS[i % 4], i));
 }
 requestAnimationFrame(draw);
 
