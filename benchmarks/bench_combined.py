@@ -1,9 +1,12 @@
-"""Real-time factor of the combined-vehicle scenarios (guidance + control + sensors on the compiled plant).
+"""Real-time factor of the closed-loop scenarios, Python clock against the fused compiled loop.
 
     NUMBA_NUM_THREADS=1 python benchmarks/bench_combined.py
 
-Prints simulated time, wall time (numba compilation excluded by a warm-up run) and the real-time
-factor (simulated / wall seconds) of each scenario, as run by ``oceangnc.run`` without plots.
+For each case: simulated time, wall and CPU time of the Python clock and of the fused loop
+(:mod:`oceangnc.core.fused`; numba compilation and the first tick excluded by a warm-up run and by
+building the loop before timing), the real-time factors (simulated / wall s), and the physics alone
+(the plant's compiled stepper over the same number of steps), which bounds what any loop can reach.
+No log is written (the log costs the same on both paths: one row per log period).
 """
 
 import time
@@ -11,20 +14,46 @@ import time
 import numpy as np
 
 from oceangnc.api import resolve_config
-from oceangnc.scenarios.combined import build_simulation
 
 CASES = [("combined-survey", {"control.uuv": "pid"}), ("combined-survey", {"control.uuv": "backstepping"}),
-         ("waypoints-square", {}), ("field-test", {})]
+         ("combined-survey", {"control.uuv": "pid", "sim.dt": 0.0025}),
+         ("waypoints-square", {}), ("field-test", {}), ("cable-current", {}),
+         ("usv-turn", {"sim.duration": 300.0}), ("berthing-channel", {})]
+
+
+def _sim(name, over, fused):
+    sc, cfg = resolve_config(name, overrides=over)
+    sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+    sim.use_fused = fused
+    sim.run(0.0)  # first tick (Python on both paths) and, fused, the loop's build
+    return sim, cfg
+
+
+def _time(name, over, fused):
+    sim, cfg = _sim(name, over, fused)
+    w0, c0 = time.perf_counter(), time.process_time()
+    t = sim.run(cfg.sim.duration)
+    return sim, t, time.perf_counter() - w0, time.process_time() - c0
+
+
+def _physics(sim, steps):
+    pl = sim.plants[0]
+    n = max(1, steps // 100)
+    c0 = time.process_time()
+    for _ in range(100):
+        pl.advance(0.0, sim.dt, n)
+    return (time.process_time() - c0) * steps / (100 * n)
+
 
 if __name__ == "__main__":
-    sc, cfg = resolve_config("combined-survey", overrides={"sim.duration": 1.0})
-    build_simulation(cfg, np.random.default_rng(0)).run(1.0)  # compile
-    print("| scenario | overrides | simulated s | wall s | CPU s | real-time factor |")
-    print("|---|---|---|---|---|---|")
+    print("| scenario | overrides | simulated s | path | wall s (python / fused) | CPU s (python / fused) "
+          "| RTF wall (python / fused) | RTF CPU fused | physics alone CPU s |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for name, over in CASES:
-        sc, cfg = resolve_config(name, overrides=over)
-        sim = build_simulation(cfg, np.random.default_rng(cfg.sim.seed))
-        w0, c0 = time.perf_counter(), time.process_time()
-        t = sim.run(cfg.sim.duration)
-        w, c = time.perf_counter() - w0, time.process_time() - c0
-        print(f"| {name} | {over or ''} | {t:.1f} | {w:.2f} | {c:.2f} | {t / w:.0f} |")
+        _time(name, {**over, "sim.duration": 2.0}, True)  # compile / load caches
+        sp, tp, wp, cp = _time(name, over, False)
+        sf, tf, wf, cf = _time(name, over, True)
+        phys = _physics(sf, int(round(tf / sf.dt)))
+        o = ", ".join(f"{k}={v}" for k, v in over.items())
+        print(f"| {name} | {o} | {tf:.1f} | {sf.path} | {wp:.2f} / {wf:.2f} | {cp:.2f} / {cf:.2f} | "
+              f"{tp / wp:.0f} / {tf / wf:.0f} | {tf / cf:.0f} | {phys:.2f} |", flush=True)

@@ -12,7 +12,15 @@ The command line ``oceangnc`` is a thin layer over :func:`run`.
 from .api import RunResult, list_scenarios, replot, resolve_config, run
 from .errors import ConfigError, DivergenceError, InputError, OceanGNCError
 
+
+def run_batch(*args, **kwargs):
+    """K runs of a scenario in compiled batches; see :func:`oceangnc.batch.run_batch`."""
+    from .batch import run_batch as _rb
+
+    return _rb(*args, **kwargs)
+
+
 __version__ = "0.1.0"
 
-__all__ = ["run", "replot", "list_scenarios", "resolve_config", "RunResult", "ConfigError",
+__all__ = ["run", "run_batch", "replot", "list_scenarios", "resolve_config", "RunResult", "ConfigError",
            "DivergenceError", "InputError", "OceanGNCError", "__version__"]

@@ -16,7 +16,7 @@ import numpy as np
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_log, read_table
-from .scenarios.base import RunContext, get_scenario, registry
+from .scenarios.base import RunContext, get_scenario, scenario_summaries
 
 DEFAULT_SCENARIO = "combined-survey"
 FALLBACK_SCENARIO = "usv-turn"
@@ -53,12 +53,12 @@ class RunResult:
 
 def default_scenario() -> str:
     """The flagship scenario if it exists, else the USV turn."""
-    return DEFAULT_SCENARIO if DEFAULT_SCENARIO in registry() else FALLBACK_SCENARIO
+    return DEFAULT_SCENARIO if DEFAULT_SCENARIO in scenario_summaries() else FALLBACK_SCENARIO
 
 
 def list_scenarios() -> dict[str, str]:
     """Scenario name -> one-line description."""
-    return {n: s.summary for n, s in registry().items()}
+    return scenario_summaries()
 
 
 def resolve_config(scenario: str | None = None, config: str | Path | dict | None = None,
@@ -123,7 +123,7 @@ def _jsonable(v):
 
 def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
         config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
-        progress: bool = False, checkpoint_every: float | None = None,
+        progress: bool = False, verbose: bool = False, checkpoint_every: float | None = None,
         resume: str | Path | None = None, model: str | Path | None = None) -> RunResult:
     """Run a scenario and write its outputs.
 
@@ -143,6 +143,8 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         Draw the PNG plots.
     progress : bool
         Show a progress bar on long runs.
+    verbose : bool
+        Say once (stderr) whether the fused compiled loop runs, or why the Python clock does.
     checkpoint_every : float, optional
         Save a checkpoint (:mod:`oceangnc.core.checkpoint`) every this many simulated seconds.
     resume : path, optional
@@ -210,7 +212,8 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
             old_log.unlink()
         dump_toml(cfg, out_dir / "config.toml")
         log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync)
-    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress)
+    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress,
+                     verbose=verbose)
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
     t0 = time.perf_counter()

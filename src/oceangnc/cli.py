@@ -60,7 +60,8 @@ def _cmd_run(args) -> int:
     else:
         overrides = flatten(parse_sets(args.set))
         res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-                  plots=not args.no_plots, progress=not args.quiet, checkpoint_every=args.checkpoint_every,
+                  plots=not args.no_plots, progress=not args.quiet, verbose=args.verbose,
+                  checkpoint_every=args.checkpoint_every,
                   model=args.model)
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
@@ -91,7 +92,11 @@ def _cmd_log_repair(args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+CORE_COMMANDS = ("list", "run", "plot")
+
+
+def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
+    """The argument parser; ``plugins=False`` leaves out the plugin subcommands (their imports cost ~0.5 s)."""
     ap = argparse.ArgumentParser(prog="oceangnc", description="Guidance, navigation, control and "
                                  "identification of unmanned marine vehicles.")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
@@ -112,6 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a Python file registering blocks (@register_block), loaded before the config is "
                         "read, so a --set ...kind= can pick them (repeatable)")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--verbose", action="store_true",
+                   help="say which clock path runs (fused compiled loop or the Python fallback) and why")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
     p.add_argument("--checkpoint-every", type=float, metavar="S",
@@ -129,7 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dir", help="run folder holding log.parquet and config.toml")
     p.set_defaults(func=_cmd_plot)
 
-    for modname in PLUGINS:
+    for modname in PLUGINS if plugins else ():
         try:
             mod = importlib.import_module(modname)
         except ModuleNotFoundError as e:
@@ -150,7 +157,10 @@ def _missing(name: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    first = next((a for a in argv if not a.startswith("-")), None)
+    # a core command needs no plugin subcommand: skip importing them (start-up time)
+    ap = build_parser(plugins=first not in CORE_COMMANDS or "-h" in argv[:1] or "--help" in argv[:1])
     args = ap.parse_args(argv)
     if not getattr(args, "func", None):
         ap.print_help()

@@ -247,6 +247,22 @@ class UUVBackstepping(Block):
         self.prev = None
         self.acc = [0.0, 0.0, 0.0]
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.backstepping_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, backstepping_step
+
+        k = self.keys
+        sig = ["?" + k[n] for n in ("xl", "yl", "psil", "ul", "vl", "rl", "xf", "yf", "psif", "uf", "vf", "rf")]
+        sig += ["uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd", "uuv_bs.V", "uuv_bs.Vdot",
+                "uuv_bs.eps1", "uuv_bs.eps2", "uuv_bs.tau_u", "uuv_bs.tau_r", "uuv_ctrl.psi_d"]
+        prev = self.prev if self.prev is not None else (0.0, 0.0, 0.0)
+        st = arr([*prev, 1.0 if self.prev is not None else 0.0, *self.acc])
+        m, g = self.model, self.cfg
+        pa = arr([self.period, self.a_lp, self.cx, self.cy, g.h, g.k1, g.k2, g.k6, g.k7, m.m11, m.m22, m.m33,
+                  m.Xu, m.Yv, m.Nr, m.Xuu, m.Yvv, m.Nrr, m.bow_arm, m.sway_from_bow, self.hi, self.lo])
+        return CompiledBlock(backstepping_step, sig, st, pa)
+
     def step(self, t: float, bus: dict) -> None:
         g = {n: float(bus[k] if k in self.inputs else bus.get(k, 0.0)) for n, k in self.keys.items()}
         lv = (g["ul"], g["vl"], g["rl"])

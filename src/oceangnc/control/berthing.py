@@ -221,6 +221,25 @@ class NonlinearController(_Base):
         self.c = c
         self.d = d
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.nonlinear_step`)."""
+        if self._ud is None:
+            return None
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled_berthing import nonlinear_step
+
+        cfg = self.cfg
+        head = [self.period, cfg.t_ref, float(cfg.use_disturbance), cfg.lambda1, cfg.lambda2, cfg.n_limit_rpm / 60.0,
+                float(cfg.rate_aware_rudder), cfg.u_switch, self.c, self.d, 0.0, 0.0]
+        sig = ["ship.u", "ship.v", "ship.r", "ship.psi", "ship.rudder", "ship.rpm_prop", "ship.rpm_bow",
+               "ship.rpm_stern", "cmd.u_d", "cmd.r_d", "?env.current_n", "?env.current_e", "?env.wind_n",
+               "?env.wind_e", "_estop", "ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd",
+               "ctrl.e_u", "ctrl.e_r", "ctrl.u_rd", "ctrl.u_d", "ctrl.r_d", "ctrl.x_pd"]
+        return CompiledBlock(nonlinear_step, sig, np.array([self._ud, self._rd], float),
+                             np.concatenate([head, self.p]))
+
     def step(self, t, bus):
         cfg = self.cfg
         p = self.p

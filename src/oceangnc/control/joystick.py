@@ -99,6 +99,18 @@ class Joystick(Block):
             self._z[:] = value
         return float(recursive_mean(self._z))
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.joystick_step`)."""
+        from ..core.fused import CompiledBlock
+        from ..units import KNOT
+        from ._compiled_berthing import joystick_step
+
+        c = self.cfg
+        pa = np.array([c.samples, c.noise, c.dead_band, c.u_max_kn, c.u_astern_kn, KNOT, math.radians(c.r_max_degps)])
+        sig = ["?joystick.surge", "?joystick.yaw", "joystick.surge_f", "joystick.yaw_f", "joystick.surge_db",
+               "joystick.yaw_db", "cmd.u_d", "cmd.r_d"]
+        return CompiledBlock(joystick_step, sig, params=pa, rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         s_u = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
         s_r = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))

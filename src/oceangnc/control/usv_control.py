@@ -130,6 +130,19 @@ class USVController(Block):
         self.heading.reset()
         self.yaw_rate.reset()
 
+    def compiled(self):
+        """Compiled form for the fused loop (autopilot mode; :func:`oceangnc.control._compiled.usv_control_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, pid_params, pid_state, usv_control_step
+
+        m = self.meas
+        sig = [m["u"], m["psi"], m["r"], "?usv.u_d", "?guidance.psi_d", "usv.thrust_port_cmd",
+               "usv.thrust_stbd_cmd", "usv_ctrl.u_d", "usv_ctrl.psi_d", "usv_ctrl.u_speed", "usv_ctrl.u_heading"]
+        st = arr(pid_state(self.speed) + pid_state(self.heading))
+        pa = arr(pid_params(self.speed) + pid_params(self.heading)
+                 + [self.period, self.u_d, self.t_max, self.t_min, 0.5 * self.d11 if self.cfg.speed_ff else 0.0])
+        return CompiledBlock(usv_control_step, sig, st, pa)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         h = self.period

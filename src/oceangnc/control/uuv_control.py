@@ -97,6 +97,24 @@ class UUVPIDController(Block):
         self.e1_prev = None
         self.e1_rate = LowPass(self.cfg.range_d_cutoff_hz, self.period)
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.uuv_pid_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, pid_params, pid_state, uuv_pid_step
+
+        m = self.meas
+        sig = ["lf.e_x", m["r_uuv"], "lf.outside", "lf.rel_heading_err", m["r_usv"], m["psi_usv"], "lf.los_err",
+               "lf.los", "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd", "uuv_ctrl.psi_d",
+               "uuv_ctrl.loop"]
+        lp = self.e1_rate
+        st = arr(pid_state(self.pos) + pid_state(self.ang) + pid_state(self.los)
+                 + [self.active, self.e1_prev if self.e1_prev is not None else 0.0,
+                    0.0 if self.e1_prev is None else 1.0, lp.y if lp.y is not None else 0.0,
+                    0.0 if lp.y is None else 1.0])
+        pa = arr(pid_params(self.pos) + pid_params(self.ang) + pid_params(self.los)
+                 + [self.period, lp.a, 1.0 if self.mode == "relative-angle" else 0.0])
+        return CompiledBlock(uuv_pid_step, sig, st, pa)
+
     def step(self, t: float, bus: dict) -> None:
         h = self.period
         e1 = bus["lf.e_x"]

@@ -225,3 +225,29 @@ class Plant:
         """Write the plant's outputs to the bus. Default: every state; subclasses add derived signals."""
         for k, v in zip(self.state_names, self.x):
             bus[f"{self.name}.{k}"] = float(v)
+
+
+class ConstantBlock(Block):
+    """A block writing constant values ``{signal: value}`` every period (open-loop commands, set points).
+
+    Unlike a :class:`FunctionBlock` it has a compiled form, so a scenario made of it runs fused
+    (:mod:`oceangnc.core.fused`).
+    """
+
+    def __init__(self, name: str, period: float, values: dict[str, float], units: dict[str, str] | None = None):
+        self.name = name
+        self.period = float(period)
+        self.values = {k: float(v) for k, v in values.items()}
+        if units is not None:
+            self.inputs = {}
+            self.outputs = {k: units[k] for k in self.values}
+
+    def step(self, t: float, bus: dict) -> None:
+        bus.update(self.values)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.models._compiled.constant_step`."""
+        from ..models._compiled import constant_step
+        from .fused import CompiledBlock
+
+        return CompiledBlock(constant_step, list(self.values), params=np.array(list(self.values.values())))

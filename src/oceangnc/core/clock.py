@@ -11,6 +11,12 @@ clock ticks at the greatest common divisor of the block periods and the log peri
    per plant, and publishes the plants' outputs.
 
 A block may set ``bus["_stop"] = True`` to end the run early (e.g. the last waypoint reached).
+
+**Fused path** (issue 19): with ``use_fused = True`` (what :func:`oceangnc.run` and the sweeps
+set) and a compiled form for every block and plant, the first tick runs here in Python (fixing the
+signal set and the log columns) and the rest in one compiled driver per call
+(:mod:`oceangnc.core.fused`), many ticks at a time, the log buffered in row blocks. Otherwise (or
+with a checkpoint hook) the Python loop runs; ``verbose = True`` says once which path runs and why.
 """
 
 from __future__ import annotations
@@ -91,6 +97,10 @@ class Simulation:
         #: ``(every_steps, callback(sim))``: called at steps that are multiples of ``every_steps``, after
         #: the blocks fired and the row was logged (checkpoints, :mod:`oceangnc.core.checkpoint`)
         self.checkpoint_hook = None
+        self.use_fused = False  # set by oceangnc.run / sweeps: run the compiled fused loop when possible
+        self.verbose = False
+        self._fused = None  # FusedLoop, or the reason string why not, once decided
+        self.path = "python"
 
     def inject(self, values: dict) -> None:
         """Write values onto the bus between runs (console commands, test stimuli)."""
@@ -117,48 +127,18 @@ class Simulation:
 
             # shown at once as "compiling" (numba compiles on the first step: no rate, no ETA yet)
             bar = tqdm(total=round(duration, 3), unit="sim s", mininterval=0.5, leave=False, desc="compiling")
-        t_start = self.t
-        k_start = self.k
-        last_bar = self.t
+        self._t_start, self._k_start, self._last_bar = self.t, self.k, self.t
         t_wall0 = time.perf_counter()
         try:
-            while True:
-                t = self.k * self.dt
-                self.t = t
-                fresh = self.k != self._done_k  # a chunked run resumes at a tick already handled
-                self._done_k = self.k
-                for i, (b, nb) in enumerate(zip(self.blocks, self.block_steps)):
-                    if fresh and self.k % nb == 0:
-                        b.step(t, self.bus)
-                        self.fire_count[i] += 1
-                if fresh and log is not None and self.k % self.log_steps == 0:
-                    row = self._row()
-                    log.append(t, row)
-                    bad = [k for k, v in row.items() if not math.isfinite(v) and not k.endswith("_nan_ok")]
-                    if bad:
-                        src = bad[0].split(".")[0]
-                        raise DivergenceError(t, src, {k: row[k] for k in row if k.startswith(src + ".")},
-                                              reason=f"non-finite signal {bad[0]}")
-                if self.k >= n_end or self.bus.get("_stop", False):
-                    break
-                if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 \
-                        and self.k > 0:
-                    self.checkpoint_hook[1](self)
-                n = min(self.tick, n_end - self.k)
-                for pl in self.plants:
-                    pl.read_inputs(self.bus)
-                    pl.advance(t, self.dt, n)
-                    pl.publish(self.bus)
-                self.k += n
-                if bar is not None and bar.desc == "compiling" and self.k > k_start:
-                    bar.set_description_str("")
-                    bar.reset()  # restart the rate (ETA) clock after compilation
-                    last_bar = t_start
-                if bar is not None and self.k * self.dt - last_bar >= 0.5:
-                    bar.update(round(self.k * self.dt - last_bar, 3))
-                    last_bar = self.k * self.dt
-                if wall_limit is not None and time.perf_counter() - t_wall0 > wall_limit:
-                    break
+            if self.use_fused and self.checkpoint_hook is None:
+                if self._done_k < 0:  # the first tick in Python: it fixes the signals and log columns
+                    self._run_python(n_end, log, bar, wall_limit, t_wall0, max_ticks=1)
+                if self._fused is None:
+                    self._decide_fused()
+                if not isinstance(self._fused, str):
+                    self._run_fused(n_end, log, bar, wall_limit, t_wall0)
+                    return self.t
+            self._run_python(n_end, log, bar, wall_limit, t_wall0)
         finally:
             if bar is not None:
                 if self.bus.get("_stop", False):  # ended early: close the bar at 100 % with the reason
@@ -168,3 +148,116 @@ class Simulation:
                     bar.leave = True
                 bar.close()
         return self.t
+
+    def _decide_fused(self) -> None:
+        import sys
+
+        from .fused import build_fused
+
+        fused, why = build_fused(self)
+        self._fused = fused if fused is not None else why
+        self.path = "fused" if fused is not None else "python"
+        if self.verbose:
+            msg = (f"fused compiled loop ({len(self.blocks)} blocks, {len(self.plants)} plant(s))" if fused is not None
+                   else f"Python clock: {why}")
+            print(f"oceangnc: {msg}", file=sys.stderr)
+
+    def _run_fused(self, n_end, log, bar, wall_limit, t_wall0) -> None:
+        fz = self._fused
+        fz.from_bus(self.bus)
+        log_on = log is not None
+        if log_on:
+            if self.log_signals is None:
+                self._row()
+            if getattr(fz, "log_signals", None) != self.log_signals:
+                fz.set_log(self.log_signals)
+        elif fz.log_slots is None:
+            fz.set_log([])
+        if not hasattr(fz, "buf") or fz.buf.shape[1] != len(fz.log_slots) + 1:
+            fz.buf = np.empty((2000, len(fz.log_slots) + 1))
+        # chunk so that a progress bar or a wall-clock limit is honoured (about 0.2 s of work per call)
+        max_ticks = 2000 if (bar is not None or wall_limit is not None) else 1 << 62
+        args = [fz.args[a] for a in fz.arg_names]
+        while True:
+            k, done_k, rows, status, info, t_new = fz.drive(
+                self.k, self._done_k, n_end, self.tick, self.dt, fz.sig, fz.stop_slot, log_on, self.log_steps,
+                fz.log_slots, fz.nan_ok, fz.buf, max_ticks, fz.nbs, *args)
+            self.k, self._done_k = int(k), int(done_k)
+            self.t = self._done_k * self.dt if self._done_k >= 0 else self.k * self.dt
+            if rows and log_on:
+                log.append_rows(fz.buf[:rows, 0], fz.log_signals, fz.buf[:rows, 1:])
+            if status in (2, 3):
+                raise self._fused_error(int(status), int(info), float(t_new))
+            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
+                bar.set_description_str("")
+                bar.reset()
+                self._last_bar = self._t_start
+            if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
+                bar.update(round(self.k * self.dt - self._last_bar, 3))
+                self._last_bar = self.k * self.dt
+            if status == 0:
+                break
+            if status == 4 and wall_limit is not None and time.perf_counter() - t_wall0 > wall_limit:
+                break
+        fz.to_bus(self.bus)
+        self.t = self.k * self.dt
+
+    def _fused_error(self, status: int, info: int, t_new: float) -> DivergenceError:
+        """The DivergenceError the Python path raises, for a fused driver's status 2 (bad logged
+        signal, ``info`` its column) or 3 (plant ``info`` diverged, ``t_new`` its stepper's return)."""
+        fz = self._fused
+        fz.to_bus(self.bus)
+        if status == 2:
+            row = self._row()
+            bad = fz.log_signals[info]
+            src = bad.split(".")[0]
+            return DivergenceError(self.t, src, {c: row[c] for c in row if c.startswith(src + ".")},
+                                   reason=f"non-finite signal {bad}")
+        pl = self.plants[info]
+        kk = int(-t_new - 1.0)
+        finite = bool(np.all(np.isfinite(pl.x)))
+        return DivergenceError(self.k * self.dt + (kk + 1) * self.dt, pl.name, pl.state_dict(),
+                               reason=f"|state| above {pl.state_bound:g}" if finite else "non-finite state")
+
+    def _run_python(self, n_end, log, bar, wall_limit, t_wall0, max_ticks: int | None = None) -> None:
+        ticks = 0
+        while True:
+            t = self.k * self.dt
+            self.t = t
+            fresh = self.k != self._done_k  # a chunked run resumes at a tick already handled
+            self._done_k = self.k
+            for i, (b, nb) in enumerate(zip(self.blocks, self.block_steps)):
+                if fresh and self.k % nb == 0:
+                    b.step(t, self.bus)
+                    self.fire_count[i] += 1
+            if fresh and log is not None and self.k % self.log_steps == 0:
+                row = self._row()
+                log.append(t, row)
+                bad = [k for k, v in row.items() if not math.isfinite(v) and not k.endswith("_nan_ok")]
+                if bad:
+                    src = bad[0].split(".")[0]
+                    raise DivergenceError(t, src, {k: row[k] for k in row if k.startswith(src + ".")},
+                                          reason=f"non-finite signal {bad[0]}")
+            if self.k >= n_end or self.bus.get("_stop", False):
+                break
+            ticks += fresh
+            if max_ticks is not None and ticks >= max_ticks:
+                break
+            if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 \
+                    and self.k > 0:
+                self.checkpoint_hook[1](self)
+            n = min(self.tick, n_end - self.k)
+            for pl in self.plants:
+                pl.read_inputs(self.bus)
+                pl.advance(t, self.dt, n)
+                pl.publish(self.bus)
+            self.k += n
+            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
+                bar.set_description_str("")
+                bar.reset()  # restart the rate (ETA) clock after compilation
+                self._last_bar = self._t_start
+            if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
+                bar.update(round(self.k * self.dt - self._last_bar, 3))
+                self._last_bar = self.k * self.dt
+            if wall_limit is not None and time.perf_counter() - t_wall0 > wall_limit:
+                break

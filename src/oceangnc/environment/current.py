@@ -61,6 +61,17 @@ class OceanCurrent(Block):
         self.speed = self.cfg.speed
         self.direction = math.radians(self.cfg.direction_deg)
 
+    def compiled(self):
+        """Compiled form for the fused loop (constant current only; see :mod:`oceangnc.core.fused`)."""
+        if self.cfg.model != "constant":
+            return None
+        from ..core.fused import CompiledBlock
+        from ..models._compiled import constant_current_step
+
+        return CompiledBlock(constant_current_step, ["env.current_n", "env.current_e", "env.current_speed",
+                                                     "env.current_direction_deg"],
+                             params=np.array([self.cfg.speed, math.radians(self.cfg.direction_deg)]))
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         if c.model == "gauss-markov" and t > 0.0:

@@ -71,6 +71,16 @@ class Wind(Block):
         self.rng = rng
         self.gust = 0.0
 
+    def compiled(self):
+        """Compiled form for the fused loop (steady wind only; see :mod:`oceangnc.core.fused`)."""
+        if self.cfg.gust_sigma > 0.0:
+            return None
+        from ..core.fused import CompiledBlock
+        from ..models._compiled import steady_wind_step
+
+        return CompiledBlock(steady_wind_step, ["env.wind_n", "env.wind_e", "env.wind_speed", "env.wind_direction_deg"],
+                             params=np.array([self.cfg.speed, self.cfg.direction_deg]))
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         if c.gust_sigma > 0.0:

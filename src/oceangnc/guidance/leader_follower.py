@@ -100,6 +100,18 @@ class LeaderFollower(Block):
         self.outputs = {**{f"lf.{k}": "m" for k in m}, "lf.bearing": "rad", "lf.rel_heading_err": "rad",
                         "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled import leader_follower_step
+
+        out = ["lf.lx", "lf.ly", "lf.range", "lf.bearing", "lf.lx_d", "lf.ly_d", "lf.target_n", "lf.target_e",
+               "lf.e_x", "lf.e_y", "lf.rel_heading_err", "lf.los", "lf.los_err", "lf.outside", "lf.psi_d"]
+        pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
+        return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *out], params=pa)
+
     def step(self, t: float, bus: dict) -> None:
         xl, yl, psil = (bus[k] for k in self.leader)
         xf, yf, psif = (bus[k] for k in self.follower)

@@ -77,8 +77,7 @@ def uuv_turning_radius_at(cfg, speed: float) -> float:
     :func:`oceangnc.models.uuv.uuv_min_turning_radius` belongs to a speed (several m/s) the towed
     UUV never reaches, so the radius at the formation's speed is the one that limits the path.
     """
-    from scipy.optimize import brentq
-
+    from ..core.roots import bracket_root
     from ..models.uuv import uuv_steady_planar
     from ..units import KGF
 
@@ -87,7 +86,7 @@ def uuv_turning_radius_at(cfg, speed: float) -> float:
         raise ConfigError(f"UUV turning radius: speed must be > 0 m/s, got {speed}")
     if uuv_steady_planar(cfg, hi, hi, 0.0)[0] < speed:
         raise ConfigError(f"UUV turning radius: the UUV cannot reach {speed} m/s")
-    t0 = brentq(lambda T: uuv_steady_planar(cfg, T, T, 0.0)[0] - speed, 1e-6, hi, xtol=1e-6)
+    t0 = bracket_root(lambda T: uuv_steady_planar(cfg, T, T, 0.0)[0] - speed, 1e-6, hi, xtol=1e-10)
     u, v, r = uuv_steady_planar(cfg, t0, t0, hi)
     return math.hypot(u, v) / abs(r)
 
@@ -185,6 +184,19 @@ class PurePursuit(Block):
         self.reached = 0
         self.done = False
         self._started = False
+
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.pure_pursuit_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import pure_pursuit_step
+
+        sig = [self.pos_keys[0], self.pos_keys[1], self.psi_key, "guidance.psi_d", "guidance.turn_radius",
+               "guidance.cross_track", "guidance.leg", "guidance.wp_reached", "guidance.lookahead_n",
+               "guidance.lookahead_e", "guidance.done", "_stop"]
+        st = np.array([self.leg, self.reached, 1.0 if self.done else 0.0, 1.0 if self._started else 0.0], float)
+        pa = np.concatenate([[self.l, self.acceptance, 1.0 if self.stop_at_end else 0.0, len(self.wp)],
+                             self.wp.ravel()])
+        return CompiledBlock(pure_pursuit_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
         p = np.array([bus[self.pos_keys[0]], bus[self.pos_keys[1]]])

@@ -207,6 +207,32 @@ class ScriptedPilot(Block):
         step = max(-c.stick_step, min(c.stick_step, want - cur))
         return max(-1.0, min(1.0, cur + step))
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.pilot_step`)."""
+        from ..control._compiled_berthing import _PP, pilot_step
+        from ..core.fused import CompiledBlock
+
+        c, j, rt = self.cfg, self.joy, self.route
+        cap = int(self.delay / self.period) + 3
+        if len(self.memory) > cap:
+            return None
+        ring = np.zeros(7 * cap)
+        for k, (tk, obs) in enumerate(self.memory):
+            ring[7 * k] = tk
+            ring[7 * k + 1:7 * k + 7] = obs
+        st = np.concatenate([[self.stick_u, self.stick_r, 1.0 if self.done else 0.0, *self.err, len(self.memory),
+                              0.0, cap], ring])
+        head = [self.period, c.noise_time_s, *self.sig, self.delay, c.lookahead_m, float(c.stop_at_end),
+                c.lookahead_min_m, float(c.steer_course), c.cruise_kn * KNOT, c.brake_decel, c.k_stop,
+                0.0 if self.mode == "open" else 1.0, self.speed_per_rps, self.n_open, c.k_speed_open,
+                c.k_rate_open, c.k_psi, j.dead_band, c.stick_quantum, c.stick_step, j.u_max_kn * KNOT,
+                max(j.u_astern_kn * KNOT, 1e-6), c.k_speed, math.radians(j.r_max_degps), float(c.stop_when_done)]
+        head += [0.0] * (_PP - 2 - len(head)) + [rt.length, len(rt.p)]
+        pa = np.concatenate([head, rt.p.ravel(), rt.seg_len, rt.seg_dir.ravel(), rt.s0])
+        sig = ["ship.x", "ship.y", "ship.psi", "ship.u", "ship.r", "ship.v", "joystick.surge", "joystick.yaw",
+               "pilot.u_target", "pilot.psi_des", "pilot.cross_track", "pilot.s_remaining", "pilot.done", "_stop"]
+        return CompiledBlock(pilot_step, sig, st, pa, rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a = math.exp(-self.period / c.noise_time_s)

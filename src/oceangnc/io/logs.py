@@ -153,6 +153,35 @@ class LogWriter:
                 or len(self._buf["t"]) >= self.flush_rows):
             self.flush()
 
+    def append_rows(self, t, names: list[str], values) -> None:
+        """Add many samples at once: ``t`` (m,), ``values`` (m, len(names)) float64, columns named by ``names``.
+
+        The fused clock's log buffer goes through here (one list extension per column, not per row).
+        The column set must already be fixed by a first :meth:`append` and equal ``names`` (+ extras).
+        """
+        m = len(t)
+        if m == 0:
+            return
+        if self.columns is None:
+            raise ValueError("append_rows needs a first append() to fix the columns")
+        idx = {c: j for j, c in enumerate(names)}
+        ts = np.asarray(t, dtype=float).tolist()
+        if self._t0 is None:
+            self._t0 = ts[0]
+            self._t_flush = (math.floor(ts[0] / self.flush_period + 1e-9) + 1) * self.flush_period
+        self._buf["t"].extend(ts)
+        vals = np.asarray(values, dtype=float)
+        for c in self.columns[1:]:
+            if c in self.extra:
+                self._buf[c].extend([float(self.extra[c])] * m)
+            elif c in idx:
+                self._buf[c].extend(vals[:, idx[c]].tolist())
+            else:
+                self._buf[c].extend([np.nan] * m)
+        self.rows += m
+        if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
+            self.flush()
+
     def _table(self) -> pa.Table:
         return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
 

@@ -122,7 +122,9 @@ class FirstOrderConfig(StrictModel):
 
     def coefficients(self, u: float) -> dict:
         """K_v ((m/s)/rpm), T_v (s), K_r (1/s), T_r (s) at speed ``u`` (m/s), with the clamped schedule."""
-        kv, tv, kr, tr = schedule(float(u), self.params())
+        # the pure-Python twin of the compiled schedule: config validation must not call numba (it
+        # runs at import time for the scenario defaults, and a numba call costs ~1 s in a new process)
+        kv, tv, kr, tr = schedule.py_func(float(u), self.params())
         return {"K_v": kv, "T_v": tv, "K_r": kr, "T_r": tr}
 
     def trim_rpm(self, u: float) -> float:

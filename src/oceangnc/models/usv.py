@@ -197,6 +197,17 @@ class USVThrusters(Block):
         self.lo = -cfg.max_reverse_kgf * KGF
         self._curve = usv_thrust_from_voltage
 
+    def compiled(self):
+        """Compiled form for the fused loop (thrust mode; :func:`oceangnc.models._compiled.thrusters_step`)."""
+        if self.mode != "thrust":
+            return None
+        from ..core.fused import CompiledBlock
+        from ._compiled import thrusters_step
+
+        b = self.body
+        sig = ["_estop", f"{b}.thrust_port_cmd", f"{b}.thrust_stbd_cmd", f"{b}.thrust_port", f"{b}.thrust_stbd"]
+        return CompiledBlock(thrusters_step, sig, params=np.array([2.0, self.hi, self.lo]))
+
     def step(self, t: float, bus: dict) -> None:
         b = self.body
         for side in ("port", "stbd"):

@@ -475,6 +475,16 @@ class UUVThrusters(Block):
         self.hi = cfg.max_thrust_kgf * KGF
         self.lo = -cfg.max_reverse_kgf * KGF
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.models._compiled.thrusters_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import thrusters_step
+
+        b = self.body
+        sig = ["_estop", *(f"{b}.thrust_{s}_cmd" for s in ("port", "stbd", "bow")),
+               *(f"{b}.thrust_{s}" for s in ("port", "stbd", "bow"))]
+        return CompiledBlock(thrusters_step, sig, params=np.array([3.0, self.hi, self.lo]))
+
     def step(self, t: float, bus: dict) -> None:
         b = self.body
         stop = bus.get("_estop", False)

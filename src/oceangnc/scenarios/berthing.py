@@ -191,6 +191,8 @@ class BerthingScenario(Scenario):
         for i in range(runs):
             ctx.log.extra["run"] = float(i)
             sim = self.build(cfg, rngs[i])
+            sim.use_fused = ctx.fused
+            sim.verbose = ctx.verbose and i == 0
             t_end.append(sim.run(cfg.sim.duration, log=ctx.log, progress=ctx.progress))
         ctx.info["t_end"] = float(max(t_end))
         return {"runs": runs}

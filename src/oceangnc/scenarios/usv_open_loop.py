@@ -23,7 +23,7 @@ from typing import Literal
 from pydantic import Field
 
 from ..control.actuators import USVThrusterBlock
-from ..core.blocks import FunctionBlock
+from ..core.blocks import ConstantBlock
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..io.config import ScenarioConfig, StrictModel
@@ -61,15 +61,12 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
     c = cfg.command
     h = 1.0 / cfg.control_rate
 
-    def command(t, bus):
-        bus["usv.thrust_port_cmd"] = c.thrust_port_kgf * KGF
-        bus["usv.thrust_stbd_cmd"] = c.thrust_stbd_kgf * KGF
-        bus["usv.volt_port_cmd"] = c.volt_port
-        bus["usv.volt_stbd_cmd"] = c.volt_stbd
-
-    blocks = [*environment_blocks(cfg.environment), FunctionBlock(
-        "command", h, command, inputs={}, outputs={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N",
-                                                   "usv.volt_port_cmd": "V", "usv.volt_stbd_cmd": "V"}),
+    command = ConstantBlock("command", h, {"usv.thrust_port_cmd": c.thrust_port_kgf * KGF,
+                                           "usv.thrust_stbd_cmd": c.thrust_stbd_kgf * KGF,
+                                           "usv.volt_port_cmd": c.volt_port, "usv.volt_stbd_cmd": c.volt_stbd},
+                            units={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N",
+                                   "usv.volt_port_cmd": "V", "usv.volt_stbd_cmd": "V"})
+    blocks = [*environment_blocks(cfg.environment), command,
               USVThrusterBlock(cfg.usv, h, mode=c.mode)]
     return Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 

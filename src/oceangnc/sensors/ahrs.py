@@ -66,6 +66,22 @@ class AHRS(Block):
         self.mag = math.radians(c.mag_sigma_deg) * rng.standard_normal()
         self.gyro_bias = math.radians(c.gyro_bias_degps) * rng.uniform(-1.0, 1.0)
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.ahrs_step`)."""
+        if self.psi_f is None:
+            return None
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled import ahrs_step
+
+        c, b, o = self.cfg, self.body, self.name
+        pa = np.array([self.period, c.lag, c.mag_time_constant, math.radians(c.mag_sigma_deg),
+                       math.radians(c.yaw_noise_deg), self.gyro_bias, math.radians(c.gyro_noise_degps),
+                       math.radians(c.attitude_noise_deg)])
+        sig = [f"{b}.psi", f"{b}.r", f"?{b}.phi", f"?{b}.theta", f"{o}.psi", f"{o}.r", f"{o}.phi", f"{o}.theta"]
+        return CompiledBlock(ahrs_step, sig, np.array([self.psi_f, self.mag]), pa, rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         b = self.body

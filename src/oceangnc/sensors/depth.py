@@ -73,6 +73,19 @@ class DepthSensor(Block):
         v = min(FULL_SCALE_V, max(0.0, v))
         return round(v / ADC_LSB) * ADC_LSB
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.depth_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import depth_step
+
+        c = self.cfg
+        y = self.lp.y
+        pa = np.array([self.offset, self.gain, c.noise_v, self.c1, self.c0, self.lp.a, FULL_SCALE_V, ADC_LSB,
+                       RHO_WATER, G, FULL_SCALE_PA])
+        st = np.array([y if y is not None else 0.0, 0.0 if y is None else 1.0])
+        return CompiledBlock(depth_step, [f"{self.body}.z", "depth.volt", "depth.z_raw", "depth.z"], st, pa,
+                             rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         v = self.read_voltage(bus[f"{self.body}.z"])
         z = self.c1 * v + self.c0

@@ -108,6 +108,19 @@ class DropoutHold(Block):
         self.dropouts = 0
         self._ok = True
 
+    def compiled(self):
+        """Compiled form once a value is held (:func:`oceangnc.sensors._compiled.dropout_hold_step`)."""
+        if self.held is None:
+            return None
+        from ..core.fused import CompiledBlock
+        from ._compiled import dropout_hold_step
+
+        outs = list(self.signals)
+        st = np.array([*(self.held[o] for o in outs), self.t_fix, self.dropouts, 1.0 if self._ok else 0.0], float)
+        sig = [self.valid_key, *(self.signals[o] for o in outs), *(f"{self.out}.{o}" for o in outs),
+               f"{self.out}.ok", f"{self.out}.age", f"{self.out}.dropouts"]
+        return CompiledBlock(dropout_hold_step, sig, st, np.array([float(len(outs))]))
+
     def step(self, t: float, bus: dict) -> None:
         valid = bool(bus[self.valid_key])
         if valid or self.held is None:

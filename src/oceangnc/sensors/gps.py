@@ -91,6 +91,28 @@ class GPS(Block):
         self.bias[1] = a * self.bias[1] + q * w[1]
         return xt + self.bias[0] + c.jitter * w[2], yt + self.bias[1] + c.jitter * w[3]
 
+    def compiled(self):
+        """Compiled form for the fused loop, Gauss-Markov errors without outages
+        (:func:`oceangnc.sensors._compiled.gps_step`)."""
+        c = self.cfg
+        if self.cog is None or c.error_model == "white" or c.outages:
+            return None
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled import gps_step
+
+        n = self.hist.maxlen
+        ring = np.zeros(3 * n)
+        for j, row in enumerate(self.hist):
+            ring[3 * j:3 * j + 3] = row
+        st = np.concatenate([[self.bias[0], self.bias[1], self.cog, len(self.hist), 0.0], ring])
+        pa = np.array([self.period, c.bias_time_constant, self.sigma_b, c.jitter, c.min_track, c.hdop, n], float)
+        b, o = self.body, self.name
+        sig = [f"{b}.x", f"{b}.y", f"{o}.x", f"{o}.y", f"{o}.sog", f"{o}.cog", f"{o}.cog_valid", f"{o}.valid",
+               f"{o}.hdop"]
+        return CompiledBlock(gps_step, sig, st, pa, rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         n = self.name

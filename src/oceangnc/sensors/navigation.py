@@ -28,6 +28,15 @@ class USBLNavigation(Block):
         self.optional_inputs = {f"{usbl}.dn": "m", f"{usbl}.de": "m"}  # 0 until the first USBL fix
         self.outputs = {"nav.usv_x": "m", "nav.usv_y": "m", "nav.uuv_x": "m", "nav.uuv_y": "m", "nav.usv_u": "m/s"}
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.nav_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import nav_step
+
+        g, u = self.gps, self.usbl
+        return CompiledBlock(nav_step, [f"{g}.x", f"{g}.y", f"?{u}.dn", f"?{u}.de", f"{g}.sog",
+                                        "nav.usv_x", "nav.usv_y", "nav.uuv_x", "nav.uuv_y", "nav.usv_u"])
+
     def step(self, t: float, bus: dict) -> None:
         g, u = self.gps, self.usbl
         bus["nav.usv_x"] = bus[f"{g}.x"]

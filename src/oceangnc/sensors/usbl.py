@@ -73,6 +73,24 @@ class USBL(Block):
         c = self.cfg
         return c.dropout_start >= 0 and c.dropout_start <= t < c.dropout_start + c.dropout_duration
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.usbl_step`)."""
+        if self.last is None:
+            return None
+        import numpy as np
+
+        from ..core.fused import CompiledBlock
+        from ._compiled import usbl_step
+
+        c, a, b = self.cfg, self.top, self.bottom
+        st = np.array([self.lost, 1.0, *self.last], float)
+        pa = np.array([c.q_max, c.p_drop, c.dropout_start, c.dropout_duration, c.degraded_gain, c.range_resolution,
+                       math.radians(c.angle_resolution_deg)])
+        sig = [f"{b}.x", f"{a}.x", f"{b}.y", f"{a}.y", f"?{b}.z", f"?{a}.z",
+               *(f"usbl.{k}" for k in ("dn", "de", "dz", "range", "hrange", "bearing")), "usbl.valid",
+               "usbl.pings_lost"]
+        return CompiledBlock(usbl_step, sig, st, pa, rng=self.rng)
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a, b = self.top, self.bottom

@@ -25,7 +25,7 @@ def _cmd_sweep(args) -> int:
     try:
         res = run_sweep(design, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
                         retry_failed=args.retry_failed, plots=args.plots, keep=not args.no_keep,
-                        progress=not args.quiet)
+                        progress=not args.quiet, batch=args.batch)
     except KeyboardInterrupt:
         from pathlib import Path
 
@@ -98,6 +98,8 @@ def register(subparsers) -> None:
     p.add_argument("--plots", action="store_true", help="draw each run's PNG plots (off by default)")
     p.add_argument("--no-keep", action="store_true", help="delete each run's folder once its row is recorded")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--batch", type=int, default=1, metavar="K",
+                   help="runs per task, run as one compiled batch (oceangnc.run_batch; default 1)")
     p.set_defaults(func=_cmd_sweep)
 
     q = subparsers.add_parser("sweep-report", help="statistics per sweep point and plots of a sweep folder")

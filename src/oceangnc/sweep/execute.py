@@ -85,6 +85,49 @@ def run_one(task: dict) -> dict:
     return row
 
 
+def run_many(tasks: list[dict]) -> list[dict]:
+    """Run several tasks of one scenario as one compiled batch (:func:`oceangnc.batch.run_batch`);
+    a Dask task of ``oceangnc sweep --batch K``. Returns the rows :func:`run_one` would; never raises
+    (if the batch itself fails, its tasks are run one by one)."""
+    from ..batch import run_batch
+
+    if not tasks:
+        return []
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        summaries = run_batch(tasks[0]["scenario"], [t["overrides"] for t in tasks], config=tasks[0]["config"],
+                              out_dirs=[t["out_dir"] for t in tasks])
+    except Exception:  # noqa: BLE001 - fall back to one by one, which records each failure
+        return [run_one(t) for t in tasks]
+    wall, cpu = (time.perf_counter() - t0) / len(tasks), (time.process_time() - c0) / len(tasks)
+    rows = []
+    for task, summary in zip(tasks, summaries):
+        row = dict(task["row"])
+        status = summary.get("status", "failed")
+        error = _one_line(summary.get("error", "")) if status != "ok" else ""
+        for k, v in summary.items():
+            if k in ("scenario", "status", "error", "wall_time_s"):
+                continue
+            if k in FIXED_COLUMNS or k.startswith(PARAM):
+                k = f"metric.{k}"
+            row[k] = v if isinstance(v, (int, float, str, bool)) or v is None else json.dumps(v)
+        out_dir = Path(task["out_dir"])
+        if task.get("plots") and status == "ok":
+            from ..api import replot
+
+            replot(out_dir)
+        if not task.get("keep", True):
+            import shutil
+
+            shutil.rmtree(out_dir, ignore_errors=True)
+        row.update({"status": status, "error": error, "wall_time_s": wall, "cpu_time_s": cpu,
+                    "worker": f"{socket.gethostname()}:{os.getpid()}",
+                    "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+                    "out_dir": str(out_dir) if task.get("keep", True) else ""})
+        rows.append(row)
+    return rows
+
+
 def validate_design(design: Design) -> list[RunSpec]:
     """Check every point of ``design`` with ``resolve_config`` before any run; return the runs.
 
@@ -183,7 +226,7 @@ def _start_client(workers: int, scheduler: str | None):
 
 def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str | None = None,
               resume: bool = False, retry_failed: bool = False, plots: bool = False, keep: bool = True,
-              progress: bool = True) -> SweepResult:
+              progress: bool = True, batch: int = 1) -> SweepResult:
     """Validate, then run every run of ``design`` not yet in ``out``'s table; see the module docstring.
 
     Parameters
@@ -203,6 +246,9 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
         Draw each run's PNG plots; keep each run's folder (log, summary, config).
     progress : bool
         tqdm progress bar (runs done, failed, estimated time left) on stderr.
+    batch : int
+        Runs per task: with ``batch > 1`` each task runs that many runs as one compiled batch
+        (:func:`run_many`, :func:`oceangnc.batch.run_batch`); the rows are the same.
     """
     t_start = time.perf_counter()
     if scheduler is None and not 0 <= workers <= 512:
@@ -242,7 +288,14 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
             bar.update(len(rows))
 
     try:
-        if todo and scheduler is None and workers == 0:
+        if batch > 1:
+            groups = [todo[i:i + batch] for i in range(0, len(todo), batch)]
+            if groups and scheduler is None and workers == 0:
+                for g in groups:
+                    record(run_many([task(r) for r in g]))
+            elif groups:
+                _run_dask_batches(groups, task, record, workers, scheduler)
+        elif todo and scheduler is None and workers == 0:
             for r in todo:
                 record([run_one(task(r))])
         elif todo:
@@ -253,6 +306,43 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
         if todo:
             table.flush()
     return SweepResult(out, table.frame(), executed, skipped, time.perf_counter() - t_start)
+
+
+def _run_dask_batches(groups, task, record, workers, scheduler) -> None:
+    """Like :func:`_run_dask`, one Dask task per group of runs (:func:`run_many`)."""
+    from distributed import as_completed
+
+    client, cluster = _start_client(workers, scheduler)
+    futures = []
+    try:
+        token = uuid.uuid4().hex[:8]
+        by_key = {}
+        for g in groups:
+            fut = client.submit(run_many, [task(r) for r in g], key=f"oceangnc-batch-{g[0].run_id}-{token}", pure=False)
+            by_key[fut.key] = g
+            futures.append(fut)
+        for done in as_completed(futures).batches():
+            for fut in done:
+                try:
+                    rows = fut.result()
+                except Exception as e:  # noqa: BLE001 - worker lost: record every run of the group
+                    rows = []
+                    for r in by_key[fut.key]:
+                        row = task(r)["row"]
+                        row.update({"status": "failed", "error": _one_line(f"{type(e).__name__}: {e}"),
+                                    "wall_time_s": float("nan"), "cpu_time_s": float("nan"), "worker": "",
+                                    "out_dir": "", "finished_at": _dt.datetime.now(_dt.timezone.utc)
+                                    .isoformat(timespec="milliseconds")})
+                        rows.append(row)
+                fut.release()
+                record(rows)
+    finally:
+        for f in futures:
+            if not f.done():
+                f.cancel()
+        client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 def _run_dask(todo, task, record, workers, scheduler) -> None:

@@ -1,0 +1,195 @@
+"""Batches of runs in one compiled call: :func:`run_batch` (issue 19).
+
+K independent copies of a scenario -- each with its own overrides and seed -- are built in Python
+(their first tick runs there, as in :mod:`oceangnc.core.fused`), their fused loops' arrays are
+stacked run by run, and the generated ``drive_batch`` advances all of them with a numba ``prange``
+over runs, so the runs share the cores. Each run writes exactly what :func:`oceangnc.run` writes in
+its own folder (``config.toml``, ``log.parquet``, ``summary.json``); the logged numbers are those of
+the same run made alone (tested in ``tests/test_batch.py``). Runs are processed in chunks of
+``chunk`` to bound the memory of the log buffers. Scenarios without a fused path, or runs whose
+overrides change the loop's structure (e.g. the number of waypoints), are run one by one.
+
+A Dask sweep composes with it: each task can be one batch (``oceangnc.sweep`` is unchanged here).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .errors import DivergenceError
+
+
+def _same_structure(loops) -> bool:
+    f0 = loops[0]
+    if any(isinstance(v, np.random.Generator) for v in f0.args.values()):
+        return False
+    for f in loops[1:]:
+        if f.module is not f0.module or f.sig.size != f0.sig.size or f.log_signals != f0.log_signals:
+            return False
+        for a in f0.arg_names:
+            x, y = f0.args[a], f.args[a]
+            if isinstance(x, np.random.Generator):
+                return False  # per-run generators cannot be stacked: such runs go one by one
+            if isinstance(x, np.ndarray) and (not isinstance(y, np.ndarray) or x.shape != y.shape):
+                return False
+        if not np.array_equal(f.nbs, f0.nbs):
+            return False
+    return True
+
+
+def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: list[int] | None = None,
+              duration: float | None = None, out: str | Path | None = None, threads: int | None = None,
+              chunk: int = 64, config: str | Path | dict | None = None,
+              out_dirs: list[str | Path] | None = None) -> list[dict]:
+    """Run K copies of ``scenario`` in compiled batches; returns the K summaries (as ``summary.json``).
+
+    Parameters
+    ----------
+    overrides_list : list of dict, optional
+        Config overrides per run (dotted or nested keys); default K = len(seeds) runs of the defaults.
+    seeds : list of int, optional
+        ``sim.seed`` per run (default: the config's own).
+    duration : float, optional
+        Simulated time of every run (s).
+    out : path, optional
+        Batch folder; run i writes ``out/run-<i>`` (default ``runs/batch-<scenario>-<time>``).
+    threads : int, optional
+        Numba threads for the prange over runs (default: numba's default, all cores).
+    chunk : int
+        Runs stacked per compiled call.
+    config : path or dict, optional
+        A TOML file or dict merged over the defaults of every run (as in :func:`oceangnc.run`).
+    out_dirs : list of path, optional
+        Each run's own folder instead of ``out/run-<i>`` (the sweep's layout).
+    """
+    from .api import _jsonable, new_run_dir, resolve_config
+    from .io.config import dump_toml
+    from .io.logs import LogWriter
+    from .scenarios.base import RunContext
+
+    if overrides_list is None and seeds is None:
+        raise ValueError("run_batch: give overrides_list or seeds")
+    n = len(overrides_list) if overrides_list is not None else len(seeds)
+    if seeds is not None and len(seeds) != n:
+        raise ValueError(f"run_batch: {len(seeds)} seeds for {n} override sets")
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(int(threads))
+    if out_dirs is not None and len(out_dirs) != n:
+        raise ValueError(f"run_batch: {len(out_dirs)} out_dirs for {n} runs")
+    out_dir = Path(out) if out is not None else (None if out_dirs is not None
+                                                 else new_run_dir("runs", f"batch-{scenario}"))
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    summaries: list[dict] = [{} for _ in range(n)]
+    for c0 in range(0, n, chunk):
+        idx = list(range(c0, min(n, c0 + chunk)))
+        runs = []
+        for i in idx:
+            over = dict((overrides_list or [{}] * n)[i])
+            if seeds is not None:
+                over["sim.seed"] = int(seeds[i])
+            sc, cfg = resolve_config(scenario, config=config, overrides=over, duration=duration)
+            d = Path(out_dirs[i]) if out_dirs is not None else out_dir / f"run-{i:05d}"
+            d.mkdir(parents=True, exist_ok=True)
+            dump_toml(cfg, d / "config.toml")
+            log = LogWriter(d / "log.parquet")
+            ctx = RunContext(out_dir=d, log=log, rng=np.random.default_rng(cfg.sim.seed))
+            runs.append({"i": i, "sc": sc, "cfg": cfg, "dir": d, "log": log, "ctx": ctx, "t0": time.perf_counter(),
+                         "error": None})
+        _run_chunk(runs)
+        for r in runs:
+            sc, cfg, d = r["sc"], r["cfg"], r["dir"]
+            summary: dict = {"scenario": sc.name}
+            r["log"].close()
+            if r["error"] is not None:
+                e = r["error"]
+                summary.update({"status": "diverged", "error": str(e), "duration_s": e.t,
+                                "wall_time_s": time.perf_counter() - r["t0"]})
+            else:
+                import pyarrow.parquet as pq
+
+                df = pq.read_table(d / "log.parquet").to_pandas()
+                metrics = dict(r.get("metrics") or {})
+                metrics.update(sc.summarize(df, cfg))
+                summary.update({k: _jsonable(v) for k, v in metrics.items()})
+                summary.setdefault("duration_s", float(r["ctx"].info.get("t_end", cfg.sim.duration)))
+                summary["status"] = "ok"
+                summary["wall_time_s"] = time.perf_counter() - r["t0"]
+            (d / "summary.json").write_text(json.dumps(summary, indent=2))
+            summaries[r["i"]] = summary
+    return summaries
+
+
+def _run_chunk(runs: list[dict]) -> None:
+    """Build every run's simulation, run the fused ones stacked, the others one by one."""
+    sims = []
+    for r in runs:
+        sim = r["sc"].build(r["cfg"], r["ctx"].rng)
+        sim.use_fused = True
+        try:
+            sim.run(0.0, log=r["log"])  # first tick in Python, fused loop built
+        except DivergenceError as e:
+            r["error"] = e
+        sims.append(sim)
+    fused = [i for i, s in enumerate(sims) if s.path == "fused" and runs[i]["error"] is None]
+    loops = [sims[i]._fused for i in fused]
+    durations = {runs[i]["cfg"].sim.duration for i in fused}
+    dts = {(sims[i].dt, sims[i].tick, sims[i].log_steps) for i in fused}
+    if not fused or not _same_structure(loops) or len(durations) != 1 or len(dts) != 1:
+        fused = []
+    for i, (r, sim) in enumerate(zip(runs, sims)):
+        if i not in fused and r["error"] is None:
+            try:
+                r["ctx"].simulate(sim, r["cfg"].sim.duration)
+            except DivergenceError as e:
+                r["error"] = e
+    if not fused:
+        return
+    f0 = loops[0]
+    s0 = sims[fused[0]]
+    K = len(fused)
+    n_end = s0.k + int(round(durations.pop() / s0.dt))
+    SIG = np.ascontiguousarray(np.stack([f.sig for f in loops]))
+    B = []
+    for a in f0.arg_names:
+        if isinstance(f0.args[a], np.ndarray):
+            B.append(np.ascontiguousarray(np.stack([f.args[a] for f in loops])))
+        else:
+            B.append(np.array([f.args[a] for f in loops]))
+    cap = 2000
+    BUF = np.empty((K, cap, len(f0.log_slots) + 1))
+    OUT = np.zeros((K, 6))
+    active = np.ones(K, dtype=np.int64)
+    ks = np.array([sims[i].k for i in fused], dtype=np.int64)
+    dones = np.array([sims[i]._done_k for i in fused], dtype=np.int64)
+    while active.any():
+        f0.module.drive_batch(active, ks, dones, n_end, s0.tick, s0.dt, SIG, f0.stop_slot, True, s0.log_steps,
+                              f0.log_slots, f0.nan_ok, BUF, 1 << 62, f0.nbs, *B, OUT)
+        for j in np.flatnonzero(active):
+            ks[j], dones[j] = int(OUT[j, 0]), int(OUT[j, 1])
+            rows, status = int(OUT[j, 2]), int(OUT[j, 3])
+            r = runs[fused[j]]
+            if rows:
+                r["log"].append_rows(BUF[j, :rows, 0], f0.log_signals, BUF[j, :rows, 1:])
+            if status in (0, 2, 3):
+                active[j] = 0
+                sim = sims[fused[j]]
+                fz = loops[j]
+                fz.sig[:] = SIG[j]
+                for a, arr in zip(f0.arg_names, B):
+                    if isinstance(fz.args[a], np.ndarray):
+                        fz.args[a][:] = arr[j]
+                sim.k, sim._done_k = int(ks[j]), int(dones[j])
+                sim.t = sim._done_k * sim.dt
+                if status == 0:
+                    fz.to_bus(sim.bus)
+                    sim.t = sim.k * sim.dt
+                    r["ctx"].info["t_end"] = sim.t
+                else:
+                    r["error"] = sim._fused_error(status, int(OUT[j, 4]), float(OUT[j, 5]))

@@ -1,0 +1,364 @@
+"""The fused closed loop: every block and plant of a simulation in one compiled call (issue 19).
+
+The Python clock (:mod:`oceangnc.core.clock`) costs ~37 us per tick in block calls and string-keyed
+bus reads and writes. When every block of a simulation has a *compiled form* (its ``compiled()``
+method returns a :class:`CompiledBlock`) and every plant has one (:func:`plant_form`), the clock
+runs the loop fused instead:
+
+* the signals live in one float64 array; each block's signals are resolved to slot numbers once,
+  when the fused loop is built (names from the bus after the first tick, which the Python path
+  handles, so the log columns are exactly those of the Python path);
+* a driver is generated as Python source -- one ``@njit(cache=True)`` function that, tick by tick,
+  calls each block's kernel ``kernel(t, sig, slots, state, params)`` at its period, logs a row into a
+  preallocated buffer, then reads the plants' inputs, advances them with their compiled steppers
+  and publishes their outputs -- and cached on disk under
+  :func:`oceangnc.core.integrators.stepper_cache_dir`, keyed by a hash of its source (the block
+  kinds, their order and the plants);
+* the buffer is handed to the :class:`~oceangnc.io.logs.LogWriter` in blocks of rows
+  (:meth:`~oceangnc.io.logs.LogWriter.append_rows`), so no Python code runs per tick.
+
+The kernels repeat the Python blocks' arithmetic operation for operation; ``tests/test_fused.py``
+checks that both paths give the same log. Divergence (a non-finite logged signal, a plant above its
+state bound) raises the same :class:`~oceangnc.errors.DivergenceError` as the Python path.
+
+A block without a compiled form (a user's Python block, a :class:`~oceangnc.core.blocks.FunctionBlock`,
+a sensor drawing random numbers) makes :func:`build_fused` return the reason, and the clock keeps
+the Python path (``oceangnc run --verbose`` says so once). After a fused run the Python block
+objects keep their state of the first tick: the fused state lives in the loop's arrays.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class CompiledBlock:
+    """A block's compiled form.
+
+    ``kernel`` is a module-level ``@njit`` function ``kernel(t, sig, slots, state, params)``;
+    ``signals`` the names of the signals it reads and writes, in the kernel's slot order (a name
+    starting with ``?`` is an optional input: slot -1 when nobody writes it, and the kernel uses the
+    Python block's default); ``state`` and ``params`` flat float64 arrays (``state`` is updated in
+    place by the kernel).
+    """
+
+    kernel: object
+    signals: list[str]
+    state: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    params: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    rng: object = None  # the block's numpy Generator, passed as the kernel's 6th argument (sensors)
+
+
+@dataclass
+class PlantForm:
+    """A plant's part of the fused driver: imports, array arguments and source lines.
+
+    In ``code``, ``{name}`` stands for the argument ``name`` of ``args`` (made unique per plant);
+    the lines may use ``t``, ``dt``, ``n`` (steps this tick) and ``sig``, and must set ``tn`` to the
+    stepper's return value (negative on divergence).
+    """
+
+    imports: list[str]
+    args: dict
+    code: list[str]
+
+
+def _kernel_ref(fn) -> tuple[str, str]:
+    mod = getattr(fn, "__module__", None)
+    name = getattr(getattr(fn, "py_func", fn), "__name__", None)
+    return mod, name
+
+
+def plant_bus_keys(slot_of) -> set:
+    """Names the signal array carries (the bus's numeric keys and the blocks' signals)."""
+    return set(getattr(slot_of, "names", ()))
+
+
+def plant_form(plant, slot_of) -> PlantForm | None:
+    """The compiled form of a plant, or None. ``slot_of(name)`` gives a signal's slot."""
+    own = getattr(plant, "compiled_form", None)
+    if own is not None:
+        return own(slot_of)
+    from .blocks import Plant
+    from .integrators import rk4_stepper
+
+    uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
+    args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound),
+            "uin": uin}
+    read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
+    cls = type(plant).__name__
+    if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split"):
+        out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
+        args.update({"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out,
+                     "oslots": out})
+        if plant.integrator == "rk4-split":
+            imports = ["from oceangnc.models.combined import split_advance as {adv}"]
+        else:
+            rhs_mod, rhs_name = _kernel_ref(plant.rhs)
+            imports = ["from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+                       f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
+                       "{adv} = _rk4_stepper(_rhs_{adv})"]
+        imports.append("from oceangnc.models.combined import _fill_outputs")
+        code = [*read,
+                "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+                "{ends}[6] = {u}[2]",
+                "{ends}[7] = {u}[3]",
+                "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
+                "for j in range({oslots}.size):",
+                "    sig[{oslots}[j]] = {out}[j]"]
+        return PlantForm(imports, args, code)
+    if type(plant).advance is not Plant.advance:
+        return None  # a plant with its own integration scheme we do not know
+    rhs_mod, rhs_name = _kernel_ref(plant.rhs)
+    if rhs_mod is None or rhs_name is None or "<" in rhs_name:
+        return None
+    imports = ["from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+               f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
+               "{adv} = _rk4_stepper(_rhs_{adv})"]
+    names = [f"{plant.name}.{k}" for k in plant.state_names]
+    if cls == "ShipPlant":
+        names += ["ship.speed", "ship.u_r", "ship.v_r"]
+        names = [f"{plant.name}.{k}" for k in ("x", "y", "psi", "u", "v", "r", "rudder", "rpm_prop", "rpm_bow",
+                                               "rpm_stern", "speed", "u_r", "v_r")]
+        imports.append("from oceangnc.models._compiled import ship_publish as _pub_{adv}")
+        slots = [slot_of(k) for k in names] + [slot_of(k) if k in plant_bus_keys(slot_of) else -1
+                                                for k in ("env.current_n", "env.current_e")]
+        args["oslots"] = np.array(slots, dtype=np.int64)
+        code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
+        return PlantForm(imports, args, code)
+    if cls == "USVPlant":
+        names += [f"{plant.name}.speed"]
+        imports.append("from oceangnc.models._compiled import usv_publish as _pub_{adv}")
+    elif type(plant).publish is Plant.publish:
+        imports.append("from oceangnc.models._compiled import states_publish as _pub_{adv}")
+    else:
+        return None
+    args["oslots"] = np.array([slot_of(k) for k in names], dtype=np.int64)
+    code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
+    return PlantForm(imports, args, code)
+
+
+_HEAD = '''\
+# Generated by oceangnc.core.fused; do not edit. Cached numba driver of one fused closed loop.
+import math
+
+from numba import njit, prange
+
+{imports}
+
+
+@njit(cache=True)
+def drive(k, done_k, n_end, tick, dt, sig, stop_slot, log_on, log_steps, log_slots, nan_ok, buf, max_ticks, nbs{args}):
+    """Run ticks from step k; returns (k, done_k, rows, status, info, t_new).
+
+    status 0: end or _stop reached; 1: log buffer full; 2: non-finite logged signal (info: column);
+    3: plant info diverged (t_new its stepper's return); 4: max_ticks ticks done.
+    """
+    row = 0
+    ticks = 0
+    cap = buf.shape[0]
+    while True:
+        t = k * dt
+        fresh = k != done_k
+        if fresh and log_on and k % log_steps == 0 and row >= cap:
+            return k, done_k, row, 1, 0, 0.0
+        if fresh and ticks >= max_ticks:
+            return k, done_k, row, 4, 0, 0.0
+        done_k = k
+        if fresh:
+            ticks += 1
+{blocks}
+            if log_on and k % log_steps == 0:
+                buf[row, 0] = t
+                bad = -1
+                for j in range(log_slots.size):
+                    val = sig[log_slots[j]]
+                    buf[row, j + 1] = val
+                    if bad < 0 and not math.isfinite(val) and nan_ok[j] == 0:
+                        bad = j
+                row += 1
+                if bad >= 0:
+                    return k, done_k, row, 2, bad, 0.0
+        if k >= n_end or sig[stop_slot] != 0.0:
+            return k, done_k, row, 0, 0, 0.0
+        n = min(tick, n_end - k)
+{plants}
+        k += n
+
+
+@njit(parallel=True, cache=True)
+def drive_batch(active, ks, done_ks, n_end, tick, dt, SIG, stop_slot, log_on, log_steps, log_slots, nan_ok, BUF,
+                max_ticks, nbs{bargs}, OUT):
+    """:func:`drive` for K independent runs in parallel (numba prange over runs); results in OUT (K, 6)."""
+    for r in prange(active.size):
+        if active[r] == 0:
+            OUT[r, 2] = 0.0
+            OUT[r, 3] = 0.0
+            continue
+        res = drive(ks[r], done_ks[r], n_end, tick, dt, SIG[r], stop_slot, log_on, log_steps, log_slots, nan_ok,
+                    BUF[r], max_ticks, nbs{bcall})
+        OUT[r, 0] = res[0]
+        OUT[r, 1] = res[1]
+        OUT[r, 2] = res[2]
+        OUT[r, 3] = res[3]
+        OUT[r, 4] = res[4]
+        OUT[r, 5] = res[5]
+'''
+
+
+class FusedLoop:
+    """A built fused loop of one :class:`~oceangnc.core.clock.Simulation` (see the module docstring)."""
+
+    def __init__(self, sim, forms: list[CompiledBlock]):
+        bus = sim.bus
+        names = sorted(k for k, v in bus.items() if _numeric(v))
+        for f in forms:
+            for s in f.signals:
+                if not s.startswith("?") and s not in names:
+                    names.append(s)
+        for s in ("_stop", "_estop"):
+            if s not in names:
+                names.append(s)
+        self.names = names
+        self.slot = {k: i for i, k in enumerate(names)}
+        self.sig = np.array([float(bus.get(k, 0.0)) if _numeric(bus.get(k, 0.0)) else 0.0 for k in names])
+        self.had = {k for k in names if k in bus}
+
+        def slot_of(name: str) -> int:
+            if name not in self.slot:
+                self.slot[name] = len(self.names)
+                self.names.append(name)
+                self.sig = np.append(self.sig, float(bus.get(name, 0.0)))
+            return self.slot[name]
+
+        slot_of.names = self.slot
+        args: dict = {}
+        imports: list[str] = []
+        block_lines: list[str] = []
+        for i, (b, f, nb) in enumerate(zip(sim.blocks, forms, sim.block_steps)):
+            mod, name = _kernel_ref(f.kernel)
+            alias = f"_k{i}"
+            imports.append(f"from {mod} import {name} as {alias}")
+            slots = np.array([(self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus) else -1)
+                              if s.startswith("?") else slot_of(s) for s in f.signals], dtype=np.int64)
+            args[f"sl{i}"] = slots
+            args[f"st{i}"] = np.ascontiguousarray(f.state, dtype=np.float64)
+            args[f"pa{i}"] = np.ascontiguousarray(f.params, dtype=np.float64)
+            rg = ""
+            if f.rng is not None:
+                args[f"rg{i}"] = f.rng
+                rg = f", rg{i}"
+            block_lines += [f"            if k % nbs[{i}] == 0:",
+                            f"                {alias}(t, sig, sl{i}, st{i}, pa{i}{rg})"]
+        plant_lines: list[str] = []
+        self.plant_forms = []
+        for j, pl in enumerate(sim.plants):
+            pf = plant_form(pl, slot_of)
+            if pf is None:
+                raise _NoFused(f"plant '{pl.name}' ({type(pl).__name__}) has no compiled form")
+            sub = {a: f"p{j}_{a}" for a in pf.args}
+            sub["adv"] = f"_adv{j}"
+            for line in pf.imports:
+                imports.append(line.format(**sub))
+            for a, v in pf.args.items():
+                args[sub[a]] = v
+            for line in pf.code:
+                plant_lines.append("        " + line.format(**sub))
+            plant_lines += ["        if tn < 0.0:", f"            return k, done_k, row, 3, {j}, tn"]
+        self.stop_slot = self.slot["_stop"]
+        self.nbs = np.array(sim.block_steps, dtype=np.int64)
+        self.arg_names = list(args)
+        self.args = args
+        arg_src = "".join(f", {a}" for a in self.arg_names)
+        bargs = "".join(f", B_{a}" for a in self.arg_names)
+        bcall = "".join(f", B_{a}[r]" for a in self.arg_names)
+        self.source = _HEAD.format(imports="\n".join(dict.fromkeys(imports)), args=arg_src, bargs=bargs, bcall=bcall,
+                                   blocks="\n".join(block_lines), plants="\n".join(plant_lines))
+        # numba's cache does not follow callees: fingerprint the kernels' and plants' sources, so an
+        # edited kernel regenerates (and recompiles) the driver
+        import sys as _sys
+
+        fp = hashlib.sha1()
+        for line in dict.fromkeys(imports):
+            mod = _sys.modules.get(line.split()[1])
+            f = getattr(mod, "__file__", None)
+            if f:
+                with open(f, "rb") as fh:
+                    fp.update(fh.read())
+        self.source = f"# kernels fingerprint: {fp.hexdigest()[:16]}\n" + self.source
+        from .integrators import load_generated
+
+        digest = hashlib.sha1(self.source.encode()).hexdigest()[:16]
+        self.module = load_generated(f"fused_{digest}", self.source)
+        self.drive = self.module.drive
+        self.log_slots = None
+        self.nan_ok = None
+
+    def set_log(self, log_signals) -> None:
+        self.log_signals = list(log_signals)
+        self.log_slots = np.array([self.slot[k] if k in self.slot else self._extra(k) for k in self.log_signals],
+                                  dtype=np.int64)
+        self.nan_ok = np.array([1 if k.endswith("_nan_ok") else 0 for k in self.log_signals], dtype=np.int64)
+
+    def _extra(self, k):
+        # a logged name that no slot carries (not numeric on the bus): logged as NaN like the Python path
+        self.slot[k] = len(self.names)
+        self.names.append(k)
+        self.sig = np.append(self.sig, np.nan)
+        return self.slot[k]
+
+    def to_bus(self, bus: dict) -> None:
+        """Copy the signal array back onto the bus (after each fused call)."""
+        vals = self.sig.tolist()
+        for k, v in zip(self.names, vals):
+            if k in ("_stop", "_estop"):
+                if v != 0.0 or k in self.had:
+                    bus[k] = bool(v)
+            else:
+                bus[k] = v
+
+    def from_bus(self, bus: dict) -> None:
+        """Copy numeric bus values into the signal array (values injected between runs)."""
+        for k, v in bus.items():
+            i = self.slot.get(k)
+            if i is not None and _numeric(v):
+                self.sig[i] = float(v)
+
+
+class _NoFused(Exception):
+    pass
+
+
+def _numeric(v) -> bool:
+    return isinstance(v, (int, float, bool, np.floating, np.integer, np.bool_))
+
+
+def build_fused(sim):
+    """``(FusedLoop, None)`` when every block and plant of ``sim`` has a compiled form, else ``(None, reason)``."""
+    forms = []
+    for b in sim.blocks:
+        fn = getattr(b, "compiled", None)
+        f = fn() if fn is not None else None
+        if f is None:
+            return None, f"block '{b.name}' ({type(b).__name__}) has no compiled form"
+        forms.append(f)
+    for k, v in sim.bus.items():
+        if not _numeric(v) and k in ("console.mode",):
+            return None, f"signal '{k}' = {v!r} (console modes run on the Python path)"
+    try:
+        return FusedLoop(sim, forms), None
+    except _NoFused as e:
+        return None, str(e)
+
+
+def log_rows_capacity(sim) -> int:
+    """Rows of the log buffer: a few row groups' worth, at least 1."""
+    return 2000
+
+
+__all__ = ["CompiledBlock", "PlantForm", "FusedLoop", "build_fused", "plant_form", "math"]

@@ -1,0 +1,146 @@
+"""Compiled forms of the guidance blocks (kernel convention: :mod:`oceangnc.control._compiled`)."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+
+@njit(cache=True)
+def _wrap_pi(a):
+    w = (a + math.pi) % (2.0 * math.pi) - math.pi
+    return math.pi if w == -math.pi else w
+
+
+@njit(cache=True)
+def _closest_s(p0, p1, a0, a1, b0, b1):
+    t0 = b0 - a0
+    t1 = b1 - a1
+    L = math.hypot(t0, t1)
+    t0 = t0 / L
+    t1 = t1 / L
+    w0 = p0 - a0
+    w1 = p1 - a1
+    s = w0 * t0 + w1 * t1
+    e = -t1 * w0 + t0 * w1
+    return s, e
+
+
+@njit(cache=True)
+def pure_pursuit_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.guidance.pure_pursuit.PurePursuit` (003 table 3-1, eq. 3.5).
+
+    slots: pos_n, pos_e, psi | guidance.psi_d, turn_radius, cross_track, leg, wp_reached,
+    lookahead_n, lookahead_e, done, _stop. state: leg, reached, done, started.
+    params: l, acceptance, stop_at_end, n, waypoints (n x 2, row-major).
+    """
+    p0 = sig[sl[0]]
+    p1 = sig[sl[1]]
+    psi = sig[sl[2]]
+    n = int(pa[3])
+    leg = int(st[0])
+    reached = st[1]
+    done = st[2] != 0.0
+    if st[3] == 0.0:
+        st[3] = 1.0
+        if math.hypot(p0 - pa[4], p1 - pa[5]) <= pa[1]:
+            reached = 1.0
+    while not done:
+        a0, a1 = pa[4 + 2 * leg], pa[5 + 2 * leg]
+        b0, b1 = pa[6 + 2 * leg], pa[7 + 2 * leg]
+        s, e = _closest_s(p0, p1, a0, a1, b0, b1)
+        L = math.hypot(b0 - a0, b1 - a1)
+        last = leg + 1 == n - 1
+        near = math.hypot(p0 - b0, p1 - b1) <= pa[1]
+        if near or (not last and s >= L):
+            reached += 1.0
+            if last:
+                done = True
+            else:
+                leg += 1
+            continue
+        break
+    a0, a1 = pa[4 + 2 * leg], pa[5 + 2 * leg]
+    b0, b1 = pa[6 + 2 * leg], pa[7 + 2 * leg]
+    last = leg + 1 == n - 1
+    # look_ahead_point
+    s, e = _closest_s(p0, p1, a0, a1, b0, b1)
+    L = math.hypot(b0 - a0, b1 - a1)
+    t0 = (b0 - a0) / L
+    t1 = (b1 - a1) / L
+    lk = pa[0]
+    ds = math.sqrt(lk * lk - e * e) if abs(e) < lk else 0.0
+    sg = s + ds
+    if last and sg > L:
+        sg = L
+    g0 = a0 + sg * t0
+    g1 = a1 + sg * t1
+    # pursuit_command
+    dn = g0 - p0
+    de = g1 - p1
+    psi_d = math.atan2(de, dn)
+    ll = math.hypot(dn, de)
+    d = -math.sin(psi) * dn + math.cos(psi) * de
+    R = math.inf if d == 0.0 else ll * ll / (2.0 * d)
+    if done:
+        psi_d = sig[sl[3]]
+    st[0] = leg
+    st[1] = reached
+    st[2] = 1.0 if done else 0.0
+    sig[sl[3]] = psi_d
+    sig[sl[4]] = max(-1e6, min(1e6, R))
+    sig[sl[5]] = e
+    sig[sl[6]] = float(leg)
+    sig[sl[7]] = reached
+    sig[sl[8]] = g0
+    sig[sl[9]] = g1
+    sig[sl[10]] = 1.0 if done else 0.0
+    if done and pa[2] != 0.0:
+        sig[sl[11]] = 1.0
+
+
+@njit(cache=True)
+def leader_follower_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.guidance.leader_follower.LeaderFollower` (003 eq. 3.7-3.9).
+
+    slots: xl, yl, psil, xf, yf, psif | lf.lx, ly, range, bearing, lx_d, ly_d, target_n, target_e,
+    e_x, e_y, rel_heading_err, los, los_err, outside, psi_d. params: lx_d, ly_d, R, relative-angle (1/0).
+    """
+    xl = sig[sl[0]] if sl[0] >= 0 else 0.0
+    yl = sig[sl[1]] if sl[1] >= 0 else 0.0
+    psil = sig[sl[2]] if sl[2] >= 0 else 0.0
+    xf = sig[sl[3]] if sl[3] >= 0 else 0.0
+    yf = sig[sl[4]] if sl[4] >= 0 else 0.0
+    psif = sig[sl[5]] if sl[5] >= 0 else 0.0
+    dx = xl - xf
+    dy = yl - yf
+    c = math.cos(psil)
+    s = math.sin(psil)
+    lx = -dx * c - dy * s
+    ly = dx * s - dy * c
+    rng = math.hypot(lx, ly)
+    lam = math.atan2(ly, lx) % (2.0 * math.pi)
+    lx_d = pa[0]
+    ly_d = pa[1]
+    tn = xl + c * lx_d - s * ly_d
+    te = yl + s * lx_d + c * ly_d
+    cf, sf = math.cos(psif), math.sin(psif)
+    dn, de = tn - xf, te - yf
+    los = math.atan2(yl - yf, xl - xf)
+    outside = rng > pa[2] and pa[3] == 0.0
+    sig[sl[6]] = lx
+    sig[sl[7]] = ly
+    sig[sl[8]] = rng
+    sig[sl[9]] = lam
+    sig[sl[10]] = lx_d
+    sig[sl[11]] = ly_d
+    sig[sl[12]] = tn
+    sig[sl[13]] = te
+    sig[sl[14]] = cf * dn + sf * de
+    sig[sl[15]] = -sf * dn + cf * de
+    sig[sl[16]] = _wrap_pi(psil - psif)
+    sig[sl[17]] = los
+    sig[sl[18]] = _wrap_pi(los - psif)
+    sig[sl[19]] = 1.0 if outside else 0.0
+    sig[sl[20]] = los if outside else psil

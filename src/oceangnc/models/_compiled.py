@@ -1,0 +1,96 @@
+"""Compiled forms of actuator blocks, environment blocks and plant outputs for the fused loop.
+
+Kernel convention: :mod:`oceangnc.control._compiled`. Plants are integrated in the fused loop with
+their own compiled steppers; what is here publishes their outputs into the signal array in the
+order of the Python ``publish``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+
+@njit(cache=True)
+def thrusters_step(t, sig, sl, st, pa):
+    """USV/UUV thruster blocks in thrust mode: saturate each command, zero all on ``_estop``.
+
+    slots: _estop, cmd_0..cmd_{m-1}, out_0..out_{m-1}; params: m, hi, lo.
+    """
+    m = int(pa[0])
+    stop = sig[sl[0]] != 0.0
+    for i in range(m):
+        thrust = 0.0 if stop else sig[sl[1 + i]]
+        sig[sl[1 + m + i]] = min(pa[1], max(pa[2], thrust))
+
+
+@njit(cache=True)
+def constant_current_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.environment.OceanCurrent` with ``model = "constant"``: params speed, direction (rad)."""
+    sig[sl[0]] = pa[0] * math.cos(pa[1])
+    sig[sl[1]] = pa[0] * math.sin(pa[1])
+    sig[sl[2]] = pa[0]
+    sig[sl[3]] = math.degrees(pa[1])
+
+
+@njit(cache=True)
+def steady_wind_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.environment.Wind` without gusts: params speed, direction from (deg)."""
+    speed = max(0.0, pa[0] + 0.0)
+    to = math.radians(pa[1]) + math.pi
+    sig[sl[0]] = speed * math.cos(to)
+    sig[sl[1]] = speed * math.sin(to)
+    sig[sl[2]] = speed
+    sig[sl[3]] = pa[1]
+
+
+@njit(cache=True)
+def constant_step(t, sig, sl, st, pa):
+    """A block writing constants: ``sig[sl[i]] = pa[i]``."""
+    for i in range(sl.size):
+        sig[sl[i]] = pa[i]
+
+
+@njit(cache=True)
+def scatter(out, sig, slots):
+    """``sig[slots[i]] = out[i]``."""
+    for i in range(slots.size):
+        sig[slots[i]] = out[i]
+
+
+@njit(cache=True)
+def usv_publish(x, sig, slots):
+    """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
+    for i in range(6):
+        sig[slots[i]] = x[i]
+    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[6]] = math.hypot(x[3], x[4])
+
+
+@njit(cache=True)
+def states_publish(x, sig, slots):
+    """:meth:`oceangnc.core.blocks.Plant.publish`: every state."""
+    for i in range(x.size):
+        sig[slots[i]] = x[i]
+
+
+@njit(cache=True)
+def ship_publish(x, sig, slots):
+    """:meth:`oceangnc.models.ship_lowspeed.ShipPlant.publish`; slots 13, 14: the current (or -1)."""
+    sig[slots[0]] = x[0]
+    sig[slots[1]] = x[1]
+    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[3]] = x[3]
+    sig[slots[4]] = x[4]
+    sig[slots[5]] = x[5]
+    sig[slots[6]] = x[6]
+    sig[slots[7]] = x[7] * 60.0
+    sig[slots[8]] = x[8] * 60.0
+    sig[slots[9]] = x[9] * 60.0
+    sig[slots[10]] = math.hypot(x[3], x[4])
+    c, s = math.cos(x[2]), math.sin(x[2])
+    cn = sig[slots[13]] if slots[13] >= 0 else 0.0
+    ce = sig[slots[14]] if slots[14] >= 0 else 0.0
+    sig[slots[11]] = x[3] - (c * cn + s * ce)
+    sig[slots[12]] = x[4] - (-s * cn + c * ce)

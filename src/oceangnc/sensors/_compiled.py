@@ -1,0 +1,208 @@
+"""Compiled forms of the sensor blocks (kernel convention: :mod:`oceangnc.control._compiled`).
+
+Sensor kernels take a seventh argument, the block's own ``numpy.random.Generator`` (numba draws
+from the very same generator object with NumPy's algorithms), and make the same draws in the same
+order as the Python blocks, so noise and dropouts are identical on both paths for a given seed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _wrap(a):
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+@njit(cache=True)
+def _get(sig, s, default):
+    return sig[s] if s >= 0 else default
+
+
+@njit(cache=True)
+def gps_step(t, sig, sl, st, pa, rng):
+    """:class:`oceangnc.sensors.gps.GPS` (003 ch. 6.1.1).
+
+    slots: body.x, body.y | x, y, sog, cog, cog_valid, valid, hdop. state: bias n, bias e, cog,
+    count, head, then the track history ring (t, x, y) x n. params: period, bias time constant,
+    sigma_b, jitter, min_track, hdop, n.
+    """
+    a = math.exp(-pa[0] / pa[1])
+    q = pa[2] * math.sqrt(1.0 - a * a)
+    w0 = rng.standard_normal()
+    w1 = rng.standard_normal()
+    w2 = rng.standard_normal()
+    w3 = rng.standard_normal()
+    st[0] = a * st[0] + q * w0
+    st[1] = a * st[1] + q * w1
+    x = sig[sl[0]] + st[0] + pa[3] * w2
+    y = sig[sl[1]] + st[1] + pa[3] * w3
+    n = int(pa[6])
+    count = int(st[3])
+    head = int(st[4])
+    if count < n:
+        j = (head + count) % n
+        count += 1
+    else:
+        j = head
+        head = (head + 1) % n
+    st[5 + 3 * j] = t
+    st[6 + 3 * j] = x
+    st[7 + 3 * j] = y
+    st[3] = count
+    st[4] = head
+    t0 = st[5 + 3 * head]
+    x0 = st[6 + 3 * head]
+    y0 = st[7 + 3 * head]
+    dn, de = x - x0, y - y0
+    dist = math.hypot(dn, de)
+    span = t - t0
+    valid_cog = dist > pa[4] and span > 0
+    if valid_cog:
+        st[2] = math.atan2(de, dn)
+    sig[sl[2]] = x
+    sig[sl[3]] = y
+    sig[sl[4]] = dist / span if span > 0 else 0.0
+    sig[sl[5]] = st[2]
+    sig[sl[6]] = 1.0 if valid_cog else 0.0
+    sig[sl[7]] = 1.0
+    sig[sl[8]] = pa[5]
+
+
+@njit(cache=True)
+def ahrs_step(t, sig, sl, st, pa, rng):
+    """:class:`oceangnc.sensors.ahrs.AHRS` (003 ch. 6.1.2).
+
+    slots: body.psi, body.r, ?body.phi, ?body.theta | psi, r, phi, theta. state: psi_f, mag.
+    params: period, lag, mag time constant, mag sigma (rad), yaw noise (rad), gyro bias (rad/s),
+    gyro noise (rad/s), attitude noise (rad).
+    """
+    psi = sig[sl[0]]
+    if pa[1] > 0:
+        a = 1.0 - math.exp(-pa[0] / pa[1])
+        st[0] = _wrap(st[0] + a * _wrap(psi - st[0]))
+    else:
+        st[0] = psi
+    am = math.exp(-pa[0] / pa[2])
+    w0 = rng.standard_normal()
+    w1 = rng.standard_normal()
+    w2 = rng.standard_normal()
+    w3 = rng.standard_normal()
+    w4 = rng.standard_normal()
+    st[1] = am * st[1] + pa[3] * math.sqrt(1 - am * am) * w0
+    sig[sl[4]] = _wrap(st[0] + st[1] + pa[4] * w1)
+    sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
+    sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
+    sig[sl[7]] = _get(sig, sl[3], 0.0) + pa[7] * w4
+
+
+@njit(cache=True)
+def usbl_step(t, sig, sl, st, pa, rng):
+    """:class:`oceangnc.sensors.usbl.USBL` (003 ch. 6.1.4, dropouts).
+
+    slots: bottom.x, top.x, bottom.y, top.y, ?bottom.z, ?top.z | dn, de, dz, range, hrange, bearing,
+    valid, pings_lost. state: lost, has_last, last (6). params: q_max, p_drop, dropout start,
+    dropout duration, degraded gain, range resolution, angle resolution (rad).
+    """
+    dn = sig[sl[0]] - sig[sl[1]]
+    de = sig[sl[2]] - sig[sl[3]]
+    dz = _get(sig, sl[4], 0.0) - _get(sig, sl[5], 0.0)
+    h = math.hypot(dn, de)
+    q = h / max(abs(dz), 1e-6)
+    u0 = rng.uniform(-1.0, 1.0)
+    u1 = rng.uniform(-1.0, 1.0)
+    u2 = rng.uniform(-1.0, 1.0)
+    u3 = rng.uniform(-1.0, 1.0)
+    degraded = q > pa[0]
+    valid = not (pa[2] >= 0 and pa[2] <= t < pa[2] + pa[3])
+    if degraded and u3 * 0.5 + 0.5 < pa[1]:
+        valid = False
+    if valid:
+        g = pa[4] if degraded else 1.0
+        rho = math.sqrt(h * h + dz * dz) + g * pa[5] * u0
+        ea = pa[6] * g
+        beta = math.atan2(de, dn) + ea * u1
+        gam = math.atan2(dz, h) + ea * u2
+        rho = max(rho, 0.0)
+        hm = rho * math.cos(gam)
+        st[2] = hm * math.cos(beta)
+        st[3] = hm * math.sin(beta)
+        st[4] = rho * math.sin(gam)
+        st[5] = rho
+        st[6] = hm
+        st[7] = beta
+        st[1] = 1.0
+    else:
+        st[0] += 1.0
+    if st[1] != 0.0:
+        for i in range(6):
+            sig[sl[6 + i]] = st[2 + i]
+    sig[sl[12]] = 1.0 if valid else 0.0
+    sig[sl[13]] = st[0]
+
+
+@njit(cache=True)
+def depth_step(t, sig, sl, st, pa, rng):
+    """:class:`oceangnc.sensors.depth.DepthSensor` (003 ch. 6.1.3): reading, calibration, low-pass.
+
+    slots: body.z | depth.volt, depth.z_raw, depth.z. state: low-pass y, has_y. params: offset,
+    gain, noise (V), c1, c0, low-pass a, full scale (V), ADC LSB (V), rho g / full-scale Pa factor
+    pieces: full scale V, rho, g, full scale Pa.
+    """
+    z_true = sig[sl[0]]
+    ideal = pa[6] * pa[8] * pa[9] * max(z_true, 0.0) / pa[10]
+    v = pa[0] + pa[1] * ideal + pa[2] * rng.standard_normal()
+    v = min(pa[6], max(0.0, v))
+    v = np.rint(v / pa[7]) * pa[7]
+    z = pa[3] * v + pa[4]
+    if st[1] == 0.0:
+        st[0] = z
+        st[1] = 1.0
+    else:
+        st[0] = st[0] + pa[5] * (z - st[0])
+    sig[sl[1]] = v
+    sig[sl[2]] = z
+    sig[sl[3]] = st[0]
+
+
+@njit(cache=True)
+def dropout_hold_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.sensors.filters.DropoutHold` once it holds a value.
+
+    slots: valid, in_0..in_{m-1}, out_0..out_{m-1}, ok, age, dropouts. state: held (m), t_fix,
+    dropouts, last ok. params: m.
+    """
+    m = int(pa[0])
+    valid = sig[sl[0]] != 0.0
+    if valid:
+        for i in range(m):
+            st[i] = sig[sl[1 + i]]
+        st[m] = t
+    if st[m + 2] != 0.0 and not valid:
+        st[m + 1] += 1.0
+    st[m + 2] = 1.0 if valid else 0.0
+    for i in range(m):
+        sig[sl[1 + m + i]] = st[i]
+    sig[sl[1 + 2 * m]] = 1.0 if valid else 0.0
+    sig[sl[2 + 2 * m]] = t - st[m]
+    sig[sl[3 + 2 * m]] = st[m + 1]
+
+
+@njit(cache=True)
+def nav_step(t, sig, sl, st, pa):
+    """The field test's navigation: USV from the GPS, UUV = USV + held USBL offset.
+
+    slots: ?gps.x, ?gps.y, ?nav.usbl.dn, ?nav.usbl.de, ?gps.sog | nav.usv_x, nav.usv_y, nav.uuv_x,
+    nav.uuv_y, nav.usv_u.
+    """
+    x = _get(sig, sl[0], 0.0)
+    y = _get(sig, sl[1], 0.0)
+    sig[sl[5]] = x
+    sig[sl[6]] = y
+    sig[sl[7]] = sig[sl[5]] + _get(sig, sl[2], 0.0)
+    sig[sl[8]] = sig[sl[6]] + _get(sig, sl[3], 0.0)
+    sig[sl[9]] = _get(sig, sl[4], 0.0)
