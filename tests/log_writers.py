@@ -71,9 +71,17 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
         us = round(t[i] * 1e6) + 1_000_000
         if i % 2 == 0:
             lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
-            w.write("GPS", us, 3, 302_400_000 + us // 1000, 2390, round(lat * 1e7), round(lon * 1e7),
-                    math.hypot(vn.iat[i], ve.iat[i]),
-                    math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360)
+            w.write(
+                "GPS",
+                us,
+                3,
+                302_400_000 + us // 1000,
+                2390,
+                round(lat * 1e7),
+                round(lon * 1e7),
+                math.hypot(vn.iat[i], ve.iat[i]),
+                math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360,
+            )
         w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
         w.write("IMU", us, df["usv.r"].iat[i])
         w.write("RCOU", us, int(pl[i]), 1500, int(pr[i]), 1500)
@@ -121,8 +129,10 @@ class ULogWriter:
 
 def write_ulog(path, df, tmax_n, trev_n):
     w = ULogWriter(path)
-    w.topic("vehicle_local_position", [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"),
-                                       ("float", "vy"), ("float", "vz")])
+    w.topic(
+        "vehicle_local_position",
+        [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy"), ("float", "vz")],
+    )
     w.topic("vehicle_attitude", [("float[4]", "q")])
     w.topic("vehicle_angular_velocity", [("float[3]", "xyz")])
     w.topic("actuator_motors", [("float[12]", "control")])
@@ -143,6 +153,7 @@ def write_ulog(path, df, tmax_n, trev_n):
 
 
 # -- ROS 2 bag ----------------------------------------------------------------------------------------------
+
 
 def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=None):
     """Odometry (ENU / FLU, REP 103), Imu and a Float64MultiArray actuator topic, via rosbags' Writer;
@@ -180,24 +191,44 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=
             yaw = math.pi / 2 - psi  # ENU yaw
             q = Q(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2))
             pose = Pose(position=P(x=float(df["usv.y"].iat[i]), y=float(df["usv.x"].iat[i]), z=0.0), orientation=q)
-            tw = Twist(linear=V(x=float(df["usv.u"].iat[i]), y=-float(df["usv.v"].iat[i]), z=0.0),
-                       angular=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])))
-            od = Odometry(header=hdr, child_frame_id="base_link", pose=PWC(pose=pose, covariance=cov),
-                          twist=TWC(twist=tw, covariance=cov))
+            tw = Twist(
+                linear=V(x=float(df["usv.u"].iat[i]), y=-float(df["usv.v"].iat[i]), z=0.0),
+                angular=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])),
+            )
+            od = Odometry(
+                header=hdr,
+                child_frame_id="base_link",
+                pose=PWC(pose=pose, covariance=cov),
+                twist=TWC(twist=tw, covariance=cov),
+            )
             if co is not None:
                 w.write(co, ns, ts.serialize_cdr(od, Odometry.__msgtype__))
             else:
                 lat, lon = ned_to_latlon(float(df["usv.x"].iat[i]), float(df["usv.y"].iat[i]), *fix_origin)
-                fx = Fix(header=hdr, status=FixStatus(status=0, service=1), latitude=lat, longitude=lon,
-                         altitude=0.0, position_covariance=np.zeros(9), position_covariance_type=0)
+                fx = Fix(
+                    header=hdr,
+                    status=FixStatus(status=0, service=1),
+                    latitude=lat,
+                    longitude=lon,
+                    altitude=0.0,
+                    position_covariance=np.zeros(9),
+                    position_covariance_type=0,
+                )
                 w.write(cf, ns, ts.serialize_cdr(fx, Fix.__msgtype__))
             if i % 2 == 0:
-                im = Imu(header=hdr, orientation=q, orientation_covariance=np.zeros(9),
-                         angular_velocity=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])),
-                         angular_velocity_covariance=np.zeros(9), linear_acceleration=V(x=0.0, y=0.0, z=9.81),
-                         linear_acceleration_covariance=np.zeros(9))
+                im = Imu(
+                    header=hdr,
+                    orientation=q,
+                    orientation_covariance=np.zeros(9),
+                    angular_velocity=V(x=0.0, y=0.0, z=-float(df["usv.r"].iat[i])),
+                    angular_velocity_covariance=np.zeros(9),
+                    linear_acceleration=V(x=0.0, y=0.0, z=9.81),
+                    linear_acceleration_covariance=np.zeros(9),
+                )
                 w.write(ci, ns, ts.serialize_cdr(im, Imu.__msgtype__))
             tp, tsb = df["usv.thrust_port"].iat[i], df["usv.thrust_stbd"].iat[i]
-            a = F64(layout=Layout(dim=[], data_offset=0),
-                    data=np.array([tp / (tmax_n if tp >= 0 else trev_n), tsb / (tmax_n if tsb >= 0 else trev_n)]))
+            a = F64(
+                layout=Layout(dim=[], data_offset=0),
+                data=np.array([tp / (tmax_n if tp >= 0 else trev_n), tsb / (tmax_n if tsb >= 0 else trev_n)]),
+            )
             w.write(ca, ns, ts.serialize_cdr(a, F64.__msgtype__))

@@ -46,8 +46,7 @@ def _close(a, b, rtol: float) -> bool:
 def _diff(old: dict, new: dict, rtol: float, what: str, added: set[str] = frozenset()) -> list[str]:
     errs = []
     if set(old) != set(new) - set(added):
-        errs.append(f"{what}: keys differ; missing {sorted(set(old) - set(new))}, "
-                    f"new {sorted(set(new) - set(old))}")
+        errs.append(f"{what}: keys differ; missing {sorted(set(old) - set(new))}, new {sorted(set(new) - set(old))}")
     for k in sorted(set(old) & set(new)):
         if not _close(old[k], new[k], rtol):
             errs.append(f"{what}[{k}]: baseline {old[k]!r}, now {new[k]!r}")

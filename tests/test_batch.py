@@ -14,9 +14,15 @@ from oceangnc.io.logs import read_log
 @pytest.mark.slow
 def test_batch_results_equal_one_by_one_runs(tmp_path):
     rng = np.random.default_rng(7)
-    over = [{"environment.current.speed": float(rng.uniform(0.0, 0.3)),
-             "environment.current.direction_deg": float(rng.uniform(0.0, 360.0)),
-             "usv.x0": float(rng.uniform(-1.0, 1.0)), "usv.y0": float(rng.uniform(-1.0, 1.0))} for _ in range(3)]
+    over = [
+        {
+            "environment.current.speed": float(rng.uniform(0.0, 0.3)),
+            "environment.current.direction_deg": float(rng.uniform(0.0, 360.0)),
+            "usv.x0": float(rng.uniform(-1.0, 1.0)),
+            "usv.y0": float(rng.uniform(-1.0, 1.0)),
+        }
+        for _ in range(3)
+    ]
     seeds = [11, 12, 13]
     summaries = oceangnc.run_batch("combined-survey", over, seeds=seeds, duration=3.0, out=tmp_path / "b", chunk=2)
     assert [s["status"] for s in summaries] == ["ok"] * 3
@@ -24,13 +30,19 @@ def test_batch_results_equal_one_by_one_runs(tmp_path):
     for i in range(3):
         d = tmp_path / "b" / f"run-{i:05d}"
         assert json.loads((d / "summary.json").read_text()) == summaries[i]
-        r = oceangnc.run("combined-survey", overrides={**over[i], "sim.seed": seeds[i]}, duration=3.0,
-                         out=tmp_path / f"one{i}", plots=False)
+        r = oceangnc.run(
+            "combined-survey",
+            overrides={**over[i], "sim.seed": seeds[i]},
+            duration=3.0,
+            out=tmp_path / f"one{i}",
+            plots=False,
+        )
         a, b = read_log(d), read_log(r.out_dir)
         assert list(a.columns) == list(b.columns) and len(a) == len(b) == 31
         np.testing.assert_array_equal(a.to_numpy(), b.to_numpy())
-        assert {k: v for k, v in summaries[i].items() if k != "wall_time_s"} == \
-            {k: v for k, v in r.summary.items() if k != "wall_time_s"}
+        assert {k: v for k, v in summaries[i].items() if k != "wall_time_s"} == {
+            k: v for k, v in r.summary.items() if k != "wall_time_s"
+        }
         starts.add(round(float(a["usv.x"].iloc[0]), 6))
     assert len(starts) == 3  # the runs really differ
 
@@ -38,8 +50,9 @@ def test_batch_results_equal_one_by_one_runs(tmp_path):
 def test_batch_of_a_scenario_without_fused_path_runs_one_by_one(tmp_path):
     s = oceangnc.run_batch("autopilot-speed", [{}, {"speed_control.wn": 1.5}], duration=2.0, out=tmp_path / "b")
     assert [x["status"] for x in s] == ["ok", "ok"]
-    r = oceangnc.run("autopilot-speed", overrides={"speed_control.wn": 1.5}, duration=2.0, out=tmp_path / "one",
-                     plots=False)
+    r = oceangnc.run(
+        "autopilot-speed", overrides={"speed_control.wn": 1.5}, duration=2.0, out=tmp_path / "one", plots=False
+    )
     np.testing.assert_array_equal(read_log(tmp_path / "b" / "run-00001").to_numpy(), read_log(r.out_dir).to_numpy())
 
 

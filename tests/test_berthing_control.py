@@ -69,8 +69,9 @@ def test_allocation_optimum_equals_brute_force():
         if jmin > 1e-6:  # unique optimum at a rudder stop or interior: same angle
             assert delta == pytest.approx(grid[np.argmin(J)], abs=2e-4)
         if abs(nb) < ship.thruster_rpm_max / 60:
-            assert K * nb * abs(nb) + rudder_term(delta, ur, vr, r, n, c, d, p) == pytest.approx(u_rd, rel=1e-9,
-                                                                                               abs=1e-14)
+            assert K * nb * abs(nb) + rudder_term(delta, ur, vr, r, n, c, d, p) == pytest.approx(
+                u_rd, rel=1e-9, abs=1e-14
+            )
 
 
 def test_allocation_below_switch_speed_uses_thrusters_only():
@@ -95,8 +96,9 @@ def test_propeller_inversion():
 
 def _nominal_step(current: float):
     """Nonlinear controller on the nominal model with near-ideal actuators; steps in u_d and r_d."""
-    ship = ShipConfig(tau_prop=0.02, tau_rudder=0.02, tau_thruster=0.02, rudder_rate_degps=100.0,
-                      u0=1.0, n0_rpm=60.0 * 1.0 / 6.28)
+    ship = ShipConfig(
+        tau_prop=0.02, tau_rudder=0.02, tau_thruster=0.02, rudder_rate_degps=100.0, u0=1.0, n0_rpm=60.0 * 1.0 / 6.28
+    )
     cc = ControlConfig(mode="nonlinear", period=0.02, t_ref=0.0, lambda1=0.1, lambda2=0.1, rate_aware_rudder=False)
     u_d, r_d = 1.5, math.radians(0.1)
 
@@ -104,9 +106,12 @@ def _nominal_step(current: float):
         bus["cmd.u_d"] = u_d
         bus["cmd.r_d"] = r_d
 
-    blocks = [OceanCurrent(CurrentConfig(speed=current, direction_deg=120.0), 0.02),
-              Wind(WindConfig(speed=8.0 if current else 0.0, direction_deg=200.0), 0.02),
-              FunctionBlock("cmd", 0.02, cmd), NonlinearController(cc, ship)]
+    blocks = [
+        OceanCurrent(CurrentConfig(speed=current, direction_deg=120.0), 0.02),
+        Wind(WindConfig(speed=8.0 if current else 0.0, direction_deg=200.0), 0.02),
+        FunctionBlock("cmd", 0.02, cmd),
+        NonlinearController(cc, ship),
+    ]
     sim = Simulation([ShipPlant(ship)], blocks, 0.005, 0.02, np.random.default_rng(0))
     ts, eu, er = [], [], []
 

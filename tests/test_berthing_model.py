@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from oceangnc.models.ship_lowspeed import (P, ShipConfig, crossflow_integrals, propeller_thrust, ship_rhs,
-                                           simulate_open)
+from oceangnc.models.ship_lowspeed import P, ShipConfig, crossflow_integrals, propeller_thrust, ship_rhs, simulate_open
 from oceangnc.scenarios.berthing import speed_per_rps
 
 L = 175.0
@@ -16,7 +15,7 @@ L = 175.0
 def test_published_mass_matches_displacement():
     """Son & Nomoto's m' = 0.00792 (on rho/2 L^3) is the displacement 21 222 m^3 of sea water (0.1 %)."""
     cfg = ShipConfig()
-    assert 0.00792 * 0.5 * cfg.rho * L ** 3 == pytest.approx(cfg.mass, rel=1e-3)
+    assert 0.00792 * 0.5 * cfg.rho * L**3 == pytest.approx(cfg.mass, rel=1e-3)
 
 
 @pytest.mark.parametrize("a,b", [(0.3, 0.0), (0.3, 0.002), (-0.2, 0.01), (0.0, -0.004), (1.0, 1e-9), (0.05, 0.03)])
@@ -25,8 +24,9 @@ def test_crossflow_closed_form_equals_quadrature(a, b):
     i0, i1 = crossflow_integrals(a, b, L)
     f0 = lambda x: (a + b * x) * abs(a + b * x)  # noqa: E731
     q0 = quad(f0, -L / 2, L / 2, points=[-a / b] if b != 0 and abs(a / b) < L / 2 else None, limit=200)[0]
-    q1 = quad(lambda x: x * f0(x), -L / 2, L / 2, points=[-a / b] if b != 0 and abs(a / b) < L / 2 else None,
-              limit=200)[0]
+    q1 = quad(
+        lambda x: x * f0(x), -L / 2, L / 2, points=[-a / b] if b != 0 and abs(a / b) < L / 2 else None, limit=200
+    )[0]
     scale0 = L * max(a * a, (b * L / 2) ** 2, 1e-30)
     assert i0 == pytest.approx(q0, abs=1e-9 * scale0)
     assert i1 == pytest.approx(q1, abs=1e-9 * scale0 * L)

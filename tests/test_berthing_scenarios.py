@@ -22,8 +22,18 @@ def test_external_pilot_live_simulation_and_geometry():
     u0 = sim.bus["ship.u"]
     sim.run(90.0)
     b = sim.bus
-    for k in ("ship.x", "ship.y", "ship.psi", "ship.u", "ship.v", "ship.r", "ship.rudder", "ship.rpm_prop",
-              "ship.rpm_bow", "ship.rpm_stern"):
+    for k in (
+        "ship.x",
+        "ship.y",
+        "ship.psi",
+        "ship.u",
+        "ship.v",
+        "ship.r",
+        "ship.rudder",
+        "ship.rpm_prop",
+        "ship.rpm_bow",
+        "ship.rpm_stern",
+    ):
         assert k in b and math.isfinite(b[k])
     assert b["ship.u"] > u0 + 0.05  # surge stick ahead speeds the ship up
     assert b["ship.r"] > 0.0  # yaw stick to starboard turns it to starboard
@@ -67,8 +77,9 @@ def channel_runs(tmp_path_factory):
     out = {}
     for mode in ("open", "pid", "nonlinear"):
         d = tmp_path_factory.mktemp(mode)
-        out[mode] = oceangnc.run("berthing-channel", overrides={**SHORT, "runs": 2, "control.mode": mode},
-                                 out=d, plots=False)
+        out[mode] = oceangnc.run(
+            "berthing-channel", overrides={**SHORT, "runs": 2, "control.mode": mode}, out=d, plots=False
+        )
     return out
 
 
@@ -89,8 +100,12 @@ def test_closed_loop_beats_open_loop(channel_runs):
     assert 1.0 < s["pid"]["mean_speed_kn"] < 1.6
 
 
-STEADY = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
-          "environment.wind.speed": 10.0, "environment.wind.direction_deg": 90.0}
+STEADY = {
+    "environment.current.speed": 0.2,
+    "environment.current.direction_deg": 270.0,
+    "environment.wind.speed": 10.0,
+    "environment.wind.direction_deg": 90.0,
+}
 
 
 @pytest.fixture(scope="module")
@@ -99,8 +114,9 @@ def disturbed_runs(tmp_path_factory):
     out = {}
     for mode in ("pid", "nonlinear"):
         d = tmp_path_factory.mktemp("dist-" + mode)
-        out[mode] = oceangnc.run("berthing-channel", overrides={**STEADY, **SHORT, "runs": 2, "control.mode": mode},
-                                 out=d, plots=False)
+        out[mode] = oceangnc.run(
+            "berthing-channel", overrides={**STEADY, **SHORT, "runs": 2, "control.mode": mode}, out=d, plots=False
+        )
     return out
 
 
@@ -117,9 +133,14 @@ def test_nonlinear_tracks_commands_better_in_current_and_wind(disturbed_runs):
     assert rms["nonlinear"][1] < 0.5 * rms["pid"][1]
 
 
-GUSTY = {"environment.current.speed": 0.2, "environment.current.direction_deg": 270.0,
-         "environment.wind.speed": 15.0, "environment.wind.direction_deg": 45.0,
-         "environment.wind.gust_sigma": 4.0, "environment.wind.gust_time_constant": 10.0}
+GUSTY = {
+    "environment.current.speed": 0.2,
+    "environment.current.direction_deg": 270.0,
+    "environment.wind.speed": 15.0,
+    "environment.wind.direction_deg": 45.0,
+    "environment.wind.gust_sigma": 4.0,
+    "environment.wind.gust_time_constant": 10.0,
+}
 
 
 @pytest.mark.slow
@@ -134,8 +155,15 @@ def test_nonlinear_error_index_lower_in_current_and_wind(env, disturbed_runs, tm
     if env == "steady":
         runs = disturbed_runs
     else:
-        runs = {m: oceangnc.run("berthing-channel", overrides={**GUSTY, **SHORT, "runs": 2, "control.mode": m},
-                                out=tmp_path / m, plots=False) for m in ("pid", "nonlinear")}
+        runs = {
+            m: oceangnc.run(
+                "berthing-channel",
+                overrides={**GUSTY, **SHORT, "runs": 2, "control.mode": m},
+                out=tmp_path / m,
+                plots=False,
+            )
+            for m in ("pid", "nonlinear")
+        }
     pid, nl = runs["pid"].summary, runs["nonlinear"].summary
     assert nl["runs_completed"] == 2 and pid["runs_completed"] == 2
     for a, b in zip(nl["error_index_runs"], pid["error_index_runs"]):

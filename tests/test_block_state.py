@@ -13,13 +13,16 @@ import pytest
 
 from oceangnc.api import resolve_config
 
-LIVE = ["combined-survey", "field-test", "usv-remote", "usv-turn", "autopilot-heading", "berthing-dock",
-        "tow-straight"]
+LIVE = ["combined-survey", "field-test", "usv-remote", "usv-turn", "autopilot-heading", "berthing-dock", "tow-straight"]
 
 
 def _snapshot(sim):
-    return ([b.get_state() for b in sim.blocks], [pl.x.copy() for pl in sim.plants], copy.deepcopy(sim.bus),
-            (sim.k, sim.t, sim._done_k, list(sim.fire_count)))
+    return (
+        [b.get_state() for b in sim.blocks],
+        [pl.x.copy() for pl in sim.plants],
+        copy.deepcopy(sim.bus),
+        (sim.k, sim.t, sim._done_k, list(sim.fire_count)),
+    )
 
 
 def _restore(sim, snap):

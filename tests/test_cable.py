@@ -11,8 +11,14 @@ import oceangnc
 from oceangnc.api import resolve_config
 from oceangnc.core.clock import Simulation
 from oceangnc.errors import ConfigError, DivergenceError
-from oceangnc.models.cable import (CableConfig, atan_ratio, axial_stability_limit, cable_loads,
-                                   loading_functions, stable_step)
+from oceangnc.models.cable import (
+    CableConfig,
+    atan_ratio,
+    axial_stability_limit,
+    cable_loads,
+    loading_functions,
+    stable_step,
+)
 from oceangnc.models.combined import CombinedPlant
 from oceangnc.models.usv import USVConfig
 from oceangnc.models.uuv import UUVConfig
@@ -25,14 +31,16 @@ def _run(name, tmp_path, **over):
 
 # --- statics ---------------------------------------------------------------------------------------
 
+
 def test_hanging_top_tension_is_submerged_weight(tmp_path):
     """Still water: the hanging cable + UUV settles with the top tension equal to the submerged weight
     of the cable plus the UUV (within 1 %), vertical."""
     s = _run("cable-current", tmp_path, **{"environment.current.speed": 0.0})
     w = CableConfig().weight_per_length * 3.0 + 12.0 * G
     assert s["cable.top_tension_N"] == pytest.approx(w, rel=0.01)
-    assert s["cable.bottom_tension_N"] == pytest.approx(12.0 * G + 0.5 * CableConfig().weight_per_length * 0.15,
-                                                        rel=0.01)
+    assert s["cable.bottom_tension_N"] == pytest.approx(
+        12.0 * G + 0.5 * CableConfig().weight_per_length * 0.15, rel=0.01
+    )
     assert s["cable.angle_deg"] < 0.5
     assert s["uuv.offset_m"] < 0.02
 
@@ -81,8 +89,11 @@ def _quasi_static(current: float, theta_hint: float, cc: CableConfig | None = No
 
     grid = np.radians(np.linspace(-85, 85, 341))
     res = [loads(t)[0] for t in grid]
-    roots = [brentq(lambda t: loads(t)[0], a, b) for a, b, fa, fb in
-             zip(grid[:-1], grid[1:], res[:-1], res[1:]) if fa * fb < 0]
+    roots = [
+        brentq(lambda t: loads(t)[0], a, b)
+        for a, b, fa, fb in zip(grid[:-1], grid[1:], res[:-1], res[1:])
+        if fa * fb < 0
+    ]
     theta = min(roots, key=lambda t: abs(t - theta_hint))
     _, T0 = loads(theta)
     w = cc.weight_per_length
@@ -129,6 +140,7 @@ def test_equilibrium_in_current_matches_quasi_static_solution(tmp_path, current)
 
 
 # --- energy ------------------------------------------------------------------------------------------
+
 
 def _conservative_plant(x_off=0.6, **cable):
     """Top fixed, still water, no drag, no damping, no added mass on the cable, UUV damping off; the
@@ -181,6 +193,7 @@ def test_energy_only_decreases_with_drag_and_damping(integrator):
 
 # --- tension only, stability --------------------------------------------------------------------------
 
+
 def test_slack_cable_has_no_compression():
     """Nodes closer than l0 (slack) and even approaching each other give no axial force at all."""
     n = 4
@@ -232,7 +245,7 @@ def test_stability_limit_is_real(integrator, lo, hi, over):
         pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.2), cc, top="fixed")
         try:
             pl.advance(0.0, frac * limit, int(5.0 / (frac * limit)))
-            speeds.append(float(np.max(np.abs(pl.x[6 + 3 * (n - 1):6 + 6 * (n - 1)]))))
+            speeds.append(float(np.max(np.abs(pl.x[6 + 3 * (n - 1) : 6 + 6 * (n - 1)]))))
         except DivergenceError:
             speeds.append(math.inf)
     assert speeds[0] < 0.1
@@ -262,8 +275,17 @@ def test_step_above_limit_is_refused(tmp_path):
         oceangnc.run("cable-current", overrides={"sim.dt": 0.01}, out=tmp_path / "refused", plots=False)
 
 
-@pytest.mark.parametrize("key,val", [("cable.segments", 0), ("cable.length", 0.0), ("cable.diameter", -0.01),
-                                     ("cable.E", 0.0), ("cable.density", 0.0), ("uuv.mass", -1.0)])
+@pytest.mark.parametrize(
+    "key,val",
+    [
+        ("cable.segments", 0),
+        ("cable.length", 0.0),
+        ("cable.diameter", -0.01),
+        ("cable.E", 0.0),
+        ("cable.density", 0.0),
+        ("uuv.mass", -1.0),
+    ],
+)
 def test_bad_cable_config_is_a_config_error(key, val):
     """Segments < 1, non-positive length, diameter, modulus (hence EA) or mass: one-line ConfigError."""
     with pytest.raises(ConfigError, match=key.replace(".", r"\.")):
@@ -271,6 +293,7 @@ def test_bad_cable_config_is_a_config_error(key, val):
 
 
 # --- pieces --------------------------------------------------------------------------------------------
+
 
 def test_loading_functions_limits():
     """003 eq. 2.25: f_p = 0 along the flow and 1 across it; f_q = 0.02 along and ~0 across."""
@@ -310,8 +333,7 @@ def test_split_integrator_matches_rk4():
     onset of a 0.5 m/s current: UUV depth within 1 mm, top tension within 2 % of its peak, 20 s."""
     out = {}
     for integ in ("rk4", "rk4-split"):
-        pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integ),
-                           top="fixed")
+        pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integ), top="fixed")
         pl.u[2] = 0.5
         dt = stable_step(pl.stability_limit)
         rows = []
@@ -329,13 +351,15 @@ def test_split_integrator_matches_rk4():
 
 # --- implicit (IMEX) integrator (issue 19) ---------------------------------------------------------------
 
+
 def test_imex_at_control_period_still_water_tension(tmp_path):
     """cable.integrator = "imex" at dt = 10 ms (5x the explicit limit): stable, and the hanging cable's top
     tension equals the submerged weight of cable + UUV within 1 %."""
     pl = CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator="imex"), top="fixed")
     assert pl.max_dt is None  # no axial step limit
-    s = _run("cable-current", tmp_path, **{"environment.current.speed": 0.0, "cable.integrator": "imex",
-                                           "sim.dt": 0.01})
+    s = _run(
+        "cable-current", tmp_path, **{"environment.current.speed": 0.0, "cable.integrator": "imex", "sim.dt": 0.01}
+    )
     w = CableConfig().weight_per_length * 3.0 + 12.0 * G
     assert s["cable.top_tension_N"] == pytest.approx(w, rel=0.01)
     assert s["cable.settled"]
@@ -345,8 +369,9 @@ def test_imex_at_control_period_still_water_tension(tmp_path):
 def test_imex_equilibrium_in_current(tmp_path, current):
     """At dt = 10 ms the implicit integrator reaches the same equilibria in current as the explicit ones, within
     the tolerances of the quasi-static comparison above (5 % tension, 2 deg angle and pitch)."""
-    s = _run("cable-current", tmp_path, **{"environment.current.speed": current, "cable.integrator": "imex",
-                                           "sim.dt": 0.01})
+    s = _run(
+        "cable-current", tmp_path, **{"environment.current.speed": current, "cable.integrator": "imex", "sim.dt": 0.01}
+    )
     assert s["cable.settled"]
     top, bottom, angle, pitch = _quasi_static(current, math.radians(s["uuv.pitch_deg"]))
     assert s["cable.top_tension_N"] == pytest.approx(top, rel=0.05)
@@ -356,8 +381,7 @@ def test_imex_equilibrium_in_current(tmp_path, current):
 
 
 def _onset(integrator, dt, t_sim=10.0):
-    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator),
-                       top="fixed")
+    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator), top="fixed")
     pl.u[2] = 0.5
     bus, rows, t = {}, [], 0.0
     for _ in range(int(round(t_sim / 0.1))):
@@ -385,8 +409,9 @@ def test_imex_cost_grows_linearly_with_segments():
 
     cost = {}
     for n in (20, 80):
-        pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25),
-                           CableConfig(segments=n, integrator="imex"), top="fixed")
+        pl = CombinedPlant(
+            USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(segments=n, integrator="imex"), top="fixed"
+        )
         pl.u[2] = 0.5
         pl.advance(0.0, 0.01, 10)
         best = math.inf
@@ -399,6 +424,7 @@ def test_imex_cost_grows_linearly_with_segments():
 
 
 # --- long cables (issue 16) ------------------------------------------------------------------------------
+
 
 def test_segment_count_follows_length():
     """Default segment count max(20, ceil(L / 2 m)); cable.segment_length as the alternative; both: refused."""
@@ -435,6 +461,7 @@ def test_long_cable_statics_in_current(length, current):
 
 
 # --- drag laws -------------------------------------------------------------------------------------------
+
 
 def test_normal_tangential_drag_law():
     """drag_law = "normal-tangential": -1/2 rho C_dn d l |V_n| V_n and -1/2 rho C_dt pi d l |v_t| v_t (each

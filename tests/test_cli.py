@@ -8,8 +8,9 @@ import pyarrow.parquet as pq
 
 
 def oceangnc(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "oceangnc.cli", *args], capture_output=True, text=True,
-                          cwd=cwd, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "oceangnc.cli", *args], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
 
 
 def test_list_shows_scenarios_one_line_each():
@@ -23,8 +24,18 @@ def test_list_shows_scenarios_one_line_each():
 
 def test_run_writes_outputs_and_plot_redraws(tmp_path):
     out = tmp_path / "turn"
-    r = oceangnc("run", "usv-turn", "--out", str(out), "--duration", "30", "--set",
-                 "environment.current.speed=0.1", "--quiet", "--json")
+    r = oceangnc(
+        "run",
+        "usv-turn",
+        "--out",
+        str(out),
+        "--duration",
+        "30",
+        "--set",
+        "environment.current.speed=0.1",
+        "--quiet",
+        "--json",
+    )
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout.strip().splitlines()[-1])
     assert s["scenario"] == "usv-turn" and s["duration_s"] == 30.0
@@ -61,8 +72,9 @@ def test_diverged_run_exits_1_and_keeps_log(tmp_path):
 
 def test_config_file_run(tmp_path):
     cfg = tmp_path / "mine.toml"
-    cfg.write_text('scenario = "usv-straight"\n[sim]\nduration = 12.0\n[command]\nthrust_port_kgf = 20.0\n'
-                   'thrust_stbd_kgf = 20.0\n')
+    cfg.write_text(
+        'scenario = "usv-straight"\n[sim]\nduration = 12.0\n[command]\nthrust_port_kgf = 20.0\nthrust_stbd_kgf = 20.0\n'
+    )
     r = oceangnc("run", "--config", str(cfg), "--out", str(tmp_path / "o"), "--quiet", "--json", "--no-plots")
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout.strip().splitlines()[-1])

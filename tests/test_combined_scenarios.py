@@ -81,8 +81,15 @@ def test_field_test_with_sensors_reaches_all_waypoints():
 
 
 def test_usbl_forced_dropout_for_10_s_continues_and_recovers():
-    s, df, _ = _run("combined-survey", **{"control.uuv": "pid", "sensors.enabled": True,
-                                          "sensors.usbl.dropout_start": 10.0, "sensors.usbl.dropout_duration": 10.0})
+    s, df, _ = _run(
+        "combined-survey",
+        **{
+            "control.uuv": "pid",
+            "sensors.enabled": True,
+            "sensors.usbl.dropout_start": 10.0,
+            "sensors.usbl.dropout_duration": 10.0,
+        },
+    )
     assert s["usv.waypoints_reached"] == 3
     t = df["t"]
     inside = (t >= 10.6) & (t < 20.0)
@@ -122,8 +129,15 @@ def test_bad_controller_name_is_a_config_error():
 def test_default_run_is_the_flagship_with_summary_and_plots(tmp_path):
     res = oceangnc.run(out=tmp_path / "run", overrides={"control.uuv": "backstepping"})
     assert res.summary["scenario"] == "combined-survey"
-    for k in ("usv.waypoints_reached", "usv.cross_track_rms_m", "uuv.rel_distance_mean_m", "uuv.rel_distance_max_m",
-              "uuv.depth_final_m", "uuv.heading_error_rms_deg", "usv.heading_error_rms_deg"):
+    for k in (
+        "usv.waypoints_reached",
+        "usv.cross_track_rms_m",
+        "uuv.rel_distance_mean_m",
+        "uuv.rel_distance_max_m",
+        "uuv.depth_final_m",
+        "uuv.heading_error_rms_deg",
+        "usv.heading_error_rms_deg",
+    ):
         assert math.isfinite(res.summary[k]), k
     names = {p.name for p in res.plots}
     assert {"trajectory3d.png", "track.png", "headings.png", "depth_distance.png"} <= names

@@ -40,24 +40,27 @@ def test_valid_messages_parse():
     assert parse_message(b'{"type": "new_run"}').scenario is None
 
 
-@pytest.mark.parametrize("raw, fragment", [
-    ("{not json", "malformed JSON"),
-    ("[1, 2]", "must be a JSON object"),
-    ('{"type": "launch_missiles"}', "unknown message type 'launch_missiles'"),
-    ('{"surge": 0.1}', "unknown message type None"),
-    ('{"type": "stick", "surge": 1.5, "yaw": 0}', "surge = 1.5"),
-    ('{"type": "stick", "surge": NaN, "yaw": 0}', "surge"),
-    ('{"type": "stick", "surge": Infinity, "yaw": 0}', "surge"),
-    ('{"type": "stick", "surge": "fast", "yaw": 0}', "surge = 'fast'"),
-    ('{"type": "stick", "surge": 0.1}', "yaw: Field required"),
-    ('{"type": "stick", "surge": 0.1, "yaw": 0, "turbo": 1}', "turbo"),
-    ('{"type": "mode", "mode": "manual"}', "mode = 'manual'"),
-    ('{"type": "estop", "engaged": "maybe"}', "engaged"),
-    ('{"type": "waypoints", "points": []}', "points"),
-    ('{"type": "waypoints", "points": [[1e9, 0]]}', "farther than 100 km"),
-    ('{"type": "new_run", "scenario": "../../etc/passwd"}', "scenario"),
-    ('{"type": "gains", "gains": {}}', "gains"),
-])
+@pytest.mark.parametrize(
+    "raw, fragment",
+    [
+        ("{not json", "malformed JSON"),
+        ("[1, 2]", "must be a JSON object"),
+        ('{"type": "launch_missiles"}', "unknown message type 'launch_missiles'"),
+        ('{"surge": 0.1}', "unknown message type None"),
+        ('{"type": "stick", "surge": 1.5, "yaw": 0}', "surge = 1.5"),
+        ('{"type": "stick", "surge": NaN, "yaw": 0}', "surge"),
+        ('{"type": "stick", "surge": Infinity, "yaw": 0}', "surge"),
+        ('{"type": "stick", "surge": "fast", "yaw": 0}', "surge = 'fast'"),
+        ('{"type": "stick", "surge": 0.1}', "yaw: Field required"),
+        ('{"type": "stick", "surge": 0.1, "yaw": 0, "turbo": 1}', "turbo"),
+        ('{"type": "mode", "mode": "manual"}', "mode = 'manual'"),
+        ('{"type": "estop", "engaged": "maybe"}', "engaged"),
+        ('{"type": "waypoints", "points": []}', "points"),
+        ('{"type": "waypoints", "points": [[1e9, 0]]}', "farther than 100 km"),
+        ('{"type": "new_run", "scenario": "../../etc/passwd"}', "scenario"),
+        ('{"type": "gains", "gains": {}}', "gains"),
+    ],
+)
 def test_bad_messages_are_rejected_with_a_reason(raw, fragment):
     with pytest.raises(Rejected) as exc:
         parse_message(raw)
@@ -347,7 +350,9 @@ def test_websocket_from_a_foreign_origin_is_refused(tmp_path):
     s = Session("usv-remote", out_root=tmp_path, write_log=False)
     with TestClient(create_app(s, token=TOKEN), base_url="http://127.0.0.1") as client:
         with pytest.raises(WebSocketDenialResponse) as exc:
-            with client.websocket_connect(f"ws://127.0.0.1/ws?token={TOKEN}", headers={"origin": "http://evil.example"}) as ws:
+            with client.websocket_connect(
+                f"ws://127.0.0.1/ws?token={TOKEN}", headers={"origin": "http://evil.example"}
+            ) as ws:
                 ws.receive_json()
         assert exc.value.status_code == 403 and "origin 'http://evil.example' not allowed" in exc.value.text
 
@@ -414,8 +419,7 @@ def test_gps_outage_shows_as_a_sensor_failure(tmp_path):
     """A configured GPS outage drops ``gps.valid`` to 0 in the streamed state (the page's FAIL lamp);
     the autopilot keeps going on the last fix and recovers when the fix returns."""
     clk = FakeClock()
-    s = Session("usv-remote", overrides={"gps.outages": [[2.0, 4.0]]}, out_root=tmp_path, clock=clk,
-                write_log=False)
+    s = Session("usv-remote", overrides={"gps.outages": [[2.0, 4.0]]}, out_root=tmp_path, clock=clk, write_log=False)
     s.client_connected()
     s.fake = clk
     try:
@@ -451,8 +455,10 @@ def test_combined_vehicle_follows_the_stick_and_tows_the_uuv(tmp_path):
         assert math.hypot(b["usv.x"] - b["uuv.x"], b["usv.y"] - b["uuv.y"]) < 3.5
         send(s, type="estop", engaged=True)
         s.step_once()
-        assert all(b[f"{v}.thrust_{k}"] == 0.0 for v, k in
-                   [("usv", "port"), ("usv", "stbd"), ("uuv", "port"), ("uuv", "stbd"), ("uuv", "bow")])
+        assert all(
+            b[f"{v}.thrust_{k}"] == 0.0
+            for v, k in [("usv", "port"), ("usv", "stbd"), ("uuv", "port"), ("uuv", "stbd"), ("uuv", "bow")]
+        )
     finally:
         s.stop()
 

@@ -28,8 +28,12 @@ TOKEN = "browser-test-token-1"
 
 
 def _chromium() -> str | None:
-    for cand in (os.environ.get("CHROMIUM_PATH"), shutil.which("chromium"), "/usr/lib/chromium/chromium",
-                 shutil.which("chromium-browser")):
+    for cand in (
+        os.environ.get("CHROMIUM_PATH"),
+        shutil.which("chromium"),
+        "/usr/lib/chromium/chromium",
+        shutil.which("chromium-browser"),
+    ):
         if cand and Path(cand).exists():
             return cand
     return None
@@ -70,9 +74,25 @@ def server(tmp_path_factory):
     port = _free_port()
     out = tmp_path_factory.mktemp("console_runs")
     env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port),
-                             "--out", str(out), "--token", TOKEN], env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "oceangnc.cli",
+            "console",
+            "usv-remote",
+            "--port",
+            str(port),
+            "--out",
+            str(out),
+            "--token",
+            TOKEN,
+        ],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     url = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 90
     while True:
@@ -112,13 +132,13 @@ def console_page(chromium_browser, server):
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
     pg.goto(server["page"])
-    pg.wait_for_function("window.__console.hello && window.__console.state && window.__console.role === 'operator'",
-                         timeout=T_WAIT)
+    pg.wait_for_function(
+        "window.__console.hello && window.__console.state && window.__console.role === 'operator'", timeout=T_WAIT
+    )
     run0 = pg.evaluate("window.__console.hello.run")
     pg.select_option("#scenario-select", "usv-remote")
     pg.click("#newrun")
-    pg.wait_for_function(f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}",
-                         timeout=T_WAIT)
+    pg.wait_for_function(f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}", timeout=T_WAIT)
     pg.errors = errors
     yield pg
     ctx.close()
@@ -131,8 +151,11 @@ def state(pg, expr: str):
 
 def wait_state(pg, cond: str, timeout: int = T_WAIT):
     """Wait until ``cond`` (JS, with ``st`` the latest state and ``sig`` its signals) holds."""
-    pg.wait_for_function(f"(() => {{ const st = window.__console.state; if (!st) return false; "
-                         f"const sig = st.signals; return {cond}; }})()", timeout=timeout)
+    pg.wait_for_function(
+        f"(() => {{ const st = window.__console.state; if (!st) return false; "
+        f"const sig = st.signals; return {cond}; }})()",
+        timeout=timeout,
+    )
 
 
 def test_page_loads_and_shows_the_vehicle(console_page):
@@ -191,8 +214,9 @@ def test_emergency_stop_zeroes_thrust_within_one_update(console_page):
     page.evaluate("window.__console.recent = []")
     page.click("#estop")
     wait_state(page, "st.estop === true")
-    seq = page.evaluate("window.__console.recent.map(s => [s.estop, s.signals['usv.thrust_port'], "
-                        "s.signals['usv.thrust_stbd'], s.t])")
+    seq = page.evaluate(
+        "window.__console.recent.map(s => [s.estop, s.signals['usv.thrust_port'], s.signals['usv.thrust_stbd'], s.t])"
+    )
     first = next(i for i, s in enumerate(seq) if s[0])
     assert seq[first][1] == 0.0 and seq[first][2] == 0.0, seq  # the first update that reports it
     assert n0 > 0
@@ -224,8 +248,9 @@ def test_closing_the_page_triggers_the_failsafe(console_page, chromium_browser, 
     ctx = chromium_browser.new_context()
     pg = ctx.new_page()
     pg.goto(server["page"])
-    pg.wait_for_function("window.__console.events.some(e => e.text.startsWith('FAILSAFE (operator link lost)'))",
-                         timeout=T_WAIT)
+    pg.wait_for_function(
+        "window.__console.events.some(e => e.text.startsWith('FAILSAFE (operator link lost)'))", timeout=T_WAIT
+    )
     pg.wait_for_function("window.__console.state && !window.__console.state.failsafe", timeout=T_WAIT)
     assert "failsafe cleared: link restored and stick centred" in pg.locator("#events").inner_text()
     ctx.close()
@@ -326,8 +351,9 @@ def test_a_page_from_another_origin_cannot_send_a_command(console_page, chromium
     st = httpx.get(server["url"] + "/api/state", params={"token": TOKEN}, timeout=5).json()
     assert st["estop"] is False and st["mode"] == "auto"
     origin = evil_site.rstrip("/")
-    page.wait_for_function(f"window.__console.events.some(e => e.text.includes(\"origin '{origin}' not allowed\"))",
-                           timeout=T_WAIT)
+    page.wait_for_function(
+        f"window.__console.events.some(e => e.text.includes(\"origin '{origin}' not allowed\"))", timeout=T_WAIT
+    )
 
 
 def test_a_viewer_cannot_send_a_command_and_take_over_is_explicit(console_page, chromium_browser, server):
@@ -397,11 +423,14 @@ def test_strip_charts_show_depth_distance_and_tension(console_page):
     page.select_option("#scenario-select", "combined-survey")
     run0 = page.evaluate("window.__console.hello.run")
     page.click("#newrun")
-    page.wait_for_function(f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}",
-                           timeout=60_000)
+    page.wait_for_function(
+        f"window.__console.hello.run > {run0} && window.__console.state.run > {run0}", timeout=60_000
+    )
     page.wait_for_function("window.__console.charts.every(c => c.t.length > 25)", timeout=60_000)
-    charts = page.evaluate("window.__console.charts.map(c => [c.spec.label, c.el.classList.contains('hidden'), "
-                           "c.v[c.v.length - 1], c.t[c.t.length - 1] - c.t[0]])")
+    charts = page.evaluate(
+        "window.__console.charts.map(c => [c.spec.label, c.el.classList.contains('hidden'), "
+        "c.v[c.v.length - 1], c.t[c.t.length - 1] - c.t[0]])"
+    )
     assert [c[0] for c in charts] == ["UUV depth", "relative distance", "cable tension"]
     assert not any(c[1] for c in charts)
     sig = page.evaluate("window.__console.state.signals")

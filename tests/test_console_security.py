@@ -91,8 +91,11 @@ def test_viewer_cannot_command_and_take_over_is_explicit_and_logged(app_client):
         viewer.send_text(json.dumps({"type": "control", "take": True, "force": True}))
         assert recv_until(viewer, lambda m: m["type"] == "role")["role"] == "operator"
         assert recv_until(op, lambda m: m["type"] == "role")["role"] == "viewer"
-        assert any(e["level"] == "alarm" and f"TAKE-OVER: client #{r_v['client']} took control from operator "
-                   f"#{r_op['client']}" in e["text"] for e in s.events)
+        assert any(
+            e["level"] == "alarm"
+            and f"TAKE-OVER: client #{r_v['client']} took control from operator #{r_op['client']}" in e["text"]
+            for e in s.events
+        )
         op.send_text(json.dumps({"type": "mode", "mode": "remote"}))
         assert "is a viewer" in recv_until(op, lambda m: m["type"] == "rejected")["reason"]
         viewer.send_text(json.dumps({"type": "estop", "engaged": True}))
@@ -109,20 +112,23 @@ def test_a_rejected_gain_is_logged_once(app_client):
     assert sum("usv_pilot.speed_kp" in e["text"] for e in s.events) == 1
 
 
-@pytest.mark.parametrize("raw", [
-    '{"type": "stick", "surge": true, "yaw": 0}',
-    '{"type": "stick", "surge": "0.5", "yaw": 0}',
-    '{"type": "stick", "surge": 0.5, "yaw": "1"}',
-    '{"type": "estop", "engaged": 1}',
-    '{"type": "estop", "engaged": "true"}',
-    '{"type": "pause", "paused": 0}',
-    '{"type": "mode", "mode": 1}',
-    '{"type": "waypoints", "points": [["1", 2]]}',
-    '{"type": "waypoints", "points": [[1, 2, 3]]}',
-    '{"type": "gains", "gains": {"usv_pilot.speed_kp": "800"}}',
-    '{"type": "ping", "id": 1.5}',
-    '{"type": "control", "take": 1}',
-])
+@pytest.mark.parametrize(
+    "raw",
+    [
+        '{"type": "stick", "surge": true, "yaw": 0}',
+        '{"type": "stick", "surge": "0.5", "yaw": 0}',
+        '{"type": "stick", "surge": 0.5, "yaw": "1"}',
+        '{"type": "estop", "engaged": 1}',
+        '{"type": "estop", "engaged": "true"}',
+        '{"type": "pause", "paused": 0}',
+        '{"type": "mode", "mode": 1}',
+        '{"type": "waypoints", "points": [["1", 2]]}',
+        '{"type": "waypoints", "points": [[1, 2, 3]]}',
+        '{"type": "gains", "gains": {"usv_pilot.speed_kp": "800"}}',
+        '{"type": "ping", "id": 1.5}',
+        '{"type": "control", "take": 1}',
+    ],
+)
 def test_message_fields_are_strictly_typed(raw):
     with pytest.raises(Rejected):
         parse_message(raw)
@@ -223,16 +229,56 @@ def test_tls_serves_https_with_the_token_url(tmp_path):
     if shutil.which("openssl") is None:
         pytest.skip("no openssl binary to make a test certificate")
     key, cert = tmp_path / "key.pem", tmp_path / "cert.pem"
-    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", str(key), "-out",
-                    str(cert), "-days", "2", "-subj", "/CN=127.0.0.1", "-addext", "subjectAltName=IP:127.0.0.1"],
-                   check=True, capture_output=True, timeout=60)
+    subprocess.run(
+        [
+            "openssl",
+            "req",
+            "-x509",
+            "-newkey",
+            "rsa:2048",
+            "-nodes",
+            "-keyout",
+            str(key),
+            "-out",
+            str(cert),
+            "-days",
+            "2",
+            "-subj",
+            "/CN=127.0.0.1",
+            "-addext",
+            "subjectAltName=IP:127.0.0.1",
+        ],
+        check=True,
+        capture_output=True,
+        timeout=60,
+    )
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port),
-                             "--out", str(tmp_path / "runs"), "--token", TOKEN, "--ssl-certfile", str(cert),
-                             "--ssl-keyfile", str(key), "--no-warmup"], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "oceangnc.cli",
+            "console",
+            "usv-remote",
+            "--port",
+            str(port),
+            "--out",
+            str(tmp_path / "runs"),
+            "--token",
+            TOKEN,
+            "--ssl-certfile",
+            str(cert),
+            "--ssl-keyfile",
+            str(key),
+            "--no-warmup",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1"),
+    )
     try:
         line = ""
         deadline = time.monotonic() + 90

@@ -39,9 +39,25 @@ def _free_port() -> int:
 def console(tmp_path):
     port = _free_port()
     env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port),
-                             "--out", str(tmp_path), "--token", TOKEN], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "oceangnc.cli",
+            "console",
+            "usv-remote",
+            "--port",
+            str(port),
+            "--out",
+            str(tmp_path),
+            "--token",
+            TOKEN,
+        ],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     url = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 120
     while True:
@@ -113,9 +129,14 @@ async def _soak(port: int, pid: int) -> dict:
         s.setblocking(False)
         await loop.sock_connect(s, ("127.0.0.1", port))
         key = base64.b64encode(os.urandom(16)).decode()
-        await loop.sock_sendall(s, (f"GET /ws?token={TOKEN}&role=viewer HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
-                                    f"Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
-                                    f"Sec-WebSocket-Version: 13\r\n\r\n").encode())
+        await loop.sock_sendall(
+            s,
+            (
+                f"GET /ws?token={TOKEN}&role=viewer HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+                f"Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+                f"Sec-WebSocket-Version: 13\r\n\r\n"
+            ).encode(),
+        )
         head = await loop.sock_recv(s, 64)
         assert head.startswith(b"HTTP/1.1 101"), head
         try:
@@ -128,8 +149,12 @@ async def _soak(port: int, pid: int) -> dict:
             mem.append((time.monotonic() - t_start, proc.memory_info().rss))
             await asyncio.sleep(1.0)
 
-    tasks = [asyncio.create_task(operator()), *[asyncio.create_task(viewer(i + 1)) for i in range(VIEWERS)],
-             asyncio.create_task(slow_reader()), asyncio.create_task(memory())]
+    tasks = [
+        asyncio.create_task(operator()),
+        *[asyncio.create_task(viewer(i + 1)) for i in range(VIEWERS)],
+        asyncio.create_task(slow_reader()),
+        asyncio.create_task(memory()),
+    ]
     await asyncio.sleep(2.0)  # everybody connected; the count starts now
     c0 = list(counts)
     w0 = time.monotonic()
@@ -141,8 +166,15 @@ async def _soak(port: int, pid: int) -> dict:
     for t in tasks:
         t.cancel()
     await asyncio.gather(*tasks, return_exceptions=True)
-    return {"rates": [(b - a) / (w1 - w0) for a, b in zip(c0, c1)], "op_states": op_states, "events": events,
-            "mem": mem, "w0": w0, "w1": w1, "wall0": wall0}
+    return {
+        "rates": [(b - a) / (w1 - w0) for a, b in zip(c0, c1)],
+        "op_states": op_states,
+        "events": events,
+        "mem": mem,
+        "w0": w0,
+        "w1": w1,
+        "wall0": wall0,
+    }
 
 
 def test_one_operator_and_20_viewers_for_60_s(console):
@@ -161,5 +193,7 @@ def test_one_operator_and_20_viewers_for_60_s(console):
     assert len(dropped) == 1, texts[-20:]
     lags = [e for w, e in r["events"] if w >= r["wall0"] and "fell" in e and "behind" in e]
     assert not lags, lags  # no re-anchoring while the 21 clients were streaming
-    print(f"soak: rates {min(rates):.1f}-{max(rates):.1f} Hz, pacing {100 * pacing:+.2f} %, memory over the "
-          f"last 30 s {100 * growth:.2f} %, {dropped[0]}")
+    print(
+        f"soak: rates {min(rates):.1f}-{max(rates):.1f} Hz, pacing {100 * pacing:+.2f} %, memory over the "
+        f"last 30 s {100 * growth:.2f} %, {dropped[0]}"
+    )

@@ -86,8 +86,16 @@ def test_uuv_pid_switches_loops_at_R_and_saturates():
     ucfg = UUVConfig()
     ctl = UUVPIDController(UUVPIDConfig(), ucfg, 0.05)
     ctl.reset(None)
-    bus = {"lf.e_x": 0.2, "lf.outside": 0.0, "lf.rel_heading_err": 0.1, "lf.los_err": -0.5, "lf.los": 1.0,
-           "usv.psi": 0.3, "usv.r": 0.0, "uuv.r": 0.0}  # every declared input is on the bus
+    bus = {
+        "lf.e_x": 0.2,
+        "lf.outside": 0.0,
+        "lf.rel_heading_err": 0.1,
+        "lf.los_err": -0.5,
+        "lf.los": 1.0,
+        "usv.psi": 0.3,
+        "usv.r": 0.0,
+        "uuv.r": 0.0,
+    }  # every declared input is on the bus
     ctl.step(0.0, bus)
     assert bus["uuv.thrust_port_cmd"] == bus["uuv.thrust_stbd_cmd"] > 0
     assert bus["uuv.thrust_bow_cmd"] > 0 and bus["uuv_ctrl.loop"] == 2 and bus["uuv_ctrl.psi_d"] == 0.3
@@ -108,8 +116,14 @@ def test_uuv_pid_switches_loops_at_R_and_saturates():
 
 def _leader(t):
     """Leader with varying speed and yaw rate; returns (u, v, r, u', v', r')."""
-    return (0.6 + 0.1 * math.sin(0.2 * t), 0.02 * math.sin(0.3 * t), 0.1 * math.sin(0.1 * t),
-            0.02 * math.cos(0.2 * t), 0.006 * math.cos(0.3 * t), 0.01 * math.cos(0.1 * t))
+    return (
+        0.6 + 0.1 * math.sin(0.2 * t),
+        0.02 * math.sin(0.3 * t),
+        0.1 * math.sin(0.1 * t),
+        0.02 * math.cos(0.2 * t),
+        0.006 * math.cos(0.3 * t),
+        0.01 * math.cos(0.1 * t),
+    )
 
 
 def _closed_loop(g, m, cx, cy, s0, t_end=60.0):
@@ -161,8 +175,17 @@ def _straight_leader_run(m, g, s0, ul=0.6, t_end=80.0):
         e1, e2, ep = bs.errors(xl, yl, psil, xf, yf, psif, cx, 0.0, g.h)
         o = bs.control_law(m, g, e1, e2, ep, u, v, r, ul, 0.0, 0.0, cx=cx)
         du, dv, dr = m.accel(u, v, r, o["tau_u"], o["tau_r"])
-        return [ul, 0.0, 0.0, u * math.cos(psif) - v * math.sin(psif), u * math.sin(psif) + v * math.cos(psif),
-                r, du, dv, dr]
+        return [
+            ul,
+            0.0,
+            0.0,
+            u * math.cos(psif) - v * math.sin(psif),
+            u * math.sin(psif) + v * math.cos(psif),
+            r,
+            du,
+            dv,
+            dr,
+        ]
 
     return solve_ivp(rhs, (0.0, t_end), s0, rtol=1e-9, atol=1e-11).y[:, -1]
 
@@ -187,8 +210,9 @@ def test_backstepping_crab_angle_with_a_bow_side_force_matches_the_zero_dynamics
     g = BacksteppingConfig()
     m = model_from_uuv(UUVConfig())
     U = 0.6
-    xl, yl, psil, xf, yf, psif, u, v, r = _straight_leader_run(m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0], ul=U,
-                                                               t_end=150.0)
+    xl, yl, psil, xf, yf, psif, u, v, r = _straight_leader_run(
+        m, g, [0, 0, 0, -1.0, 1.0, 0.7, 0, 0, 0], ul=U, t_end=150.0
+    )
     e = psil - psif
     assert abs(r) < 1e-6
     assert v == pytest.approx(U * math.sin(e), abs=1e-5)

@@ -39,8 +39,21 @@ def test_cli_identifies_from_the_scenario_log(run_dir, tmp_path, capsys):
     0.002 m/s), its innovations have the predicted size (mean NIS 3 within 3 %), and the well identified
     pitch-moment coefficients land within 3 sigma of the truth; it writes a JSON table."""
     dest = tmp_path / "ident"
-    rc = main(["identify", "ekf", str(run_dir.out_dir / "log.parquet"), "--model", "submarine-vertical",
-               "--estimate", ",".join(COEFF_NAMES), "--initial-scale", "1.2", "--out", str(dest)])
+    rc = main(
+        [
+            "identify",
+            "ekf",
+            str(run_dir.out_dir / "log.parquet"),
+            "--model",
+            "submarine-vertical",
+            "--estimate",
+            ",".join(COEFF_NAMES),
+            "--initial-scale",
+            "1.2",
+            "--out",
+            str(dest),
+        ]
+    )
     assert rc == 0
     out = json.loads((dest / "ekf_submarine-vertical.json").read_text())
     assert out["measurement_sigma"]["sub.w"] == pytest.approx(0.002, rel=0.2)
@@ -58,8 +71,22 @@ def test_cli_csv_log_noise_free(tmp_path):
     csv = tmp_path / "trial.csv"
     df.to_csv(csv, index=False)
     dest = tmp_path / "o"
-    assert main(["identify", "ekf", str(csv), "--estimate", "Mq,Mds", "--initial", "Mq=-0.0025,Mds=-0.004",
-                 "--out", str(dest)]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "ekf",
+                str(csv),
+                "--estimate",
+                "Mq,Mds",
+                "--initial",
+                "Mq=-0.0025,Mds=-0.004",
+                "--out",
+                str(dest),
+            ]
+        )
+        == 0
+    )
     est = json.loads((dest / "ekf_submarine-vertical.json").read_text())["parameters"]
     for k in ("Mq", "Mds"):
         assert est[k]["estimate"] == pytest.approx(TRUE_COEFFS[k], rel=5e-3)
@@ -75,8 +102,15 @@ def test_cli_bad_input_exit_2(tmp_path, capsys):
     assert main(["identify", "ekf", str(csv), "--estimate", "Zw,Kp"]) == 2
     assert "unknown parameter(s) Kp" in capsys.readouterr().err
     good = tmp_path / "good.csv"
-    pd.DataFrame({"t": np.arange(10) * 0.01, "sub.w": np.zeros(10), "sub.theta": np.zeros(10),
-                  "sub.q": np.zeros(10), "sub.ds": np.zeros(10)}).to_csv(good, index=False)
+    pd.DataFrame(
+        {
+            "t": np.arange(10) * 0.01,
+            "sub.w": np.zeros(10),
+            "sub.theta": np.zeros(10),
+            "sub.q": np.zeros(10),
+            "sub.ds": np.zeros(10),
+        }
+    ).to_csv(good, index=False)
     assert main(["identify", "ekf", str(good), "--estimate", "Zw", "--r-sigma", "0.01,0,0.01"]) == 2
     assert "not positive definite" in capsys.readouterr().err
     assert main(["identify", "ekf", str(good), "--model", "airship", "--estimate", "Zw"]) == 2

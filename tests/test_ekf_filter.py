@@ -8,8 +8,7 @@ import pytest
 from numba import njit
 
 from oceangnc.errors import ConfigError, InputError
-from oceangnc.identification.ekf import (EKFModel, FilterDivergedError, nees, run_ekf,
-                                         submarine_vertical_model)
+from oceangnc.identification.ekf import EKFModel, FilterDivergedError, nees, run_ekf, submarine_vertical_model
 from oceangnc.identification.maneuvers import zigzag
 from oceangnc.models.submarine_vertical import COEFF_NAMES, TRUE_COEFFS, SubmarineVerticalConfig
 from oceangnc.scenarios.ekf_zigzag import EKFZigzagConfig, identify
@@ -67,8 +66,8 @@ def test_nees_consistent_over_20_seeds():
         Z = d.x_true[:, :3] + rng.standard_normal((d.t.size, 3)) * sd
         a0 = TRUE * (1 + 0.2 * rng.standard_normal(10))
         P0 = np.concatenate([(2 * sd) ** 2, (0.2 * TRUE) ** 2])
-        Q = np.concatenate([2.5e-5 * sd ** 2, np.zeros(10)])
-        res = run_ekf(model, d.t, Z, d.ds[:, None], COEFF_NAMES, Z[0], a0, P0, Q, sd ** 2)
+        Q = np.concatenate([2.5e-5 * sd**2, np.zeros(10)])
+        res = run_ekf(model, d.t, Z, d.ds[:, None], COEFF_NAMES, Z[0], a0, P0, Q, sd**2)
         vals.append(nees(res.X[-1, 3:] - TRUE, res.P[3:, 3:]))
     n = 20
     lo, hi = chi2.ppf([0.005, 0.995], 10 * n) / n
@@ -76,6 +75,7 @@ def test_nees_consistent_over_20_seeds():
 
 
 # -- a user model: nonlinear pendulum-spring with unknown stiffness and damping -------------------------
+
 
 @njit(cache=True)
 def osc_f(x, p, u, out):
@@ -90,9 +90,17 @@ def osc_h(x, p, out):
 
 
 def _osc_model():
-    return EKFModel(name="oscillator", f=osc_f, h=osc_h, state_names=("angle", "rate"),
-                    param_names=("k", "c", "J"), input_names=("torque",), measurement_names=("angle",),
-                    params=np.array([2.0, 0.3, 1.0]), bound=1e3)
+    return EKFModel(
+        name="oscillator",
+        f=osc_f,
+        h=osc_h,
+        state_names=("angle", "rate"),
+        param_names=("k", "c", "J"),
+        input_names=("torque",),
+        measurement_names=("angle",),
+        params=np.array([2.0, 0.3, 1.0]),
+        bound=1e3,
+    )
 
 
 def _osc_data(T=40.0, dt=0.02):
@@ -120,13 +128,25 @@ def test_generic_user_model(mode):
     """Any model f(x, p, u), h(x): the stiffness and damping of a nonlinear oscillator from its angle
     only (rate unmeasured), noise-free, 40 s at 50 Hz, guesses 40 % off: within 0.5 %."""
     m, t, X, U = _osc_data()
-    res = run_ekf(m, t, X[:, :1], U, "k,c", [0.0, 0.0], [1.2, 0.42], [1e-6, 1e-2, 1.0, 0.1],
-                  [1e-10, 1e-10, 0.0, 0.0], [1e-8], jacobian=mode)
+    res = run_ekf(
+        m,
+        t,
+        X[:, :1],
+        U,
+        "k,c",
+        [0.0, 0.0],
+        [1.2, 0.42],
+        [1e-6, 1e-2, 1.0, 0.1],
+        [1e-10, 1e-10, 0.0, 0.0],
+        [1e-8],
+        jacobian=mode,
+    )
     est = res.X[-1, 2:]
     assert np.abs(est / np.array([2.0, 0.3]) - 1).max() < 5e-3
 
 
 # -- bad input -------------------------------------------------------------------------------------------
+
 
 def _small_problem():
     c = SubmarineVerticalConfig()
@@ -138,7 +158,7 @@ def _small_problem():
 def test_unknown_parameter_name():
     m, d, sd = _small_problem()
     with pytest.raises(InputError, match="unknown parameter.*Zfoo"):
-        run_ekf(m, d.t, d.z_meas, d.ds[:, None], "Zw,Zfoo", d.z_meas[0], [-0.02, 0.0], 1.0, 0.0, sd ** 2)
+        run_ekf(m, d.t, d.z_meas, d.ds[:, None], "Zw,Zfoo", d.z_meas[0], [-0.02, 0.0], 1.0, 0.0, sd**2)
     with pytest.raises(InputError, match="unknown parameter"):
         identify(_cfg(filter={"estimate": ["Zw", "Nr"]}), np.random.default_rng(0))
 
@@ -147,13 +167,13 @@ def test_covariances_must_be_positive_definite():
     m, d, sd = _small_problem()
     args = (m, d.t, d.z_meas, d.ds[:, None], "Zw", d.z_meas[0], [-0.02])
     with pytest.raises(ConfigError, match="P0 is not positive definite"):
-        run_ekf(*args, [1e-6, 1e-6, -1e-6, 1e-6], 0.0, sd ** 2)
+        run_ekf(*args, [1e-6, 1e-6, -1e-6, 1e-6], 0.0, sd**2)
     with pytest.raises(ConfigError, match="R is not positive definite"):
         run_ekf(*args, 1e-6, 0.0, [1e-6, 0.0, 1e-6])
     with pytest.raises(ConfigError, match="Q is not positive semi-definite"):
-        run_ekf(*args, 1e-6, [0.0, -1.0, 0.0, 0.0], sd ** 2)
+        run_ekf(*args, 1e-6, [0.0, -1.0, 0.0, 0.0], sd**2)
     with pytest.raises(ConfigError, match="not symmetric"):
-        run_ekf(*args, np.array([[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]]), 0.0, sd ** 2)
+        run_ekf(*args, np.array([[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]]), 0.0, sd**2)
 
 
 def test_bad_samples():
@@ -161,9 +181,9 @@ def test_bad_samples():
     t = d.t.copy()
     t[3] = t[2]
     with pytest.raises(InputError, match="strictly increasing"):
-        run_ekf(m, t, d.z_meas, d.ds[:, None], "Zw", d.z_meas[0], [-0.02], 1e-6, 0.0, sd ** 2)
+        run_ekf(m, t, d.z_meas, d.ds[:, None], "Zw", d.z_meas[0], [-0.02], 1e-6, 0.0, sd**2)
     with pytest.raises(InputError, match="measurements"):
-        run_ekf(m, d.t, d.z_meas[:, :2], d.ds[:, None], "Zw", d.z_meas[0], [-0.02], 1e-6, 0.0, sd ** 2)
+        run_ekf(m, d.t, d.z_meas[:, :2], d.ds[:, None], "Zw", d.z_meas[0], [-0.02], 1e-6, 0.0, sd**2)
 
 
 def test_diverging_filter_is_reported():
@@ -173,8 +193,18 @@ def test_diverging_filter_is_reported():
     d = zigzag(c.params(), c.x0(), "10-5", duration=200.0, dt_truth=1e-2)
     m = submarine_vertical_model()
     with pytest.raises(FilterDivergedError, match=r"EKF diverged at t=.* s") as e:
-        run_ekf(m, d.t, d.z_meas, d.ds[:, None], "Mq", d.z_meas[0], [0.05], [1e-12, 1e-12, 1e-12, 1e-14], 0.0,
-                [1e12, 1e12, 1e12])
+        run_ekf(
+            m,
+            d.t,
+            d.z_meas,
+            d.ds[:, None],
+            "Mq",
+            d.z_meas[0],
+            [0.05],
+            [1e-12, 1e-12, 1e-12, 1e-14],
+            0.0,
+            [1e12, 1e12, 1e12],
+        )
     assert isinstance(e.value, InputError) and "\n" not in str(e.value)
 
 

@@ -7,8 +7,16 @@ import pytest
 
 from oceangnc.identification.ekf import model_jacobians, submarine_vertical_model
 from oceangnc.identification.maneuvers import parse_maneuver, zigzag
-from oceangnc.models.submarine_vertical import (COEFF_NAMES, P_NAMES, SubmarineVerticalConfig, default_params,
-                                                dimensional, eigenvalues, sub_f, sub_jac)
+from oceangnc.models.submarine_vertical import (
+    COEFF_NAMES,
+    P_NAMES,
+    SubmarineVerticalConfig,
+    default_params,
+    dimensional,
+    eigenvalues,
+    sub_f,
+    sub_jac,
+)
 from oceangnc.errors import ConfigError
 
 
@@ -89,7 +97,7 @@ def test_table_2_1_scaling():
     assert d2["Mq"] / d1["Mq"] == pytest.approx(2.0)
     assert d2["Mqdot"] / d1["Mqdot"] == pytest.approx(1.0)
     rho, L = 1025.9, 63.955
-    assert d1["Iy"] == pytest.approx(0.0006088 * 0.5 * rho * L ** 5)
+    assert d1["Iy"] == pytest.approx(0.0006088 * 0.5 * rho * L**5)
 
 
 def test_zigzag_switching_rule():
@@ -129,11 +137,16 @@ def _equivalent_coefficients(p, g11, g21):
     d = dimensional(p)
     m, U = p[P_NAMES.index("m")], p[P_NAMES.index("U")]
     new = {
-        "Zw": g11 * d["Zw"], "Mw": g21 * d["Zw"] + d["Mw"],
-        "Zq": g11 * d["Zq"] + (g11 - 1) * m * U, "Mq": g21 * (d["Zq"] + m * U) + d["Mq"],
-        "Zds": g11 * d["Zds"], "Mds": g21 * d["Zds"] + d["Mds"],
-        "Zwdot": m - g11 * (m - d["Zwdot"]), "Zqdot": g11 * d["Zqdot"],
-        "Mwdot": d["Mwdot"] - g21 * (m - d["Zwdot"]), "Mqdot": d["Mqdot"] + g21 * d["Zqdot"],
+        "Zw": g11 * d["Zw"],
+        "Mw": g21 * d["Zw"] + d["Mw"],
+        "Zq": g11 * d["Zq"] + (g11 - 1) * m * U,
+        "Mq": g21 * (d["Zq"] + m * U) + d["Mq"],
+        "Zds": g11 * d["Zds"],
+        "Mds": g21 * d["Zds"] + d["Mds"],
+        "Zwdot": m - g11 * (m - d["Zwdot"]),
+        "Zqdot": g11 * d["Zqdot"],
+        "Mwdot": d["Mwdot"] - g21 * (m - d["Zwdot"]),
+        "Mqdot": d["Mqdot"] + g21 * d["Zqdot"],
     }
     q = p.copy()
     unit = {k: d[k] / p[i] for i, k in enumerate(COEFF_NAMES)}

@@ -24,8 +24,8 @@ def _identify(model, t, U, x0, sd, est, factors, seed, q_rel=1e-4, substeps=2):
     truth = np.array([model.p[model.layout.index(k)] for k in est])
     a0 = truth * np.asarray(factors)
     P0 = np.concatenate([(2 * sd) ** 2, (0.5 * truth) ** 2])
-    Q = np.concatenate([q_rel * sd ** 2, np.zeros(len(est))])
-    res = run_ekf(model, t, Z, U, est, Z[0], a0, P0, Q, sd ** 2, substeps=substeps)
+    Q = np.concatenate([q_rel * sd**2, np.zeros(len(est))])
+    res = run_ekf(model, t, Z, U, est, Z[0], a0, P0, Q, sd**2, substeps=substeps)
     n = model.nx
     fin, sig = res.X[-1, n:], res.sigma[-1, n:]
     return truth, fin, sig, nees(fin - truth, res.P[n:, n:]), float(np.nanmean(res.nis))
@@ -100,8 +100,9 @@ def test_estimating_a_derived_parameter_is_refused():
 
     m = get_model("uuv")
     with pytest.raises(InputError, match=r"M_inv\[0\].*derived"):
-        run_ekf(m, [0.0, 0.1], np.zeros((2, 12)), np.zeros((2, 5)), "M_inv[0]", np.zeros(12), [1.0], 1.0, 0.0,
-                np.ones(12))
+        run_ekf(
+            m, [0.0, 0.1], np.zeros((2, 12)), np.zeros((2, 5)), "M_inv[0]", np.zeros(12), [1.0], 1.0, 0.0, np.ones(12)
+        )
 
 
 def test_registry_names_every_plant():

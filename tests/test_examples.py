@@ -96,6 +96,8 @@ def test_doc_code_blocks_run(doc, tmp_path):
     code = "\n".join(doc_blocks(doc.read_text()))
     # the guard lets a block start worker processes (Dask re-imports __main__) without re-running itself
     script = tmp_path / f"{doc.stem}_blocks.py"
-    script.write_text(f"CODE = {code!r}\nif __name__ == '__main__':\n"
-                      f"    exec(compile(CODE, {str(doc)!r}, 'exec'), {{'__name__': 'doc_example'}})\n")
+    script.write_text(
+        f"CODE = {code!r}\nif __name__ == '__main__':\n"
+        f"    exec(compile(CODE, {str(doc)!r}, 'exec'), {{'__name__': 'doc_example'}})\n"
+    )
     _run([str(script)], tmp_path)

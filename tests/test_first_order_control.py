@@ -9,8 +9,15 @@ import pytest
 import oceangnc
 from oceangnc.control.pole_placement import heading_gains, predicted_overshoot, speed_gain
 from oceangnc.errors import ConfigError
-from oceangnc.guidance.los import (BAND_LOS, BAND_PERPENDICULAR, BAND_R1, BAND_R2, conventional_los,
-                                   distance_to_polyline, hybrid_los)
+from oceangnc.guidance.los import (
+    BAND_LOS,
+    BAND_PERPENDICULAR,
+    BAND_R1,
+    BAND_R2,
+    conventional_los,
+    distance_to_polyline,
+    hybrid_los,
+)
 
 
 def _run(name, tmp_path, **over):
@@ -75,9 +82,9 @@ def test_los_geometry_and_bands():
     psi, band = hybrid_los(10, 50, 0, 0, 100, 0, R, R1, R2)
     assert band == BAND_PERPENDICULAR and psi == pytest.approx(-math.pi / 2)  # straight at the foot
     psi, band = hybrid_los(10, 30, 0, 0, 100, 0, R, R1, R2)
-    assert band == BAND_R2 and psi == pytest.approx(math.atan2(-30, math.sqrt(R2 ** 2 - 900)))
+    assert band == BAND_R2 and psi == pytest.approx(math.atan2(-30, math.sqrt(R2**2 - 900)))
     psi, band = hybrid_los(10, -15, 0, 0, 100, 0, R, R1, R2)
-    assert band == BAND_R1 and psi == pytest.approx(math.atan2(15, math.sqrt(R1 ** 2 - 225)))
+    assert band == BAND_R1 and psi == pytest.approx(math.atan2(15, math.sqrt(R1**2 - 225)))
     assert hybrid_los(10, 5, 0, 0, 100, 0, R, R1, R2)[1] == BAND_LOS
 
 

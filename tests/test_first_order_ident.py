@@ -13,8 +13,13 @@ from oceangnc.cli import main
 from oceangnc.errors import InputError
 from oceangnc.identification.first_order import Columns, fit_nomoto_zigzag, identify_log, identify_step
 
-SHORT = {"trials.straight_speeds_mps": [5.0, 10.0, 16.0], "trials.turn_speeds_mps": [4.5, 6.5, 8.5],
-         "trials.straight_duration_s": 130.0, "trials.turn_duration_s": 30.0, "trials.zigzag_duration_s": 80.0}
+SHORT = {
+    "trials.straight_speeds_mps": [5.0, 10.0, 16.0],
+    "trials.turn_speeds_mps": [4.5, 6.5, 8.5],
+    "trials.straight_duration_s": 130.0,
+    "trials.turn_duration_s": 30.0,
+    "trials.zigzag_duration_s": 80.0,
+}
 NOISE = {"noise.speed_mps": 0.05, "noise.heading_deg": 0.5, "noise.yaw_rate_degps": 0.3}
 
 
@@ -46,8 +51,12 @@ def test_noise_free_trials_recover_known_k_t_within_2_percent(clean):
 def test_speed_fit_reproduces_table_2(clean):
     """000 table 2 recovered from the trials by the linear least-squares fit against speed."""
     s = clean.summary
-    for name, a, b in (("K_v", 0.0004, 0.0014), ("T_v", 1.1737, -2.2474), ("K_r", -0.0113, 0.7176),
-                       ("T_r", -0.1534, 2.6341)):
+    for name, a, b in (
+        ("K_v", 0.0004, 0.0014),
+        ("T_v", 1.1737, -2.2474),
+        ("K_r", -0.0113, 0.7176),
+        ("T_r", -0.1534, 2.6341),
+    ):
         assert s[f"fit.{name}_slope"] == pytest.approx(a, rel=0.02)
         assert s[f"fit.{name}_intercept"] == pytest.approx(b, rel=0.02)
 
@@ -84,11 +93,19 @@ def test_3dof_usv_surge_is_first_order_and_identified(tmp_path):
     """Trials from the 3-DOF USV (models/usv.py): surge m11 u' + d11 u = 2 T gives K_v = 2/d11, T_v = m11/d11."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = oceangnc.run("trials", overrides={"vehicle": "usv-3dof", "trials.zigzag_deg": [],
-                                              "trials.straight_duration_s": 20.0, "trials.turn_duration_s": 40.0,
-                                              "trials.straight_speeds_3dof_mps": [0.4, 0.8],
-                                              "trials.turn_speeds_3dof_mps": [0.5, 0.8]},
-                         plots=False, out=tmp_path)
+        r = oceangnc.run(
+            "trials",
+            overrides={
+                "vehicle": "usv-3dof",
+                "trials.zigzag_deg": [],
+                "trials.straight_duration_s": 20.0,
+                "trials.turn_duration_s": 40.0,
+                "trials.straight_speeds_3dof_mps": [0.4, 0.8],
+                "trials.turn_speeds_3dof_mps": [0.5, 0.8],
+            },
+            plots=False,
+            out=tmp_path,
+        )
     assert r.summary["fit.K_v_intercept"] == pytest.approx(2 / 735.5, rel=0.01)
     assert r.summary["fit.T_v_intercept"] == pytest.approx(210 / 735.5, rel=0.01)
     # Nomoto from the linearised sway-yaw dynamics (T = T1 + T2 - T3): an approximation of this boat
@@ -133,8 +150,27 @@ def test_cli_reads_csv_with_named_columns_and_degrees(tmp_path, capsys):
     psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))])
     df = pd.DataFrame({"time": t, "rudder": d, "hdg": psi, "rot": r, "sog": np.full(t.size, 6.0)})
     p = _write(tmp_path, df)
-    code = main(["identify", "first-order", str(p), "--time", "time", "--steer", "rudder", "--heading", "hdg",
-                 "--yaw-rate", "rot", "--speed", "sog", "--steer-deg", "--heading-deg", "--out", str(tmp_path)])
+    code = main(
+        [
+            "identify",
+            "first-order",
+            str(p),
+            "--time",
+            "time",
+            "--steer",
+            "rudder",
+            "--heading",
+            "hdg",
+            "--yaw-rate",
+            "rot",
+            "--speed",
+            "sog",
+            "--steer-deg",
+            "--heading-deg",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert code == 0
     out = capsys.readouterr().out
     assert "turn" in out
@@ -149,16 +185,20 @@ def _turn_log(t_end=40.0):
     d = np.where(t >= 5, 0.17, 0.0)
     r = np.where(t >= 5, 0.1 * (1 - np.exp(-(t - 5) / 2.0)), 0.0)
     psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))])
-    return pd.DataFrame({"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r,
-                         "trial.speed": np.full(t.size, 6.0)})
+    return pd.DataFrame(
+        {"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r, "trial.speed": np.full(t.size, 6.0)}
+    )
 
 
-@pytest.mark.parametrize("breakage, message", [
-    ("missing", "no column"),
-    ("nan", "NaN"),
-    ("time", "not increasing"),
-    ("short", "no steady interval"),
-])
+@pytest.mark.parametrize(
+    "breakage, message",
+    [
+        ("missing", "no column"),
+        ("nan", "NaN"),
+        ("time", "not increasing"),
+        ("short", "no steady interval"),
+    ],
+)
 def test_bad_logs_give_a_clear_error_and_exit_2(tmp_path, capsys, breakage, message):
     df = _turn_log(12.0 if breakage == "short" else 40.0)
     if breakage == "missing":
@@ -203,8 +243,24 @@ def test_cli_points_need_one_trial(clean, tmp_path, capsys):
     tid = 4  # a turning trial
     t = df.loc[df["trial.id"] == tid, "t"].to_numpy()
     t1, t2, t3 = t[0] + 4.95, t[0] + 20.0, t[-1]
-    assert main(["identify", "first-order", log, "--select-trial", str(tid), "--points", str(t1), str(t2), str(t3),
-                 "--out", str(tmp_path)]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "first-order",
+                log,
+                "--select-trial",
+                str(tid),
+                "--points",
+                str(t1),
+                str(t2),
+                str(t3),
+                "--out",
+                str(tmp_path),
+            ]
+        )
+        == 0
+    )
     data = json.loads((tmp_path / "identification.json").read_text())
     (tr,) = data["trials"]
     assert tr["trial"] == tid and tr["t2"] == pytest.approx(t2, abs=0.03)

@@ -9,8 +9,13 @@ from oceangnc.api import resolve_config
 from oceangnc.core.blocks import FunctionBlock
 from oceangnc.core.clock import Simulation
 from oceangnc.errors import ConfigError
-from oceangnc.guidance.towed_planning import (plan_usv, segments_profile, table3_profile, usv_path_closed_form,
-                                              waypoints_from_plan)
+from oceangnc.guidance.towed_planning import (
+    plan_usv,
+    segments_profile,
+    table3_profile,
+    usv_path_closed_form,
+    waypoints_from_plan,
+)
 from oceangnc.models.first_order import FirstOrderConfig, FirstOrderUSV
 from oceangnc.models.towed_trailer import TowedTrailer, simulate_trailer, uuv_position
 

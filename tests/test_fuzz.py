@@ -24,8 +24,7 @@ from oceangnc.console.messages import TYPES, Rejected, parse_message
 from oceangnc.errors import ConfigError, InputError, OceanGNCError
 from oceangnc.io.config import flatten, parse_sets, to_dict
 
-FAST = settings(max_examples=150, deadline=2000, suppress_health_check=[HealthCheck.too_slow],
-                derandomize=True)
+FAST = settings(max_examples=150, deadline=2000, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 
 _, _CFG = oceangnc.resolve_config("usv-turn")
 KEYS = [k for k in flatten(to_dict(_CFG)) if k != "scenario"]
@@ -38,8 +37,11 @@ numbers = st.one_of(
 )
 scalars = st.one_of(numbers, st.booleans(), st.text(max_size=20))
 values = st.recursive(scalars, lambda inner: st.lists(inner, max_size=4), max_leaves=8)
-keys = st.one_of(st.sampled_from(KEYS), st.sampled_from(SECTIONS),
-                 st.text(alphabet=string.ascii_lowercase + "._", min_size=1, max_size=12))
+keys = st.one_of(
+    st.sampled_from(KEYS),
+    st.sampled_from(SECTIONS),
+    st.text(alphabet=string.ascii_lowercase + "._", min_size=1, max_size=12),
+)
 
 
 def _one_line(e: Exception) -> str:
@@ -50,7 +52,7 @@ def _one_line(e: Exception) -> str:
 
 def _all_finite(cfg) -> None:
     for k, v in flatten(to_dict(cfg)).items():
-        for x in (v if isinstance(v, list) else [v]):
+        for x in v if isinstance(v, list) else [v]:
             if isinstance(x, float):
                 assert math.isfinite(x), (k, x)
 
@@ -83,8 +85,7 @@ def test_generated_toml_documents_are_accepted_or_refused_in_one_line(doc):
     _all_finite(cfg)
 
 
-@settings(max_examples=80, deadline=2000, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=80, deadline=2000, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.text(max_size=200))
 def test_arbitrary_text_as_a_toml_file_is_refused_in_one_line(tmp_path_factory, text):
     p = tmp_path_factory.mktemp("fz") / "c.toml"
@@ -99,9 +100,15 @@ def test_arbitrary_text_as_a_toml_file_is_refused_in_one_line(tmp_path_factory, 
 
 
 set_items = st.one_of(
-    st.builds(lambda k, v: f"{k}={v}", st.sampled_from(KEYS),
-              st.one_of(st.text(max_size=30), numbers.map(str), st.sampled_from(
-                  ["nan", "inf", "-inf", "[[0,0],[nan,5]]", "1e400", "[", "{a=1}", "true", '"x"', "[1,2]"]))),
+    st.builds(
+        lambda k, v: f"{k}={v}",
+        st.sampled_from(KEYS),
+        st.one_of(
+            st.text(max_size=30),
+            numbers.map(str),
+            st.sampled_from(["nan", "inf", "-inf", "[[0,0],[nan,5]]", "1e400", "[", "{a=1}", "true", '"x"', "[1,2]"]),
+        ),
+    ),
     st.text(max_size=40),
 )
 
@@ -118,16 +125,31 @@ def test_generated_set_values_are_accepted_or_refused_in_one_line(items):
     _all_finite(cfg)
 
 
-@settings(max_examples=12, deadline=20000, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(st.sampled_from(KEYS), st.sampled_from(["nan", "inf", "1e308", "-1e308", "[", "x y", "true", "[1,[2]]",
-                                                "0", "-1", "1e-320", '""']))
+@settings(
+    max_examples=12, deadline=20000, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    st.sampled_from(KEYS),
+    st.sampled_from(["nan", "inf", "1e308", "-1e308", "[", "x y", "true", "[1,[2]]", "0", "-1", "1e-320", '""']),
+)
 def test_cli_set_values_exit_0_or_2_with_one_line(tmp_path_factory, capsys, key, value):
     from oceangnc.cli import main
 
     out = tmp_path_factory.mktemp("cli")
-    rc = main(["run", "usv-turn", "--set", f"{key}={value}", "--set", "sim.duration=0.2", "--out", str(out),
-               "--no-plots", "--quiet"])
+    rc = main(
+        [
+            "run",
+            "usv-turn",
+            "--set",
+            f"{key}={value}",
+            "--set",
+            "sim.duration=0.2",
+            "--out",
+            str(out),
+            "--no-plots",
+            "--quiet",
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert rc in (0, 1, 2), rc
     if rc == 2:
@@ -141,19 +163,44 @@ def test_cli_set_values_exit_0_or_2_with_one_line(tmp_path_factory, capsys, key,
 # -- the console's message handler ------------------------------------------------------------------------
 
 json_values = st.recursive(
-    st.one_of(st.none(), st.booleans(), st.floats(allow_nan=False, allow_infinity=False),
-              st.integers(min_value=-(2**60), max_value=2**60), st.text(max_size=15)),
+    st.one_of(
+        st.none(),
+        st.booleans(),
+        st.floats(allow_nan=False, allow_infinity=False),
+        st.integers(min_value=-(2**60), max_value=2**60),
+        st.text(max_size=15),
+    ),
     lambda inner: st.one_of(st.lists(inner, max_size=4), st.dictionaries(st.text(max_size=8), inner, max_size=4)),
-    max_leaves=10)
-FIELDS = ["surge", "yaw", "source", "mode", "loop", "engaged", "gains", "paused", "points", "scenario", "id",
-          "take", "force"]
+    max_leaves=10,
+)
+FIELDS = [
+    "surge",
+    "yaw",
+    "source",
+    "mode",
+    "loop",
+    "engaged",
+    "gains",
+    "paused",
+    "points",
+    "scenario",
+    "id",
+    "take",
+    "force",
+]
 messages = st.one_of(
-    st.fixed_dictionaries({"type": st.sampled_from(TYPES)},
-                          optional={f: json_values for f in FIELDS}).map(json.dumps),
+    st.fixed_dictionaries({"type": st.sampled_from(TYPES)}, optional={f: json_values for f in FIELDS}).map(json.dumps),
     json_values.map(json.dumps),
     st.text(max_size=60),
-    st.sampled_from(['{"type":"stick","surge":NaN,"yaw":0}', '{"type":"stick","surge":1e999,"yaw":0}',
-                     '{"type":"ping","id":' + "9" * 5000 + "}", "[" * 3000 + "]" * 3000, '{"type":"gains"}']),
+    st.sampled_from(
+        [
+            '{"type":"stick","surge":NaN,"yaw":0}',
+            '{"type":"stick","surge":1e999,"yaw":0}',
+            '{"type":"ping","id":' + "9" * 5000 + "}",
+            "[" * 3000 + "]" * 3000,
+            '{"type":"gains"}',
+        ]
+    ),
 )
 
 
@@ -177,8 +224,12 @@ def live_session(tmp_path_factory):
     s.stop()
 
 
-@settings(max_examples=200, deadline=3000, suppress_health_check=[HealthCheck.function_scoped_fixture,
-                                                                  HealthCheck.too_slow], derandomize=True)
+@settings(
+    max_examples=200,
+    deadline=3000,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+    derandomize=True,
+)
 @given(messages)
 def test_generated_json_messages_never_break_the_console(live_session, raw):
     s = live_session
@@ -207,6 +258,7 @@ def test_generated_json_messages_never_break_the_console(live_session, raw):
 
 # -- importers and the MAVLink endpoint -----------------------------------------------------------------------
 
+
 def _module(name: str) -> bool:
     try:
         return importlib.util.find_spec(name) is not None
@@ -215,13 +267,21 @@ def _module(name: str) -> bool:
 
 
 @pytest.mark.skipif(not _module("oceangnc.io.importers"), reason="log importers not in this tree")
-@settings(max_examples=60, deadline=5000, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(st.sampled_from([".bin", ".tlog", ".ulg", ".csv", ".parquet", ".mcap"]),
-       st.one_of(st.binary(max_size=1500),
-                 st.sampled_from([b"", b"PAR1", b"ULog\x01\x12\x35", b"\xa3\x95\x80", b"\xfd\x09\x00",
-                                  b"t,x\n0,1\n", b"t,x\nnan,inf\n"]).flatmap(
-                     lambda head: st.binary(max_size=400).map(lambda tail: head + tail))))
+@settings(
+    max_examples=60,
+    deadline=5000,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
+@given(
+    st.sampled_from([".bin", ".tlog", ".ulg", ".csv", ".parquet", ".mcap"]),
+    st.one_of(
+        st.binary(max_size=1500),
+        st.sampled_from(
+            [b"", b"PAR1", b"ULog\x01\x12\x35", b"\xa3\x95\x80", b"\xfd\x09\x00", b"t,x\n0,1\n", b"t,x\nnan,inf\n"]
+        ).flatmap(lambda head: st.binary(max_size=400).map(lambda tail: head + tail)),
+    ),
+)
 def test_log_importers_refuse_garbage_in_one_line(tmp_path_factory, suffix, data):
     from oceangnc.io.importers import read_any
 
@@ -268,23 +328,45 @@ def _mav_messages():
     u8 = st.integers(0, 255)
     return st.one_of(
         st.builds(lambda *a: M.MAVLink_manual_control_message(*a), u8, i16, i16, i16, i16, u16),
-        st.builds(lambda ts, cmd, *p: M.MAVLink_command_long_message(ts, 1, cmd, 0, *p),
-                  st.sampled_from([0, 1]), st.sampled_from([176, 185, 400, 300, 20, 21, 179, 511, 512, 1]),
-                  f32, f32, f32, f32, f32, f32, f32),
+        st.builds(
+            lambda ts, cmd, *p: M.MAVLink_command_long_message(ts, 1, cmd, 0, *p),
+            st.sampled_from([0, 1]),
+            st.sampled_from([176, 185, 400, 300, 20, 21, 179, 511, 512, 1]),
+            f32,
+            f32,
+            f32,
+            f32,
+            f32,
+            f32,
+            f32,
+        ),
         st.builds(lambda base, custom: M.MAVLink_set_mode_message(1, base, custom), u8, st.integers(0, 2**32 - 1)),
-        st.builds(lambda seq, x, y, cmd: M.MAVLink_mission_item_int_message(1, 1, seq, 0, cmd, 0, 1, 0, 0, 0, 0,
-                                                                              x, y, 0.0, 0),
-                  u16, i32, i32, st.sampled_from([16, 21, 22, 177])),
+        st.builds(
+            lambda seq, x, y, cmd: M.MAVLink_mission_item_int_message(
+                1, 1, seq, 0, cmd, 0, 1, 0, 0, 0, 0, x, y, 0.0, 0
+            ),
+            u16,
+            i32,
+            i32,
+            st.sampled_from([16, 21, 22, 177]),
+        ),
         st.builds(lambda n: M.MAVLink_mission_count_message(1, 1, n, 0), u16),
         st.builds(lambda *ch: M.MAVLink_rc_channels_override_message(1, 1, *ch), *[u16] * 8),
-        st.builds(lambda name, v: M.MAVLink_param_set_message(1, 1, name.encode()[:16], v, 9),
-                  st.text(alphabet=string.ascii_uppercase + "_", max_size=16), f32),
+        st.builds(
+            lambda name, v: M.MAVLink_param_set_message(1, 1, name.encode()[:16], v, 9),
+            st.text(alphabet=string.ascii_uppercase + "_", max_size=16),
+            f32,
+        ),
     )
 
 
 @pytest.mark.skipif(not _module("oceangnc.mavlink"), reason="MAVLink endpoint not in this tree")
-@settings(max_examples=120, deadline=5000, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@settings(
+    max_examples=120,
+    deadline=5000,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 @given(st.data())
 def test_mavlink_endpoint_survives_generated_datagrams(mav_vehicle, data):
     from oceangnc.mavlink.protocol import mavlink as M

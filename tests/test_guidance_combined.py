@@ -102,7 +102,7 @@ def test_pure_pursuit_reaches_every_waypoint_and_switches_legs():
     assert bus["_stop"] and bus["guidance.wp_reached"] == 4 and bus["guidance.leg"] == 2
     assert math.hypot(bus["usv.x"] - 0.0, bus["usv.y"] - 50.0) <= 2.0
     assert t < 170.0  # 150 m of legs at 1 m/s, corners cut
-    assert np.sqrt(np.mean(xt ** 2)) < 1.0
+    assert np.sqrt(np.mean(xt**2)) < 1.0
 
 
 def test_pure_pursuit_rejects_bad_waypoints():

@@ -19,8 +19,12 @@ from oceangnc.cli import main
 def identified(tmp_path_factory):
     """The first-order USV's trials (table-2 model, with sensor noise) identified by the CLI."""
     d = tmp_path_factory.mktemp("fo")
-    res = oceangnc.run("trials", out=d / "trials", plots=False,
-                       overrides={"noise.speed_mps": 0.02, "noise.heading_deg": 0.2, "noise.yaw_rate_degps": 0.1})
+    res = oceangnc.run(
+        "trials",
+        out=d / "trials",
+        plots=False,
+        overrides={"noise.speed_mps": 0.02, "noise.heading_deg": 0.2, "noise.yaw_rate_degps": 0.1},
+    )
     assert main(["identify", "first-order", str(d / "trials" / "log.parquet"), "--out", str(d / "ident")]) == 0
     return d, res
 
@@ -61,8 +65,23 @@ def test_identified_model_predicts_a_different_manoeuvre(identified):
 def test_run_model_cli_and_set_wins(identified, tmp_path, capsys):
     d, _ = identified
     m = str(d / "ident" / "identified.toml")
-    assert main(["run", "autopilot-heading", "--model", m, "--set", "usv.kr_intercept=0.7", "--out",
-                 str(tmp_path / "r"), "--quiet", "--no-plots"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "autopilot-heading",
+                "--model",
+                m,
+                "--set",
+                "usv.kr_intercept=0.7",
+                "--out",
+                str(tmp_path / "r"),
+                "--quiet",
+                "--no-plots",
+            ]
+        )
+        == 0
+    )
     cfg = tomllib.loads((tmp_path / "r" / "config.toml").read_text())
     assert cfg["usv"]["kr_intercept"] == 0.7  # --set wins over the model file
     assert cfg["usv"]["tv_slope"] == tomllib.loads(Path(m).read_text())["parameters"]["usv.tv_slope"]
@@ -88,8 +107,16 @@ def test_zero_row_logs_exit_2_in_both_commands(tmp_path, capsys):
 
 def test_no_usable_manoeuvre_exit_2(tmp_path, capsys):
     t = np.arange(0, 30, 0.1)
-    df = pd.DataFrame({"t": t, "trial.steer": 0.0, "trial.thrust": 1000.0, "trial.speed": 5.0,
-                       "trial.heading": 0.0, "trial.yaw_rate": 0.0})
+    df = pd.DataFrame(
+        {
+            "t": t,
+            "trial.steer": 0.0,
+            "trial.thrust": 1000.0,
+            "trial.speed": 5.0,
+            "trial.heading": 0.0,
+            "trial.yaw_rate": 0.0,
+        }
+    )
     p = tmp_path / "steady.csv"
     df.to_csv(p, index=False)
     assert main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")]) == 2
@@ -113,14 +140,29 @@ def test_ekf_starts_off_the_truth_says_so_and_warns_when_stuck(tmp_path, capsys)
     assert u["ci95"][0] < u["estimate"] < u["ci95"][1]
     assert u["ci95"][1] - u["estimate"] == pytest.approx(1.96 * u["std_error"], rel=1e-3)
     # a straight run without a plane deflection: Mds cannot move, and the command says so
-    oceangnc.run("ekf-zigzag", out=tmp_path / "st", plots=False,
-                 overrides={"sim.duration": 5.0, "t_start_s": 10.0, "noise": 1.0})
+    oceangnc.run(
+        "ekf-zigzag", out=tmp_path / "st", plots=False, overrides={"sim.duration": 5.0, "t_start_s": 10.0, "noise": 1.0}
+    )
     assert main(["identify", "ekf", str(tmp_path / "st"), "--estimate", "Mq,Mds", "--out", str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out
     assert "warning: Mds never left its initial value" in out
     # starting at the nominal values is flagged
-    assert main(["identify", "ekf", str(tmp_path / "zz"), "--estimate", "Mq", "--initial-scale", "1",
-                 "--out", str(tmp_path / "c")]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "ekf",
+                str(tmp_path / "zz"),
+                "--estimate",
+                "Mq",
+                "--initial-scale",
+                "1",
+                "--out",
+                str(tmp_path / "c"),
+            ]
+        )
+        == 0
+    )
     assert "warning: the initial guess of Mq is the model's nominal value" in capsys.readouterr().out
     # --out is a folder in both commands: a .json name is refused
     assert main(["identify", "ekf", str(tmp_path / "zz"), "--estimate", "Mq", "--out", str(tmp_path / "x.json")]) == 2
@@ -134,14 +176,30 @@ def test_first_order_reads_a_field_log_with_a_column_map(identified, tmp_path, c
     turn = df[df["trial.kind"] == 1.0]
     tid = turn["trial.id"].iloc[0]
     one = df[df["trial.id"] == tid]
-    csv = pd.DataFrame({"time_ms": ((one["t"] - one["t"].iloc[0]) * 1000).round().astype(int),
-                        "rudder_deg": np.degrees(one["trial.steer"]), "hdg_deg": np.degrees(one["trial.heading"]),
-                        "rot_dps": np.degrees(one["trial.yaw_rate"]), "sog": one["trial.speed"]})
+    csv = pd.DataFrame(
+        {
+            "time_ms": ((one["t"] - one["t"].iloc[0]) * 1000).round().astype(int),
+            "rudder_deg": np.degrees(one["trial.steer"]),
+            "hdg_deg": np.degrees(one["trial.heading"]),
+            "rot_dps": np.degrees(one["trial.yaw_rate"]),
+            "sog": one["trial.speed"],
+        }
+    )
     p = tmp_path / "turn.csv"
     csv.to_csv(p, index=False)
-    code = main(["identify", "first-order", str(p), "--map",
-                 "t=time_ms:ms,act.steer=rudder_deg:deg,usv.psi=hdg_deg:deg,usv.r=rot_dps:deg/s,usv.u=sog",
-                 "--rate", "20", "--out", str(tmp_path / "o")])
+    code = main(
+        [
+            "identify",
+            "first-order",
+            str(p),
+            "--map",
+            "t=time_ms:ms,act.steer=rudder_deg:deg,usv.psi=hdg_deg:deg,usv.r=rot_dps:deg/s,usv.u=sog",
+            "--rate",
+            "20",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
     assert code == 0, capsys.readouterr().err
     rep = json.loads((tmp_path / "o" / "identification.json").read_text())
     (tr,) = rep["trials"]
@@ -175,15 +233,44 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
         us = round((one["t"].iat[i] - t0) * 1e6) + 2_000_000
         lat, lon = ned_to_latlon(one["usv.x"].iat[i], one["usv.y"].iat[i], 35.0, 129.0)
         psi = one["trial.heading"].iat[i]
-        w.write("GPS", us, 3, 100_000 + us // 1000, 2390, round(lat * 1e7), round(lon * 1e7),
-                one["trial.speed"].iat[i], math.degrees(psi) % 360)
+        w.write(
+            "GPS",
+            us,
+            3,
+            100_000 + us // 1000,
+            2390,
+            round(lat * 1e7),
+            round(lon * 1e7),
+            one["trial.speed"].iat[i],
+            math.degrees(psi) % 360,
+        )
         w.write("ATT", us, 0.0, 0.0, math.degrees(psi) % 360)
         w.write("IMU", us, one["trial.yaw_rate"].iat[i])
-        w.write("RCOU", us, round(1500 + 400 * one["trial.steer"].iat[i] / lim), 1500,
-                round(1500 + 400 * one["trial.thrust"].iat[i] / usv.rpm_max), 1500)
+        w.write(
+            "RCOU",
+            us,
+            round(1500 + 400 * one["trial.steer"].iat[i] / lim),
+            1500,
+            round(1500 + 400 * one["trial.thrust"].iat[i] / usv.rpm_max),
+            1500,
+        )
     w.close()
-    assert main(["identify", "first-order", str(tmp_path / "turn.bin"), "--servos", "rudder", "--rate", "20",
-                 "--out", str(tmp_path / "o")]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "first-order",
+                str(tmp_path / "turn.bin"),
+                "--servos",
+                "rudder",
+                "--rate",
+                "20",
+                "--out",
+                str(tmp_path / "o"),
+            ]
+        )
+        == 0
+    )
     rep = json.loads((tmp_path / "o" / "identification.json").read_text())
     (tr,) = rep["trials"]
     assert tr["kind"] == "turn" and rep["columns"]["steer"] == "act.steer"
@@ -196,12 +283,35 @@ def test_ekf_reads_a_field_csv_through_the_importer(tmp_path):
     columns and resampled at the log's 100 Hz: from 0.5 x nominal, Mq and Mds within 1 % of the truth."""
     res = oceangnc.run("ekf-zigzag", out=tmp_path / "zz", plots=False, overrides={"sim.duration": 100.0})
     df = res.df
-    csv = pd.DataFrame({"time_s": df["t"], "heave": df["sub.w"], "pitch_deg": np.degrees(df["sub.theta"]),
-                        "q_dps": np.degrees(df["sub.q"]), "plane_deg": np.degrees(df["sub.ds"])})
+    csv = pd.DataFrame(
+        {
+            "time_s": df["t"],
+            "heave": df["sub.w"],
+            "pitch_deg": np.degrees(df["sub.theta"]),
+            "q_dps": np.degrees(df["sub.q"]),
+            "plane_deg": np.degrees(df["sub.ds"]),
+        }
+    )
     p = tmp_path / "dive.csv"
     csv.to_csv(p, index=False)
-    assert main(["identify", "ekf", str(p), "--estimate", "Mq,Mds", "--rate", "100", "--out", str(tmp_path / "o"),
-                 "--map", "t=time_s,sub.w=heave,sub.theta=pitch_deg:deg,sub.q=q_dps:deg/s,sub.ds=plane_deg:deg"]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "ekf",
+                str(p),
+                "--estimate",
+                "Mq,Mds",
+                "--rate",
+                "100",
+                "--out",
+                str(tmp_path / "o"),
+                "--map",
+                "t=time_s,sub.w=heave,sub.theta=pitch_deg:deg,sub.q=q_dps:deg/s,sub.ds=plane_deg:deg",
+            ]
+        )
+        == 0
+    )
     est = json.loads((tmp_path / "o" / "ekf_submarine-vertical.json").read_text())["parameters"]
     for k in ("Mq", "Mds"):
         truth = getattr(res.config.vehicle, k)

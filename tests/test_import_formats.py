@@ -22,8 +22,13 @@ def truth(tmp_path_factory):
     import oceangnc
 
     out = tmp_path_factory.mktemp("truth")
-    res = oceangnc.run("usv-remote", duration=60.0, out=out, plots=False,
-                       overrides={"guidance.waypoints": [(20.0, 0.0), (20.0, 20.0), (0.0, 20.0)], "gps.sigma": 0.0})
+    res = oceangnc.run(
+        "usv-remote",
+        duration=60.0,
+        out=out,
+        plots=False,
+        overrides={"guidance.waypoints": [(20.0, 0.0), (20.0, 20.0), (0.0, 20.0)], "gps.sigma": 0.0},
+    )
     df = res.df
     c = res.config.usv
     return df, c.max_thrust_kgf * KGF, c.max_reverse_kgf * KGF
@@ -122,15 +127,28 @@ def test_csv_with_column_map_round_trip(truth, tmp_path):
     df, _tmax, _trev = truth
     lat, lon = zip(*(ned_to_latlon(n, e, LAT0, LON0) for n, e in zip(df["usv.x"], df["usv.y"])))
     psi = df["usv.psi"].to_numpy()
-    csv = pd.DataFrame({"time_ms": (df["t"] * 1000).round().astype(int), "lat": lat, "lon": lon,
-                        "heading_deg": np.degrees(psi) % 360, "rot_dps": np.degrees(df["usv.r"]),
-                        "vn_kn": (df["usv.u"] * np.cos(psi) - df["usv.v"] * np.sin(psi)) / (1852 / 3600),
-                        "ve_kn": (df["usv.u"] * np.sin(psi) + df["usv.v"] * np.cos(psi)) / (1852 / 3600)})
+    csv = pd.DataFrame(
+        {
+            "time_ms": (df["t"] * 1000).round().astype(int),
+            "lat": lat,
+            "lon": lon,
+            "heading_deg": np.degrees(psi) % 360,
+            "rot_dps": np.degrees(df["usv.r"]),
+            "vn_kn": (df["usv.u"] * np.cos(psi) - df["usv.v"] * np.sin(psi)) / (1852 / 3600),
+            "ve_kn": (df["usv.u"] * np.sin(psi) + df["usv.v"] * np.cos(psi)) / (1852 / 3600),
+        }
+    )
     p = tmp_path / "trial.csv"
     csv.to_csv(p, index=False)
-    res = import_log(p, rate=10.0, origin=(LAT0, LON0),
-                     column_map=["t=time_ms:ms,lat=lat,lon=lon,usv.psi=heading_deg:deg",
-                                 "usv.r=rot_dps:deg/s,usv.vn=vn_kn:kn,usv.ve=ve_kn:kn"])
+    res = import_log(
+        p,
+        rate=10.0,
+        origin=(LAT0, LON0),
+        column_map=[
+            "t=time_ms:ms,lat=lat,lon=lon,usv.psi=heading_deg:deg",
+            "usv.r=rot_dps:deg/s,usv.vn=vn_kn:kn,usv.ve=ve_kn:kn",
+        ],
+    )
     _compare(res, df, t_shift=0.0, act=False)
 
 
@@ -141,9 +159,15 @@ def test_tlog_from_the_vehicles_own_stream(tmp_path):
     from oceangnc.mavlink.vehicle import MavlinkVehicle
 
     now = [0.0]
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", out_root=tmp_path, clock=lambda: now[0],
-                       tlog=tmp_path / "flight.tlog", overrides={"gps.sigma": 0.0},
-                       mav={"origin_lat_deg": LAT0, "origin_lon_deg": LON0})
+    v = MavlinkVehicle(
+        "usv-remote",
+        listen="udp:127.0.0.1:0",
+        out_root=tmp_path,
+        clock=lambda: now[0],
+        tlog=tmp_path / "flight.tlog",
+        overrides={"gps.sigma": 0.0},
+        mav={"origin_lat_deg": LAT0, "origin_lon_deg": LON0},
+    )
     v._arm(True)
     v._set_mode(AUTO, "test")
     while v.sim.t < 40.0:
@@ -181,6 +205,7 @@ def test_read_any_passes_parquet_through(truth, tmp_path):
 
 
 # -- bad input: one line naming the file and what is missing, exit 2 ----------------------------------------
+
 
 def _cli_error(capsys, argv):
     code = main(argv)

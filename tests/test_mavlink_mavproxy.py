@@ -34,8 +34,13 @@ def _write_wpl(path, pts, lat0, lon0):
 
 @pytest.mark.skipif(not os.path.exists(MAVPROXY), reason="mavproxy.py not installed")
 def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path,
-                       mav={"origin_lat_deg": -35.363261, "origin_lon_deg": 149.165230})
+    v = MavlinkVehicle(
+        "usv-remote",
+        listen="udp:127.0.0.1:0",
+        speed=12.0,
+        out_root=tmp_path,
+        mav={"origin_lat_deg": -35.363261, "origin_lon_deg": 149.165230},
+    )
     v.start()
     # the test's own listener: MAVProxy forwards everything the vehicle sends to it
     lsock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
@@ -44,11 +49,18 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
     out_port = lsock.getsockname()[1]
     pts = [(0.0, 0.0), (15.0, 0.0), (15.0, 15.0), (0.0, 15.0)]
     _write_wpl(tmp_path / "mission.txt", pts, v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
-    cmd = [sys.executable, MAVPROXY, f"--master=udpout:127.0.0.1:{v.address[1]}",
-           f"--out=udpout:127.0.0.1:{out_port}", "--no-state", "--target-system=1",
-           "--default-modules=wp,arm,mode,cmdlong"]
-    pr = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                          bufsize=1, cwd=tmp_path)
+    cmd = [
+        sys.executable,
+        MAVPROXY,
+        f"--master=udpout:127.0.0.1:{v.address[1]}",
+        f"--out=udpout:127.0.0.1:{out_port}",
+        "--no-state",
+        "--target-system=1",
+        "--default-modules=wp,arm,mode,cmdlong",
+    ]
+    pr = subprocess.Popen(
+        cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=tmp_path
+    )
     lines: queue.Queue = queue.Queue()
     seen: list[str] = []
     threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()

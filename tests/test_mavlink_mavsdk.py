@@ -37,9 +37,23 @@ def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
         items = []
         for seq, (n, e) in enumerate([(0.0, 0.0), (12.0, 0.0), (12.0, 12.0), (0.0, 12.0)]):
             lat, lon = ned_to_latlon(n, e, lat0, lon0)
-            items.append(MissionItem(seq, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
-                                     M.MAV_CMD_NAV_WAYPOINT, 1 if seq == 0 else 0, 1, 0.0, 0.0, 0.0, 0.0,
-                                     round(lat * 1e7), round(lon * 1e7), 0.0, 0))
+            items.append(
+                MissionItem(
+                    seq,
+                    M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
+                    M.MAV_CMD_NAV_WAYPOINT,
+                    1 if seq == 0 else 0,
+                    1,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    round(lat * 1e7),
+                    round(lon * 1e7),
+                    0.0,
+                    0,
+                )
+            )
         mis.upload_mission(items)
         assert len(v.mission) == 4
         down = mis.download_mission()

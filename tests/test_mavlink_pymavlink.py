@@ -201,8 +201,13 @@ def test_estop_latched_and_arm_refused(vehicle):
 
 
 def test_mission_upload_download_and_reached(tmp_path):
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=20.0, out_root=tmp_path,
-                       mav={"origin_lat_deg": 59.9, "origin_lon_deg": 10.7})
+    v = MavlinkVehicle(
+        "usv-remote",
+        listen="udp:127.0.0.1:0",
+        speed=20.0,
+        out_root=tmp_path,
+        mav={"origin_lat_deg": 59.9, "origin_lon_deg": 10.7},
+    )
     v.start()
     g = GCS(v.address)
     try:
@@ -217,8 +222,23 @@ def test_mission_upload_download_and_reached(tmp_path):
         for seq, (n, e) in enumerate(pts):
             req = g.wait("MISSION_REQUEST_INT", 3.0, lambda m, s=seq: m.seq == s)
             lat, lon = ned_to_latlon(n, e, 59.9, 10.7)
-            g.mav.mission_item_int_send(1, 1, req.seq, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, M.MAV_CMD_NAV_WAYPOINT,
-                                        0, 1, 0, 0, 0, 0, round(lat * 1e7), round(lon * 1e7), 0.0, 0)
+            g.mav.mission_item_int_send(
+                1,
+                1,
+                req.seq,
+                M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+                M.MAV_CMD_NAV_WAYPOINT,
+                0,
+                1,
+                0,
+                0,
+                0,
+                0,
+                round(lat * 1e7),
+                round(lon * 1e7),
+                0.0,
+                0,
+            )
         assert g.wait("MISSION_ACK", 3.0).type == M.MAV_MISSION_ACCEPTED
         # download gives the same items back
         g.mav.mission_request_list_send(1, 1, 0)
@@ -247,8 +267,9 @@ def test_mission_upload_download_and_reached(tmp_path):
 
 
 def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
-    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=tmp_path,
-                       tlog=tmp_path / "c.tlog")
+    v = MavlinkVehicle(
+        "combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=tmp_path, tlog=tmp_path / "c.tlog"
+    )
     v.start()
     g = GCS(v.address)
     try:
@@ -269,8 +290,9 @@ def test_combined_vehicle_reports_uuv_depth_and_cable_tension(tmp_path):
     from oceangnc.io.importers import import_log
 
     truth = pd.read_parquet(v.run_dir / "log.parquet")
-    res = import_log(tmp_path / "c.tlog", rate=5.0, system=2, body="uuv", origin=(v.cfg_mav.origin_lat_deg,
-                                                                                   v.cfg_mav.origin_lon_deg))
+    res = import_log(
+        tmp_path / "c.tlog", rate=5.0, system=2, body="uuv", origin=(v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
+    )
     t = res.df["t"] + res.report["t0_source_s"]
     for col, tol in (("uuv.z", 0.01), ("uuv.x", 0.03), ("uuv.y", 0.03)):
         assert np.max(np.abs(res.df[col] - np.interp(t, truth["t"], truth[col]))) < tol, col
@@ -303,8 +325,28 @@ def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
 
     model = tmp_path / "identified.toml"
     model.write_text('[parameters]\n"usv.m11" = 31.5\n')
-    assert main(["mavlink", "usv-remote", "--listen", "udp:127.0.0.1:0", "--speed", "20", "--duration", "10",
-                 "--quiet", "--out", str(tmp_path), "--set", "mavlink.origin_lat_deg=10.5", "--model", str(model)]) == 0
+    assert (
+        main(
+            [
+                "mavlink",
+                "usv-remote",
+                "--listen",
+                "udp:127.0.0.1:0",
+                "--speed",
+                "20",
+                "--duration",
+                "10",
+                "--quiet",
+                "--out",
+                str(tmp_path),
+                "--set",
+                "mavlink.origin_lat_deg=10.5",
+                "--model",
+                str(model),
+            ]
+        )
+        == 0
+    )
     (run,) = list(tmp_path.glob("mavlink-usv-remote-*"))
     assert "m11 = 31.5" in (run / "config.toml").read_text()  # the model file's parameters are the vehicle's
     df = pd.read_parquet(run / "log.parquet")

@@ -21,28 +21,33 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "oceangnc"
 
 def _usv():
     from oceangnc.models.usv import usv_model
+
     return usv_model(), [1.0, 2.0, 0.3, 0.7, 0.1, 0.2], [200.0, 150.0, 0.1, 0.05, 2.0, 1.0]
 
 
 def _uuv():
     from oceangnc.models.uuv import uuv_model
+
     x = [1.0, 2.0, 3.0, 0.05, 0.1, 0.3, 1.2, 0.1, 0.05, 0.02, -0.03, 0.1]
     return uuv_model(tow_point=(0.1, 0.0, 0.05)), x, [20.0, 15.0, 5.0, 0.1, 0.2]
 
 
 def _ship():
     from oceangnc.models.ship_lowspeed import ship_model
+
     x = [0.0, 0.0, 0.2, 3.0, 0.3, 0.01, 0.1, 1.0, 0.5, -0.5]
     return ship_model(), x, [0.2, 1.5, 2.0, -2.0, 0.1, 0.2, 3.0, 4.0]
 
 
 def _first_order():
     from oceangnc.models.first_order import first_order_model
+
     return first_order_model(), [0.0, 0.0, 0.3, 6.0, 0.05], [1500.0, 0.1, 6.0]
 
 
 def _submarine():
     from oceangnc.models.submarine_vertical import filter_model
+
     return filter_model(), [0.1, 0.02, 0.01], [0.05]
 
 
@@ -132,8 +137,9 @@ def test_usv_trim_straight_running_fig_2_7():
     assert np.all(ev.real < 1e-9)
     assert np.sum(ev.real < -1e-6) == 3  # surge, sway, yaw decay; x, y, psi neutral
     # the 30 / 15 kgf turn of fig 2-8: 16 deg/s on a 1.75 m circle (1 %)
-    res = trim(m, [0, 0, 0, 0.5, 0.0, 0.1], [30 * KGF, 15 * KGF, 0, 0, 0, 0], free=("u", "v", "r"),
-               zero=("u", "v", "r"))
+    res = trim(
+        m, [0, 0, 0, 0.5, 0.0, 0.1], [30 * KGF, 15 * KGF, 0, 0, 0, 0], free=("u", "v", "r"), zero=("u", "v", "r")
+    )
     r = res.x[5]
     assert math.degrees(r) == pytest.approx(16.0, rel=1e-2)
     assert math.hypot(res.x[3], res.x[4]) / r == pytest.approx(1.75, rel=1e-2)
@@ -149,8 +155,9 @@ def test_uuv_trim_steady_speed():
     for T in (2.0, 20.0):
         x0 = cfg.initial_state()
         x0[6] = 1.0
-        res = trim(m, x0, [T, T, 0.0, 0.0, 0.0], free=("u", "v", "w", "p", "q", "r"),
-                   zero=("u", "v", "w", "p", "q", "r"))
+        res = trim(
+            m, x0, [T, T, 0.0, 0.0, 0.0], free=("u", "v", "w", "p", "q", "r"), zero=("u", "v", "w", "p", "q", "r")
+        )
         a, b = -cfg.X_uu_total, -cfg.X_u
         assert res.x[6] == pytest.approx((-b + math.sqrt(b * b + 8 * a * T)) / (2 * a), rel=1e-9)
         assert np.abs(res.x[7:12]).max() < 1e-10
@@ -188,8 +195,14 @@ def test_plant_from_model_matches_the_model_plant():
     a = USVPlant(cfg)
     b = usv_model(cfg).plant("usv", a.x0, input_signals=a.input_names)
     assert b.inputs["usv.thrust_port"] == "N" and b.outputs["usv.psi"] == "rad"
-    bus = {"usv.thrust_port": 250.0, "usv.thrust_stbd": 150.0, "env.current_n": 0.1, "env.current_e": 0.0,
-           "env.wind_n": 0.0, "env.wind_e": 2.0}
+    bus = {
+        "usv.thrust_port": 250.0,
+        "usv.thrust_stbd": 150.0,
+        "env.current_n": 0.1,
+        "env.current_e": 0.0,
+        "env.wind_n": 0.0,
+        "env.wind_e": 2.0,
+    }
     for pl in (a, b):
         pl.read_inputs(bus)
         pl.advance(0.0, 0.01, 200)
@@ -206,6 +219,7 @@ def test_closure_kernels_have_their_own_cache_files():
 
     a, _ = jacobian_functions(usv_rhs, None, None, "complex-step")
     b, _ = jacobian_functions(first_order_rhs, None, None, "complex-step")
+
     def name(d):
         return d._cache._cache_file._index_name
 
@@ -214,6 +228,7 @@ def test_closure_kernels_have_their_own_cache_files():
     def make(g):
         def k(t, x, u, p, out):
             g(t, x, u, p, out)
+
         return k
 
     assert name(cached_closure(make(usv_rhs))) == name(cached_closure(make(usv_rhs)))

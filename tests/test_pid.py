@@ -43,6 +43,7 @@ def test_back_calculation_stops_windup_under_saturation():
 
 def test_recovery_after_saturation_is_faster_with_anti_windup():
     """After a long saturated phase the setpoint drops; the wound-up PI overshoots far longer."""
+
     def settle_time(kw):
         pid = PID(kp=2.0, ki=1.0, u_min=-0.5, u_max=0.5, kw=kw)
         y, dt = 0.0, 0.01

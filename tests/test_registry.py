@@ -47,9 +47,25 @@ class ProportionalUUV(Block):
 
 def test_builtin_kinds_registered():
     k = set(kinds())
-    for name in ("uuv.pid", "uuv.backstepping", "usv.pid", "usv.pure_pursuit", "usv.los", "uuv.leader_follower",
-                 "sensor.gps", "sensor.ahrs", "sensor.usbl", "sensor.depth", "usv.thrusters", "uuv.thrusters",
-                 "env.current", "env.wind", "ship.pid", "ship.nonlinear", "ship.open"):
+    for name in (
+        "uuv.pid",
+        "uuv.backstepping",
+        "usv.pid",
+        "usv.pure_pursuit",
+        "usv.los",
+        "uuv.leader_follower",
+        "sensor.gps",
+        "sensor.ahrs",
+        "sensor.usbl",
+        "sensor.depth",
+        "usv.thrusters",
+        "uuv.thrusters",
+        "env.current",
+        "env.wind",
+        "ship.pid",
+        "ship.nonlinear",
+        "ship.open",
+    ):
         assert name in k, name
     assert kinds("uuv") == sorted(x for x in k if x.startswith("uuv."))
 
@@ -60,6 +76,7 @@ def test_register_twice_under_one_kind_is_refused():
         pass
 
     with pytest.raises(ValueError, match="registered twice"):
+
         @register_block("test.once")
         class B:
             pass
@@ -73,8 +90,10 @@ def test_lookup_unknown_kind_lists_family():
     assert "uuv.backstepping" in msg and "uuv.pid" in msg and "\n" not in msg
 
 
-@pytest.mark.parametrize("over", [{"control.uuv.kind": "backstepping"}, {"control.uuv": "backstepping"},
-                                  {"control.uuv.kind": "uuv.backstepping"}])
+@pytest.mark.parametrize(
+    "over",
+    [{"control.uuv.kind": "backstepping"}, {"control.uuv": "backstepping"}, {"control.uuv.kind": "uuv.backstepping"}],
+)
 def test_kind_spellings_resolve_to_the_same_controller(over):
     _, cfg = resolve_config("combined-survey", overrides=over)
     assert cfg.control.uuv.full_kind == "uuv.backstepping"
@@ -90,8 +109,20 @@ def test_unknown_kind_is_one_line_config_error_listing_kinds(capsys):
 
 def test_cli_swaps_uuv_controller_by_kind(tmp_path):
     out = tmp_path / "bs"
-    rc = main(["run", "combined-survey", "--set", "control.uuv.kind=backstepping", "--duration", "2",
-               "--no-plots", "--quiet", "--out", str(out)])
+    rc = main(
+        [
+            "run",
+            "combined-survey",
+            "--set",
+            "control.uuv.kind=backstepping",
+            "--duration",
+            "2",
+            "--no-plots",
+            "--quiet",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     df = pd.read_parquet(out / "log.parquet")
     assert "uuv_bs.V" in df  # the backstepping block ran (its Lyapunov function is logged)
@@ -103,9 +134,25 @@ def test_user_controller_from_plugin_file_drives_the_flagship(tmp_path, capsys):
     plugin = tmp_path / "my_blocks.py"
     plugin.write_text(textwrap.dedent(PLUGIN.format(kind="my.ctrl")))
     out = tmp_path / "mine"
-    rc = main(["run", "combined-survey", "--plugin", str(plugin), "--set", "control.uuv.kind=my.ctrl",
-               "--set", "control.uuv.k_heading=7.5", "--duration", "3", "--no-plots", "--quiet", "--json",
-               "--out", str(out)])
+    rc = main(
+        [
+            "run",
+            "combined-survey",
+            "--plugin",
+            str(plugin),
+            "--set",
+            "control.uuv.kind=my.ctrl",
+            "--set",
+            "control.uuv.k_heading=7.5",
+            "--duration",
+            "3",
+            "--no-plots",
+            "--quiet",
+            "--json",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert summary["status"] == "ok" and math.isfinite(summary["uuv.heading_error_rms_deg"])
@@ -142,9 +189,11 @@ def test_entry_point_group_registers_a_users_package(tmp_path):
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: epdemo\nVersion: 0.1\n")
     (dist / "entry_points.txt").write_text("[oceangnc.blocks]\nepdemo = epdemo\n")
     src = Path(__file__).resolve().parents[1] / "src"
-    code = ("from oceangnc.api import resolve_config\n"
-            "_, cfg = resolve_config('combined-survey', overrides={'control.uuv.kind': 'epdemo.ctrl'})\n"
-            "print(cfg.control.uuv.full_kind)\n")
+    code = (
+        "from oceangnc.api import resolve_config\n"
+        "_, cfg = resolve_config('combined-survey', overrides={'control.uuv.kind': 'epdemo.ctrl'})\n"
+        "print(cfg.control.uuv.full_kind)\n"
+    )
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), str(src)]))
     p = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
@@ -172,6 +221,9 @@ def test_every_module_registering_blocks_is_a_builtin_module():
     from oceangnc.core.registry import BUILTIN_MODULES
 
     src = Path(__file__).resolve().parents[1] / "src"
-    mods = {".".join(p.relative_to(src).with_suffix("").parts) for p in (src / "oceangnc").rglob("*.py")
-            if "\n@register_block(" in p.read_text()}
+    mods = {
+        ".".join(p.relative_to(src).with_suffix("").parts)
+        for p in (src / "oceangnc").rglob("*.py")
+        if "\n@register_block(" in p.read_text()
+    }
     assert mods and mods <= set(BUILTIN_MODULES), sorted(mods - set(BUILTIN_MODULES))

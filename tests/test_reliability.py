@@ -27,8 +27,15 @@ ENV = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "sr
 
 
 def cli(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "oceangnc.cli", *args], capture_output=True, text=True,
-                          timeout=300, env=ENV, check=False, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "oceangnc.cli", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=ENV,
+        check=False,
+        **kw,
+    )
 
 
 def main_cli(capsys, *args):
@@ -41,8 +48,13 @@ def main_cli(capsys, *args):
 
 
 def start(*args):
-    return subprocess.Popen([sys.executable, "-m", "oceangnc.cli", *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=ENV)
+    return subprocess.Popen(
+        [sys.executable, "-m", "oceangnc.cli", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=ENV,
+    )
 
 
 def wait_for(pred, timeout=120.0):
@@ -55,6 +67,7 @@ def wait_for(pred, timeout=120.0):
 
 
 # -- the log layout ---------------------------------------------------------------------------------------
+
 
 def test_log_parts_open_as_one_table_in_pandas_pyarrow_and_read_log(tmp_path):
     p = tmp_path / "log.parquet"
@@ -87,8 +100,12 @@ def test_close_compacts_into_one_file_and_a_crash_mid_compaction_is_repaired(tmp
     assert len(read_log(p)) == 81  # covered parts are skipped by read_log
     r = repair_log(tmp_path)
     assert r["rows"] == 81 and r["parts"] == 1
-    assert set(r["removed"]) == {"part-000001.parquet", "part-000002.parquet", "part-000003.parquet",
-                                 ".part-000009.parquet.tmp"}
+    assert set(r["removed"]) == {
+        "part-000001.parquet",
+        "part-000002.parquet",
+        "part-000003.parquet",
+        ".part-000009.parquet.tmp",
+    }
     np.testing.assert_array_equal(pd.read_parquet(p)["x"].to_numpy(), np.arange(81.0))
 
 
@@ -132,8 +149,9 @@ def test_full_disk_keeps_flushed_parts_and_is_one_line(tmp_path, monkeypatch):
 def test_sigkill_at_a_random_instant_keeps_every_flushed_row(tmp_path, seed):
     rnd = random.Random(seed)
     out = tmp_path / "run"
-    proc = start("run", "usv-turn", "--duration", "5000", "--out", str(out), "--quiet", "--no-plots",
-                 "--set", f"sim.seed={seed}")
+    proc = start(
+        "run", "usv-turn", "--duration", "5000", "--out", str(out), "--quiet", "--no-plots", "--set", f"sim.seed={seed}"
+    )
     try:
         assert wait_for(lambda: (out / "log.parquet").is_dir() and len(list_parts(out / "log.parquet")) >= 1)
         time.sleep(rnd.uniform(0.0, 1.0))
@@ -151,14 +169,16 @@ def test_sigkill_at_a_random_instant_keeps_every_flushed_row(tmp_path, seed):
     t = df["t"].to_numpy()
     np.testing.assert_allclose(np.diff(t), 0.05, atol=1e-9)
     # and the rows are exactly those of an uninterrupted run up to the last flush
-    ref = oceangnc.run("usv-turn", duration=float(t[-1]), out=tmp_path / "ref", plots=False,
-                       overrides={"sim.seed": seed}).df
+    ref = oceangnc.run(
+        "usv-turn", duration=float(t[-1]), out=tmp_path / "ref", plots=False, overrides={"sim.seed": seed}
+    ).df
     pd.testing.assert_frame_equal(df, ref, check_exact=True)
     r = repair_log(out)
     assert r["rows"] == len(df) and r["parts"] == 1
 
 
 # -- checkpoints and resume ---------------------------------------------------------------------------------
+
 
 def test_resume_from_checkpoint_equals_uninterrupted_log(tmp_path, monkeypatch):
     full = oceangnc.run("usv-turn", duration=40, out=tmp_path / "full", plots=False).df
@@ -173,14 +193,28 @@ def test_resume_from_checkpoint_equals_uninterrupted_log(tmp_path, monkeypatch):
     res2 = oceangnc.run(resume=tmp_path / "cut", plots=False)
     assert res2.summary["resumed_from_t"] == 30.0 and res2.summary["status"] == "ok"
     pd.testing.assert_frame_equal(res2.df, full, check_exact=True)
-    assert json.loads((tmp_path / "cut" / "summary.json").read_text())["usv.turn_radius_m"] == \
-        json.loads((tmp_path / "full" / "summary.json").read_text())["usv.turn_radius_m"]
+    assert (
+        json.loads((tmp_path / "cut" / "summary.json").read_text())["usv.turn_radius_m"]
+        == json.loads((tmp_path / "full" / "summary.json").read_text())["usv.turn_radius_m"]
+    )
 
 
 def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     out = tmp_path / "run"
-    proc = start("run", "usv-turn", "--duration", "300", "--out", str(out), "--quiet", "--no-plots",
-                 "--checkpoint-every", "10", "--set", "environment.current.speed=0.2")
+    proc = start(
+        "run",
+        "usv-turn",
+        "--duration",
+        "300",
+        "--out",
+        str(out),
+        "--quiet",
+        "--no-plots",
+        "--checkpoint-every",
+        "10",
+        "--set",
+        "environment.current.speed=0.2",
+    )
     try:
         assert wait_for(lambda: (out / "checkpoint.pkl").exists() or proc.poll() is not None)
         time.sleep(random.Random(7).uniform(0.0, 0.3))
@@ -193,8 +227,9 @@ def test_sigkill_then_resume_gives_the_uninterrupted_log(tmp_path):
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout.strip().splitlines()[-1])
     assert s["status"] == "ok" and s["resumed_from_t"] > 0 and s["resumed_from_t"] % 10 == 0
-    ref = oceangnc.run("usv-turn", duration=300, out=tmp_path / "ref", plots=False,
-                       overrides={"environment.current.speed": 0.2}).df
+    ref = oceangnc.run(
+        "usv-turn", duration=300, out=tmp_path / "ref", plots=False, overrides={"environment.current.speed": 0.2}
+    ).df
     pd.testing.assert_frame_equal(read_log(out), ref, check_exact=True)
     r = cli("run", "--resume", str(out), "--quiet")
     assert r.returncode == 2 and "nothing to resume" in r.stderr
@@ -227,11 +262,13 @@ def test_checkpoint_holds_plants_blocks_rngs_and_clock():
     assert sim2.k == 7000 and sim2.t == 7.0
     np.testing.assert_array_equal(sim2.plants[0].x, x7)
     sim2.run(5.0)
-    assert {k: v for k, v in sim2.bus.items() if isinstance(v, float)} == \
-        {k: v for k, v in after.items() if isinstance(v, float)}
+    assert {k: v for k, v in sim2.bus.items() if isinstance(v, float)} == {
+        k: v for k, v in after.items() if isinstance(v, float)
+    }
 
 
 # -- first-hour errors -----------------------------------------------------------------------------------------
+
 
 def test_nan_inf_and_huge_waypoints_are_bad_input_exit_2(capsys):
     rc, _, err = main_cli(capsys, "run", "usv-remote", "--set", "guidance.waypoints=[[0,0],[nan,5]]", "--quiet")

@@ -32,8 +32,15 @@ def _gps_run(seed, t_end=10.0, speed=0.0, course=0.0, cfg=None):
         bus["usv.x"] = speed * t * math.cos(course)
         bus["usv.y"] = speed * t * math.sin(course)
         gps.step(t, bus)
-        out.append((bus["gps.x"] - bus["usv.x"], bus["gps.y"] - bus["usv.y"], bus["gps.cog"], bus["gps.cog_valid"],
-                    bus["gps.sog"]))
+        out.append(
+            (
+                bus["gps.x"] - bus["usv.x"],
+                bus["gps.y"] - bus["usv.y"],
+                bus["gps.cog"],
+                bus["gps.cog_valid"],
+                bus["gps.sog"],
+            )
+        )
         t += gps.period
     return np.array(out)
 
@@ -44,10 +51,10 @@ def test_gps_standing_still_is_centimetre_steady_and_hdop_scales_the_error():
     o = _gps_run(1)
     assert np.std(o[:, 0]) < 0.03 and np.std(o[:, 1]) < 0.03
     first = np.array([_gps_run(s, t_end=0.0)[0, :2] for s in range(400)])
-    hrms = math.sqrt(np.mean(np.sum(first ** 2, axis=1)))
+    hrms = math.sqrt(np.mean(np.sum(first**2, axis=1)))
     assert hrms == pytest.approx(0.9 * 0.17, rel=0.15)
     first2 = np.array([_gps_run(s, t_end=0.0, cfg=GPSConfig(hdop=2.0))[0, :2] for s in range(400)])
-    assert math.sqrt(np.mean(np.sum(first2 ** 2, axis=1))) == pytest.approx(2.0 * 0.17, rel=0.15)
+    assert math.sqrt(np.mean(np.sum(first2**2, axis=1))) == pytest.approx(2.0 * 0.17, rel=0.15)
 
 
 def test_gps_heading_from_track():

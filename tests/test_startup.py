@@ -26,18 +26,21 @@ def test_scenario_index_matches_the_modules():
     reg = registry()
     assert set(SCENARIO_INDEX) == set(reg)
     for name, (mod, summary) in SCENARIO_INDEX.items():
-        assert type(reg[name]).__module__ == f"oceangnc.scenarios.{mod}" or \
-            reg[name].__class__.__module__.endswith(mod), name
+        assert type(reg[name]).__module__ == f"oceangnc.scenarios.{mod}" or reg[name].__class__.__module__.endswith(
+            mod
+        ), name
         assert reg[name].summary == summary, name
 
 
 def test_list_imports_no_scenario_module_and_no_heavy_library():
-    out = _py("import sys, io, contextlib\n"
-              "from oceangnc.cli import main\n"
-              "with contextlib.redirect_stdout(io.StringIO()) as f: main(['list'])\n"
-              "heavy = [m for m in ('numba', 'scipy', 'matplotlib', 'pandas', 'dask', 'fastapi') if m in sys.modules]\n"
-              "scen = sorted(m for m in sys.modules if m.startswith('oceangnc.scenarios.') and m != 'oceangnc.scenarios.base')\n"
-              "import json; print(json.dumps([heavy, scen, f.getvalue().count(chr(10))]))")
+    out = _py(
+        "import sys, io, contextlib\n"
+        "from oceangnc.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()) as f: main(['list'])\n"
+        "heavy = [m for m in ('numba', 'scipy', 'matplotlib', 'pandas', 'dask', 'fastapi') if m in sys.modules]\n"
+        "scen = sorted(m for m in sys.modules if m.startswith('oceangnc.scenarios.') and m != 'oceangnc.scenarios.base')\n"  # noqa: E501
+        "import json; print(json.dumps([heavy, scen, f.getvalue().count(chr(10))]))"
+    )
     heavy, scen, lines = json.loads(out)
     assert heavy == [] and scen == []
     from oceangnc.scenarios.base import SCENARIO_INDEX
@@ -46,24 +49,28 @@ def test_list_imports_no_scenario_module_and_no_heavy_library():
 
 
 def test_run_imports_only_its_scenario_module_and_no_scipy_optimize():
-    out = _py("import sys\n"
-              "from oceangnc.api import resolve_config\n"
-              "import numpy as np\n"
-              "sc, cfg = resolve_config('combined-survey', duration=0.1)\n"
-              "sc.build(cfg, np.random.default_rng(0))\n"
-              "scen = sorted(m for m in sys.modules if m.startswith('oceangnc.scenarios.') and m != 'oceangnc.scenarios.base')\n"
-              "import json; print(json.dumps([scen, 'scipy.optimize' in sys.modules, 'matplotlib' in sys.modules]))")
+    out = _py(
+        "import sys\n"
+        "from oceangnc.api import resolve_config\n"
+        "import numpy as np\n"
+        "sc, cfg = resolve_config('combined-survey', duration=0.1)\n"
+        "sc.build(cfg, np.random.default_rng(0))\n"
+        "scen = sorted(m for m in sys.modules if m.startswith('oceangnc.scenarios.') and m != 'oceangnc.scenarios.base')\n"  # noqa: E501
+        "import json; print(json.dumps([scen, 'scipy.optimize' in sys.modules, 'matplotlib' in sys.modules]))"
+    )
     scen, scipy_loaded, mpl_loaded = json.loads(out)
     assert scen == ["oceangnc.scenarios._common", "oceangnc.scenarios.combined"]
     assert not scipy_loaded and not mpl_loaded
 
 
 def test_rk4_stepper_is_loaded_from_the_disk_cache_in_a_new_process(tmp_path):
-    code = ("from oceangnc.models.usv import USVConfig, USVPlant\n"
-            "pl = USVPlant(USVConfig()); pl.u[:2] = 100.0\n"
-            "pl.advance(0.0, 0.001, 10)\n"
-            "s = pl._advance.stats\n"
-            "print(sum(s.cache_hits.values()), sum(s.cache_misses.values()), float(pl.x[3]))")
+    code = (
+        "from oceangnc.models.usv import USVConfig, USVPlant\n"
+        "pl = USVPlant(USVConfig()); pl.u[:2] = 100.0\n"
+        "pl.advance(0.0, 0.001, 10)\n"
+        "s = pl._advance.stats\n"
+        "print(sum(s.cache_hits.values()), sum(s.cache_misses.values()), float(pl.x[3]))"
+    )
     env = {"OCEANGNC_CACHE_DIR": str(tmp_path)}
     first = _py(code, env).split()
     second = _py(code, env).split()
@@ -77,7 +84,7 @@ def test_bracket_root_and_newton_solve_what_they_claim():
 
     from oceangnc.core.roots import bracket_root, newton
 
-    r = bracket_root(lambda x: x ** 3 - 2.0, 0.0, 2.0)
+    r = bracket_root(lambda x: x**3 - 2.0, 0.0, 2.0)
     assert abs(r - 2.0 ** (1 / 3)) < 1e-11
     x, ok = newton(lambda z: np.array([z[0] ** 2 + z[1] ** 2 - 4.0, z[0] - z[1]]), [1.0, 0.5])
-    assert ok and np.allclose(x, [2 ** 0.5, 2 ** 0.5], atol=1e-12)
+    assert ok and np.allclose(x, [2**0.5, 2**0.5], atol=1e-12)

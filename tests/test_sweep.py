@@ -25,40 +25,62 @@ GUSTY = {"environment.wind.gust_sigma": 0.5}
 
 def test_grid_design_order_seeds_and_stable_ids():
     """Every combination once, last key fastest; run k of a point has sim.seed = base + k; ids stable."""
-    d = build_design("usv-turn", grid=["command.thrust_stbd_kgf=10,20", "environment.current.speed=0,0.1,0.2"],
-                     seeds=3, base_seed=7, duration=2.0)
+    d = build_design(
+        "usv-turn",
+        grid=["command.thrust_stbd_kgf=10,20", "environment.current.speed=0,0.1,0.2"],
+        seeds=3,
+        base_seed=7,
+        duration=2.0,
+    )
     runs = d.runs()
     assert len(runs) == 2 * 3 * 3
     assert [r.params["environment.current.speed"] for r in runs[:9:3]] == [0, 0.1, 0.2]
     assert [r.seed for r in runs[:3]] == [7, 8, 9]
     assert len({r.run_id for r in runs}) == 18 and len({r.point_id for r in runs}) == 6
-    again = build_design("usv-turn", grid={"command.thrust_stbd_kgf": [10, 20],
-                                           "environment.current.speed": [0, 0.1, 0.2]},
-                         seeds=3, base_seed=7, duration=2.0).runs()
+    again = build_design(
+        "usv-turn",
+        grid={"command.thrust_stbd_kgf": [10, 20], "environment.current.speed": [0, 0.1, 0.2]},
+        seeds=3,
+        base_seed=7,
+        duration=2.0,
+    ).runs()
     assert [r.run_id for r in again] == [r.run_id for r in runs]
     # another fixed override is another run
-    other = build_design("usv-turn", grid=["command.thrust_stbd_kgf=10,20", "environment.current.speed=0,0.1,0.2"],
-                         seeds=3, base_seed=7, duration=3.0).runs()
+    other = build_design(
+        "usv-turn",
+        grid=["command.thrust_stbd_kgf=10,20", "environment.current.speed=0,0.1,0.2"],
+        seeds=3,
+        base_seed=7,
+        duration=3.0,
+    ).runs()
     assert not {r.run_id for r in other} & {r.run_id for r in runs}
     # the base seed defaults to the config's sim.seed (--set sim.seed=S)
-    assert [r.seed for r in build_design("usv-turn", grid=["command.thrust_stbd_kgf=10"], seeds=2,
-                                         overrides={"sim.seed": 40}).runs()] == [40, 41]
+    assert [
+        r.seed
+        for r in build_design(
+            "usv-turn", grid=["command.thrust_stbd_kgf=10"], seeds=2, overrides={"sim.seed": 40}
+        ).runs()
+    ] == [40, 41]
 
 
 def test_grid_value_parsing():
     assert split_top("[1,2],3,'a,b'") == ["[1,2]", "3", "'a,b'"]
-    g = parse_grid(["a.b=linspace(0, 1, 5)", "c.d=1,2.5,true,\"x\""])
+    g = parse_grid(["a.b=linspace(0, 1, 5)", 'c.d=1,2.5,true,"x"'])
     assert g["a.b"] == pytest.approx([0, 0.25, 0.5, 0.75, 1.0])
     assert g["c.d"] == [1, 2.5, True, "x"]
 
 
 def test_random_design_reproducible_in_bounds_and_independent_per_key():
     """Draws are seeded, inside their bounds, and a key's draws do not depend on the other keys."""
-    a = build_design("usv-turn-current", random=["environment.current.speed=uniform(0.05,0.3)",
-                                                 "environment.current.direction_deg=randint(0,359)"],
-                     samples=200, design_seed=3)
-    b = build_design("usv-turn-current", random=["environment.current.speed=uniform(0.05,0.3)"],
-                     samples=200, design_seed=3)
+    a = build_design(
+        "usv-turn-current",
+        random=["environment.current.speed=uniform(0.05,0.3)", "environment.current.direction_deg=randint(0,359)"],
+        samples=200,
+        design_seed=3,
+    )
+    b = build_design(
+        "usv-turn-current", random=["environment.current.speed=uniform(0.05,0.3)"], samples=200, design_seed=3
+    )
     pa_, pb = a.points(), b.points()
     v = np.array([p["environment.current.speed"] for p in pa_])
     assert np.all((v >= 0.05) & (v <= 0.3)) and v.std() > 0.05
@@ -66,17 +88,21 @@ def test_random_design_reproducible_in_bounds_and_independent_per_key():
     dirs = [p["environment.current.direction_deg"] for p in pa_]
     assert all(isinstance(x, int) and 0 <= x <= 359 for x in dirs)
     assert a.points() == pa_  # same command, same draws
-    c = build_design("usv-turn-current", random=["environment.current.speed=uniform(0.05,0.3)"],
-                     samples=200, design_seed=4)
+    c = build_design(
+        "usv-turn-current", random=["environment.current.speed=uniform(0.05,0.3)"], samples=200, design_seed=4
+    )
     assert [p["environment.current.speed"] for p in c.points()] != list(v)
 
 
-@pytest.mark.parametrize("args, key", [
-    (["--grid", "command.thrust_stbd_kgf=10,20", "--grid", "command.no_such_key=1,2"], "command.no_such_key"),
-    (["--grid", "command.thrust_stbd_kgf=10,20,75"], "command.thrust_stbd_kgf"),
-    (["--random", "environment.current.speed=normal(0.1,1.0)", "--samples", "50"], "environment.current.speed"),
-    (["--grid", "sim.seed=1,2"], "sim.seed"),
-])
+@pytest.mark.parametrize(
+    "args, key",
+    [
+        (["--grid", "command.thrust_stbd_kgf=10,20", "--grid", "command.no_such_key=1,2"], "command.no_such_key"),
+        (["--grid", "command.thrust_stbd_kgf=10,20,75"], "command.thrust_stbd_kgf"),
+        (["--random", "environment.current.speed=normal(0.1,1.0)", "--samples", "50"], "environment.current.speed"),
+        (["--grid", "sim.seed=1,2"], "sim.seed"),
+    ],
+)
 def test_bad_grid_rejected_before_any_run(tmp_path, capsys, args, key):
     """A bad key or out-of-range value anywhere in the sweep: exit 2, one line naming the key, no run."""
     out = tmp_path / "s"
@@ -128,8 +154,15 @@ def test_failed_and_diverged_runs_are_recorded_and_the_sweep_goes_on(tmp_path, m
 @pytest.fixture(scope="module")
 def gusty_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("sweep") / "gusty"
-    return sweep("usv-turn-wind", grid={"command.thrust_stbd_kgf": [10, 20]}, seeds=3, duration=6.0,
-                 overrides=GUSTY, out=out, workers=0)
+    return sweep(
+        "usv-turn-wind",
+        grid={"command.thrust_stbd_kgf": [10, 20]},
+        seeds=3,
+        duration=6.0,
+        overrides=GUSTY,
+        out=out,
+        workers=0,
+    )
 
 
 def test_seeds_change_the_noise_and_nothing_else(gusty_sweep):
@@ -165,22 +198,56 @@ def test_report_statistics_per_point(gusty_sweep, capsys):
 
 
 def test_existing_folder_needs_resume(gusty_sweep, capsys):
-    rc = main(["sweep", "usv-turn-wind", "--grid", "command.thrust_stbd_kgf=10,20", "--seeds", "3",
-               "--duration", "6", "--set", "environment.wind.gust_sigma=0.5", "--workers", "0",
-               "--out", str(gusty_sweep.out_dir), "--quiet"])
+    rc = main(
+        [
+            "sweep",
+            "usv-turn-wind",
+            "--grid",
+            "command.thrust_stbd_kgf=10,20",
+            "--seeds",
+            "3",
+            "--duration",
+            "6",
+            "--set",
+            "environment.wind.gust_sigma=0.5",
+            "--workers",
+            "0",
+            "--out",
+            str(gusty_sweep.out_dir),
+            "--quiet",
+        ]
+    )
     assert rc == 2 and "--resume" in capsys.readouterr().err
     # with --resume and the same command nothing is run again; one more seed runs only the new runs
-    rc = main(["sweep", "usv-turn-wind", "--grid", "command.thrust_stbd_kgf=10,20", "--seeds", "4",
-               "--duration", "6", "--set", "environment.wind.gust_sigma=0.5", "--workers", "0",
-               "--out", str(gusty_sweep.out_dir), "--quiet", "--resume"])
+    rc = main(
+        [
+            "sweep",
+            "usv-turn-wind",
+            "--grid",
+            "command.thrust_stbd_kgf=10,20",
+            "--seeds",
+            "4",
+            "--duration",
+            "6",
+            "--set",
+            "environment.wind.gust_sigma=0.5",
+            "--workers",
+            "0",
+            "--out",
+            str(gusty_sweep.out_dir),
+            "--quiet",
+            "--resume",
+        ]
+    )
     out = capsys.readouterr().out
     assert rc == 0 and "2 run(s) done now, 6 already in the table" in out
     t = read_results(gusty_sweep.out_dir)
     assert len(t) == 8 and t["run_id"].is_unique and sorted(t["seed"].unique()) == [0, 1, 2, 3]
 
 
-@pytest.mark.parametrize("dist", ["uniform(0,1)", "loguniform(0.01,1)", "normal(0,1)", "randint(0,9)",
-                                  "choice(\"a\",\"b\",\"c\")"])
+@pytest.mark.parametrize(
+    "dist", ["uniform(0,1)", "loguniform(0.01,1)", "normal(0,1)", "randint(0,9)", 'choice("a","b","c")']
+)
 def test_fewer_samples_are_the_first_draws_of_more(dist):
     """N draws are the first N of a longer series (a sweep can be extended with --samples)."""
     from oceangnc.sweep.design import Design, parse_random
@@ -194,9 +261,23 @@ def test_fewer_samples_are_the_first_draws_of_more(dist):
 def test_random_sweep_report_and_resume_guard(tmp_path, capsys):
     """Monte Carlo: 24 draws, in-process; the report bins the draws; --resume refuses another config."""
     out = tmp_path / "mc"
-    base = ["sweep", "usv-turn-current", "--random", "environment.current.direction_deg=uniform(0,360)",
-            "--random", "command.mode=choice(\"thrust\")", "--samples", "24", "--duration", "2",
-            "--workers", "0", "--quiet", "--out", str(out)]
+    base = [
+        "sweep",
+        "usv-turn-current",
+        "--random",
+        "environment.current.direction_deg=uniform(0,360)",
+        "--random",
+        'command.mode=choice("thrust")',
+        "--samples",
+        "24",
+        "--duration",
+        "2",
+        "--workers",
+        "0",
+        "--quiet",
+        "--out",
+        str(out),
+    ]
     assert main(base) == 0
     t = read_results(out)
     assert len(t) == 24 and t["point_id"].nunique() == 24 and (t["param.command.mode"] == "thrust").all()

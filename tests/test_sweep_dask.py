@@ -22,8 +22,20 @@ from oceangnc.sweep import build_design, read_results
 pytest.importorskip("distributed")
 
 # gusty wind so that the seed matters; short runs
-ARGS = ["usv-turn-wind", "--grid", "command.thrust_stbd_kgf=10,20", "--grid", "environment.wind.direction_deg=0,90",
-        "--seeds", "2", "--duration", "4", "--set", "environment.wind.gust_sigma=0.5", "--quiet"]
+ARGS = [
+    "usv-turn-wind",
+    "--grid",
+    "command.thrust_stbd_kgf=10,20",
+    "--grid",
+    "environment.wind.direction_deg=0,90",
+    "--seeds",
+    "2",
+    "--duration",
+    "4",
+    "--set",
+    "environment.wind.gust_sigma=0.5",
+    "--quiet",
+]
 VOLATILE = ["wall_time_s", "cpu_time_s", "worker", "finished_at", "out_dir"]
 
 
@@ -44,8 +56,9 @@ def test_same_results_on_1_and_2_workers_and_an_external_cluster(tmp_path):
 
     one = _sweep(tmp_path, "w1", "--workers", "1")
     two = _sweep(tmp_path, "w2", "--workers", "2")
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address="127.0.0.1:0") as cluster:
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address="127.0.0.1:0"
+    ) as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
         ext = _sweep(tmp_path, "ext", "--scheduler", cluster.scheduler_address)
     assert len(one) == 8 and (one["status"] == "ok").all()
@@ -62,11 +75,28 @@ def test_same_results_on_1_and_2_workers_and_an_external_cluster(tmp_path):
 def test_killed_sweep_resumes_with_no_run_twice_and_none_missing(tmp_path, capsys):
     """SIGKILL the sweep (driver and workers) after a few runs; --resume runs exactly the rest."""
     out = tmp_path / "killed"
-    args = ["usv-turn-wind", "--grid", "command.thrust_stbd_kgf=8,10,12,14,16,18,20,22", "--seeds", "2",
-            "--duration", "30", "--set", "environment.wind.gust_sigma=0.5", "--quiet", "--out", str(out)]
+    args = [
+        "usv-turn-wind",
+        "--grid",
+        "command.thrust_stbd_kgf=8,10,12,14,16,18,20,22",
+        "--seeds",
+        "2",
+        "--duration",
+        "30",
+        "--set",
+        "environment.wind.gust_sigma=0.5",
+        "--quiet",
+        "--out",
+        str(out),
+    ]
     env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
-    proc = subprocess.Popen([sys.executable, "-m", "oceangnc.cli", "sweep", *args, "--workers", "1"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "oceangnc.cli", "sweep", *args, "--workers", "1"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        env=env,
+        start_new_session=True,
+    )
     table = out / "results.parquet"
     deadline = time.monotonic() + 120
     n_before = 0
@@ -87,11 +117,16 @@ def test_killed_sweep_resumes_with_no_run_twice_and_none_missing(tmp_path, capsy
     assert main(["sweep", *args, "--workers", "1", "--resume"]) == 0
     printed = capsys.readouterr().out
     after = read_results(out)
-    design = build_design("usv-turn-wind", grid=["command.thrust_stbd_kgf=8,10,12,14,16,18,20,22"], seeds=2,
-                          duration=30.0, overrides={"environment.wind.gust_sigma": 0.5})
+    design = build_design(
+        "usv-turn-wind",
+        grid=["command.thrust_stbd_kgf=8,10,12,14,16,18,20,22"],
+        seeds=2,
+        duration=30.0,
+        overrides={"environment.wind.gust_sigma": 0.5},
+    )
     expected = [r.run_id for r in design.runs()]
-    assert sorted(after["run_id"]) == sorted(expected)            # none missing, none extra
-    assert after["run_id"].is_unique                              # no run recorded twice
+    assert sorted(after["run_id"]) == sorted(expected)  # none missing, none extra
+    assert after["run_id"].is_unique  # no run recorded twice
     assert (after["status"] == "ok").all()
     assert f"{total - len(before)} run(s) done now, {len(before)} already in the table" in printed
     # the runs finished before the kill were not run again: their rows are untouched

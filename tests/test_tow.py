@@ -49,8 +49,9 @@ def test_lowering_and_hauling_tension_and_mass():
 
 
 def _conservative(length=2.0):
-    cc = CableConfig(length=length, segment_length=0.5, integrator="imex", drag_on=False, damping=0.0,
-                     added_mass_coeff=0.0)
+    cc = CableConfig(
+        length=length, segment_length=0.5, integrator="imex", drag_on=False, damping=0.0, added_mass_coeff=0.0
+    )
     uc = UUVConfig(damping_on=False, x0=0.5, z0=2.1)
     return CombinedPlant(USVConfig(), uc, cc, top="fixed", winch=WinchConfig(enabled=True, capacity=10.0))
 
@@ -116,8 +117,9 @@ def test_seabed_contact_cable_lies_on_it():
     1 cm, vertical speed ~ 0), the cable paid out beyond lies on the bed (nodes within 2 cm of it), no blow-up."""
     cc = CableConfig(length=6.0, segment_length=0.5, integrator="imex")
     bed = SeabedConfig(depth=8.0, slope_deg=5.0)
-    pl = CombinedPlant(USVConfig(), UUVConfig(z0=6.3), cc, top="fixed",
-                       winch=WinchConfig(enabled=True, capacity=20.0), seabed=bed)
+    pl = CombinedPlant(
+        USVConfig(), UUVConfig(z0=6.3), cc, top="fixed", winch=WinchConfig(enabled=True, capacity=20.0), seabed=bed
+    )
     bus, t = {}, 0.0
     pl.u[9] = 0.1
     t = pl.advance(t, 0.01, 8000)
@@ -136,22 +138,27 @@ def test_seabed_contact_cable_lies_on_it():
 def test_seabed_above_attachment_refused(tmp_path):
     """A seabed above the cable's attachment point under the USV: ConfigError naming the key."""
     with pytest.raises(ConfigError, match=r"environment\.seabed\.depth"):
-        oceangnc.run("tow-survey-depth", overrides={"environment.seabed.depth": 0.3, "cable.top_z": 0.5},
-                     duration=1.0, plots=False, out=tmp_path / "r")
+        oceangnc.run(
+            "tow-survey-depth",
+            overrides={"environment.seabed.depth": 0.3, "cable.top_z": 0.5},
+            duration=1.0,
+            plots=False,
+            out=tmp_path / "r",
+        )
 
 
 def test_winch_needs_imex():
     with pytest.raises(ConfigError, match=r"cable\.integrator"):
-        CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator="rk4-split"),
-                      winch=WinchConfig(enabled=True))
+        CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator="rk4-split"), winch=WinchConfig(enabled=True))
 
 
 def test_tow_deploy_short(tmp_path):
     """tow-deploy lowered to 10 m and recovered (shortened profile): the depth follows the profile within
     0.5 m, the tension stays below the limit, the mass check holds at every row."""
     prof = [(0.0, 1.3), (5.0, 1.3), (50.0, 10.0), (60.0, 10.0), (105.0, 1.3)]
-    s = oceangnc.run("tow-deploy", overrides={"winch_control.profile": prof, "sim.duration": 115.0},
-                     out=tmp_path / "d", plots=False).summary
+    s = oceangnc.run(
+        "tow-deploy", overrides={"winch_control.profile": prof, "sim.duration": 115.0}, out=tmp_path / "d", plots=False
+    ).summary
     assert s["uuv.depth_max_m"] == pytest.approx(10.0, abs=0.5)
     assert s["uuv.depth_error_max_m"] < 0.5
     assert s["winch.tension_limit_exceeded"] == 0
@@ -164,8 +171,12 @@ def test_tow_survey_depth_altitude(tmp_path):
     """tow-survey-depth on two 300 m legs and one turn (750 s) over a 3-deg slope: altitude held by the
     winch within 0.5 m RMS after 150 s (measured 0.42 m), never below 2 m, tension below the limit."""
     wps = [(0.0, 0.0), (300.0, 0.0), (300.0, 60.0), (0.0, 60.0)]
-    s = oceangnc.run("tow-survey-depth", overrides={"guidance.waypoints": wps, "sim.duration": 750.0},
-                     out=tmp_path / "s", plots=False).summary
+    s = oceangnc.run(
+        "tow-survey-depth",
+        overrides={"guidance.waypoints": wps, "sim.duration": 750.0},
+        out=tmp_path / "s",
+        plots=False,
+    ).summary
     assert s["uuv.altitude_rms_error_m"] < 0.5
     assert s["uuv.altitude_min_m"] > 2.0
     assert s["winch.tension_limit_exceeded"] == 0
@@ -219,8 +230,7 @@ def test_winch_renders_at_the_tension_limit():
     for tmax in (1e5, 250.0):
         cc = CableConfig(length=6.0, segment_length=0.5, integrator="imex")
         strain = (12.0 * G + 0.5 * cc.weight_per_length * 6) / cc.EA
-        w = WinchConfig(enabled=True, capacity=12.0, accel_max=5.0, speed_max=1.0, tension_max=tmax,
-                        time_constant=0.05)
+        w = WinchConfig(enabled=True, capacity=12.0, accel_max=5.0, speed_max=1.0, tension_max=tmax, time_constant=0.05)
         pl = CombinedPlant(USVConfig(), UUVConfig(z0=6 * (1 + strain) + 0.125), cc, top="fixed", winch=w)
         bus, t, T = {}, pl.advance(0.0, 0.01, 500), []
         pl.u[9] = -1.0

@@ -7,8 +7,13 @@ import pyarrow.parquet as pq
 import pytest
 
 import oceangnc
-from oceangnc.models.actuators import (USV_T_FWD_KGF, USV_T_REV_KGF, USV_V_REV_FULL, usv_thrust_from_voltage,
-                                       usv_voltage_from_thrust)
+from oceangnc.models.actuators import (
+    USV_T_FWD_KGF,
+    USV_T_REV_KGF,
+    USV_V_REV_FULL,
+    usv_thrust_from_voltage,
+    usv_voltage_from_thrust,
+)
 from oceangnc.models.usv import USVConfig, calibrate, steady_turn
 from oceangnc.units import KGF
 
@@ -30,8 +35,9 @@ def test_turning_circle_drifts_downwind_fig_2_9(tmp_path, wind_from):
     """003 fig 2-9: 1 m/s wind from 0 and 90 deg: the circle drifts downwind (within 45 deg) and
     faster in stronger wind."""
     s1 = _run("usv-turn-wind", tmp_path, **{"environment.wind.direction_deg": wind_from})
-    s5 = _run("usv-turn-wind", tmp_path / "5", **{"environment.wind.direction_deg": wind_from,
-                                                   "environment.wind.speed": 5.0})
+    s5 = _run(
+        "usv-turn-wind", tmp_path / "5", **{"environment.wind.direction_deg": wind_from, "environment.wind.speed": 5.0}
+    )
     downwind = (wind_from + 180.0) % 360.0
     for s in (s1, s5):
         diff = (s["usv.drift_direction_deg"] - downwind + 180.0) % 360.0 - 180.0
@@ -75,16 +81,22 @@ def test_thrust_curve_inverse(t_kgf):
 
 
 def test_voltage_mode_drives_the_boat(tmp_path):
-    s = _run("usv-straight", tmp_path, **{"command.mode": "voltage", "command.volt_port": 4.68,
-                                          "command.volt_stbd": 4.68})
+    s = _run(
+        "usv-straight", tmp_path, **{"command.mode": "voltage", "command.volt_port": 4.68, "command.volt_stbd": 4.68}
+    )
     # 29.12 kgf each instead of 30: speed scales linearly with thrust in this linear-damping model
     assert s["usv.steady_speed_mps"] == pytest.approx(0.8 * 29.12 / 30.0, rel=0.01)
 
 
 def test_same_seed_identical_log_different_seed_differs(tmp_path):
-    over = {"environment.current.model": "gauss-markov", "environment.current.speed": 0.2,
-            "environment.current.sigma_speed": 0.05, "environment.wind.speed": 3.0,
-            "environment.wind.gust_sigma": 1.0, "sim.duration": 20.0}
+    over = {
+        "environment.current.model": "gauss-markov",
+        "environment.current.speed": 0.2,
+        "environment.current.sigma_speed": 0.05,
+        "environment.wind.speed": 3.0,
+        "environment.wind.gust_sigma": 1.0,
+        "sim.duration": 20.0,
+    }
     a = oceangnc.run("usv-turn", overrides=over, out=tmp_path / "a", plots=False)
     b = oceangnc.run("usv-turn", overrides=over, out=tmp_path / "b", plots=False)
     c = oceangnc.run("usv-turn", overrides={**over, "sim.seed": 7}, out=tmp_path / "c", plots=False)

@@ -8,8 +8,17 @@ import pytest
 from oceangnc.api import resolve_config
 from oceangnc.core.integrators import rk4_advance, rk4_workspace
 from oceangnc.errors import ConfigError
-from oceangnc.models.uuv import (P_MA, P_MINV, P_MRB, UUVConfig, UUVThrusters, scaled_coefficients,
-                                 uuv_energy, uuv_min_turning_radius, uuv_rhs)
+from oceangnc.models.uuv import (
+    P_MA,
+    P_MINV,
+    P_MRB,
+    UUVConfig,
+    UUVThrusters,
+    scaled_coefficients,
+    uuv_energy,
+    uuv_min_turning_radius,
+    uuv_rhs,
+)
 from oceangnc.units import KGF
 
 
@@ -58,7 +67,7 @@ def test_ideal_fluid_conserves_energy():
     e0 = uuv_energy(x0, p)
     x, _ = _run(cfg, [0, 0, 0, 0, 0], 20.0, dt=0.005, x0=x0)
     e1 = uuv_energy(x, p)
-    scale = 0.5 * x0[6:12] @ (p[P_MRB:P_MRB + 36].reshape(6, 6) + p[P_MA:P_MA + 36].reshape(6, 6)) @ x0[6:12]
+    scale = 0.5 * x0[6:12] @ (p[P_MRB : P_MRB + 36].reshape(6, 6) + p[P_MA : P_MA + 36].reshape(6, 6)) @ x0[6:12]
     assert abs(e1 - e0) < 1e-6 * scale + 1e-9
     assert np.linalg.norm(x[6:12] - x0[6:12]) > 0.05  # it did move (energy exchanged between modes)
 
@@ -101,10 +110,10 @@ def test_scaling_reproduces_prestero_at_remus_size():
 def test_mass_matrix_symmetric_positive_definite():
     """003 A-3 property 1: M = M_RB + M_A > 0 and symmetric; its stored inverse is right."""
     p = UUVConfig().params()
-    M = p[P_MRB:P_MRB + 36].reshape(6, 6) + p[P_MA:P_MA + 36].reshape(6, 6)
+    M = p[P_MRB : P_MRB + 36].reshape(6, 6) + p[P_MA : P_MA + 36].reshape(6, 6)
     assert np.allclose(M, M.T)
     assert np.all(np.linalg.eigvalsh(M) > 0)
-    assert np.allclose(p[P_MINV:P_MINV + 36].reshape(6, 6) @ M, np.eye(6), atol=1e-10)
+    assert np.allclose(p[P_MINV : P_MINV + 36].reshape(6, 6) @ M, np.eye(6), atol=1e-10)
 
 
 def test_negatively_buoyant_uuv_sinks_level():

@@ -34,8 +34,10 @@ def test_case(case, runner):
     assert o.status != "error", o.error
     m = o.measured
     assert math.isfinite(m.value)
-    msg = (f"{case.id}: {case.quantity} = {m.value:.6g} {case.unit}, accepted {o.lo:.6g} … {o.hi:.6g} "
-           f"(published {case.published_text}; {case.source})")
+    msg = (
+        f"{case.id}: {case.quantity} = {m.value:.6g} {case.unit}, accepted {o.lo:.6g} … {o.hi:.6g} "
+        f"(published {case.published_text}; {case.source})"
+    )
     if case.deviation:
         assert o.status == "deviation", "now reproduced: " + msg
     else:
@@ -51,11 +53,33 @@ def test_registry_is_complete_and_well_formed():
         assert c.source and c.quantity and c.why and c.published_text, c.id
         assert c.check[0] in ("abs", "rel", "max", "min", "range"), c.id
         assert ("_" in c.source and ".txt" in c.source) or c.id.startswith("physics-"), c.id
-    for want in ("003-fig2-7", "003-fig2-8", "003-fig2-9", "003-fig2-10", "003-fig4-2", "003-fig4-4", "003-fig4-6",
-                 "003-fig4-7", "003-fig4-14", "003-fig4-15", "003-ch6.2", "000-table2", "000-fig17", "000-fig18",
-                 "000-fig21", "000-figs25-26", "001-figs8-10", "002-table5.2", "002-table5.3", "physics-cable-statics",
-                 "physics-energy-conservation", "physics-energy-dissipation", "physics-rk4-order",
-                 "physics-uuv-steady-speed", "physics-lyapunov-vdot"):
+    for want in (
+        "003-fig2-7",
+        "003-fig2-8",
+        "003-fig2-9",
+        "003-fig2-10",
+        "003-fig4-2",
+        "003-fig4-4",
+        "003-fig4-6",
+        "003-fig4-7",
+        "003-fig4-14",
+        "003-fig4-15",
+        "003-ch6.2",
+        "000-table2",
+        "000-fig17",
+        "000-fig18",
+        "000-fig21",
+        "000-figs25-26",
+        "001-figs8-10",
+        "002-table5.2",
+        "002-table5.3",
+        "physics-cable-statics",
+        "physics-energy-conservation",
+        "physics-energy-dissipation",
+        "physics-rk4-order",
+        "physics-uuv-steady-speed",
+        "physics-lyapunov-vdot",
+    ):
         assert any(i.startswith(want) for i in ids), want
     assert [c.id for c in select(CASES, "003-fig2-8*")] == ["003-fig2-8-turn-radius", "003-fig2-8-yaw-rate"]
 
@@ -64,8 +88,9 @@ def test_changed_parameter_breaks_the_matching_case_with_numbers(tmp_path, capsy
     """Doubling the USV's surge damping d11 halves the straight-run speed of 003 fig 2-7: the case fails,
     the exit code is 1 and the message gives the value, the accepted range and the source."""
     d11 = 2.0 * USVConfig().d11
-    code = main(["validate", "--only", "003-fig2-7", "--set", f"usv.d11={d11}", "--out", str(tmp_path),
-                 "--no-plots", "--quiet"])
+    code = main(
+        ["validate", "--only", "003-fig2-7", "--set", f"usv.d11={d11}", "--out", str(tmp_path), "--no-plots", "--quiet"]
+    )
     out = capsys.readouterr().out
     assert code == 1
     assert "FAIL 003-fig2-7-usv-speed: steady surge speed = 0.4" in out
@@ -108,8 +133,12 @@ def test_check_refuses_a_step_above_the_limit(capsys):
 
 
 def _chromium() -> str | None:
-    for cand in (os.environ.get("CHROMIUM_PATH"), shutil.which("chromium"), "/usr/lib/chromium/chromium",
-                 shutil.which("chromium-browser")):
+    for cand in (
+        os.environ.get("CHROMIUM_PATH"),
+        shutil.which("chromium"),
+        "/usr/lib/chromium/chromium",
+        shutil.which("chromium-browser"),
+    ):
         if cand and Path(cand).exists():
             return cand
     return None

@@ -56,19 +56,24 @@ def test_double_writer_names_both_blocks_and_the_signal():
     second.name = "usv_control_2"
     with pytest.raises(WiringError) as ei:
         Simulation(plants, [second, *blocks], 0.01, 0.1)
-    assert str(ei.value) == ("signal 'usv.thrust_port_cmd' is written by two blocks: 'usv_control_2' and "
-                             "'usv_control'")
+    assert str(ei.value) == ("signal 'usv.thrust_port_cmd' is written by two blocks: 'usv_control_2' and 'usv_control'")
 
 
 def test_unit_mismatch_names_writer_reader_and_signal():
     """A command block writing the thrust command in V where the thrusters read N."""
     cfg = USVConfig()
-    cmd = FunctionBlock("command", 0.05, lambda t, bus: None, inputs={},
-                        outputs={"usv.thrust_port_cmd": "V", "usv.thrust_stbd_cmd": "N"})
+    cmd = FunctionBlock(
+        "command",
+        0.05,
+        lambda t, bus: None,
+        inputs={},
+        outputs={"usv.thrust_port_cmd": "V", "usv.thrust_stbd_cmd": "N"},
+    )
     with pytest.raises(WiringError) as ei:
         Simulation([USVPlant(cfg)], [cmd, USVThrusterBlock(cfg, 0.05)], 0.01, 0.1)
-    assert str(ei.value) == ("unit mismatch on 'usv.thrust_port_cmd': 'command' writes V but block "
-                             "'usv_thrusters' reads N")
+    assert str(ei.value) == (
+        "unit mismatch on 'usv.thrust_port_cmd': 'command' writes V but block 'usv_thrusters' reads N"
+    )
 
 
 def test_unknown_unit_is_refused():
@@ -113,7 +118,11 @@ def test_undeclared_plant_input_read_raises_at_run_time():
 def test_plant_declarations_from_units():
     p = USVPlant(USVConfig())
     assert p.inputs == {"usv.thrust_port": "N", "usv.thrust_stbd": "N"}
-    assert p.optional_inputs == {"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s",
-                                 "env.wind_e": "m/s"}
+    assert p.optional_inputs == {
+        "env.current_n": "m/s",
+        "env.current_e": "m/s",
+        "env.wind_n": "m/s",
+        "env.wind_e": "m/s",
+    }
     assert p.outputs["usv.speed"] == "m/s" and p.outputs["usv.r"] == "rad/s"
     assert np.isfinite(p.x).all()

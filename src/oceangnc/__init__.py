@@ -22,5 +22,16 @@ def run_batch(*args, **kwargs):
 
 __version__ = "0.1.0"
 
-__all__ = ["run", "run_batch", "replot", "list_scenarios", "resolve_config", "RunResult", "ConfigError",
-           "DivergenceError", "InputError", "OceanGNCError", "__version__"]
+__all__ = [
+    "run",
+    "run_batch",
+    "replot",
+    "list_scenarios",
+    "resolve_config",
+    "RunResult",
+    "ConfigError",
+    "DivergenceError",
+    "InputError",
+    "OceanGNCError",
+    "__version__",
+]

@@ -61,8 +61,12 @@ def list_scenarios() -> dict[str, str]:
     return scenario_summaries()
 
 
-def resolve_config(scenario: str | None = None, config: str | Path | dict | None = None,
-                   overrides: dict | None = None, duration: float | None = None):
+def resolve_config(
+    scenario: str | None = None,
+    config: str | Path | dict | None = None,
+    overrides: dict | None = None,
+    duration: float | None = None,
+):
     """Build and validate a scenario's config from defaults, a TOML file/dict and overrides.
 
     ``overrides`` may be nested or use dotted keys (``{"environment.current.speed": 0.5}``).
@@ -121,10 +125,19 @@ def _jsonable(v):
     return v
 
 
-def run(scenario: str | None = None, overrides: dict | None = None, duration: float | None = None,
-        config: str | Path | dict | None = None, out: str | Path | None = None, plots: bool = True,
-        progress: bool = False, verbose: bool = False, checkpoint_every: float | None = None,
-        resume: str | Path | None = None, model: str | Path | None = None) -> RunResult:
+def run(
+    scenario: str | None = None,
+    overrides: dict | None = None,
+    duration: float | None = None,
+    config: str | Path | dict | None = None,
+    out: str | Path | None = None,
+    plots: bool = True,
+    progress: bool = False,
+    verbose: bool = False,
+    checkpoint_every: float | None = None,
+    resume: str | Path | None = None,
+    model: str | Path | None = None,
+) -> RunResult:
     """Run a scenario and write its outputs.
 
     Parameters
@@ -169,13 +182,14 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
     from .errors import ConfigError, InputError
 
     if checkpoint_every is not None and not (math.isfinite(checkpoint_every) and checkpoint_every > 0):
-        raise ConfigError(f"--checkpoint-every {checkpoint_every}: must be a finite number of simulated "
-                          f"seconds > 0")
+        raise ConfigError(f"--checkpoint-every {checkpoint_every}: must be a finite number of simulated seconds > 0")
     state = None
     if resume is not None:
         if scenario or overrides or config is not None or duration is not None:
-            raise InputError("--resume DIR continues that run with its own config.toml; "
-                             "give no scenario, --config, --set or --duration with it")
+            raise InputError(
+                "--resume DIR continues that run with its own config.toml; "
+                "give no scenario, --config, --set or --duration with it"
+            )
         out_dir = Path(resume)
         if not out_dir.is_dir():
             raise InputError(f"run folder not found: {out_dir}")
@@ -190,8 +204,13 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         state = ckpt.load(out_dir)
         sc, cfg = resolve_config(None, load_toml(out_dir / "config.toml"))
         _truncate_log(out_dir / "log.parquet", state["log"]["parts"])
-        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync,
-                        start_part=state["log"]["parts"], start_row=state["log"]["rows"])
+        log = LogWriter(
+            out_dir / "log.parquet",
+            flush_period=cfg.log.flush_period,
+            fsync=cfg.log.fsync,
+            start_part=state["log"]["parts"],
+            start_row=state["log"]["rows"],
+        )
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
         if model is not None:
@@ -212,8 +231,9 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
             old_log.unlink()
         dump_toml(cfg, out_dir / "config.toml")
         log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync)
-    ctx = RunContext(out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress,
-                     verbose=verbose)
+    ctx = RunContext(
+        out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress, verbose=verbose
+    )
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
     t0 = time.perf_counter()
@@ -226,14 +246,14 @@ def run(scenario: str | None = None, overrides: dict | None = None, duration: fl
         metrics = sc.run(cfg, ctx)
     except DivergenceError as e:
         log.close()
-        summary.update({"status": "diverged", "error": str(e), "duration_s": e.t,
-                        "wall_time_s": time.perf_counter() - t0})
+        summary.update(
+            {"status": "diverged", "error": str(e), "duration_s": e.t, "wall_time_s": time.perf_counter() - t0}
+        )
         write_summary()
         raise
     except KeyboardInterrupt:
         log.close()
-        summary.update({"status": "interrupted", "rows": log.rows_written,
-                        "wall_time_s": time.perf_counter() - t0})
+        summary.update({"status": "interrupted", "rows": log.rows_written, "wall_time_s": time.perf_counter() - t0})
         write_summary()
         raise
     except BaseException:
@@ -291,5 +311,3 @@ def replot(run_dir: str | Path) -> list[Path]:
 def config_dict(cfg) -> dict:
     """A resolved config as a plain nested dict."""
     return to_dict(cfg)
-
-

@@ -41,10 +41,17 @@ def _same_structure(loops) -> bool:
     return True
 
 
-def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: list[int] | None = None,
-              duration: float | None = None, out: str | Path | None = None, threads: int | None = None,
-              chunk: int = 64, config: str | Path | dict | None = None,
-              out_dirs: list[str | Path] | None = None) -> list[dict]:
+def run_batch(
+    scenario: str,
+    overrides_list: list[dict] | None = None,
+    seeds: list[int] | None = None,
+    duration: float | None = None,
+    out: str | Path | None = None,
+    threads: int | None = None,
+    chunk: int = 64,
+    config: str | Path | dict | None = None,
+    out_dirs: list[str | Path] | None = None,
+) -> list[dict]:
     """Run K copies of ``scenario`` in compiled batches; returns the K summaries (as ``summary.json``).
 
     Parameters
@@ -82,8 +89,9 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
         numba.set_num_threads(int(threads))
     if out_dirs is not None and len(out_dirs) != n:
         raise ValueError(f"run_batch: {len(out_dirs)} out_dirs for {n} runs")
-    out_dir = Path(out) if out is not None else (None if out_dirs is not None
-                                                 else new_run_dir("runs", f"batch-{scenario}"))
+    out_dir = (
+        Path(out) if out is not None else (None if out_dirs is not None else new_run_dir("runs", f"batch-{scenario}"))
+    )
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
     summaries: list[dict] = [{} for _ in range(n)]
@@ -100,8 +108,18 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
             dump_toml(cfg, d / "config.toml")
             log = LogWriter(d / "log.parquet")
             ctx = RunContext(out_dir=d, log=log, rng=np.random.default_rng(cfg.sim.seed))
-            runs.append({"i": i, "sc": sc, "cfg": cfg, "dir": d, "log": log, "ctx": ctx, "t0": time.perf_counter(),
-                         "error": None})
+            runs.append(
+                {
+                    "i": i,
+                    "sc": sc,
+                    "cfg": cfg,
+                    "dir": d,
+                    "log": log,
+                    "ctx": ctx,
+                    "t0": time.perf_counter(),
+                    "error": None,
+                }
+            )
         _run_chunk(runs)
         for r in runs:
             sc, cfg, d = r["sc"], r["cfg"], r["dir"]
@@ -109,8 +127,14 @@ def run_batch(scenario: str, overrides_list: list[dict] | None = None, seeds: li
             r["log"].close()
             if r["error"] is not None:
                 e = r["error"]
-                summary.update({"status": "diverged", "error": str(e), "duration_s": e.t,
-                                "wall_time_s": time.perf_counter() - r["t0"]})
+                summary.update(
+                    {
+                        "status": "diverged",
+                        "error": str(e),
+                        "duration_s": e.t,
+                        "wall_time_s": time.perf_counter() - r["t0"],
+                    }
+                )
             else:
                 import pyarrow.parquet as pq
 
@@ -169,8 +193,25 @@ def _run_chunk(runs: list[dict]) -> None:
     ks = np.array([sims[i].k for i in fused], dtype=np.int64)
     dones = np.array([sims[i]._done_k for i in fused], dtype=np.int64)
     while active.any():
-        f0.module.drive_batch(active, ks, dones, n_end, s0.tick, s0.dt, SIG, f0.stop_slot, True, s0.log_steps,
-                              f0.log_slots, f0.nan_ok, BUF, 1 << 62, f0.nbs, *B, OUT)
+        f0.module.drive_batch(
+            active,
+            ks,
+            dones,
+            n_end,
+            s0.tick,
+            s0.dt,
+            SIG,
+            f0.stop_slot,
+            True,
+            s0.log_steps,
+            f0.log_slots,
+            f0.nan_ok,
+            BUF,
+            1 << 62,
+            f0.nbs,
+            *B,
+            OUT,
+        )
         for j in np.flatnonzero(active):
             ks[j], dones[j] = int(OUT[j, 0]), int(OUT[j, 1])
             rows, status = int(OUT[j, 2]), int(OUT[j, 3])

@@ -51,18 +51,34 @@ def _cmd_run(args) -> int:
         from .scenarios.base import registry
 
         if args.scenario not in registry():
-            raise InputError(f"unknown scenario '{args.scenario}': to run a config file use "
-                             f"'oceangnc run --config {args.scenario}'")
+            raise InputError(
+                f"unknown scenario '{args.scenario}': to run a config file use 'oceangnc run --config {args.scenario}'"
+            )
     if args.resume is not None:
-        res = run(resume=args.resume, checkpoint_every=args.checkpoint_every, plots=not args.no_plots,
-                  progress=not args.quiet, scenario=args.scenario, config=args.config,
-                  overrides=flatten(parse_sets(args.set)) or None, duration=args.duration)
+        res = run(
+            resume=args.resume,
+            checkpoint_every=args.checkpoint_every,
+            plots=not args.no_plots,
+            progress=not args.quiet,
+            scenario=args.scenario,
+            config=args.config,
+            overrides=flatten(parse_sets(args.set)) or None,
+            duration=args.duration,
+        )
     else:
         overrides = flatten(parse_sets(args.set))
-        res = run(args.scenario, overrides=overrides, duration=args.duration, config=args.config, out=args.out,
-                  plots=not args.no_plots, progress=not args.quiet, verbose=args.verbose,
-                  checkpoint_every=args.checkpoint_every,
-                  model=args.model)
+        res = run(
+            args.scenario,
+            overrides=overrides,
+            duration=args.duration,
+            config=args.config,
+            out=args.out,
+            plots=not args.no_plots,
+            progress=not args.quiet,
+            verbose=args.verbose,
+            checkpoint_every=args.checkpoint_every,
+            model=args.model,
+        )
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
@@ -97,8 +113,9 @@ CORE_COMMANDS = ("list", "run", "plot")
 
 def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
     """The argument parser; ``plugins=False`` leaves out the plugin subcommands (their imports cost ~0.5 s)."""
-    ap = argparse.ArgumentParser(prog="oceangnc", description="Guidance, navigation, control and "
-                                 "identification of unmanned marine vehicles.")
+    ap = argparse.ArgumentParser(
+        prog="oceangnc", description="Guidance, navigation, control and identification of unmanned marine vehicles."
+    )
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("list", help="list the scenarios, one line each")
@@ -107,22 +124,40 @@ def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run a scenario (default: the flagship combined survey)")
     p.add_argument("scenario", nargs="?", help="scenario name (see 'oceangnc list')")
     p.add_argument("--config", help="TOML config file")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5",
+    )
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
     p.add_argument("--duration", type=float, help="simulated time, s")
-    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): its "
-                                   "[parameters] are the vehicle's parameters (--set still wins)")
-    p.add_argument("--plugin", action="append", metavar="PATH",
-                   help="a Python file registering blocks (@register_block), loaded before the config is "
-                        "read, so a --set ...kind= can pick them (repeatable)")
+    p.add_argument(
+        "--model",
+        help="identified model file (identified.toml from 'oceangnc identify'): its "
+        "[parameters] are the vehicle's parameters (--set still wins)",
+    )
+    p.add_argument(
+        "--plugin",
+        action="append",
+        metavar="PATH",
+        help="a Python file registering blocks (@register_block), loaded before the config is "
+        "read, so a --set ...kind= can pick them (repeatable)",
+    )
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
-    p.add_argument("--verbose", action="store_true",
-                   help="say which clock path runs (fused compiled loop or the Python fallback) and why")
+    p.add_argument(
+        "--verbose",
+        action="store_true",
+        help="say which clock path runs (fused compiled loop or the Python fallback) and why",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary print")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON line")
-    p.add_argument("--checkpoint-every", type=float, metavar="S",
-                   help="save a checkpoint every S simulated seconds (resume with --resume DIR)")
+    p.add_argument(
+        "--checkpoint-every",
+        type=float,
+        metavar="S",
+        help="save a checkpoint every S simulated seconds (resume with --resume DIR)",
+    )
     p.add_argument("--resume", metavar="DIR", help="continue the run in DIR from its last checkpoint")
     p.set_defaults(func=_cmd_run)
 
@@ -151,8 +186,10 @@ def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
 
 
 def _missing(name: str) -> int:
-    print(f"error: this command needs the optional package '{name}'; install with "
-          f"pip install 'oceangnc[all]'", file=sys.stderr)
+    print(
+        f"error: this command needs the optional package '{name}'; install with pip install 'oceangnc[all]'",
+        file=sys.stderr,
+    )
     return 2
 
 
@@ -171,8 +208,7 @@ def main(argv: list[str] | None = None) -> int:
         print("error: " + str(e).replace("\n", " "), file=sys.stderr)
         return e.exit_code
     except KeyboardInterrupt:
-        print("interrupted: the log written so far is kept (summary.json status: interrupted)",
-              file=sys.stderr)
+        print("interrupted: the log written so far is kept (summary.json status: interrupted)", file=sys.stderr)
         return 130
 
 

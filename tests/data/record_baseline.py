@@ -37,8 +37,9 @@ def record_one(name: str, out_root: Path) -> dict:
     """Run ``name`` briefly and return ``{"summary": ..., "rows": {"first"|"middle"|"last": {...}}}``."""
     import oceangnc
 
-    res = oceangnc.run(name, duration=DURATIONS.get(name, DURATION), overrides={"sim.seed": 0},
-                       out=out_root / name, plots=False)
+    res = oceangnc.run(
+        name, duration=DURATIONS.get(name, DURATION), overrides={"sim.seed": 0}, out=out_root / name, plots=False
+    )
     df = res.df
     summary = {k: _clean(v) for k, v in res.summary.items() if not any(w in k for w in SKIP_SUMMARY)}
     rows = {}

@@ -7,18 +7,26 @@ import ipaddress
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("console", help="operator console in the browser: live simulation, joystick, "
-                              "autopilot, emergency stop (http://127.0.0.1:8050)")
+    p = subparsers.add_parser(
+        "console",
+        help="operator console in the browser: live simulation, joystick, "
+        "autopilot, emergency stop (http://127.0.0.1:8050)",
+    )
     p.add_argument("scenario", nargs="?", help="scenario (default: combined-survey if live, else usv-remote)")
-    p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only; "
-                   "any other address needs --token or --allow-remote)")
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to bind (default 127.0.0.1: this machine only; "
+        "any other address needs --token or --allow-remote)",
+    )
     p.add_argument("--port", type=int, default=8050, help="TCP port (default 8050)")
     p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall-clock second (default 1)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config key (repeatable)")
     p.add_argument("--out", default="runs", help="folder for the runs' logs (default runs/)")
     p.add_argument("--stream-hz", type=float, default=25.0, help="state messages per second (20-60, default 25)")
-    p.add_argument("--token", help="session token the page must present (default: a new random one, printed "
-                   "in the URL at start)")
+    p.add_argument(
+        "--token", help="session token the page must present (default: a new random one, printed in the URL at start)"
+    )
     p.add_argument("--allow-remote", action="store_true", help="allow a non-loopback --host with a random token")
     p.add_argument("--ssl-certfile", help="PEM certificate: serve HTTPS/WSS (with --ssl-keyfile)")
     p.add_argument("--ssl-keyfile", help="PEM private key of --ssl-certfile")
@@ -43,8 +51,10 @@ def _cmd_console(args) -> int:
     if not loop:
         loop = ipaddress.ip_address(args.host).is_loopback
     if not loop and not (args.token or args.allow_remote):
-        raise InputError(f"--host {args.host}: the console would accept connections from the network; "
-                         f"give --token TOKEN (shared secret) or --allow-remote (random token) to confirm")
+        raise InputError(
+            f"--host {args.host}: the console would accept connections from the network; "
+            f"give --token TOKEN (shared secret) or --allow-remote (random token) to confirm"
+        )
     if args.token is not None and (len(args.token) < 8 or not args.token.isprintable() or " " in args.token):
         raise InputError("--token: at least 8 printable characters without spaces")
     if bool(args.ssl_certfile) != bool(args.ssl_keyfile):
@@ -59,11 +69,11 @@ def _cmd_console(args) -> int:
         from .server import main_banner, new_token, serve
         from .session import Session
     except ModuleNotFoundError as e:
-        raise InputError(f"the console needs the optional package '{e.name}'; install with "
-                         f"pip install 'oceangnc[console]'") from None
+        raise InputError(
+            f"the console needs the optional package '{e.name}'; install with pip install 'oceangnc[console]'"
+        ) from None
     overrides = flatten(parse_sets(args.set))
-    session = Session(args.scenario, overrides=overrides, speed=args.speed, out_root=args.out,
-                      start_on_connect=True)
+    session = Session(args.scenario, overrides=overrides, speed=args.speed, out_root=args.out, start_on_connect=True)
     _check_port(args.host, args.port)
     if not args.no_warmup:
         import sys
@@ -73,9 +83,16 @@ def _cmd_console(args) -> int:
         print(f"oceangnc console: ready after {took:.1f} s", file=sys.stderr, flush=True)
     token = args.token or new_token()
     tls = bool(args.ssl_certfile)
-    serve(session, args.host, args.port, stream_hz=args.stream_hz, token=token,
-          ssl_certfile=args.ssl_certfile, ssl_keyfile=args.ssl_keyfile,
-          ready=lambda srv, app: main_banner(args.host, args.port, session, token, tls))
+    serve(
+        session,
+        args.host,
+        args.port,
+        stream_hz=args.stream_hz,
+        token=token,
+        ssl_certfile=args.ssl_certfile,
+        ssl_keyfile=args.ssl_keyfile,
+        ready=lambda srv, app: main_banner(args.host, args.port, session, token, tls),
+    )
     return 0
 
 

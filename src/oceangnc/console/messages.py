@@ -116,8 +116,9 @@ class Control(_Msg):
     force: bool = False
 
 
-Message = Annotated[Union[Stick, Mode, Loop, EStop, Gains, Pause, Waypoints, NewRun, Ping, Control],
-                    Field(discriminator="type")]
+Message = Annotated[
+    Union[Stick, Mode, Loop, EStop, Gains, Pause, Waypoints, NewRun, Ping, Control], Field(discriminator="type")
+]
 _ADAPTER = TypeAdapter(Message)
 TYPES = ("stick", "mode", "loop", "estop", "gains", "pause", "waypoints", "new_run", "ping", "control")
 VIEWER_TYPES = ("ping", "control")  #: what a viewer may send
@@ -174,8 +175,9 @@ def check_gains(values: dict[str, float], specs: dict[str, dict]) -> None:
             raise Rejected(f"gains: unknown gain {name!r}; adjustable gains: {known}")
         s = specs[name]
         if not (math.isfinite(v) and s["min"] <= v <= s["max"]):
-            raise Rejected(f"gains: {name} = {v:g}: allowed range {s['min']:g} <= value <= {s['max']:g}"
-                           f" ({s.get('unit', '')})")
+            raise Rejected(
+                f"gains: {name} = {v:g}: allowed range {s['min']:g} <= value <= {s['max']:g} ({s.get('unit', '')})"
+            )
 
 
 class RateLimiter:

@@ -104,13 +104,20 @@ class Guard:
         return None
 
 
-def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool = True, token: str | None = None,
-               loopback_only: bool = True, send_queue: int = SEND_QUEUE):
+def create_app(
+    session: Session,
+    stream_hz: float = 25.0,
+    manage_session: bool = True,
+    token: str | None = None,
+    loopback_only: bool = True,
+    send_queue: int = SEND_QUEUE,
+):
     """The ASGI app around a :class:`Session` (started and stopped with the app when ``manage_session``).
 
     ``token`` is the session token every API request and WebSocket must present (a new random one
     when None: ``app.state.token``); ``loopback_only`` refuses ``Host`` headers that are not loopback.
     """
+
     @contextlib.asynccontextmanager
     async def lifespan(app):
         if manage_session:
@@ -121,8 +128,7 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
             if manage_session:
                 await asyncio.to_thread(session.stop)
 
-    app = FastAPI(title="oceangnc operator console", lifespan=lifespan, docs_url=None, redoc_url=None,
-                  openapi_url=None)
+    app = FastAPI(title="oceangnc operator console", lifespan=lifespan, docs_url=None, redoc_url=None, openapi_url=None)
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     app.state.session = session
     app.state.token = token or new_token()
@@ -161,8 +167,11 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
     @app.get("/api/log.parquet")
     def api_log():
         data, name = session.log_bytes()
-        return Response(data, media_type="application/vnd.apache.parquet",
-                        headers={"Content-Disposition": f'attachment; filename="{name}"'})
+        return Response(
+            data,
+            media_type="application/vnd.apache.parquet",
+            headers={"Content-Disposition": f'attachment; filename="{name}"'},
+        )
 
     @app.websocket("/ws")
     async def ws_endpoint(ws: WebSocket):
@@ -190,8 +199,11 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
                 queue.put_nowait(text)
             except asyncio.QueueFull:
                 dropped.set()
-                session.event("warning", f"client #{cid} dropped: it stopped reading ({send_queue} messages "
-                                         f"queued); the others are not slowed")
+                session.event(
+                    "warning",
+                    f"client #{cid} dropped: it stopped reading ({send_queue} messages "
+                    f"queued); the others are not slowed",
+                )
 
         async def sender():
             while True:
@@ -244,8 +256,10 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
                         if now - last_reject_note < 1.0:
                             continue  # do not answer a flood message by message
                         last_reject_note = now
-                        raise Rejected(f"rate limit: more than {limiter.rate:g} messages/s "
-                                       f"(burst {limiter.burst:g}); message dropped")
+                        raise Rejected(
+                            f"rate limit: more than {limiter.rate:g} messages/s "
+                            f"(burst {limiter.burst:g}); message dropped"
+                        )
                     msg = parse_message(raw)
                     if msg.type == "ping":
                         send({"type": "pong", "id": msg.id})
@@ -257,15 +271,16 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
                             session.release_control(cid)
                         continue
                     if session.role(cid) != "operator":
-                        raise Rejected(f"{msg.type}: client #{cid} is a viewer; only the operator can send "
-                                       f"commands (take control first)")
+                        raise Rejected(
+                            f"{msg.type}: client #{cid} is a viewer; only the operator can send "
+                            f"commands (take control first)"
+                        )
                     session.submit(msg)
                 except Rejected as e:
                     session.event("warning", f"rejected message from #{cid}: {e}")
                     send({"type": "rejected", "reason": str(e)})
 
-        tasks = [asyncio.create_task(sender()), asyncio.create_task(streamer()),
-                 asyncio.create_task(receiver())]
+        tasks = [asyncio.create_task(sender()), asyncio.create_task(streamer()), asyncio.create_task(receiver())]
         drop_wait = asyncio.create_task(dropped.wait())
         try:
             await asyncio.wait([tasks[0], tasks[2], drop_wait], return_when=asyncio.FIRST_COMPLETED)
@@ -283,17 +298,34 @@ def create_app(session: Session, stream_hz: float = 25.0, manage_session: bool =
     return app
 
 
-def serve(session: Session, host: str = "127.0.0.1", port: int = 8050, stream_hz: float = 25.0,
-          log_level: str = "warning", ready=None, token: str | None = None, ssl_certfile: str | None = None,
-          ssl_keyfile: str | None = None):
+def serve(
+    session: Session,
+    host: str = "127.0.0.1",
+    port: int = 8050,
+    stream_hz: float = 25.0,
+    log_level: str = "warning",
+    ready=None,
+    token: str | None = None,
+    ssl_certfile: str | None = None,
+    ssl_keyfile: str | None = None,
+):
     """Run the console on uvicorn until interrupted (blocking). ``ready`` is called once listening.
 
     ``ssl_certfile`` / ``ssl_keyfile`` (PEM) serve HTTPS and WSS through uvicorn's TLS options."""
     import uvicorn
 
     app = create_app(session, stream_hz=stream_hz, token=token, loopback_only=is_loopback(host))
-    config = uvicorn.Config(app, host=host, port=port, log_level=log_level, ws_max_size=1 << 20,
-                            lifespan="on", access_log=False, ssl_certfile=ssl_certfile, ssl_keyfile=ssl_keyfile)
+    config = uvicorn.Config(
+        app,
+        host=host,
+        port=port,
+        log_level=log_level,
+        ws_max_size=1 << 20,
+        lifespan="on",
+        access_log=False,
+        ssl_certfile=ssl_certfile,
+        ssl_keyfile=ssl_keyfile,
+    )
     server = uvicorn.Server(config)
     sock = listen_socket(host, port)
     if ready is not None:
@@ -342,9 +374,11 @@ def console_url(host: str, port: int, token: str, tls: bool = False) -> str:
 
 def main_banner(host: str, port: int, session: Session, token: str, tls: bool = False) -> None:
     url = console_url(host, port, token, tls)
-    print(f"oceangnc console: scenario {session.scenario.name} at {session.speed:g}x real time; open {url}",
-          flush=True)
+    print(f"oceangnc console: scenario {session.scenario.name} at {session.speed:g}x real time; open {url}", flush=True)
     if not is_loopback(host):
-        print(f"note: listening on {host}: anyone who can reach it and holds the token can watch; the first "
-              f"to take control drives{'' if tls else ' (no TLS: the token crosses the network in clear)'}",
-              file=sys.stderr, flush=True)
+        print(
+            f"note: listening on {host}: anyone who can reach it and holds the token can watch; the first "
+            f"to take control drives{'' if tls else ' (no TLS: the token crosses the network in clear)'}",
+            file=sys.stderr,
+            flush=True,
+        )

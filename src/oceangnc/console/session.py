@@ -95,10 +95,18 @@ def collect_gains(sim) -> dict[str, dict]:
             for s in b.gain_specs():
                 name = f"{b.name}.{s['name']}"
                 spec = {k: s[k] for k in ("value", "min", "max") if k in s}
-                spec.update({"unit": s.get("unit", ""), "description": s.get("description", ""),
-                             "setter": (lambda v, b=b, n=s["name"]: b.set_gain(n, v)),
-                             "getter": (lambda b=b, n=s["name"]: next(
-                                 (x["value"] for x in b.gain_specs() if x["name"] == n), math.nan))})
+                spec.update(
+                    {
+                        "unit": s.get("unit", ""),
+                        "description": s.get("description", ""),
+                        "setter": (lambda v, b=b, n=s["name"]: b.set_gain(n, v)),
+                        "getter": (
+                            lambda b=b, n=s["name"]: next(
+                                (x["value"] for x in b.gain_specs() if x["name"] == n), math.nan
+                            )
+                        ),
+                    }
+                )
                 out[name] = spec
             continue
         for attr, obj in vars(b).items():
@@ -106,10 +114,14 @@ def collect_gains(sim) -> dict[str, dict]:
                 for g in ("kp", "ki", "kd"):
                     v = getattr(obj, g)
                     out[f"{b.name}.{attr}.{g}"] = {
-                        "value": v, "min": 0.0, "max": max(10 * abs(v), 1.0), "unit": "",
+                        "value": v,
+                        "min": 0.0,
+                        "max": max(10 * abs(v), 1.0),
+                        "unit": "",
                         "description": f"{attr} PID {g}",
                         "setter": (lambda val, o=obj, g=g: setattr(o, g, float(val))),
-                        "getter": (lambda o=obj, g=g: getattr(o, g))}
+                        "getter": (lambda o=obj, g=g: getattr(o, g)),
+                    }
     return out
 
 
@@ -136,10 +148,19 @@ class Session:
         does this, so that a route is not over before anyone watches).
     """
 
-    def __init__(self, scenario: str | None = None, overrides: dict | None = None, speed: float = 1.0,
-                 out_root: str | Path = "runs", stick_timeout: float = 1.0, loop_hz: float = 100.0,
-                 max_lag: float = 0.5, write_log: bool = True, clock=time.perf_counter,
-                 start_on_connect: bool = False):
+    def __init__(
+        self,
+        scenario: str | None = None,
+        overrides: dict | None = None,
+        speed: float = 1.0,
+        out_root: str | Path = "runs",
+        stick_timeout: float = 1.0,
+        loop_hz: float = 100.0,
+        max_lag: float = 0.5,
+        write_log: bool = True,
+        clock=time.perf_counter,
+        start_on_connect: bool = False,
+    ):
         if not (0 < speed <= 100 and math.isfinite(speed)):
             from ..errors import InputError
 
@@ -202,8 +223,9 @@ class Session:
         if not _builds(sc):
             from ..errors import InputError
 
-            raise InputError(f"scenario {name} has no live simulation; live scenarios: "
-                             f"{', '.join(self.live_scenarios())}")
+            raise InputError(
+                f"scenario {name} has no live simulation; live scenarios: {', '.join(self.live_scenarios())}"
+            )
         sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
         gate_pilots(sim)
         self._close_run()
@@ -248,8 +270,10 @@ class Session:
             self._push_bus()
             self._make_hello()
             self._publish()
-        self.event("info", f"new run {self.run_id}: scenario {sc.name}"
-                           + (f", log {run_dir / 'log.parquet'}" if run_dir else ""))
+        self.event(
+            "info",
+            f"new run {self.run_id}: scenario {sc.name}" + (f", log {run_dir / 'log.parquet'}" if run_dir else ""),
+        )
 
     def _close_run(self) -> None:
         """Close the current run's log and write its summary."""
@@ -263,8 +287,12 @@ class Session:
 
                 df = read_log(tee.writer.path)
                 s = self.scenario.summarize(df, self.cfg)
-                s = {"scenario": self.scenario.name, "source": "console", "duration_s": float(self.sim.t),
-                     **{k: _finite(v) if isinstance(v, (float, np.floating)) else v for k, v in s.items()}}
+                s = {
+                    "scenario": self.scenario.name,
+                    "source": "console",
+                    "duration_s": float(self.sim.t),
+                    **{k: _finite(v) if isinstance(v, (float, np.floating)) else v for k, v in s.items()},
+                }
                 atomic_write_text(tee.writer.path.parent / "summary.json", json.dumps(s, indent=2))
         except Exception as e:  # summary is a convenience; never lose the session over it
             self.event("warning", f"summary not written: {e}")
@@ -276,21 +304,26 @@ class Session:
         with self._lock:
             self._event_id += 1
             t = float(self.sim.t) if self.sim is not None else 0.0
-            self.events.append({"id": self._event_id, "t": t, "level": level, "text": text,
-                                "wall": time.time()})
+            self.events.append({"id": self._event_id, "t": t, "level": level, "text": text, "wall": time.time()})
 
     def events_since(self, last_id: int) -> list[dict]:
         with self._lock:
             return [e for e in self.events if e["id"] > last_id]
 
     def _make_hello(self) -> None:
-        gains = {k: {kk: vv for kk, vv in v.items() if kk not in ("setter", "getter")}
-                 for k, v in self.gains.items()}
+        gains = {k: {kk: vv for kk, vv in v.items() if kk not in ("setter", "getter")} for k, v in self.gains.items()}
         self.hello = {
-            "type": "hello", "run": self.run_id, "scenario": self.scenario.name,
-            "summary": self.scenario.summary, "scenarios": self.live_scenarios(), "view": self.view,
-            "gains": gains, "speed": self.speed, "stick_timeout": self.stick_timeout,
-            "tick_s": self.tick_s, "log_dir": str(self.run_dir) if self.run_dir else None,
+            "type": "hello",
+            "run": self.run_id,
+            "scenario": self.scenario.name,
+            "summary": self.scenario.summary,
+            "scenarios": self.live_scenarios(),
+            "view": self.view,
+            "gains": gains,
+            "speed": self.speed,
+            "stick_timeout": self.stick_timeout,
+            "tick_s": self.tick_s,
+            "log_dir": str(self.run_dir) if self.run_dir else None,
             "tracks": {k: [list(p) for p in v] for k, v in self.tracks.items()},
             "station_keep": self.station_keep,
             "loop_switch": bool(getattr(self.scenario, "console_loop_switch", False)),
@@ -330,14 +363,30 @@ class Session:
         now = self.clock()
         age = now - self.t_stick
         self.snapshot = {
-            "type": "state", "run": self.run_id, "t": float(sim.t), "mode": self.mode, "loop": self.loop,
-            "estop": self.estop, "failsafe": self.failsafe, "failsafe_reason": self.failsafe_reason,
-            "paused": self.paused, "ended": self.ended, "error": self.error, "speed": self.speed,
-            "rtf": self.rtf, "clients": self.clients, "operator": self.operator,
-            "stick": {"surge": self.stick[0], "yaw": self.stick[1], "source": self.stick_source,
-                      "age": age if math.isfinite(age) else None},
+            "type": "state",
+            "run": self.run_id,
+            "t": float(sim.t),
+            "mode": self.mode,
+            "loop": self.loop,
+            "estop": self.estop,
+            "failsafe": self.failsafe,
+            "failsafe_reason": self.failsafe_reason,
+            "paused": self.paused,
+            "ended": self.ended,
+            "error": self.error,
+            "speed": self.speed,
+            "rtf": self.rtf,
+            "clients": self.clients,
+            "operator": self.operator,
+            "stick": {
+                "surge": self.stick[0],
+                "yaw": self.stick[1],
+                "source": self.stick_source,
+                "age": age if math.isfinite(age) else None,
+            },
             "waypoints": [list(p) for p in bus.get("console.waypoints", ())] or None,
-            "signals": sig, "last_event": self._event_id,
+            "signals": sig,
+            "last_event": self._event_id,
         }
         self.snapshot_json = json.dumps(self.snapshot, separators=(",", ":"))
 
@@ -353,11 +402,15 @@ class Session:
             with self._lock:
                 check_gains(msg.gains, self.gains)
         elif kind == "waypoints" and not getattr(self.scenario, "console_route_edit", False):
-            raise Rejected(f"waypoints: scenario {self.scenario.name} flies a fixed route; "
-                           f"start a scenario that takes a route from the console (usv-remote)")
+            raise Rejected(
+                f"waypoints: scenario {self.scenario.name} flies a fixed route; "
+                f"start a scenario that takes a route from the console (usv-remote)"
+            )
         elif kind == "new_run" and msg.scenario is not None and msg.scenario not in self.live_scenarios():
-            raise Rejected(f"new_run: unknown or non-live scenario {msg.scenario!r}; live scenarios: "
-                           f"{', '.join(self.live_scenarios())}")
+            raise Rejected(
+                f"new_run: unknown or non-live scenario {msg.scenario!r}; live scenarios: "
+                f"{', '.join(self.live_scenarios())}"
+            )
         if kind == "stick":  # timestamp on arrival, so the watchdog sees the link, not the queue
             with self._lock:
                 self.t_stick = self.clock()
@@ -391,8 +444,7 @@ class Session:
             if was_op:
                 self.operator = None
         if was_op:
-            self.event("warning", f"operator #{cid} disconnected ({self.clients} client(s) left); "
-                                  f"nobody holds control")
+            self.event("warning", f"operator #{cid} disconnected ({self.clients} client(s) left); nobody holds control")
         else:
             self.event("info", f"viewer #{cid} disconnected ({self.clients} client(s) left)")
 
@@ -453,7 +505,10 @@ class Session:
         elif kind == "loop":
             if msg.loop != self.loop:
                 self.loop = msg.loop
-                self.event("info", f"stick drives the {'actuators (open loop)' if msg.loop == 'open' else 'speed and yaw-rate loops (closed loop)'}")
+                self.event(
+                    "info",
+                    f"stick drives the {'actuators (open loop)' if msg.loop == 'open' else 'speed and yaw-rate loops (closed loop)'}",
+                )
         elif kind == "estop":
             if msg.engaged and not self.estop:
                 self.estop = True
@@ -509,8 +564,13 @@ class Session:
         """Write the console's keys; the stick only in remote mode (in auto a scenario's own pilot may
         write ``joystick.*``, as the scripted berthing pilot does)."""
         estop_bus = self.estop or (self.failsafe and not self.station_keep)
-        vals = {"console.mode": self.mode, "console.loop": self.loop, "_estop": estop_bus,
-                "console.failsafe": float(self.failsafe), "console.estop": float(self.estop)}
+        vals = {
+            "console.mode": self.mode,
+            "console.loop": self.loop,
+            "_estop": estop_bus,
+            "console.failsafe": float(self.failsafe),
+            "console.estop": float(self.estop),
+        }
         if self.mode == "remote":
             surge, yaw = (0.0, 0.0) if (self.failsafe or self.estop) else self.stick
             vals["joystick.surge"] = surge
@@ -559,8 +619,11 @@ class Session:
                 if lag > self.max_lag:
                     self._lag_events += 1
                     if self._lag_events in (1, 10, 100) or self._lag_events % 1000 == 0:
-                        self.event("warning", f"simulation fell {lag:.2f} s behind the {self.speed:g}x wall "
-                                              f"clock (machine busy); it continues from here")
+                        self.event(
+                            "warning",
+                            f"simulation fell {lag:.2f} s behind the {self.speed:g}x wall "
+                            f"clock (machine busy); it continues from here",
+                        )
                     self._anchor = (now, sim.t)
                     lag = self.max_lag
                 n = int(math.floor(lag / self.tick_s + 1e-9))
@@ -629,8 +692,9 @@ class Session:
         import pyarrow as pa
         import pyarrow.parquet as pq
 
-        table = pa.table({"t": pa.array(t, type=pa.float64()),
-                          **{c: pa.array(data[c], type=pa.float64()) for c in cols}})
+        table = pa.table(
+            {"t": pa.array(t, type=pa.float64()), **{c: pa.array(data[c], type=pa.float64()) for c in cols}}
+        )
         buf = io.BytesIO()
         pq.write_table(table, buf, compression="zstd")
         return buf.getvalue(), name

@@ -27,8 +27,9 @@ from ..units import KGF
 
 
 def _scalar_keys(bus: dict) -> list[str]:
-    return sorted(k for k, v in bus.items() if not k.startswith("_") and isinstance(v, (int, float))
-                  and not isinstance(v, bool))
+    return sorted(
+        k for k, v in bus.items() if not k.startswith("_") and isinstance(v, (int, float)) and not isinstance(v, bool)
+    )
 
 
 def infer_view(scenario, cfg, bus: dict) -> dict:
@@ -47,11 +48,13 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
             if k.endswith(".x"):
                 p = k[:-2]
                 if f"{p}.y" in keyset and (f"{p}.psi" in keyset or f"{p}.z" in keyset) and not p.startswith("gps"):
-                    shape = "sub" if f"{p}.z" in keyset and p.startswith("uuv") else (
-                        "ship" if p.startswith("ship") else "boat")
+                    shape = (
+                        "sub"
+                        if f"{p}.z" in keyset and p.startswith("uuv")
+                        else ("ship" if p.startswith("ship") else "boat")
+                    )
                     length = 2.0 if shape != "ship" else 100.0
-                    bodies.append({"name": p, "label": p.upper(), "length": length, "beam": length / 3,
-                                   "shape": shape})
+                    bodies.append({"name": p, "label": p.upper(), "length": length, "beam": length / 3, "shape": shape})
         for b in bodies:  # dimensions from the body's config section when it has them
             bc = getattr(cfg, b["name"], None)
             length = getattr(bc, "length_oa", None) or getattr(bc, "length", None)
@@ -89,14 +92,16 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
             elif f"{p}.u" in keyset:
                 ro.append({"key": f"{p}.u", "label": f"{p} surge", "unit": "m/s", "scale": 1.0})
             if f"{p}.psi" in keyset:
-                ro.append({"key": f"{p}.psi", "label": f"{p} heading", "unit": "deg", "scale": 180 / math.pi,
-                           "wrap360": True})
+                ro.append(
+                    {"key": f"{p}.psi", "label": f"{p} heading", "unit": "deg", "scale": 180 / math.pi, "wrap360": True}
+                )
             if f"{p}.z" in keyset:
                 ro.append({"key": f"{p}.z", "label": f"{p} depth", "unit": "m", "scale": 1.0})
         view["readouts"] = ro
     if "sensors" not in view:
-        view["sensors"] = [{"key": k, "label": k.rsplit(".", 1)[0]} for k in keys
-                           if k.endswith(".valid") or k.endswith(".ok")]
+        view["sensors"] = [
+            {"key": k, "label": k.rsplit(".", 1)[0]} for k in keys if k.endswith(".valid") or k.endswith(".ok")
+        ]
     return view
 
 
@@ -145,8 +150,9 @@ def _geometry_polylines(geo: dict, view: dict) -> list[dict]:
         c, s = math.cos(h), math.sin(h)
         n0, e0 = float(berth[0]), float(berth[1])
         box = [(L / 2, -B / 2), (L / 2, B / 2), (-L / 2, B / 2), (-L / 2, -B / 2), (L / 2, -B / 2)]
-        polys.append({"name": "berth", "style": "berth",
-                      "points": [[n0 + x * c - y * s, e0 + x * s + y * c] for x, y in box]})
+        polys.append(
+            {"name": "berth", "style": "berth", "points": [[n0 + x * c - y * s, e0 + x * s + y * c] for x, y in box]}
+        )
     return polys
 
 

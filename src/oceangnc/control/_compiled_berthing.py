@@ -72,16 +72,18 @@ def _point_at(pa, s):
     length = pa[_PP - 2]
     if s >= length:
         j = nseg - 1
-        return pa[op + 2 * (npt - 1)] + (s - length) * pa[od + 2 * j], \
-            pa[op + 2 * (npt - 1) + 1] + (s - length) * pa[od + 2 * j + 1]
+        return pa[op + 2 * (npt - 1)] + (s - length) * pa[od + 2 * j], pa[op + 2 * (npt - 1) + 1] + (s - length) * pa[
+            od + 2 * j + 1
+        ]
     if s <= 0:
         return pa[op] + s * pa[od], pa[op + 1] + s * pa[od + 1]
     i = -1
     for k in range(npt):
         if pa[os_ + k] <= s:
             i = k
-    return pa[op + 2 * i] + (s - pa[os_ + i]) * pa[od + 2 * i], \
-        pa[op + 2 * i + 1] + (s - pa[os_ + i]) * pa[od + 2 * i + 1]
+    return pa[op + 2 * i] + (s - pa[os_ + i]) * pa[od + 2 * i], pa[op + 2 * i + 1] + (s - pa[os_ + i]) * pa[
+        od + 2 * i + 1
+    ]
 
 
 @njit(cache=True)

@@ -33,7 +33,8 @@ from ..models.ship_lowspeed import LAYOUT, rudder_normal_force
 
 #: offsets of the ship parameters used here, from the model's generated layout
 (_A_H, _X_H, _X_R, _B_B, _B_S, _X_TB, _X_TS, _DELTA_MAX, _NB_MAX) = LAYOUT.indices(
-    "a_H", "x_H", "x_R", "b_B", "b_S", "x_TB", "x_TS", "delta_max", "nB_max")
+    "a_H", "x_H", "x_R", "b_B", "b_S", "x_TB", "x_TS", "delta_max", "nB_max"
+)
 
 
 @njit(cache=True)

@@ -84,11 +84,12 @@ class BacksteppingConfig(StrictModel):
     k6: float = Field(1.5, gt=0, le=100, description="surge velocity gain, 1/s")
     k7: float = Field(2.0, gt=0, le=100, description="yaw rate gain, 1/s")
     h: float = Field(0.9, gt=0, le=10, description="control point ahead of the UUV's centre (the bow), m")
-    bow_side_force: bool = Field(True,
-                                 description="design model includes the bow thruster's side force (False: eq. 3.32 "
-                                             "as printed)")
-    accel_cutoff_hz: float = Field(0.5, gt=0, le=50,
-                                   description="low-pass cut-off of the leader acceleration estimate, Hz")
+    bow_side_force: bool = Field(
+        True, description="design model includes the bow thruster's side force (False: eq. 3.32 as printed)"
+    )
+    accel_cutoff_hz: float = Field(
+        0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz"
+    )
 
 
 @dataclass(frozen=True)
@@ -128,10 +129,18 @@ def model_from_uuv(uuv_cfg) -> Model3DOF:
     """3-DOF parameters of :class:`oceangnc.models.uuv.UUVConfig` (003 under eq. 3.32)."""
     mrb, ma = uuv_cfg.mass_matrices()
     c = uuv_cfg.coefficients()
-    return Model3DOF(m11=mrb[0, 0] + ma[0, 0], m22=mrb[1, 1] + ma[1, 1], m33=mrb[5, 5] + ma[5, 5],
-                     Xu=uuv_cfg.X_u, Yv=uuv_cfg.Y_v, Nr=uuv_cfg.N_r,
-                     Xuu=c["X_uu"] * uuv_cfg.drag_scale, Yvv=c["Y_vv"] * uuv_cfg.drag_scale,
-                     Nrr=c["N_rr"] * uuv_cfg.drag_scale, bow_arm=uuv_cfg.bow_arm)
+    return Model3DOF(
+        m11=mrb[0, 0] + ma[0, 0],
+        m22=mrb[1, 1] + ma[1, 1],
+        m33=mrb[5, 5] + ma[5, 5],
+        Xu=uuv_cfg.X_u,
+        Yv=uuv_cfg.Y_v,
+        Nr=uuv_cfg.N_r,
+        Xuu=c["X_uu"] * uuv_cfg.drag_scale,
+        Yvv=c["Y_vv"] * uuv_cfg.drag_scale,
+        Nrr=c["N_rr"] * uuv_cfg.drag_scale,
+        bow_arm=uuv_cfg.bow_arm,
+    )
 
 
 def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
@@ -147,8 +156,24 @@ def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     return cf * dn + sf * de, -sf * dn + cf * de, e_psi
 
 
-def control_law(m: Model3DOF, g: BacksteppingConfig, eps1, eps2, e_psi, u, v, r, ul, vl, rl,
-                dul=0.0, dvl=0.0, drl=0.0, cx=0.0, cy=0.0):
+def control_law(
+    m: Model3DOF,
+    g: BacksteppingConfig,
+    eps1,
+    eps2,
+    e_psi,
+    u,
+    v,
+    r,
+    ul,
+    vl,
+    rl,
+    dul=0.0,
+    dvl=0.0,
+    drl=0.0,
+    cx=0.0,
+    cy=0.0,
+):
     """Backstepping law (module docstring). Returns a dict with tau_u (N), tau_r (N m), V, Vdot
     (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e, alpha_u, alpha_r.
 
@@ -183,8 +208,16 @@ def control_law(m: Model3DOF, g: BacksteppingConfig, eps1, eps2, e_psi, u, v, r,
     tau_r = (dalpha_r0 - k7 * r_e - h * eps2 + ((m.m22 - m.m11) * u * v + d33 * r) / m.m33) / (1.0 / m.m33 + cb)
     V = 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
     Vdot = -k1 * eps1 * eps1 - k2 * eps2 * eps2 - k6 * u_e * u_e - k7 * r_e * r_e
-    return {"tau_u": tau_u, "tau_r": tau_r, "V": V, "Vdot": Vdot, "u_e": u_e, "r_e": r_e,
-            "alpha_u": alpha_u, "alpha_r": alpha_r}
+    return {
+        "tau_u": tau_u,
+        "tau_r": tau_r,
+        "V": V,
+        "Vdot": Vdot,
+        "u_e": u_e,
+        "r_e": r_e,
+        "alpha_u": alpha_u,
+        "alpha_r": alpha_r,
+    }
 
 
 def lyapunov(eps1, eps2, u_e, r_e) -> float:
@@ -208,8 +241,7 @@ class UUVBackstepping(Block):
 
     name = "uuv_control"
 
-    def __init__(self, cfg: BacksteppingConfig, uuv_cfg, l_d: float, lambda_d: float, period: float = 0.05,
-                 keys=None):
+    def __init__(self, cfg: BacksteppingConfig, uuv_cfg, l_d: float, lambda_d: float, period: float = 0.05, keys=None):
         self.cfg = cfg
         self.period = float(period)
         import dataclasses
@@ -219,17 +251,38 @@ class UUVBackstepping(Block):
         self.lo = -uuv_cfg.max_reverse_kgf * KGF
         self.cx = l_d * math.cos(lambda_d) + cfg.h
         self.cy = l_d * math.sin(lambda_d)
-        k = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
-             "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
+        k = {
+            "xl": "usv.x",
+            "yl": "usv.y",
+            "psil": "usv.psi",
+            "ul": "usv.u",
+            "vl": "usv.v",
+            "rl": "usv.r",
+            "xf": "uuv.x",
+            "yf": "uuv.y",
+            "psif": "uuv.psi",
+            "uf": "uuv.u",
+            "vf": "uuv.v",
+            "rf": "uuv.r",
+        }
         k.update(keys or {})
         self.keys = k
         unit = {"x": "m", "y": "m", "p": "rad", "u": "m/s", "v": "m/s", "r": "rad/s"}
         # an internal key ("_zero": no measurement, read as 0) is an optional input
         self.inputs = {key: unit[n[0]] for n, key in k.items() if not key.startswith("_")}
         self.optional_inputs = {key: unit[n[0]] for n, key in k.items() if key.startswith("_")}
-        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
-                        "uuv_bs.V": "J", "uuv_bs.Vdot": "W", "uuv_bs.eps1": "m", "uuv_bs.eps2": "m",
-                        "uuv_bs.tau_u": "N", "uuv_bs.tau_r": "N m", "uuv_ctrl.psi_d": "rad"}
+        self.outputs = {
+            "uuv.thrust_port_cmd": "N",
+            "uuv.thrust_stbd_cmd": "N",
+            "uuv.thrust_bow_cmd": "N",
+            "uuv_bs.V": "J",
+            "uuv_bs.Vdot": "W",
+            "uuv_bs.eps1": "m",
+            "uuv_bs.eps2": "m",
+            "uuv_bs.tau_u": "N",
+            "uuv_bs.tau_r": "N m",
+            "uuv_ctrl.psi_d": "rad",
+        }
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
 
     params_model = BacksteppingConfig
@@ -238,8 +291,20 @@ class UUVBackstepping(Block):
     def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
         """Built from a scenario's ``control.uuv`` slot: leader (USV) and follower (UUV) signals by
         role from ``ctx.signal``, the target geometry ``ctx.info["l_d"]``, ``ctx.info["lambda_d"]`` (rad)."""
-        roles = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
-                 "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}
+        roles = {
+            "xl": "usv.x",
+            "yl": "usv.y",
+            "psil": "usv.psi",
+            "ul": "usv.u",
+            "vl": "usv.v",
+            "rl": "usv.r",
+            "xf": "uuv.x",
+            "yf": "uuv.y",
+            "psif": "uuv.psi",
+            "uf": "uuv.u",
+            "vf": "uuv.v",
+            "rf": "uuv.r",
+        }
         keys = {n: ctx.signal(r) for n, r in roles.items()}
         return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
 
@@ -254,13 +319,47 @@ class UUVBackstepping(Block):
 
         k = self.keys
         sig = ["?" + k[n] for n in ("xl", "yl", "psil", "ul", "vl", "rl", "xf", "yf", "psif", "uf", "vf", "rf")]
-        sig += ["uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd", "uuv_bs.V", "uuv_bs.Vdot",
-                "uuv_bs.eps1", "uuv_bs.eps2", "uuv_bs.tau_u", "uuv_bs.tau_r", "uuv_ctrl.psi_d"]
+        sig += [
+            "uuv.thrust_port_cmd",
+            "uuv.thrust_stbd_cmd",
+            "uuv.thrust_bow_cmd",
+            "uuv_bs.V",
+            "uuv_bs.Vdot",
+            "uuv_bs.eps1",
+            "uuv_bs.eps2",
+            "uuv_bs.tau_u",
+            "uuv_bs.tau_r",
+            "uuv_ctrl.psi_d",
+        ]
         prev = self.prev if self.prev is not None else (0.0, 0.0, 0.0)
         st = arr([*prev, 1.0 if self.prev is not None else 0.0, *self.acc])
         m, g = self.model, self.cfg
-        pa = arr([self.period, self.a_lp, self.cx, self.cy, g.h, g.k1, g.k2, g.k6, g.k7, m.m11, m.m22, m.m33,
-                  m.Xu, m.Yv, m.Nr, m.Xuu, m.Yvv, m.Nrr, m.bow_arm, m.sway_from_bow, self.hi, self.lo])
+        pa = arr(
+            [
+                self.period,
+                self.a_lp,
+                self.cx,
+                self.cy,
+                g.h,
+                g.k1,
+                g.k2,
+                g.k6,
+                g.k7,
+                m.m11,
+                m.m22,
+                m.m33,
+                m.Xu,
+                m.Yv,
+                m.Nr,
+                m.Xuu,
+                m.Yvv,
+                m.Nrr,
+                m.bow_arm,
+                m.sway_from_bow,
+                self.hi,
+                self.lo,
+            ]
+        )
         return CompiledBlock(backstepping_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
@@ -271,10 +370,10 @@ class UUVBackstepping(Block):
                 d = (lv[i] - self.prev[i]) / self.period
                 self.acc[i] += self.a_lp * (d - self.acc[i])
         self.prev = lv
-        e1, e2, ep = errors(g["xl"], g["yl"], g["psil"], g["xf"], g["yf"], g["psif"], self.cx, self.cy,
-                            self.cfg.h)
-        out = control_law(self.model, self.cfg, e1, e2, ep, g["uf"], g["vf"], g["rf"], *lv, *self.acc,
-                          cx=self.cx, cy=self.cy)
+        e1, e2, ep = errors(g["xl"], g["yl"], g["psil"], g["xf"], g["yf"], g["psif"], self.cx, self.cy, self.cfg.h)
+        out = control_law(
+            self.model, self.cfg, e1, e2, ep, g["uf"], g["vf"], g["rf"], *lv, *self.acc, cx=self.cx, cy=self.cy
+        )
         ts = min(self.hi, max(self.lo, 0.5 * out["tau_u"]))
         tb = min(self.hi, max(self.lo, out["tau_r"] / self.model.bow_arm))
         bus["uuv.thrust_port_cmd"] = ts

@@ -61,9 +61,43 @@ from .allocation import allocate
 from .pid import PID
 
 #: offsets of the ship parameters used here, from the model's generated layout
-(_RHO, _M, _XG, _M11, _T_P, _W_P, _TAU_D, _DELTA_MAX, _DELTA_RATE, _NB_MAX, _RHO_AIR, _A_F, _A_L, _L_OA, _C_X, _C_Y,
- _C_N) = LAYOUT.indices("rho", "m", "xG", "m11", "t_p", "w_p", "tau_d", "delta_max", "delta_rate", "nB_max",
-                        "rho_air", "A_F", "A_L", "L_oa", "c_x", "c_y", "c_n")
+(
+    _RHO,
+    _M,
+    _XG,
+    _M11,
+    _T_P,
+    _W_P,
+    _TAU_D,
+    _DELTA_MAX,
+    _DELTA_RATE,
+    _NB_MAX,
+    _RHO_AIR,
+    _A_F,
+    _A_L,
+    _L_OA,
+    _C_X,
+    _C_Y,
+    _C_N,
+) = LAYOUT.indices(
+    "rho",
+    "m",
+    "xG",
+    "m11",
+    "t_p",
+    "w_p",
+    "tau_d",
+    "delta_max",
+    "delta_rate",
+    "nB_max",
+    "rho_air",
+    "A_F",
+    "A_L",
+    "L_oa",
+    "c_x",
+    "c_y",
+    "c_n",
+)
 
 CMD_KEYS = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd")
 
@@ -75,10 +109,10 @@ class ControlConfig(StrictModel):
     period: float = Field(0.1, gt=0, le=5, description="controller period (001: 100 ms joystick cycle), s")
     # open loop
     n_open_rpm: float = Field(40.0, gt=0, le=1000, description="open loop: propeller rpm at full surge stick, rpm")
-    delta_open_deg: float = Field(35.0, ge=0, le=45,
-                                  description="open loop: rudder reached at rudder_open_stick, deg")
-    rudder_open_stick: float = Field(0.5, gt=0, le=1,
-                                     description="open loop: yaw stick giving the full open-loop rudder, stick units")
+    delta_open_deg: float = Field(35.0, ge=0, le=45, description="open loop: rudder reached at rudder_open_stick, deg")
+    rudder_open_stick: float = Field(
+        0.5, gt=0, le=1, description="open loop: yaw stick giving the full open-loop rudder, stick units"
+    )
     thruster_open: float = Field(1.0, ge=0, le=1, description="open loop: thruster fraction at full yaw stick, -")
     # PID gains, SI: rev/s per m/s, rad per rad/s, rev/s per rad/s (and per s / times s)
     kp_prop: float = Field(4.0, ge=0, le=1e4, description="k_P,P, rev/s per m/s")
@@ -94,10 +128,12 @@ class ControlConfig(StrictModel):
     lambda1: float = Field(0.1, gt=0, le=10, description="surge error decay rate lambda1 (30), 1/s")
     lambda2: float = Field(0.1, gt=0, le=10, description="yaw-rate error decay rate lambda2 (33), 1/s")
     u_switch: float = Field(0.4, ge=0, le=5, description="allocation switch speed (001: 0.4 m/s), m/s")
-    t_ref: float = Field(10.0, ge=0, le=100,
-                         description="nonlinear: setpoint filter time constant for u_d(s), r_d(s) and rates, s")
-    rate_aware_rudder: bool = Field(True, description="nonlinear: search the rudder angle only within its "
-                                                      "rate-limited reach by the next update")
+    t_ref: float = Field(
+        10.0, ge=0, le=100, description="nonlinear: setpoint filter time constant for u_d(s), r_d(s) and rates, s"
+    )
+    rate_aware_rudder: bool = Field(
+        True, description="nonlinear: search the rudder angle only within its rate-limited reach by the next update"
+    )
     use_disturbance: bool = Field(True, description="nonlinear: use the measured current and wind in the model")
     n_limit_rpm: float = Field(100.0, gt=0, le=1000, description="closed loop: propeller command limit, rpm")
 
@@ -140,8 +176,14 @@ class _Base(Block):
         self.period = float(cfg.period)
         self.inputs = {"ship.u": "m/s", "ship.r": "rad/s", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
         self.optional_inputs = {"_estop": "bool"}
-        self.outputs = {"ship.rudder_cmd": "rad", "ship.n_prop_cmd": "Hz", "ship.n_bow_cmd": "Hz",
-                        "ship.n_stern_cmd": "Hz", "ctrl.e_u": "m/s", "ctrl.e_r": "rad/s"}
+        self.outputs = {
+            "ship.rudder_cmd": "rad",
+            "ship.n_prop_cmd": "Hz",
+            "ship.n_bow_cmd": "Hz",
+            "ship.n_stern_cmd": "Hz",
+            "ctrl.e_u": "m/s",
+            "ctrl.e_r": "rad/s",
+        }
 
     def _write(self, bus, delta, n, nb, ns, e_u, e_r):
         if bus.get("_estop", False):
@@ -210,8 +252,9 @@ class NonlinearController(_Base):
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
         super().__init__(cfg, ship)
         self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm"})
-        self.optional_inputs.update({"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s",
-                                     "env.wind_e": "m/s"})
+        self.optional_inputs.update(
+            {"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s", "env.wind_e": "m/s"}
+        )
         self.outputs.update({"ctrl.u_rd": "m/s", "ctrl.u_d": "m/s", "ctrl.r_d": "rad/s", "ctrl.x_pd": "N"})
 
     def reset(self, rng):
@@ -231,14 +274,48 @@ class NonlinearController(_Base):
         from ._compiled_berthing import nonlinear_step
 
         cfg = self.cfg
-        head = [self.period, cfg.t_ref, float(cfg.use_disturbance), cfg.lambda1, cfg.lambda2, cfg.n_limit_rpm / 60.0,
-                float(cfg.rate_aware_rudder), cfg.u_switch, self.c, self.d, 0.0, 0.0]
-        sig = ["ship.u", "ship.v", "ship.r", "ship.psi", "ship.rudder", "ship.rpm_prop", "ship.rpm_bow",
-               "ship.rpm_stern", "cmd.u_d", "cmd.r_d", "?env.current_n", "?env.current_e", "?env.wind_n",
-               "?env.wind_e", "_estop", "ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd",
-               "ctrl.e_u", "ctrl.e_r", "ctrl.u_rd", "ctrl.u_d", "ctrl.r_d", "ctrl.x_pd"]
-        return CompiledBlock(nonlinear_step, sig, np.array([self._ud, self._rd], float),
-                             np.concatenate([head, self.p]))
+        head = [
+            self.period,
+            cfg.t_ref,
+            float(cfg.use_disturbance),
+            cfg.lambda1,
+            cfg.lambda2,
+            cfg.n_limit_rpm / 60.0,
+            float(cfg.rate_aware_rudder),
+            cfg.u_switch,
+            self.c,
+            self.d,
+            0.0,
+            0.0,
+        ]
+        sig = [
+            "ship.u",
+            "ship.v",
+            "ship.r",
+            "ship.psi",
+            "ship.rudder",
+            "ship.rpm_prop",
+            "ship.rpm_bow",
+            "ship.rpm_stern",
+            "cmd.u_d",
+            "cmd.r_d",
+            "?env.current_n",
+            "?env.current_e",
+            "?env.wind_n",
+            "?env.wind_e",
+            "_estop",
+            "ship.rudder_cmd",
+            "ship.n_prop_cmd",
+            "ship.n_bow_cmd",
+            "ship.n_stern_cmd",
+            "ctrl.e_u",
+            "ctrl.e_r",
+            "ctrl.u_rd",
+            "ctrl.u_d",
+            "ctrl.r_d",
+            "ctrl.x_pd",
+        ]
+        return CompiledBlock(nonlinear_step, sig, np.array([self._ud, self._rd], float), np.concatenate([head, self.p]))
 
     def step(self, t, bus):
         cfg = self.cfg
@@ -287,11 +364,13 @@ class NonlinearController(_Base):
         u_rd = rd_dot - cfg.lambda2 * e_r - self.c * fy0 - self.d * fn0
         if cfg.rate_aware_rudder:
             reach = p[_DELTA_RATE] * max(h, p[_TAU_D])
-            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21,
-                                     delta - reach, delta + reach)
+            delta_c, nb_c = allocate(
+                u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21, delta - reach, delta + reach
+            )
         else:
-            delta_c, nb_c = allocate(u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX],
-                                     p[_DELTA_MAX])
+            delta_c, nb_c = allocate(
+                u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX], p[_DELTA_MAX]
+            )
         self._write(bus, delta_c, n_c, nb_c, -nb_c, e_u, e_r)
         bus["ctrl.u_rd"] = float(u_rd)
         bus["ctrl.u_d"] = float(u_d)
@@ -315,5 +394,13 @@ def actuator_moment_check(ship: ShipConfig, delta: float, n: float, nb: float, u
     return c * (YR + YT) + d * (NR + NT)
 
 
-__all__ = ["ControlConfig", "OpenLoopController", "PIDController", "NonlinearController", "make_controller",
-           "rps_for_thrust", "CMD_KEYS", "actuator_moment_check"]
+__all__ = [
+    "ControlConfig",
+    "OpenLoopController",
+    "PIDController",
+    "NonlinearController",
+    "make_controller",
+    "rps_for_thrust",
+    "CMD_KEYS",
+    "actuator_moment_check",
+]

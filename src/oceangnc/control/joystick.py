@@ -85,8 +85,14 @@ class Joystick(Block):
         self._z = np.zeros(cfg.samples)
         self.inputs = {}
         self.optional_inputs = {"joystick.surge": "1", "joystick.yaw": "1"}  # centred stick when absent
-        self.outputs = {"joystick.surge_f": "1", "joystick.yaw_f": "1", "joystick.surge_db": "1",
-                        "joystick.yaw_db": "1", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
+        self.outputs = {
+            "joystick.surge_f": "1",
+            "joystick.yaw_f": "1",
+            "joystick.surge_db": "1",
+            "joystick.yaw_db": "1",
+            "cmd.u_d": "m/s",
+            "cmd.r_d": "rad/s",
+        }
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng
@@ -107,8 +113,16 @@ class Joystick(Block):
 
         c = self.cfg
         pa = np.array([c.samples, c.noise, c.dead_band, c.u_max_kn, c.u_astern_kn, KNOT, math.radians(c.r_max_degps)])
-        sig = ["?joystick.surge", "?joystick.yaw", "joystick.surge_f", "joystick.yaw_f", "joystick.surge_db",
-               "joystick.yaw_db", "cmd.u_d", "cmd.r_d"]
+        sig = [
+            "?joystick.surge",
+            "?joystick.yaw",
+            "joystick.surge_f",
+            "joystick.yaw_f",
+            "joystick.surge_db",
+            "joystick.yaw_db",
+            "cmd.u_d",
+            "cmd.r_d",
+        ]
         return CompiledBlock(joystick_step, sig, params=pa, rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:

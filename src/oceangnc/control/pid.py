@@ -42,8 +42,15 @@ class PID:
         ``1 / kp`` (003 eq. 3.10), or ``1`` when ``kp == 0``.
     """
 
-    def __init__(self, kp: float, ki: float = 0.0, kd: float = 0.0, u_min: float = -math.inf,
-                 u_max: float = math.inf, kw: float | None = None):
+    def __init__(
+        self,
+        kp: float,
+        ki: float = 0.0,
+        kd: float = 0.0,
+        u_min: float = -math.inf,
+        u_max: float = math.inf,
+        kw: float | None = None,
+    ):
         if u_min > u_max:
             raise ValueError(f"PID limits: u_min={u_min} > u_max={u_max}")
         self.kp = float(kp)

@@ -39,8 +39,10 @@ def _check(K: float, T: float, zeta: float, wn: float, what: str) -> float:
         raise ConfigError(f"{what}: need a finite non-zero gain K and T > 0, got K={K}, T={T}")
     a = 2.0 * zeta * wn * T
     if a <= 1.0:
-        raise ConfigError(f"{what}: 2 zeta w_n T = {a:.3f} <= 1 (zeta={zeta}, w_n={wn} rad/s, T={T:.4g} s): "
-                          f"the gains (000 eq. 26/31) would be <= 0; raise w_n above {1.0 / (2 * zeta * T):.3f} rad/s")
+        raise ConfigError(
+            f"{what}: 2 zeta w_n T = {a:.3f} <= 1 (zeta={zeta}, w_n={wn} rad/s, T={T:.4g} s): "
+            f"the gains (000 eq. 26/31) would be <= 0; raise w_n above {1.0 / (2 * zeta * T):.3f} rad/s"
+        )
     return a
 
 

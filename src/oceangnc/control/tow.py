@@ -40,7 +40,6 @@ class TowCommand(StrictModel):
     uuv_kd_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading D gain, N s/rad")
 
 
-
 def uuv_loops(uuv: UUVConfig, kp_speed: float, ki_speed: float, kp_heading: float, kd_heading: float):
     """The UUV's tow loops: surge-speed PI on the total stern thrust, limited to twice a thruster's
     range, and heading PD on the bow thruster (N)."""
@@ -78,10 +77,21 @@ class TowStraightControl(Block):
         self.period = period
         self.usv_cfg = usv
         self.uuv_cfg = uuv
-        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", "uuv.u": "m/s", "uuv.psi": "rad",
-                       "uuv.r": "rad/s"}
-        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "uuv.thrust_port_cmd": "N",
-                        "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
+        self.inputs = {
+            "usv.u": "m/s",
+            "usv.psi": "rad",
+            "usv.r": "rad/s",
+            "uuv.u": "m/s",
+            "uuv.psi": "rad",
+            "uuv.r": "rad/s",
+        }
+        self.outputs = {
+            "usv.thrust_port_cmd": "N",
+            "usv.thrust_stbd_cmd": "N",
+            "uuv.thrust_port_cmd": "N",
+            "uuv.thrust_stbd_cmd": "N",
+            "uuv.thrust_bow_cmd": "N",
+        }
 
     def reset(self, rng) -> None:
         c = self.cmd
@@ -89,16 +99,22 @@ class TowStraightControl(Block):
         r_usv = self.usv_cfg.max_reverse_kgf * KGF
         self.usv_speed = PID(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)
         self.usv_head = PID(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)
-        self.uuv_speed, self.uuv_head = uuv_loops(self.uuv_cfg, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading,
-                                                  c.uuv_kd_heading)
+        self.uuv_speed, self.uuv_head = uuv_loops(
+            self.uuv_cfg, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading, c.uuv_kd_heading
+        )
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cmd
         h = self.period
         psi_d = math.radians(c.heading_deg)
         if t < c.start_s:
-            for k in ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd",
-                      "uuv.thrust_bow_cmd"):
+            for k in (
+                "usv.thrust_port_cmd",
+                "usv.thrust_stbd_cmd",
+                "uuv.thrust_port_cmd",
+                "uuv.thrust_stbd_cmd",
+                "uuv.thrust_bow_cmd",
+            ):
                 bus[k] = 0.0
             return
         # USV
@@ -131,8 +147,18 @@ class UUVFollow(Block):
         self.cfg = cfg
         self.uuv_cfg = uuv
         self.period = period
-        self.inputs = {k: u for k, u in (("usv.x", "m"), ("usv.y", "m"), ("uuv.x", "m"), ("uuv.y", "m"),
-                                         ("uuv.psi", "rad"), ("uuv.r", "rad/s"), ("uuv.u", "m/s"))}
+        self.inputs = {
+            k: u
+            for k, u in (
+                ("usv.x", "m"),
+                ("usv.y", "m"),
+                ("uuv.x", "m"),
+                ("uuv.y", "m"),
+                ("uuv.psi", "rad"),
+                ("uuv.r", "rad/s"),
+                ("uuv.u", "m/s"),
+            )
+        }
         self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
 
     params_model = UUVFollowConfig

@@ -110,11 +110,22 @@ class USVController(Block):
         self.heading = aw_pid(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
         self.yaw_rate = aw_pid(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
         self.inputs = {self.meas["u"]: "m/s", self.meas["psi"]: "rad", self.meas["r"]: "rad/s"}
-        self.optional_inputs = {"console.mode": "str", "joystick.surge": "1", "joystick.yaw": "1",
-                                "usv.u_d": "m/s", "guidance.psi_d": "rad"}
-        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N", "usv_ctrl.u_d": "m/s",
-                        "usv_ctrl.psi_d": "rad", "usv_ctrl.u_speed": "N", "usv_ctrl.u_heading": "N",
-                        "usv_ctrl.r_d": "rad/s"}
+        self.optional_inputs = {
+            "console.mode": "str",
+            "joystick.surge": "1",
+            "joystick.yaw": "1",
+            "usv.u_d": "m/s",
+            "guidance.psi_d": "rad",
+        }
+        self.outputs = {
+            "usv.thrust_port_cmd": "N",
+            "usv.thrust_stbd_cmd": "N",
+            "usv_ctrl.u_d": "m/s",
+            "usv_ctrl.psi_d": "rad",
+            "usv_ctrl.u_speed": "N",
+            "usv_ctrl.u_heading": "N",
+            "usv_ctrl.r_d": "rad/s",
+        }
 
     params_model = USVControlConfig
 
@@ -136,11 +147,25 @@ class USVController(Block):
         from ._compiled import arr, pid_params, pid_state, usv_control_step
 
         m = self.meas
-        sig = [m["u"], m["psi"], m["r"], "?usv.u_d", "?guidance.psi_d", "usv.thrust_port_cmd",
-               "usv.thrust_stbd_cmd", "usv_ctrl.u_d", "usv_ctrl.psi_d", "usv_ctrl.u_speed", "usv_ctrl.u_heading"]
+        sig = [
+            m["u"],
+            m["psi"],
+            m["r"],
+            "?usv.u_d",
+            "?guidance.psi_d",
+            "usv.thrust_port_cmd",
+            "usv.thrust_stbd_cmd",
+            "usv_ctrl.u_d",
+            "usv_ctrl.psi_d",
+            "usv_ctrl.u_speed",
+            "usv_ctrl.u_heading",
+        ]
         st = arr(pid_state(self.speed) + pid_state(self.heading))
-        pa = arr(pid_params(self.speed) + pid_params(self.heading)
-                 + [self.period, self.u_d, self.t_max, self.t_min, 0.5 * self.d11 if self.cfg.speed_ff else 0.0])
+        pa = arr(
+            pid_params(self.speed)
+            + pid_params(self.heading)
+            + [self.period, self.u_d, self.t_max, self.t_min, 0.5 * self.d11 if self.cfg.speed_ff else 0.0]
+        )
         return CompiledBlock(usv_control_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
@@ -218,27 +243,60 @@ class USVRateController(Block):
         self.speed_pid = PID(cfg.speed_kp, cfg.speed_ki, 0.0, -lo, hi)
         self.yaw_pid = PID(cfg.yaw_kp, cfg.yaw_ki, 0.0, -hi, hi)
         self.inputs = {"usv.u_d": "m/s", "usv.r_d": "rad/s", "usv.u": "m/s", "usv.r": "rad/s"}
-        self.optional_inputs = {"console.mode": "str", "console.loop": "str", "joystick.surge": "1",
-                                "joystick.yaw": "1", "_estop": "bool"}
+        self.optional_inputs = {
+            "console.mode": "str",
+            "console.loop": "str",
+            "joystick.surge": "1",
+            "joystick.yaw": "1",
+            "_estop": "bool",
+        }
         self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
 
     def gain_specs(self) -> list[dict]:
         """The gains an operator may change while running: name, value, range, unit, description."""
         return [
-            {"name": "speed_kp", "value": self.speed_pid.kp, "min": 0.0, "max": 5000.0, "unit": "N/(m/s)",
-             "description": "surge-speed PID proportional gain"},
-            {"name": "speed_ki", "value": self.speed_pid.ki, "min": 0.0, "max": 5000.0, "unit": "N/m",
-             "description": "surge-speed PID integral gain"},
-            {"name": "yaw_kp", "value": self.yaw_pid.kp, "min": 0.0, "max": 5000.0, "unit": "N/(rad/s)",
-             "description": "yaw-rate PID proportional gain"},
-            {"name": "yaw_ki", "value": self.yaw_pid.ki, "min": 0.0, "max": 5000.0, "unit": "N/rad",
-             "description": "yaw-rate PID integral gain"},
+            {
+                "name": "speed_kp",
+                "value": self.speed_pid.kp,
+                "min": 0.0,
+                "max": 5000.0,
+                "unit": "N/(m/s)",
+                "description": "surge-speed PID proportional gain",
+            },
+            {
+                "name": "speed_ki",
+                "value": self.speed_pid.ki,
+                "min": 0.0,
+                "max": 5000.0,
+                "unit": "N/m",
+                "description": "surge-speed PID integral gain",
+            },
+            {
+                "name": "yaw_kp",
+                "value": self.yaw_pid.kp,
+                "min": 0.0,
+                "max": 5000.0,
+                "unit": "N/(rad/s)",
+                "description": "yaw-rate PID proportional gain",
+            },
+            {
+                "name": "yaw_ki",
+                "value": self.yaw_pid.ki,
+                "min": 0.0,
+                "max": 5000.0,
+                "unit": "N/rad",
+                "description": "yaw-rate PID integral gain",
+            },
         ]
 
     def set_gain(self, name: str, value: float) -> None:
         """Set one gain listed by :meth:`gain_specs` (the console validates the range first)."""
-        target = {"speed_kp": (self.speed_pid, "kp"), "speed_ki": (self.speed_pid, "ki"),
-                  "yaw_kp": (self.yaw_pid, "kp"), "yaw_ki": (self.yaw_pid, "ki")}
+        target = {
+            "speed_kp": (self.speed_pid, "kp"),
+            "speed_ki": (self.speed_pid, "ki"),
+            "yaw_kp": (self.yaw_pid, "kp"),
+            "yaw_ki": (self.yaw_pid, "ki"),
+        }
         if name not in target:
             raise KeyError(name)
         obj, attr = target[name]

@@ -62,8 +62,9 @@ class UUVPIDController(Block):
 
     name = "uuv_control"
 
-    def __init__(self, cfg: UUVPIDConfig, uuv_cfg, period: float = 0.05, mode: str = "relative-angle-plus-heading",
-                 meas=None):
+    def __init__(
+        self, cfg: UUVPIDConfig, uuv_cfg, period: float = 0.05, mode: str = "relative-angle-plus-heading", meas=None
+    ):
         self.cfg = cfg
         self.period = float(period)
         self.mode = mode
@@ -74,10 +75,23 @@ class UUVPIDController(Block):
         self.ang = aw_pid(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
         self.los = aw_pid(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
         m = self.meas
-        self.inputs = {"lf.e_x": "m", "lf.outside": "bool", "lf.rel_heading_err": "rad", "lf.los_err": "rad",
-                       "lf.los": "rad", m["r_usv"]: "rad/s", m["r_uuv"]: "rad/s", m["psi_usv"]: "rad"}
-        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N",
-                        "uuv_ctrl.psi_d": "rad", "uuv_ctrl.loop": "count"}
+        self.inputs = {
+            "lf.e_x": "m",
+            "lf.outside": "bool",
+            "lf.rel_heading_err": "rad",
+            "lf.los_err": "rad",
+            "lf.los": "rad",
+            m["r_usv"]: "rad/s",
+            m["r_uuv"]: "rad/s",
+            m["psi_usv"]: "rad",
+        }
+        self.outputs = {
+            "uuv.thrust_port_cmd": "N",
+            "uuv.thrust_stbd_cmd": "N",
+            "uuv.thrust_bow_cmd": "N",
+            "uuv_ctrl.psi_d": "rad",
+            "uuv_ctrl.loop": "count",
+        }
 
     params_model = UUVPIDConfig
 
@@ -86,8 +100,13 @@ class UUVPIDController(Block):
         """Built from a scenario's ``control.uuv`` slot (:func:`oceangnc.core.registry.build_block`):
         ``ctx.cfg.uuv`` for the thrust limits, ``ctx.info["mode"]`` the formation mode, measured yaw
         rates and USV heading from ``ctx.signal``."""
-        return cls(params, ctx.cfg.uuv, ctx.period, mode=ctx.info.get("mode", "relative-angle-plus-heading"),
-                   meas={"r_usv": ctx.signal("usv.r"), "r_uuv": ctx.signal("uuv.r"), "psi_usv": ctx.signal("usv.psi")})
+        return cls(
+            params,
+            ctx.cfg.uuv,
+            ctx.period,
+            mode=ctx.info.get("mode", "relative-angle-plus-heading"),
+            meas={"r_usv": ctx.signal("usv.r"), "r_uuv": ctx.signal("uuv.r"), "psi_usv": ctx.signal("usv.psi")},
+        )
 
     def reset(self, rng) -> None:
         self.pos.reset()
@@ -103,16 +122,40 @@ class UUVPIDController(Block):
         from ._compiled import arr, pid_params, pid_state, uuv_pid_step
 
         m = self.meas
-        sig = ["lf.e_x", m["r_uuv"], "lf.outside", "lf.rel_heading_err", m["r_usv"], m["psi_usv"], "lf.los_err",
-               "lf.los", "uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd", "uuv_ctrl.psi_d",
-               "uuv_ctrl.loop"]
+        sig = [
+            "lf.e_x",
+            m["r_uuv"],
+            "lf.outside",
+            "lf.rel_heading_err",
+            m["r_usv"],
+            m["psi_usv"],
+            "lf.los_err",
+            "lf.los",
+            "uuv.thrust_port_cmd",
+            "uuv.thrust_stbd_cmd",
+            "uuv.thrust_bow_cmd",
+            "uuv_ctrl.psi_d",
+            "uuv_ctrl.loop",
+        ]
         lp = self.e1_rate
-        st = arr(pid_state(self.pos) + pid_state(self.ang) + pid_state(self.los)
-                 + [self.active, self.e1_prev if self.e1_prev is not None else 0.0,
-                    0.0 if self.e1_prev is None else 1.0, lp.y if lp.y is not None else 0.0,
-                    0.0 if lp.y is None else 1.0])
-        pa = arr(pid_params(self.pos) + pid_params(self.ang) + pid_params(self.los)
-                 + [self.period, lp.a, 1.0 if self.mode == "relative-angle" else 0.0])
+        st = arr(
+            pid_state(self.pos)
+            + pid_state(self.ang)
+            + pid_state(self.los)
+            + [
+                self.active,
+                self.e1_prev if self.e1_prev is not None else 0.0,
+                0.0 if self.e1_prev is None else 1.0,
+                lp.y if lp.y is not None else 0.0,
+                0.0 if lp.y is None else 1.0,
+            ]
+        )
+        pa = arr(
+            pid_params(self.pos)
+            + pid_params(self.ang)
+            + pid_params(self.los)
+            + [self.period, lp.a, 1.0 if self.mode == "relative-angle" else 0.0]
+        )
         return CompiledBlock(uuv_pid_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:
@@ -129,8 +172,7 @@ class UUVPIDController(Block):
             (self.los if loop == 3 else self.ang)._e_prev = None
             self.active = loop
         if loop == 2:
-            ub = self.ang.step(bus["lf.rel_heading_err"], h,
-                               e_dot=bus[self.meas["r_usv"]] - r_uuv)
+            ub = self.ang.step(bus["lf.rel_heading_err"], h, e_dot=bus[self.meas["r_usv"]] - r_uuv)
             psi_d = bus[self.meas["psi_usv"]]
         else:
             ub = self.los.step(bus["lf.los_err"], h, e_dot=-r_uuv)

@@ -36,14 +36,17 @@ class WinchControlConfig(StrictModel):
     mode: Literal["depth", "altitude"] = Field("depth", description="hold the UUV's depth or its altitude")
     target: float = Field(5.0, ge=0, le=1e4, description="depth (depth mode) or altitude target, m")
     profile: list[tuple[float, float]] = Field(
-        [], description="depth mode: (t s, z m) breakpoints of a moving target, linear between them "
-                        "(empty: the constant target)")
+        [],
+        description="depth mode: (t s, z m) breakpoints of a moving target, linear between them "
+        "(empty: the constant target)",
+    )
     kp: float = Field(0.3, ge=0, le=100, description="proportional gain, (m/s)/m")
     ki: float = Field(0.01, ge=0, le=100, description="integral gain, (m/s)/(m s)")
     kd: float = Field(0.0, ge=0, le=1000, description="derivative gain (on the measured error), (m/s)/(m/s)")
     speed_max: float = Field(0.5, gt=0, le=5, description="command limit, m/s")
-    tension_margin: float = Field(0.8, gt=0, le=1, description="fraction of the winch's tension limit where "
-                                                               "the loop starts paying out, -")
+    tension_margin: float = Field(
+        0.8, gt=0, le=1, description="fraction of the winch's tension limit where the loop starts paying out, -"
+    )
     tension_gain: float = Field(0.005, ge=0, le=10, description="K_T: payout per newton above the margin, (m/s)/N")
     rate: float = Field(10.0, gt=0, le=1000, description="loop rate, Hz")
 

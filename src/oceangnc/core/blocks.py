@@ -73,8 +73,15 @@ class Block:
 class FunctionBlock(Block):
     """A stateless block made from a function ``fn(t, bus)``; handy for commands and glue."""
 
-    def __init__(self, name: str, period: float, fn, inputs: dict[str, str] | None = None,
-                 outputs: dict[str, str] | None = None, optional_inputs: dict[str, str] | None = None):
+    def __init__(
+        self,
+        name: str,
+        period: float,
+        fn,
+        inputs: dict[str, str] | None = None,
+        outputs: dict[str, str] | None = None,
+        optional_inputs: dict[str, str] | None = None,
+    ):
         self.name = name
         self.period = float(period)
         self._fn = fn
@@ -126,11 +133,22 @@ class Plant:
     #: explicit output declaration (see ``outputs`` above); None: states + extra_outputs
     output_units: dict[str, str] | None = None
 
-    def __init__(self, name: str, rhs, x0, p, state_names: Sequence[str], input_names: Sequence[str],
-                 state_bound: float = 1e7, max_dt: float | None = None,
-                 state_units: Sequence[str] | None = None, input_units: Sequence[str] | None = None,
-                 input_defaults: dict[str, float] | None = None, extra_outputs: dict[str, str] | None = None,
-                 outputs: dict[str, str] | None = None):
+    def __init__(
+        self,
+        name: str,
+        rhs,
+        x0,
+        p,
+        state_names: Sequence[str],
+        input_names: Sequence[str],
+        state_bound: float = 1e7,
+        max_dt: float | None = None,
+        state_units: Sequence[str] | None = None,
+        input_units: Sequence[str] | None = None,
+        input_defaults: dict[str, float] | None = None,
+        extra_outputs: dict[str, str] | None = None,
+        outputs: dict[str, str] | None = None,
+    ):
         self.name = name
         self.rhs = rhs
         self.x = np.array(x0, dtype=np.float64)
@@ -160,8 +178,11 @@ class Plant:
     def _declared_inputs(self, optional: bool) -> dict[str, str] | None:
         if self.input_units is None:
             return None
-        return {k: u for k, u in zip(self.input_names, self.input_units)
-                if not k.startswith("_") and (k in self.input_defaults) == optional}
+        return {
+            k: u
+            for k, u in zip(self.input_names, self.input_units)
+            if not k.startswith("_") and (k in self.input_defaults) == optional
+        }
 
     @property
     def inputs(self) -> dict[str, str] | None:
@@ -204,8 +225,10 @@ class Plant:
                 elif not k.startswith("_"):
                     from .signals import WiringError
 
-                    raise WiringError(f"plant '{self.name}' reads '{k}' but no block has written it "
-                                      f"(declare a producer or give the plant an input default)") from None
+                    raise WiringError(
+                        f"plant '{self.name}' reads '{k}' but no block has written it "
+                        f"(declare a producer or give the plant an input default)"
+                    ) from None
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """Integrate ``n`` RK4 steps of ``dt`` s from time ``t``; raises :class:`DivergenceError`."""
@@ -213,8 +236,12 @@ class Plant:
         if t_new < 0.0:
             k = int(-t_new - 1.0)
             finite = bool(np.all(np.isfinite(self.x)))
-            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict(),
-                                  reason=f"|state| above {self.state_bound:g}" if finite else "non-finite state")
+            raise DivergenceError(
+                t + (k + 1) * dt,
+                self.name,
+                self.state_dict(),
+                reason=f"|state| above {self.state_bound:g}" if finite else "non-finite state",
+            )
         return t_new
 
     def state_dict(self) -> dict[str, float]:

@@ -93,8 +93,10 @@ def _block_state(b):
     if type(b).get_state is not Block.get_state and hasattr(b, "get_state"):
         return ("custom", b.get_state())
     # functions are code, not state: the freshly built simulation already holds them
-    return ("dict", {k: v for k, v in vars(b).items() if not callable(v) or isinstance(v, type)
-                     or hasattr(v, "bit_generator")})
+    return (
+        "dict",
+        {k: v for k, v in vars(b).items() if not callable(v) or isinstance(v, type) or hasattr(v, "bit_generator")},
+    )
 
 
 def capture(sim) -> bytes:
@@ -103,9 +105,14 @@ def capture(sim) -> bytes:
     import io
 
     state = {
-        "k": sim.k, "t": sim.t, "bus": dict(sim.bus), "fire_count": list(sim.fire_count),
-        "done_k": sim._done_k, "log_signals": list(sim.log_signals) if sim.log_signals is not None else None,
-        "plant_names": [pl.name for pl in sim.plants], "block_names": [b.name for b in sim.blocks],
+        "k": sim.k,
+        "t": sim.t,
+        "bus": dict(sim.bus),
+        "fire_count": list(sim.fire_count),
+        "done_k": sim._done_k,
+        "log_signals": list(sim.log_signals) if sim.log_signals is not None else None,
+        "plant_names": [pl.name for pl in sim.plants],
+        "block_names": [b.name for b in sim.blocks],
         "plants": [plant_state(pl) for pl in sim.plants],
         "blocks": [_block_state(b) for b in sim.blocks],
         "rng": [{p: g.bit_generator.state for p, g in _generators(b).items()} for b in sim.blocks],
@@ -114,8 +121,9 @@ def capture(sim) -> bytes:
     try:
         _Pickler(buf, sim).dump(state)
     except (pickle.PicklingError, TypeError, AttributeError) as e:
-        raise ConfigError(f"checkpoint: the simulation holds state that cannot be saved ({e}); "
-                          f"run without --checkpoint-every") from None
+        raise ConfigError(
+            f"checkpoint: the simulation holds state that cannot be saved ({e}); run without --checkpoint-every"
+        ) from None
     return buf.getvalue()
 
 
@@ -124,10 +132,10 @@ def restore(sim, blob: bytes) -> None:
     import io
 
     state = _Unpickler(io.BytesIO(blob), sim).load()
-    if state["plant_names"] != [pl.name for pl in sim.plants] or \
-            state["block_names"] != [b.name for b in sim.blocks]:
-        raise InputError("checkpoint does not match this simulation (different plants or blocks); "
-                         "was the config changed?")
+    if state["plant_names"] != [pl.name for pl in sim.plants] or state["block_names"] != [b.name for b in sim.blocks]:
+        raise InputError(
+            "checkpoint does not match this simulation (different plants or blocks); was the config changed?"
+        )
     for pl, st in zip(sim.plants, state["plants"]):
         set_plant_state(pl, st)
     for b, (kind, st) in zip(sim.blocks, state["blocks"]):
@@ -200,8 +208,10 @@ class Checkpointer:
         """
         self.attached += 1
         if self.attached > 1:
-            raise ConfigError("checkpoints: this scenario runs several simulations one after the other; "
-                              "--checkpoint-every and --resume support single-simulation scenarios")
+            raise ConfigError(
+                "checkpoints: this scenario runs several simulations one after the other; "
+                "--checkpoint-every and --resume support single-simulation scenarios"
+            )
         restored = False
         if self.resume_state is not None:
             restore(sim, self.resume_state["sim"])
@@ -215,7 +225,11 @@ class Checkpointer:
     def _save(self, sim) -> None:
         self.log.flush()
         self.log.sync()  # the parts the checkpoint counts are on disk before it is
-        payload = {"version": VERSION, "t": sim.t, "sim": capture(sim),
-                   "log": {"parts": self.log.parts, "rows": self.log.rows_written}}
+        payload = {
+            "version": VERSION,
+            "t": sim.t,
+            "sim": capture(sim),
+            "log": {"parts": self.log.parts, "rows": self.log.rows_written},
+        }
         save(self.run_dir / FILE, payload)
         self.saved += 1

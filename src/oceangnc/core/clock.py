@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -36,8 +37,9 @@ def _steps(period: float, dt: float, what: str) -> int:
     k = period / dt
     n = int(round(k))
     if n < 1 or abs(k - n) > 1e-6 * max(1.0, k):
-        raise ConfigError(f"{what}: period {period:g} s must be a positive integer multiple of the "
-                          f"physics step dt={dt:g} s")
+        raise ConfigError(
+            f"{what}: period {period:g} s must be a positive integer multiple of the physics step dt={dt:g} s"
+        )
     return n
 
 
@@ -65,9 +67,16 @@ class Simulation:
         which raises :class:`~oceangnc.core.signals.WiringError` naming the block and the signal.
     """
 
-    def __init__(self, plants: Sequence[Plant], blocks: Sequence[Block], dt: float, log_period: float,
-                 rng: np.random.Generator | None = None, log_signals: Sequence[str] | None = None,
-                 external: dict[str, str] | None = None):
+    def __init__(
+        self,
+        plants: Sequence[Plant],
+        blocks: Sequence[Block],
+        dt: float,
+        log_period: float,
+        rng: np.random.Generator | None = None,
+        log_signals: Sequence[str] | None = None,
+        external: dict[str, str] | None = None,
+    ):
         if not (dt > 0 and math.isfinite(dt)):
             raise ConfigError(f"sim.dt: must be > 0 s, got {dt}")
         self.plants = list(plants)
@@ -76,8 +85,10 @@ class Simulation:
         self.external = dict(external or {})
         for pl in self.plants:
             if pl.max_dt is not None and self.dt > pl.max_dt * (1 + 1e-9):
-                raise ConfigError(f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
-                                  f"({pl.max_dt:.4g} s); allowed range 0 < dt <= {pl.max_dt:.4g}")
+                raise ConfigError(
+                    f"sim.dt: {self.dt:g} s is above the stability limit of '{pl.name}' "
+                    f"({pl.max_dt:.4g} s); allowed range 0 < dt <= {pl.max_dt:.4g}"
+                )
         self.signal_units = check_wiring([*self.plants, *self.blocks], self.external)
         self.block_steps = [_steps(b.period, self.dt, f"block '{b.name}'") for b in self.blocks]
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
@@ -99,7 +110,7 @@ class Simulation:
         self.checkpoint_hook = None
         self.use_fused = False  # set by oceangnc.run / sweeps: run the compiled fused loop when possible
         self.verbose = False
-        self._fused = None  # FusedLoop, or the reason string why not, once decided
+        self._fused: Any = None  # FusedLoop, or the reason string why not, once decided
         self.path = "python"
 
     def inject(self, values: dict) -> None:
@@ -158,8 +169,11 @@ class Simulation:
         self._fused = fused if fused is not None else why
         self.path = "fused" if fused is not None else "python"
         if self.verbose:
-            msg = (f"fused compiled loop ({len(self.blocks)} blocks, {len(self.plants)} plant(s))" if fused is not None
-                   else f"Python clock: {why}")
+            msg = (
+                f"fused compiled loop ({len(self.blocks)} blocks, {len(self.plants)} plant(s))"
+                if fused is not None
+                else f"Python clock: {why}"
+            )
             print(f"oceangnc: {msg}", file=sys.stderr)
 
     def _run_fused(self, n_end, log, bar, wall_limit, t_wall0) -> None:
@@ -180,8 +194,22 @@ class Simulation:
         args = [fz.args[a] for a in fz.arg_names]
         while True:
             k, done_k, rows, status, info, t_new = fz.drive(
-                self.k, self._done_k, n_end, self.tick, self.dt, fz.sig, fz.stop_slot, log_on, self.log_steps,
-                fz.log_slots, fz.nan_ok, fz.buf, max_ticks, fz.nbs, *args)
+                self.k,
+                self._done_k,
+                n_end,
+                self.tick,
+                self.dt,
+                fz.sig,
+                fz.stop_slot,
+                log_on,
+                self.log_steps,
+                fz.log_slots,
+                fz.nan_ok,
+                fz.buf,
+                max_ticks,
+                fz.nbs,
+                *args,
+            )
             self.k, self._done_k = int(k), int(done_k)
             self.t = self._done_k * self.dt if self._done_k >= 0 else self.k * self.dt
             if rows and log_on:
@@ -211,13 +239,18 @@ class Simulation:
             row = self._row()
             bad = fz.log_signals[info]
             src = bad.split(".")[0]
-            return DivergenceError(self.t, src, {c: row[c] for c in row if c.startswith(src + ".")},
-                                   reason=f"non-finite signal {bad}")
+            return DivergenceError(
+                self.t, src, {c: row[c] for c in row if c.startswith(src + ".")}, reason=f"non-finite signal {bad}"
+            )
         pl = self.plants[info]
         kk = int(-t_new - 1.0)
         finite = bool(np.all(np.isfinite(pl.x)))
-        return DivergenceError(self.k * self.dt + (kk + 1) * self.dt, pl.name, pl.state_dict(),
-                               reason=f"|state| above {pl.state_bound:g}" if finite else "non-finite state")
+        return DivergenceError(
+            self.k * self.dt + (kk + 1) * self.dt,
+            pl.name,
+            pl.state_dict(),
+            reason=f"|state| above {pl.state_bound:g}" if finite else "non-finite state",
+        )
 
     def _run_python(self, n_end, log, bar, wall_limit, t_wall0, max_ticks: int | None = None) -> None:
         ticks = 0
@@ -236,15 +269,18 @@ class Simulation:
                 bad = [k for k, v in row.items() if not math.isfinite(v) and not k.endswith("_nan_ok")]
                 if bad:
                     src = bad[0].split(".")[0]
-                    raise DivergenceError(t, src, {k: row[k] for k in row if k.startswith(src + ".")},
-                                          reason=f"non-finite signal {bad[0]}")
+                    raise DivergenceError(
+                        t,
+                        src,
+                        {k: row[k] for k in row if k.startswith(src + ".")},
+                        reason=f"non-finite signal {bad[0]}",
+                    )
             if self.k >= n_end or self.bus.get("_stop", False):
                 break
             ticks += fresh
             if max_ticks is not None and ticks >= max_ticks:
                 break
-            if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 \
-                    and self.k > 0:
+            if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 and self.k > 0:
                 self.checkpoint_hook[1](self)
             n = min(self.tick, n_end - self.k)
             for pl in self.plants:

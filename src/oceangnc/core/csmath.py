@@ -102,6 +102,7 @@ def catan2(y, x):
 @overload(catan2)
 def _ov_atan2(y, x):
     if _is_c(y, x):
+
         def impl(y, x):
             yr = y.real
             xr = x.real
@@ -110,5 +111,6 @@ def _ov_atan2(y, x):
             if d > 0.0:
                 im = (xr * y.imag - yr * x.imag) / d
             return complex(math.atan2(yr, xr), im)
+
         return impl
     return lambda y, x: math.atan2(y, x)

@@ -32,6 +32,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -68,7 +69,7 @@ class PlantForm:
     code: list[str]
 
 
-def _kernel_ref(fn) -> tuple[str, str]:
+def _kernel_ref(fn) -> tuple[Any, Any]:
     mod = getattr(fn, "__module__", None)
     name = getattr(getattr(fn, "py_func", fn), "__name__", None)
     return mod, name
@@ -85,49 +86,71 @@ def plant_form(plant, slot_of) -> PlantForm | None:
     if own is not None:
         return own(slot_of)
     from .blocks import Plant
-    from .integrators import rk4_stepper
 
     uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
-    args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound),
-            "uin": uin}
+    args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
     read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
     cls = type(plant).__name__
     if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split"):
         out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
-        args.update({"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out,
-                     "oslots": out})
+        args.update(
+            {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
+        )
         if plant.integrator == "rk4-split":
             imports = ["from oceangnc.models.combined import split_advance as {adv}"]
         else:
             rhs_mod, rhs_name = _kernel_ref(plant.rhs)
-            imports = ["from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-                       f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
-                       "{adv} = _rk4_stepper(_rhs_{adv})"]
+            imports = [
+                "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+                f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
+                "{adv} = _rk4_stepper(_rhs_{adv})",
+            ]
         imports.append("from oceangnc.models.combined import _fill_outputs")
-        code = [*read,
-                "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
-                "{ends}[6] = {u}[2]",
-                "{ends}[7] = {u}[3]",
-                "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
-                "for j in range({oslots}.size):",
-                "    sig[{oslots}[j]] = {out}[j]"]
+        code = [
+            *read,
+            "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+            "{ends}[6] = {u}[2]",
+            "{ends}[7] = {u}[3]",
+            "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
+            "for j in range({oslots}.size):",
+            "    sig[{oslots}[j]] = {out}[j]",
+        ]
         return PlantForm(imports, args, code)
     if type(plant).advance is not Plant.advance:
         return None  # a plant with its own integration scheme we do not know
     rhs_mod, rhs_name = _kernel_ref(plant.rhs)
     if rhs_mod is None or rhs_name is None or "<" in rhs_name:
         return None
-    imports = ["from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-               f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
-               "{adv} = _rk4_stepper(_rhs_{adv})"]
+    imports = [
+        "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+        f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
+        "{adv} = _rk4_stepper(_rhs_{adv})",
+    ]
     names = [f"{plant.name}.{k}" for k in plant.state_names]
     if cls == "ShipPlant":
         names += ["ship.speed", "ship.u_r", "ship.v_r"]
-        names = [f"{plant.name}.{k}" for k in ("x", "y", "psi", "u", "v", "r", "rudder", "rpm_prop", "rpm_bow",
-                                               "rpm_stern", "speed", "u_r", "v_r")]
+        names = [
+            f"{plant.name}.{k}"
+            for k in (
+                "x",
+                "y",
+                "psi",
+                "u",
+                "v",
+                "r",
+                "rudder",
+                "rpm_prop",
+                "rpm_bow",
+                "rpm_stern",
+                "speed",
+                "u_r",
+                "v_r",
+            )
+        ]
         imports.append("from oceangnc.models._compiled import ship_publish as _pub_{adv}")
-        slots = [slot_of(k) for k in names] + [slot_of(k) if k in plant_bus_keys(slot_of) else -1
-                                                for k in ("env.current_n", "env.current_e")]
+        slots = [slot_of(k) for k in names] + [
+            slot_of(k) if k in plant_bus_keys(slot_of) else -1 for k in ("env.current_n", "env.current_e")
+        ]
         args["oslots"] = np.array(slots, dtype=np.int64)
         code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
         return PlantForm(imports, args, code)
@@ -236,16 +259,23 @@ class FusedLoop:
                 self.sig = np.append(self.sig, float(bus.get(name, 0.0)))
             return self.slot[name]
 
-        slot_of.names = self.slot
+        slot_of.names = self.slot  # type: ignore[attr-defined]
         args: dict = {}
         imports: list[str] = []
         block_lines: list[str] = []
-        for i, (b, f, nb) in enumerate(zip(sim.blocks, forms, sim.block_steps)):
+        for i, f in enumerate(forms):
             mod, name = _kernel_ref(f.kernel)
             alias = f"_k{i}"
             imports.append(f"from {mod} import {name} as {alias}")
-            slots = np.array([(self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus) else -1)
-                              if s.startswith("?") else slot_of(s) for s in f.signals], dtype=np.int64)
+            slots = np.array(
+                [
+                    (self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus) else -1)
+                    if s.startswith("?")
+                    else slot_of(s)
+                    for s in f.signals
+                ],
+                dtype=np.int64,
+            )
             args[f"sl{i}"] = slots
             args[f"st{i}"] = np.ascontiguousarray(f.state, dtype=np.float64)
             args[f"pa{i}"] = np.ascontiguousarray(f.params, dtype=np.float64)
@@ -253,10 +283,12 @@ class FusedLoop:
             if f.rng is not None:
                 args[f"rg{i}"] = f.rng
                 rg = f", rg{i}"
-            block_lines += [f"            if k % nbs[{i}] == 0:",
-                            f"                {alias}(t, sig, sl{i}, st{i}, pa{i}{rg})"]
+            block_lines += [
+                f"            if k % nbs[{i}] == 0:",
+                f"                {alias}(t, sig, sl{i}, st{i}, pa{i}{rg})",
+            ]
         plant_lines: list[str] = []
-        self.plant_forms = []
+        self.plant_forms: list = []
         for j, pl in enumerate(sim.plants):
             pf = plant_form(pl, slot_of)
             if pf is None:
@@ -277,18 +309,24 @@ class FusedLoop:
         arg_src = "".join(f", {a}" for a in self.arg_names)
         bargs = "".join(f", B_{a}" for a in self.arg_names)
         bcall = "".join(f", B_{a}[r]" for a in self.arg_names)
-        self.source = _HEAD.format(imports="\n".join(dict.fromkeys(imports)), args=arg_src, bargs=bargs, bcall=bcall,
-                                   blocks="\n".join(block_lines), plants="\n".join(plant_lines))
+        self.source = _HEAD.format(
+            imports="\n".join(dict.fromkeys(imports)),
+            args=arg_src,
+            bargs=bargs,
+            bcall=bcall,
+            blocks="\n".join(block_lines),
+            plants="\n".join(plant_lines),
+        )
         # numba's cache does not follow callees: fingerprint the kernels' and plants' sources, so an
         # edited kernel regenerates (and recompiles) the driver
         import sys as _sys
 
         fp = hashlib.sha1()
         for line in dict.fromkeys(imports):
-            mod = _sys.modules.get(line.split()[1])
-            f = getattr(mod, "__file__", None)
-            if f:
-                with open(f, "rb") as fh:
+            kmod = _sys.modules.get(line.split()[1])
+            kfile = getattr(kmod, "__file__", None)
+            if kfile:
+                with open(kfile, "rb") as fh:
                     fp.update(fh.read())
         self.source = f"# kernels fingerprint: {fp.hexdigest()[:16]}\n" + self.source
         from .integrators import load_generated
@@ -296,13 +334,14 @@ class FusedLoop:
         digest = hashlib.sha1(self.source.encode()).hexdigest()[:16]
         self.module = load_generated(f"fused_{digest}", self.source)
         self.drive = self.module.drive
-        self.log_slots = None
-        self.nan_ok = None
+        self.log_slots: Any = None
+        self.nan_ok: Any = None
 
     def set_log(self, log_signals) -> None:
         self.log_signals = list(log_signals)
-        self.log_slots = np.array([self.slot[k] if k in self.slot else self._extra(k) for k in self.log_signals],
-                                  dtype=np.int64)
+        self.log_slots = np.array(
+            [self.slot[k] if k in self.slot else self._extra(k) for k in self.log_signals], dtype=np.int64
+        )
         self.nan_ok = np.array([1 if k.endswith("_nan_ok") else 0 for k in self.log_signals], dtype=np.int64)
 
     def _extra(self, k):

@@ -141,8 +141,9 @@ def stepper_cache_dir() -> Path:
 
     root = os.environ.get("OCEANGNC_CACHE_DIR")
     if not root:
-        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-                            "oceangnc")
+        root = os.path.join(
+            os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "oceangnc"
+        )
     return Path(root) / f"steppers-{__version__}"
 
 
@@ -175,6 +176,7 @@ def load_generated(stem: str, src: str):
     m = sys.modules.get(name)
     if m is None or getattr(m, "__file__", None) != str(path):
         spec = importlib.util.spec_from_file_location(name, path)
+        assert spec is not None and spec.loader is not None
         m = importlib.util.module_from_spec(spec)
         sys.modules[name] = m  # numba's cache rebuilds the function's globals by module name
         spec.loader.exec_module(m)

@@ -92,12 +92,17 @@ def cached_closure(fn):
         def __init__(self, py_func):
             super().__init__(py_func)
             self._cache_file = IndexDataCacheFile(
-                cache_path=self._cache_path, filename_base=f"{self._impl.filename_base}-{cells_hash[:20]}",
-                source_stamp=self._impl.locator.get_source_stamp())
+                cache_path=self._cache_path,
+                filename_base=f"{self._impl.filename_base}-{cells_hash[:20]}",
+                source_stamp=self._impl.locator.get_source_stamp(),
+            )
 
         def _index_key(self, sig, codegen):
-            return (sig, codegen.magic_tuple(), (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(),
-                                                 cells_hash))
+            return (
+                sig,
+                codegen.magic_tuple(),
+                (hashlib.sha256(self._py_func.__code__.co_code).hexdigest(), cells_hash),
+            )
 
     d = njit(fn)
     try:
@@ -160,6 +165,7 @@ def jacobian_functions(f, h, jac, mode: str):
                     pc[j - ns] = p[j - ns]
                 else:
                     uc[j - ns - npar] = u[j - ns - npar]
+
         return gjac_cs
 
     def make_fd(g):
@@ -203,6 +209,7 @@ def jacobian_functions(f, h, jac, mode: str):
                     ur[j - ns - npar] = y
                 for i in range(m):
                     J[i, c] = (o1[i] - o2[i]) / (2.0 * hh)
+
         return gjac_fd
 
     hh = h if h is not None else h_states
@@ -225,7 +232,7 @@ def jacobian_functions(f, h, jac, mode: str):
                     for i in range(ns):
                         J[i, c] = Jfull[i, cols[c]]
                 else:  # input columns: complex step on that column alone
-                    f_cs(t, x, p, u, cols[c:c + 1], J[:, c:c + 1], Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur)
+                    f_cs(t, x, p, u, cols[c : c + 1], J[:, c : c + 1], Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur)
 
         hjac = make_cs(hh)
     _FUNCS[key] = (fjac, hjac)
@@ -235,9 +242,18 @@ def jacobian_functions(f, h, jac, mode: str):
 def workspace(nx: int, npar: int, nu: int, nz: int):
     """Work arrays of the Jacobian functions: (Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur)."""
     m = max(nx, nz)
-    return (np.zeros((nx, nx + npar)), np.zeros(nx, np.complex128), np.zeros(npar, np.complex128),
-            np.zeros(max(nu, 1), np.complex128)[:nu], np.zeros(m, np.complex128), np.zeros(m), np.zeros(m),
-            np.zeros(nx), np.zeros(npar), np.zeros(max(nu, 1))[:nu])
+    return (
+        np.zeros((nx, nx + npar)),
+        np.zeros(nx, np.complex128),
+        np.zeros(npar, np.complex128),
+        np.zeros(max(nu, 1), np.complex128)[:nu],
+        np.zeros(m, np.complex128),
+        np.zeros(m),
+        np.zeros(m),
+        np.zeros(nx),
+        np.zeros(npar),
+        np.zeros(max(nu, 1))[:nu],
+    )
 
 
 def default_mode(model, jacobian: str | None = None) -> str:
@@ -255,9 +271,11 @@ def _call(fn, *args, model=None, mode=""):
         return fn(*args)
     except Exception as e:  # numba typing errors: a model that cannot run in complex arithmetic
         if type(e).__module__.startswith("numba") and mode != "finite-difference":
-            raise InputError(f"model {getattr(model, 'name', '?')}: f/h cannot be evaluated in complex arithmetic "
-                             "(use numpy functions such as np.sin or oceangnc.core.csmath, give an analytic jac, "
-                             "or use jacobian='finite-difference')") from None
+            raise InputError(
+                f"model {getattr(model, 'name', '?')}: f/h cannot be evaluated in complex arithmetic "
+                "(use numpy functions such as np.sin or oceangnc.core.csmath, give an analytic jac, "
+                "or use jacobian='finite-difference')"
+            ) from None
         raise
 
 
@@ -306,8 +324,17 @@ def linearize(model, x, u, p=None, t: float = 0.0, jacobian: str | None = None) 
         raise InputError(f"linearize {model.name}: need {nx} states and {nu} inputs, got {x.size} and {u.size}")
     cols = np.concatenate([np.arange(nx), nx + npar + np.arange(nu)])
     F, H = jacobian_columns(model, x, u, cols, p=p, t=t, jacobian=jacobian)
-    return Linearization(F[:, :nx], F[:, nx:], H[:, :nx], H[:, nx:], x.copy(), u.copy(), model.state_names,
-                         model.input_names, model.output_names)
+    return Linearization(
+        F[:, :nx],
+        F[:, nx:],
+        H[:, :nx],
+        H[:, nx:],
+        x.copy(),
+        u.copy(),
+        model.state_names,
+        model.input_names,
+        model.output_names,
+    )
 
 
 @dataclass
@@ -323,8 +350,18 @@ class Trim:
         return dict(zip(model.state_names, map(float, self.x)))
 
 
-def trim(model, x0, u0, free, zero, p=None, t: float = 0.0, tol: float = 1e-10, max_iter: int = 100,
-         jacobian: str | None = None) -> Trim:
+def trim(
+    model,
+    x0,
+    u0,
+    free,
+    zero,
+    p=None,
+    t: float = 0.0,
+    tol: float = 1e-10,
+    max_iter: int = 100,
+    jacobian: str | None = None,
+) -> Trim:
     """Equilibrium of ``model``: the derivatives of the states ``zero`` vanish, varying ``free``.
 
     ``free`` names states and/or inputs (as many as ``zero``); the others keep their values from

@@ -117,8 +117,9 @@ class ParamLayout:
         p = np.asarray(p, dtype=np.float64)
         if p.size != self.size:
             raise ValueError(f"unpack: expected {self.size} values, got {p.size}")
-        return {q.name: (float(p[self._off[q.name]]) if q.size == 1 else p[self.block(q.name)].copy())
-                for q in self.params}
+        return {
+            q.name: (float(p[self._off[q.name]]) if q.size == 1 else p[self.block(q.name)].copy()) for q in self.params
+        }
 
 
 def _pairs(decl, what: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -152,8 +153,21 @@ class Model:
         |state| or |estimate| above this counts as divergence (EKF).
     """
 
-    def __init__(self, name: str, f, states, inputs, layout: ParamLayout, p, h=None, outputs=None, jac=None,
-                 complex_safe: bool = True, bound: float = 1e6, description: str = ""):
+    def __init__(
+        self,
+        name: str,
+        f,
+        states,
+        inputs,
+        layout: ParamLayout,
+        p,
+        h=None,
+        outputs=None,
+        jac=None,
+        complex_safe: bool = True,
+        bound: float = 1e6,
+        description: str = "",
+    ):
         self.name = name
         self.f = f
         self.h = h
@@ -203,16 +217,31 @@ class Model:
         p = self.p.copy()
         for k, v in values.items():
             p[self.layout.index(k)] = v
-        return Model(self.name, self.f, tuple(zip(self.state_names, self.state_units)),
-                     tuple(zip(self.input_names, self.input_units)), self.layout, p, h=self.h,
-                     outputs=None if self.h is None else tuple(zip(self.output_names, self.output_units)),
-                     jac=self.jac, complex_safe=self.complex_safe, bound=self.bound, description=self.description)
+        return Model(
+            self.name,
+            self.f,
+            tuple(zip(self.state_names, self.state_units)),
+            tuple(zip(self.input_names, self.input_units)),
+            self.layout,
+            p,
+            h=self.h,
+            outputs=None if self.h is None else tuple(zip(self.output_names, self.output_units)),
+            jac=self.jac,
+            complex_safe=self.complex_safe,
+            bound=self.bound,
+            description=self.description,
+        )
 
     def deriv(self, x, u, p=None, t: float = 0.0) -> np.ndarray:
         """dx/dt at (t, x, u) (a convenience for checks; compiled code calls ``f`` directly)."""
         out = np.zeros(self.nx)
-        self.f(float(t), np.asarray(x, dtype=np.float64), np.asarray(u, dtype=np.float64),
-               self.p if p is None else np.asarray(p, dtype=np.float64), out)
+        self.f(
+            float(t),
+            np.asarray(x, dtype=np.float64),
+            np.asarray(u, dtype=np.float64),
+            self.p if p is None else np.asarray(p, dtype=np.float64),
+            out,
+        )
         return out
 
     def output(self, x, u, p=None, t: float = 0.0) -> np.ndarray:
@@ -244,8 +273,9 @@ class Model:
             X[k + 1] = x
         return X
 
-    def plant_args(self, name: str, x0, input_signals: Sequence[str] | None = None, p=None,
-                   declare: bool = False) -> dict:
+    def plant_args(
+        self, name: str, x0, input_signals: Sequence[str] | None = None, p=None, declare: bool = False
+    ) -> dict:
         """Keyword arguments of :class:`~oceangnc.core.blocks.Plant` for this model.
 
         ``input_signals`` are the bus keys of the inputs (default ``<name>.<input>``); with
@@ -254,15 +284,19 @@ class Model:
         sig = list(input_signals) if input_signals is not None else [f"{name}.{k}" for k in self.input_names]
         if len(sig) != self.nu:
             raise ValueError(f"model {self.name}: {len(sig)} input signals for {self.nu} inputs")
-        kw = {"name": name, "rhs": self.f, "x0": np.asarray(x0, dtype=np.float64),
-              "p": self.p if p is None else np.asarray(p, dtype=np.float64),
-              "state_names": self.state_names, "input_names": sig}
+        kw = {
+            "name": name,
+            "rhs": self.f,
+            "x0": np.asarray(x0, dtype=np.float64),
+            "p": self.p if p is None else np.asarray(p, dtype=np.float64),
+            "state_names": self.state_names,
+            "input_names": sig,
+        }
         if declare:
             kw.update(state_units=self.state_units, input_units=self.input_units)
         return kw
 
-    def plant(self, name: str, x0, input_signals: Sequence[str] | None = None, p=None, declare: bool = True,
-              **kw):
+    def plant(self, name: str, x0, input_signals: Sequence[str] | None = None, p=None, declare: bool = True, **kw):
         """A :class:`~oceangnc.core.blocks.Plant` integrating this model (extra keywords: ``max_dt``...)."""
         from .blocks import Plant
         from .signals import CALM
@@ -273,5 +307,7 @@ class Model:
         return Plant(**args, **kw)
 
     def __repr__(self) -> str:
-        return (f"Model({self.name!r}: states {list(self.state_names)}, inputs {list(self.input_names)}, "
-                f"{self.layout.size} parameters)")
+        return (
+            f"Model({self.name!r}: states {list(self.state_names)}, inputs {list(self.input_names)}, "
+            f"{self.layout.size} parameters)"
+        )

@@ -26,14 +26,29 @@ from ..errors import ConfigError, InputError
 
 #: modules whose blocks register themselves on import (the built-in kinds)
 BUILTIN_MODULES = (
-    "oceangnc.environment.current", "oceangnc.environment.wind",
-    "oceangnc.sensors.gps", "oceangnc.sensors.ahrs", "oceangnc.sensors.usbl", "oceangnc.sensors.depth",
-    "oceangnc.sensors.filters", "oceangnc.sensors.navigation",
-    "oceangnc.guidance.pure_pursuit", "oceangnc.guidance.los", "oceangnc.guidance.leader_follower",
-    "oceangnc.guidance.scripted_pilot", "oceangnc.guidance.route_pilot",
-    "oceangnc.control.usv_control", "oceangnc.control.uuv_control", "oceangnc.control.backstepping",
-    "oceangnc.control.pole_placement", "oceangnc.control.joystick", "oceangnc.control.berthing",
-    "oceangnc.control.tow", "oceangnc.control.winch", "oceangnc.control.actuators", "oceangnc.identification.trials",
+    "oceangnc.environment.current",
+    "oceangnc.environment.wind",
+    "oceangnc.sensors.gps",
+    "oceangnc.sensors.ahrs",
+    "oceangnc.sensors.usbl",
+    "oceangnc.sensors.depth",
+    "oceangnc.sensors.filters",
+    "oceangnc.sensors.navigation",
+    "oceangnc.guidance.pure_pursuit",
+    "oceangnc.guidance.los",
+    "oceangnc.guidance.leader_follower",
+    "oceangnc.guidance.scripted_pilot",
+    "oceangnc.guidance.route_pilot",
+    "oceangnc.control.usv_control",
+    "oceangnc.control.uuv_control",
+    "oceangnc.control.backstepping",
+    "oceangnc.control.pole_placement",
+    "oceangnc.control.joystick",
+    "oceangnc.control.berthing",
+    "oceangnc.control.tow",
+    "oceangnc.control.winch",
+    "oceangnc.control.actuators",
+    "oceangnc.identification.trials",
 )
 
 _KINDS: dict[str, type] = {}
@@ -78,8 +93,9 @@ def _load_entry_points() -> None:
         try:
             ep.load()
         except Exception as exc:  # a user's package: report, don't trace back
-            raise InputError(f"entry point {ep.name} = {ep.value} (group oceangnc.blocks): "
-                             f"{type(exc).__name__}: {exc}") from exc
+            raise InputError(
+                f"entry point {ep.name} = {ep.value} (group oceangnc.blocks): {type(exc).__name__}: {exc}"
+            ) from exc
 
 
 def kinds(family: str | None = None) -> list[str]:
@@ -138,6 +154,7 @@ def load_plugin(path: str | Path) -> None:
 
 
 # -- picking blocks from a scenario's config ---------------------------------------------------------
+
 
 @dataclass
 class BlockContext:

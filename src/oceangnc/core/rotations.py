@@ -77,9 +77,17 @@ def rzyx_entries(phi, theta, psi):
     sth = csin(theta)
     cpsi = ccos(psi)
     spsi = csin(psi)
-    return (cpsi * cth, -spsi * cphi + cpsi * sth * sphi, spsi * sphi + cpsi * cphi * sth,
-            spsi * cth, cpsi * cphi + sphi * sth * spsi, -cpsi * sphi + sth * spsi * cphi,
-            -sth, cth * sphi, cth * cphi)
+    return (
+        cpsi * cth,
+        -spsi * cphi + cpsi * sth * sphi,
+        spsi * sphi + cpsi * cphi * sth,
+        spsi * cth,
+        cpsi * cphi + sphi * sth * spsi,
+        -cpsi * sphi + sth * spsi * cphi,
+        -sth,
+        cth * sphi,
+        cth * cphi,
+    )
 
 
 @njit(cache=True)

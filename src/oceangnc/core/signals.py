@@ -21,14 +21,44 @@ from collections.abc import Iterable, Mapping
 from ..errors import ConfigError
 
 #: Units a signal may declare (SI; angles in rad; ``"1"`` dimensionless; ``"bool"``/``"str"``/``"enum"`` flags).
-UNITS = frozenset({
-    "1", "bool", "str", "enum", "count", "s", "Hz", "1/s",
-    "m", "m/s", "m/s^2", "m^2", "m^3", "kg", "kg/m", "kg m^2",
-    "rad", "rad/s", "rad/s^2",
-    "N", "N m", "N/m", "W", "J", "Pa", "V", "A", "rpm_frac", "K",
-    # display units, only for signals whose name says so (``*_deg``, ``*_rpm``, ``*_kn``); SI stays inside
-    "deg", "deg/s", "rpm", "kn",
-})
+UNITS = frozenset(
+    {
+        "1",
+        "bool",
+        "str",
+        "enum",
+        "count",
+        "s",
+        "Hz",
+        "1/s",
+        "m",
+        "m/s",
+        "m/s^2",
+        "m^2",
+        "m^3",
+        "kg",
+        "kg/m",
+        "kg m^2",
+        "rad",
+        "rad/s",
+        "rad/s^2",
+        "N",
+        "N m",
+        "N/m",
+        "W",
+        "J",
+        "Pa",
+        "V",
+        "A",
+        "rpm_frac",
+        "K",
+        # display units, only for signals whose name says so (``*_deg``, ``*_rpm``, ``*_kn``); SI stays inside
+        "deg",
+        "deg/s",
+        "rpm",
+        "kn",
+    }
+)
 
 
 #: defaults of the environment inputs of the plants: calm water and air when no environment block runs
@@ -52,8 +82,9 @@ def check_units(owner: str, decl: Mapping[str, str]) -> None:
     """Refuse a declaration whose unit is not in :data:`UNITS`."""
     for sig, unit in decl.items():
         if unit not in UNITS:
-            raise WiringError(f"{owner}: signal '{sig}' declares unknown unit '{unit}'; "
-                              f"allowed: {', '.join(sorted(UNITS))}")
+            raise WiringError(
+                f"{owner}: signal '{sig}' declares unknown unit '{unit}'; allowed: {', '.join(sorted(UNITS))}"
+            )
 
 
 def check_wiring(parts: Iterable, external: Mapping[str, str] | None = None) -> dict[str, str]:
@@ -92,17 +123,20 @@ def check_wiring(parts: Iterable, external: Mapping[str, str] | None = None) -> 
                 w = writers.get(sig)
                 if w is None:
                     if required and all_declared:
-                        raise WiringError(f"{_what(p)} reads '{sig}' ({unit}) but no block, plant or "
-                                          f"external source writes it")
+                        raise WiringError(
+                            f"{_what(p)} reads '{sig}' ({unit}) but no block, plant or external source writes it"
+                        )
                     continue
                 if unit != w[1]:
-                    raise WiringError(f"unit mismatch on '{sig}': '{w[0]}' writes {w[1]} but "
-                                      f"{_what(p)} reads {unit}")
+                    raise WiringError(f"unit mismatch on '{sig}': '{w[0]}' writes {w[1]} but {_what(p)} reads {unit}")
     return {k: v[1] for k, v in writers.items()}
 
 
 def undeclared(parts: Iterable) -> list[str]:
     """Names of the parts that do not declare their inputs or outputs (``None``): the wiring
     check cannot see them. Every shipped block and plant declares both (tests assert it)."""
-    return [getattr(p, "name", repr(p)) for p in parts
-            if getattr(p, "inputs", None) is None or getattr(p, "outputs", None) is None]
+    return [
+        getattr(p, "name", repr(p))
+        for p in parts
+        if getattr(p, "inputs", None) is None or getattr(p, "outputs", None) is None
+    ]

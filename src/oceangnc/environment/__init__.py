@@ -4,8 +4,7 @@ from .current import CurrentConfig, OceanCurrent
 from .seabed import SeabedConfig
 from .wind import Wind, WindConfig, beaufort_speed
 
-__all__ = ["CurrentConfig", "OceanCurrent", "WindConfig", "Wind", "beaufort_speed", "EnvironmentConfig",
-           "SeabedConfig"]
+__all__ = ["CurrentConfig", "OceanCurrent", "WindConfig", "Wind", "beaufort_speed", "EnvironmentConfig", "SeabedConfig"]
 
 from ..io.config import StrictModel
 

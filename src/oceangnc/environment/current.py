@@ -29,13 +29,15 @@ class CurrentConfig(StrictModel):
     """Current settings."""
 
     speed: float = Field(0.0, ge=0.0, le=5.0, description="mean current speed, m/s")
-    direction_deg: float = Field(0.0, ge=-360.0, le=360.0,
-                                 description="direction the current flows toward, deg from north")
+    direction_deg: float = Field(
+        0.0, ge=-360.0, le=360.0, description="direction the current flows toward, deg from north"
+    )
     model: Literal["constant", "gauss-markov"] = "constant"
     time_constant: float = Field(300.0, gt=0.0, le=1e6, description="Gauss-Markov correlation time, s")
     sigma_speed: float = Field(0.02, ge=0.0, le=1.0, description="Gauss-Markov speed standard deviation, m/s")
-    sigma_direction_deg: float = Field(5.0, ge=0.0, le=180.0,
-                                       description="Gauss-Markov direction standard deviation, deg")
+    sigma_direction_deg: float = Field(
+        5.0, ge=0.0, le=180.0, description="Gauss-Markov direction standard deviation, deg"
+    )
 
 
 @register_block("env.current")
@@ -46,8 +48,12 @@ class OceanCurrent(Block):
 
     name = "current"
 
-    outputs = {"env.current_n": "m/s", "env.current_e": "m/s", "env.current_speed": "m/s",
-               "env.current_direction_deg": "deg"}
+    outputs = {
+        "env.current_n": "m/s",
+        "env.current_e": "m/s",
+        "env.current_speed": "m/s",
+        "env.current_direction_deg": "deg",
+    }
     inputs: dict[str, str] = {}
 
     def __init__(self, cfg: CurrentConfig, period: float = 0.1):
@@ -68,9 +74,11 @@ class OceanCurrent(Block):
         from ..core.fused import CompiledBlock
         from ..models._compiled import constant_current_step
 
-        return CompiledBlock(constant_current_step, ["env.current_n", "env.current_e", "env.current_speed",
-                                                     "env.current_direction_deg"],
-                             params=np.array([self.cfg.speed, math.radians(self.cfg.direction_deg)]))
+        return CompiledBlock(
+            constant_current_step,
+            ["env.current_n", "env.current_e", "env.current_speed", "env.current_direction_deg"],
+            params=np.array([self.cfg.speed, math.radians(self.cfg.direction_deg)]),
+        )
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg

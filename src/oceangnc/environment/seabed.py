@@ -23,9 +23,11 @@ class SeabedConfig(StrictModel):
 
     depth: float | None = Field(None, gt=0, le=1.1e4, description="seabed depth at the origin (north 0, east 0), m")
     slope_deg: float = Field(0.0, ge=0, le=45, description="seabed slope, deg")
-    slope_direction_deg: float = Field(0.0, ge=-360, le=360,
-                                       description="direction in which the seabed deepens, deg from north")
+    slope_direction_deg: float = Field(
+        0.0, ge=-360, le=360, description="direction in which the seabed deepens, deg from north"
+    )
     friction: float = Field(0.5, ge=0, le=2, description="Coulomb friction coefficient mu, -")
-    contact_frequency: float = Field(30.0, gt=0, le=1e3,
-                                     description="natural frequency w of the penalty contact (per unit mass), rad/s")
+    contact_frequency: float = Field(
+        30.0, gt=0, le=1e3, description="natural frequency w of the penalty contact (per unit mass), rad/s"
+    )
     contact_damping_ratio: float = Field(1.0, ge=0, le=10, description="damping ratio zeta of the contact, -")

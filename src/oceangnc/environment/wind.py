@@ -21,8 +21,19 @@ from ..io.config import StrictModel
 
 #: WMO Beaufort bands (lower, upper) in m/s; force 12 has no upper bound (taken as 36.9 m/s).
 BEAUFORT_BANDS = [
-    (0.0, 0.2), (0.3, 1.5), (1.6, 3.3), (3.4, 5.4), (5.5, 7.9), (8.0, 10.7), (10.8, 13.8),
-    (13.9, 17.1), (17.2, 20.7), (20.8, 24.4), (24.5, 28.4), (28.5, 32.6), (32.7, 36.9),
+    (0.0, 0.2),
+    (0.3, 1.5),
+    (1.6, 3.3),
+    (3.4, 5.4),
+    (5.5, 7.9),
+    (8.0, 10.7),
+    (10.8, 13.8),
+    (13.9, 17.1),
+    (17.2, 20.7),
+    (20.8, 24.4),
+    (24.5, 28.4),
+    (28.5, 32.6),
+    (32.7, 36.9),
 ]
 
 
@@ -39,8 +50,7 @@ class WindConfig(StrictModel):
 
     speed: float = Field(0.0, ge=0.0, le=60.0, description="mean wind speed, m/s")
     beaufort: int | None = Field(None, ge=0, le=12, description="Beaufort number; overrides speed, 0-12")
-    direction_deg: float = Field(0.0, ge=-360.0, le=360.0,
-                                 description="direction the wind blows from, deg from north")
+    direction_deg: float = Field(0.0, ge=-360.0, le=360.0, description="direction the wind blows from, deg from north")
     gust_sigma: float = Field(0.0, ge=0.0, le=20.0, description="gust standard deviation, m/s")
     gust_time_constant: float = Field(5.0, gt=0.0, le=1e4, description="gust correlation time, s")
 
@@ -78,8 +88,11 @@ class Wind(Block):
         from ..core.fused import CompiledBlock
         from ..models._compiled import steady_wind_step
 
-        return CompiledBlock(steady_wind_step, ["env.wind_n", "env.wind_e", "env.wind_speed", "env.wind_direction_deg"],
-                             params=np.array([self.cfg.speed, self.cfg.direction_deg]))
+        return CompiledBlock(
+            steady_wind_step,
+            ["env.wind_n", "env.wind_e", "env.wind_speed", "env.wind_direction_deg"],
+            params=np.array([self.cfg.speed, self.cfg.direction_deg]),
+        )
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg

@@ -83,9 +83,16 @@ class LeaderFollower(Block):
 
     name = "leader_follower"
 
-    def __init__(self, l_d: float, lambda_d: float, R: float, period: float = 0.1,
-                 mode: str = "relative-angle-plus-heading", leader=("usv.x", "usv.y", "usv.psi"),
-                 follower=("uuv.x", "uuv.y", "uuv.psi")):
+    def __init__(
+        self,
+        l_d: float,
+        lambda_d: float,
+        R: float,
+        period: float = 0.1,
+        mode: str = "relative-angle-plus-heading",
+        leader=("usv.x", "usv.y", "usv.psi"),
+        follower=("uuv.x", "uuv.y", "uuv.psi"),
+    ):
         self.l_d = float(l_d)
         self.lambda_d = float(lambda_d)
         self.R = float(R)
@@ -94,11 +101,20 @@ class LeaderFollower(Block):
         self.leader = leader
         self.follower = follower
         self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
-        self.inputs = {**{k: u for k, u in zip(leader, ("m", "m", "rad"))},
-                       **{k: u for k, u in zip(follower, ("m", "m", "rad"))}}
+        self.inputs = {
+            **{k: u for k, u in zip(leader, ("m", "m", "rad"))},
+            **{k: u for k, u in zip(follower, ("m", "m", "rad"))},
+        }
         m = ("lx", "ly", "range", "lx_d", "ly_d", "target_n", "target_e", "e_x", "e_y")
-        self.outputs = {**{f"lf.{k}": "m" for k in m}, "lf.bearing": "rad", "lf.rel_heading_err": "rad",
-                        "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}
+        self.outputs = {
+            **{f"lf.{k}": "m" for k in m},
+            "lf.bearing": "rad",
+            "lf.rel_heading_err": "rad",
+            "lf.los": "rad",
+            "lf.los_err": "rad",
+            "lf.outside": "bool",
+            "lf.psi_d": "rad",
+        }
 
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
@@ -107,8 +123,23 @@ class LeaderFollower(Block):
         from ..core.fused import CompiledBlock
         from ._compiled import leader_follower_step
 
-        out = ["lf.lx", "lf.ly", "lf.range", "lf.bearing", "lf.lx_d", "lf.ly_d", "lf.target_n", "lf.target_e",
-               "lf.e_x", "lf.e_y", "lf.rel_heading_err", "lf.los", "lf.los_err", "lf.outside", "lf.psi_d"]
+        out = [
+            "lf.lx",
+            "lf.ly",
+            "lf.range",
+            "lf.bearing",
+            "lf.lx_d",
+            "lf.ly_d",
+            "lf.target_n",
+            "lf.target_e",
+            "lf.e_x",
+            "lf.e_y",
+            "lf.rel_heading_err",
+            "lf.los",
+            "lf.los_err",
+            "lf.outside",
+            "lf.psi_d",
+        ]
         pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
         return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *out], params=pa)
 

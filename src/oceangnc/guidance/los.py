@@ -97,10 +97,10 @@ def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray
     L2 = np.where(L2 > 0, L2, 1.0)
     out = np.empty(px.size)
     for i in range(0, px.size, chunk):
-        qx = px[i:i + chunk, None]
-        qy = py[i:i + chunk, None]
+        qx = px[i : i + chunk, None]
+        qy = py[i : i + chunk, None]
         w = np.clip(((qx - ax) * dx + (qy - ay) * dy) / L2, 0.0, 1.0)
-        out[i:i + chunk] = np.sqrt(np.min((ax + w * dx - qx) ** 2 + (ay + w * dy - qy) ** 2, axis=1))
+        out[i : i + chunk] = np.sqrt(np.min((ax + w * dx - qx) ** 2 + (ay + w * dy - qy) ** 2, axis=1))
     return out
 
 
@@ -130,9 +130,20 @@ class WaypointGuidance(Block):
 
     name = "guidance"
 
-    def __init__(self, waypoints, mode: str = "hybrid", R: float = 20.0, R1: float | None = None,
-                 R2: float | None = None, accept_radius: float | None = None, speed: float = 5.0,
-                 speeds=None, period: float = 0.1, body: str = "usv", stop_at_end: bool = False):
+    def __init__(
+        self,
+        waypoints,
+        mode: str = "hybrid",
+        R: float = 20.0,
+        R1: float | None = None,
+        R2: float | None = None,
+        accept_radius: float | None = None,
+        speed: float = 5.0,
+        speeds=None,
+        period: float = 0.1,
+        body: str = "usv",
+        stop_at_end: bool = False,
+    ):
         wp = np.asarray(waypoints, float)
         if wp.ndim != 2 or wp.shape[0] < 2 or wp.shape[1] != 2:
             raise ValueError("waypoints must be an (n >= 2, 2) array of north, east in m")
@@ -144,8 +155,10 @@ class WaypointGuidance(Block):
         self.R1 = float(R1) if R1 is not None else 1.25 * self.R
         self.R2 = float(R2) if R2 is not None else 2.5 * self.R
         if not (self.R1 > self.R and self.R2 > 2 * self.R):
-            raise ValueError(f"need R1 > R and R2 > 2R so that each band's circle reaches the leg; got R={self.R}, "
-                             f"R1={self.R1}, R2={self.R2}")
+            raise ValueError(
+                f"need R1 > R and R2 > 2R so that each band's circle reaches the leg; got R={self.R}, "
+                f"R1={self.R1}, R2={self.R2}"
+            )
         self.accept = float(accept_radius) if accept_radius is not None else self.R
         self.speed = float(speed)
         self.speeds = None if speeds is None else np.asarray(speeds, float)
@@ -153,8 +166,14 @@ class WaypointGuidance(Block):
         self.body = body
         self.stop_at_end = stop_at_end
         self.inputs = {f"{body}.x": "m", f"{body}.y": "m"}
-        self.outputs = {f"{body}.psi_cmd": "rad", f"{body}.u_cmd": "m/s", "guidance.d": "m", "guidance.e": "m",
-                        "guidance.band": "enum", "guidance.leg": "count"}
+        self.outputs = {
+            f"{body}.psi_cmd": "rad",
+            f"{body}.u_cmd": "m/s",
+            "guidance.d": "m",
+            "guidance.e": "m",
+            "guidance.band": "enum",
+            "guidance.leg": "count",
+        }
         self.k = 1
         self.done = False
 

@@ -156,8 +156,16 @@ class PurePursuit(Block):
 
     name = "pure_pursuit"
 
-    def __init__(self, waypoints, look_ahead: float, acceptance: float, period: float = 0.1,
-                 pos_keys=("usv.x", "usv.y"), psi_key: str = "usv.psi", stop_at_end: bool = True):
+    def __init__(
+        self,
+        waypoints,
+        look_ahead: float,
+        acceptance: float,
+        period: float = 0.1,
+        pos_keys=("usv.x", "usv.y"),
+        psi_key: str = "usv.psi",
+        stop_at_end: bool = True,
+    ):
         wp = np.asarray(waypoints, dtype=float)
         if wp.ndim != 2 or wp.shape[1] != 2 or len(wp) < 2:
             raise ConfigError("waypoints: need at least two (north, east) pairs")
@@ -174,9 +182,16 @@ class PurePursuit(Block):
         self.psi_key = psi_key
         self.stop_at_end = stop_at_end
         self.inputs = {pos_keys[0]: "m", pos_keys[1]: "m", psi_key: "rad"}
-        self.outputs = {"guidance.psi_d": "rad", "guidance.turn_radius": "m", "guidance.cross_track": "m",
-                        "guidance.leg": "count", "guidance.wp_reached": "count", "guidance.lookahead_n": "m",
-                        "guidance.lookahead_e": "m", "guidance.done": "bool"}
+        self.outputs = {
+            "guidance.psi_d": "rad",
+            "guidance.turn_radius": "m",
+            "guidance.cross_track": "m",
+            "guidance.leg": "count",
+            "guidance.wp_reached": "count",
+            "guidance.lookahead_n": "m",
+            "guidance.lookahead_e": "m",
+            "guidance.done": "bool",
+        }
         self.reset(None)
 
     def reset(self, rng) -> None:
@@ -190,12 +205,24 @@ class PurePursuit(Block):
         from ..core.fused import CompiledBlock
         from ._compiled import pure_pursuit_step
 
-        sig = [self.pos_keys[0], self.pos_keys[1], self.psi_key, "guidance.psi_d", "guidance.turn_radius",
-               "guidance.cross_track", "guidance.leg", "guidance.wp_reached", "guidance.lookahead_n",
-               "guidance.lookahead_e", "guidance.done", "_stop"]
+        sig = [
+            self.pos_keys[0],
+            self.pos_keys[1],
+            self.psi_key,
+            "guidance.psi_d",
+            "guidance.turn_radius",
+            "guidance.cross_track",
+            "guidance.leg",
+            "guidance.wp_reached",
+            "guidance.lookahead_n",
+            "guidance.lookahead_e",
+            "guidance.done",
+            "_stop",
+        ]
         st = np.array([self.leg, self.reached, 1.0 if self.done else 0.0, 1.0 if self._started else 0.0], float)
-        pa = np.concatenate([[self.l, self.acceptance, 1.0 if self.stop_at_end else 0.0, len(self.wp)],
-                             self.wp.ravel()])
+        pa = np.concatenate(
+            [[self.l, self.acceptance, 1.0 if self.stop_at_end else 0.0, len(self.wp)], self.wp.ravel()]
+        )
         return CompiledBlock(pure_pursuit_step, sig, st, pa)
 
     def step(self, t: float, bus: dict) -> None:

@@ -38,8 +38,11 @@ class RouteConfig(StrictModel):
     """Route and pure-pursuit guidance of the autonomous mode."""
 
     waypoints: list[tuple[float, float]] = Field(
-        [(50.0, 0.0), (50.0, 50.0), (0.0, 50.0), (0.0, 0.0)], min_length=1, max_length=200,
-        description="route, list of (north, east) points, m")
+        [(50.0, 0.0), (50.0, 50.0), (0.0, 50.0), (0.0, 0.0)],
+        min_length=1,
+        max_length=200,
+        description="route, list of (north, east) points, m",
+    )
     speed: float = Field(0.7, gt=0, le=5, description="cruise speed, m/s")
     lookahead: float = Field(6.0, gt=0, le=1000, description="pure-pursuit look-ahead distance l (003 eq. 3.5), m")
     accept_radius: float = Field(3.0, gt=0, le=1000, description="waypoint acceptance radius, m")
@@ -52,12 +55,15 @@ class StickConfig(StrictModel):
     max_speed: float = Field(0.9, gt=0, le=5, description="surge speed at full stick ahead, m/s")
     max_reverse_speed: float = Field(0.3, ge=0, le=5, description="surge speed at full stick astern, m/s")
     max_yaw_rate_degps: float = Field(20.0, gt=0, le=90, description="yaw rate at full stick, deg/s")
-    open_loop_thrust_kgf: float = Field(36.2, gt=0, le=100,
-                                        description="open loop: per-thruster thrust at full surge stick, kgf")
-    open_loop_reverse_kgf: float = Field(13.83, ge=0, le=100,
-                                         description="open loop: per-thruster astern thrust at full stick, kgf")
-    open_loop_diff_kgf: float = Field(15.0, ge=0, le=100,
-                                      description="open loop: differential thrust U_heading at full yaw stick, kgf")
+    open_loop_thrust_kgf: float = Field(
+        36.2, gt=0, le=100, description="open loop: per-thruster thrust at full surge stick, kgf"
+    )
+    open_loop_reverse_kgf: float = Field(
+        13.83, ge=0, le=100, description="open loop: per-thruster astern thrust at full stick, kgf"
+    )
+    open_loop_diff_kgf: float = Field(
+        15.0, ge=0, le=100, description="open loop: differential thrust U_heading at full yaw stick, kgf"
+    )
 
 
 @register_block("usv.route_pilot")
@@ -86,21 +92,50 @@ class RoutePilot(Block):
         self.cruise_speed = route.speed
         self.lookahead = route.lookahead
         self.inputs = {"usv.psi": "rad", "usv.x": "m", "usv.y": "m"}
-        self.optional_inputs = {"console.mode": "str", "console.waypoints": "str", "joystick.surge": "1",
-                                "joystick.yaw": "1", "gps.x": "m", "gps.y": "m"}
-        self.outputs = {"usv.u_d": "m/s", "usv.r_d": "rad/s", "guidance.psi_d": "rad", "guidance.cross_track": "m",
-                        "guidance.wp_index": "count"}
+        self.optional_inputs = {
+            "console.mode": "str",
+            "console.waypoints": "str",
+            "joystick.surge": "1",
+            "joystick.yaw": "1",
+            "gps.x": "m",
+            "gps.y": "m",
+        }
+        self.outputs = {
+            "usv.u_d": "m/s",
+            "usv.r_d": "rad/s",
+            "guidance.psi_d": "rad",
+            "guidance.cross_track": "m",
+            "guidance.wp_index": "count",
+        }
 
     # -- console protocol: adjustable gains ---------------------------------------------------------
     def gain_specs(self) -> list[dict]:
         """The gains an operator may change while running: name, value, range, unit, description."""
         return [
-            {"name": "heading_gain", "value": self.heading_gain, "min": 0.01, "max": 10.0, "unit": "1/s",
-             "description": "autonomous heading error -> yaw-rate setpoint gain"},
-            {"name": "cruise_speed", "value": self.cruise_speed, "min": 0.05, "max": 1.2, "unit": "m/s",
-             "description": "autonomous cruise speed"},
-            {"name": "lookahead", "value": self.lookahead, "min": 0.5, "max": 100.0, "unit": "m",
-             "description": "pure-pursuit look-ahead distance"},
+            {
+                "name": "heading_gain",
+                "value": self.heading_gain,
+                "min": 0.01,
+                "max": 10.0,
+                "unit": "1/s",
+                "description": "autonomous heading error -> yaw-rate setpoint gain",
+            },
+            {
+                "name": "cruise_speed",
+                "value": self.cruise_speed,
+                "min": 0.05,
+                "max": 1.2,
+                "unit": "m/s",
+                "description": "autonomous cruise speed",
+            },
+            {
+                "name": "lookahead",
+                "value": self.lookahead,
+                "min": 0.5,
+                "max": 100.0,
+                "unit": "m",
+                "description": "pure-pursuit look-ahead distance",
+            },
         ]
 
     def set_gain(self, name: str, value: float) -> None:

@@ -54,7 +54,8 @@ class PilotConfig(StrictModel):
     """The (scripted or external) pilot."""
 
     kind: Literal["scripted", "external"] = Field(
-        "scripted", description="'scripted' (this block) or 'external' (joystick.* written by the console)")
+        "scripted", description="'scripted' (this block) or 'external' (joystick.* written by the console)"
+    )
     period: float = Field(0.5, gt=0, le=10, description="pilot update period, s")
     reaction_s: float = Field(1.0, ge=0, le=10, description="mean reaction delay, s")
     reaction_jitter_s: float = Field(0.3, ge=0, le=5, description="per-run reaction delay spread (uniform +-), s")
@@ -148,10 +149,23 @@ class ScriptedPilot(Block):
         self.period = float(cfg.period)
         self.speed_per_rps = speed_per_rps
         self.n_open = n_open_rps
-        self.inputs = {"ship.x": "m", "ship.y": "m", "ship.psi": "rad", "ship.u": "m/s", "ship.v": "m/s",
-                       "ship.r": "rad/s"}
-        self.outputs = {"joystick.surge": "1", "joystick.yaw": "1", "pilot.u_target": "m/s", "pilot.psi_des": "rad",
-                        "pilot.cross_track": "m", "pilot.s_remaining": "m", "pilot.done": "bool"}
+        self.inputs = {
+            "ship.x": "m",
+            "ship.y": "m",
+            "ship.psi": "rad",
+            "ship.u": "m/s",
+            "ship.v": "m/s",
+            "ship.r": "rad/s",
+        }
+        self.outputs = {
+            "joystick.surge": "1",
+            "joystick.yaw": "1",
+            "pilot.u_target": "m/s",
+            "pilot.psi_des": "rad",
+            "pilot.cross_track": "m",
+            "pilot.s_remaining": "m",
+            "pilot.done": "bool",
+        }
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng
@@ -219,27 +233,69 @@ class ScriptedPilot(Block):
         ring = np.zeros(7 * cap)
         for k, (tk, obs) in enumerate(self.memory):
             ring[7 * k] = tk
-            ring[7 * k + 1:7 * k + 7] = obs
-        st = np.concatenate([[self.stick_u, self.stick_r, 1.0 if self.done else 0.0, *self.err, len(self.memory),
-                              0.0, cap], ring])
-        head = [self.period, c.noise_time_s, *self.sig, self.delay, c.lookahead_m, float(c.stop_at_end),
-                c.lookahead_min_m, float(c.steer_course), c.cruise_kn * KNOT, c.brake_decel, c.k_stop,
-                0.0 if self.mode == "open" else 1.0, self.speed_per_rps, self.n_open, c.k_speed_open,
-                c.k_rate_open, c.k_psi, j.dead_band, c.stick_quantum, c.stick_step, j.u_max_kn * KNOT,
-                max(j.u_astern_kn * KNOT, 1e-6), c.k_speed, math.radians(j.r_max_degps), float(c.stop_when_done)]
+            ring[7 * k + 1 : 7 * k + 7] = obs
+        st = np.concatenate(
+            [[self.stick_u, self.stick_r, 1.0 if self.done else 0.0, *self.err, len(self.memory), 0.0, cap], ring]
+        )
+        head = [
+            self.period,
+            c.noise_time_s,
+            *self.sig,
+            self.delay,
+            c.lookahead_m,
+            float(c.stop_at_end),
+            c.lookahead_min_m,
+            float(c.steer_course),
+            c.cruise_kn * KNOT,
+            c.brake_decel,
+            c.k_stop,
+            0.0 if self.mode == "open" else 1.0,
+            self.speed_per_rps,
+            self.n_open,
+            c.k_speed_open,
+            c.k_rate_open,
+            c.k_psi,
+            j.dead_band,
+            c.stick_quantum,
+            c.stick_step,
+            j.u_max_kn * KNOT,
+            max(j.u_astern_kn * KNOT, 1e-6),
+            c.k_speed,
+            math.radians(j.r_max_degps),
+            float(c.stop_when_done),
+        ]
         head += [0.0] * (_PP - 2 - len(head)) + [rt.length, len(rt.p)]
         pa = np.concatenate([head, rt.p.ravel(), rt.seg_len, rt.seg_dir.ravel(), rt.s0])
-        sig = ["ship.x", "ship.y", "ship.psi", "ship.u", "ship.r", "ship.v", "joystick.surge", "joystick.yaw",
-               "pilot.u_target", "pilot.psi_des", "pilot.cross_track", "pilot.s_remaining", "pilot.done", "_stop"]
+        sig = [
+            "ship.x",
+            "ship.y",
+            "ship.psi",
+            "ship.u",
+            "ship.r",
+            "ship.v",
+            "joystick.surge",
+            "joystick.yaw",
+            "pilot.u_target",
+            "pilot.psi_des",
+            "pilot.cross_track",
+            "pilot.s_remaining",
+            "pilot.done",
+            "_stop",
+        ]
         return CompiledBlock(pilot_step, sig, st, pa, rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a = math.exp(-self.period / c.noise_time_s)
         self.err = a * self.err + math.sqrt(1 - a * a) * self.sig * self.rng.standard_normal(3)
-        obs = (bus["ship.x"], bus["ship.y"], bus["ship.psi"] + self.err[0],
-               bus["ship.u"] + self.err[1], bus["ship.r"] + self.err[2],
-               bus["ship.v"])
+        obs = (
+            bus["ship.x"],
+            bus["ship.y"],
+            bus["ship.psi"] + self.err[0],
+            bus["ship.u"] + self.err[1],
+            bus["ship.r"] + self.err[2],
+            bus["ship.v"],
+        )
         self.memory.append((t, obs))
         while len(self.memory) > 1 and self.memory[1][0] <= t - self.delay + 1e-9:
             self.memory.popleft()

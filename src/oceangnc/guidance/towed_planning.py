@@ -54,8 +54,9 @@ class USVPlan(Profile):
     L: float = 0.0
 
 
-def segments_profile(segments, speed: float, psi0: float, x0: float = 0.0, y0: float = 0.0,
-                     dt: float = 0.05) -> Profile:
+def segments_profile(
+    segments, speed: float, psi0: float, x0: float = 0.0, y0: float = 0.0, dt: float = 0.05
+) -> Profile:
     """Profile made of constant-speed, constant-yaw-rate segments ``[(duration_s, r_rad_s), ...]``.
 
     Positions are exact arcs (no integration error).
@@ -79,12 +80,20 @@ def segments_profile(segments, speed: float, psi0: float, x0: float = 0.0, y0: f
         rs.append(np.full(n, float(r)))
         t0, x, y, psi = t0 + dur, float(xx[-1]), float(yy[-1]), float(p[-1])
     t = np.concatenate(ts)
-    return Profile(t, np.concatenate(xs), np.concatenate(ys), np.concatenate(ps), np.full(t.size, float(speed)),
-                   np.concatenate(rs))
+    return Profile(
+        t, np.concatenate(xs), np.concatenate(ys), np.concatenate(ps), np.full(t.size, float(speed)), np.concatenate(rs)
+    )
 
 
-def table3_profile(speed: float = 4.0, radius: float = 40.0, leg: float = 200.0, psi0_deg: float = 45.0,
-                   x0: float = 0.0, y0: float = 0.0, dt: float = 0.05) -> Profile:
+def table3_profile(
+    speed: float = 4.0,
+    radius: float = 40.0,
+    leg: float = 200.0,
+    psi0_deg: float = 45.0,
+    x0: float = 0.0,
+    y0: float = 0.0,
+    dt: float = 0.05,
+) -> Profile:
     """The UUV plan of 000 table 3 (straight, clockwise half turn, straight, anticlockwise half turn, straight)."""
     r = speed / radius
     t_leg = leg / speed

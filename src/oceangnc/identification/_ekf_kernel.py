@@ -134,8 +134,29 @@ def make_kernel(f, h, jac, mode):
                         for i in range(n):
                             for j in range(n):
                                 Ps[i, j] = P[i, j] + (c * kP[stage - 1, i, j] if stage > 0 else 0.0)
-                        _deriv(t[k - 1] + _s * hstep + c, xs, p, u, cols, F, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur, Ps, Q,
-                               kx[stage], kP[stage], G)
+                        _deriv(
+                            t[k - 1] + _s * hstep + c,
+                            xs,
+                            p,
+                            u,
+                            cols,
+                            F,
+                            Jfull,
+                            xc,
+                            pc,
+                            uc,
+                            oc,
+                            o1,
+                            o2,
+                            xr,
+                            pr,
+                            ur,
+                            Ps,
+                            Q,
+                            kx[stage],
+                            kP[stage],
+                            G,
+                        )
                     w6 = hstep / 6.0
                     for i in range(ns):
                         X[i] += w6 * (kx[0, i] + 2.0 * kx[1, i] + 2.0 * kx[2, i] + kx[3, i])

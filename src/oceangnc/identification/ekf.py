@@ -68,6 +68,7 @@ def as_model(model) -> Model:
     f0, h0, j0 = model.f, model.h, model.jac
     key = (f0, h0, j0)
     if key not in _ADAPTERS:
+
         @cached_closure
         def f(t, x, u, p, out):
             f0(x, p, u, out)
@@ -78,15 +79,26 @@ def as_model(model) -> Model:
 
         jac = None
         if j0 is not None:
+
             @cached_closure
             def jac(t, x, u, p, J):
                 j0(x, p, u, J)
+
         _ADAPTERS[key] = (f, h, jac)
     f, h, jac = _ADAPTERS[key]
-    return Model(model.name, f, [(k, "1") for k in model.state_names], [(k, "1") for k in model.input_names],
-                 ParamLayout([Param(k) for k in model.param_names]), model.params, h=h,
-                 outputs=[(k, "1") for k in model.measurement_names], jac=jac, bound=model.bound,
-                 description=model.description)
+    return Model(
+        model.name,
+        f,
+        [(k, "1") for k in model.state_names],
+        [(k, "1") for k in model.input_names],
+        ParamLayout([Param(k) for k in model.param_names]),
+        model.params,
+        h=h,
+        outputs=[(k, "1") for k in model.measurement_names],
+        jac=jac,
+        bound=model.bound,
+        description=model.description,
+    )
 
 
 def model_jacobians(model, x, u, estimate=(), jacobian: str | None = None, params=None):
@@ -99,6 +111,7 @@ def model_jacobians(model, x, u, estimate=(), jacobian: str | None = None, param
 
 
 # -- the Python interface -------------------------------------------------------------------------------
+
 
 @dataclass
 class EKFModel:
@@ -185,8 +198,7 @@ def check_covariance(a: np.ndarray, what: str, definite: bool = True) -> None:
     lo = float(ev.min()) if ev.size else 0.0
     scale = float(np.abs(ev).max()) if ev.size else 0.0
     if definite and not lo > 0.0:
-        raise ConfigError(f"{what} is not positive definite (smallest eigenvalue {lo:.3g}); "
-                          "give positive variances")
+        raise ConfigError(f"{what} is not positive definite (smallest eigenvalue {lo:.3g}); give positive variances")
     if not definite and lo < -1e-12 * max(scale, 1e-300):
         raise ConfigError(f"{what} is not positive semi-definite (smallest eigenvalue {lo:.3g})")
 
@@ -201,8 +213,7 @@ def resolve_estimate(model: EKFModel, estimate: Sequence[str] | str) -> np.ndarr
     names = list(model.param_names)
     bad = [e for e in estimate if e not in names]
     if bad:
-        raise InputError(f"unknown parameter(s) {', '.join(bad)} for model {model.name}; "
-                         f"known: {', '.join(names)}")
+        raise InputError(f"unknown parameter(s) {', '.join(bad)} for model {model.name}; known: {', '.join(names)}")
     dup = sorted({e for e in estimate if estimate.count(e) > 1})
     if dup:
         raise InputError(f"parameter(s) listed twice: {', '.join(dup)}")
@@ -210,13 +221,28 @@ def resolve_estimate(model: EKFModel, estimate: Sequence[str] | str) -> np.ndarr
     if layout is not None:
         derived = [e for e in estimate if layout.derived[names.index(e)]]
         if derived:
-            raise InputError(f"parameter(s) {', '.join(derived)} of model {model.name} are derived from others "
-                             "(e.g. an inverse mass matrix) and cannot be estimated")
+            raise InputError(
+                f"parameter(s) {', '.join(derived)} of model {model.name} are derived from others "
+                "(e.g. an inverse mass matrix) and cannot be estimated"
+            )
     return np.array([names.index(e) for e in estimate], dtype=np.int64)
 
 
-def run_ekf(model: Model | EKFModel, t, Z, U, estimate: Sequence[str] | str, x0, alpha0, P0, Q, R,
-            substeps: int = 1, jacobian: str | None = None, params=None) -> EKFResult:
+def run_ekf(
+    model: Model | EKFModel,
+    t,
+    Z,
+    U,
+    estimate: Sequence[str] | str,
+    x0,
+    alpha0,
+    P0,
+    Q,
+    R,
+    substeps: int = 1,
+    jacobian: str | None = None,
+    params=None,
+) -> EKFResult:
     """Identify ``estimate`` (parameter names of ``model``) from measurements by the augmented EKF.
 
     Parameters
@@ -291,18 +317,23 @@ def run_ekf(model: Model | EKFModel, t, Z, U, estimate: Sequence[str] | str, x0,
     from ._ekf_kernel import make_kernel
 
     loop = make_kernel(model.f, model.h, model.jac, mode)
-    status, k = _call(loop, X0, P0m, Qm, Rm, p, idx, t, Z, U, int(substeps), bound, Xout, Sout, NIS, P,
-                      model=model, mode=mode)
+    status, k = _call(
+        loop, X0, P0m, Qm, Rm, p, idx, t, Z, U, int(substeps), bound, Xout, Sout, NIS, P, model=model, mode=mode
+    )
     if status != 0:
-        why = {1: "non-finite estimate", 2: "covariance no longer positive definite",
-               3: f"an estimate exceeded {model.bound:g} in magnitude"}[status]
-        raise FilterDivergedError(f"EKF diverged at t={t[k]:.3f} s (sample {k}): {why}; "
-                                  "check Q, R, P0 and the initial guesses")
-    return EKFResult(t=t, names=[*model.state_names, *est_names], X=Xout, sigma=Sout, nis=NIS, P=P,
-                     estimate=est_names)
+        why = {
+            1: "non-finite estimate",
+            2: "covariance no longer positive definite",
+            3: f"an estimate exceeded {model.bound:g} in magnitude",
+        }[status]
+        raise FilterDivergedError(
+            f"EKF diverged at t={t[k]:.3f} s (sample {k}): {why}; check Q, R, P0 and the initial guesses"
+        )
+    return EKFResult(t=t, names=[*model.state_names, *est_names], X=Xout, sigma=Sout, nis=NIS, P=P, estimate=est_names)
 
 
 # -- models known by name (CLI) -------------------------------------------------------------------------
+
 
 def submarine_vertical_model(params=None) -> Model:
     """The heave-pitch submarine of document 002 (filter states w, theta, q; analytic Jacobian)."""
@@ -335,8 +366,13 @@ def _first_order(params=None) -> Model:
     return first_order_model(params=params)
 
 
-MODELS: dict[str, Callable[..., Model]] = {"submarine-vertical": submarine_vertical_model, "usv": _usv,
-                                           "uuv": _uuv, "ship": _ship, "first-order": _first_order}
+MODELS: dict[str, Callable[..., Model]] = {
+    "submarine-vertical": submarine_vertical_model,
+    "usv": _usv,
+    "uuv": _uuv,
+    "ship": _ship,
+    "first-order": _first_order,
+}
 
 
 def get_model(name: str) -> Model:

@@ -68,10 +68,21 @@ def noise_sigma_from_data(z: np.ndarray) -> np.ndarray:
 DEFAULT_INITIAL_SCALE = 0.5
 
 
-def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: dict | None = None,
-                 initial_scale: float = DEFAULT_INITIAL_SCALE, p0_rel: float = 0.3, r_sigma=None,
-                 q_rel: float = 2.5e-5, passes: int = 1, substeps: int = 1, jacobian: str | None = None,
-                 source: dict | None = None) -> dict:
+def identify_log(
+    path,
+    model_name: str,
+    estimate,
+    prefix: str = "sub",
+    initial: dict | None = None,
+    initial_scale: float = DEFAULT_INITIAL_SCALE,
+    p0_rel: float = 0.3,
+    r_sigma=None,
+    q_rel: float = 2.5e-5,
+    passes: int = 1,
+    substeps: int = 1,
+    jacobian: str | None = None,
+    source: dict | None = None,
+) -> dict:
     """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring).
 
     ``source``: options of :func:`oceangnc.io.importers.read_any` for field logs.
@@ -88,9 +99,11 @@ def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: 
         raise InputError(f"{path}: the log has 0 rows; nothing to identify")
     missing = [c for c in ["t", *zcols, *ucols] if c not in df.columns]
     if missing:
-        raise InputError(f"log {path} has no column(s) {', '.join(missing)} needed by model {model.name} "
-                         f"(prefix '{prefix}'); it has: {', '.join(map(str, df.columns[:12]))}"
-                         f"{' ...' if len(df.columns) > 12 else ''}")
+        raise InputError(
+            f"log {path} has no column(s) {', '.join(missing)} needed by model {model.name} "
+            f"(prefix '{prefix}'); it has: {', '.join(map(str, df.columns[:12]))}"
+            f"{' ...' if len(df.columns) > 12 else ''}"
+        )
     if len(df) < 3:
         raise InputError(f"log {path} has {len(df)} rows; need at least 3")
     t = df["t"].to_numpy(dtype=float)
@@ -119,39 +132,51 @@ def identify_log(path, model_name: str, estimate, prefix: str = "sub", initial: 
             raise InputError(f"--r-sigma needs {len(zcols)} values ({', '.join(zcols)})")
         if not np.all(sd > 0):
             raise ConfigError("R is not positive definite: every --r-sigma value must be > 0")
-    R = sd ** 2
+    R = sd**2
     P0 = np.concatenate([(2.0 * sd) ** 2, (p0_rel * np.abs(a0)) ** 2])
     Q = np.concatenate([q_rel * R, np.zeros(len(names))])
     if np.any(a0 == 0):
         zero = [k for k, v in zip(names, a0) if v == 0]
-        raise ConfigError(f"P0 is not positive definite: initial guess 0 for {', '.join(zero)} gives a zero "
-                          "variance; give a non-zero --initial")
+        raise ConfigError(
+            f"P0 is not positive definite: initial guess 0 for {', '.join(zero)} gives a zero "
+            "variance; give a non-zero --initial"
+        )
     x0 = Z[0]
     t0 = time.perf_counter()
     a = a0
     res = None
     for _ in range(passes):
         res = run_ekf(model, t, Z, U, names, x0, a, P0, Q, R, substeps=substeps, jacobian=jacobian)
-        a = res.X[-1, len(model.state_names):]
+        a = res.X[-1, len(model.state_names) :]
     wall = time.perf_counter() - t0
     fin = res.final()
     sig0 = p0_rel * np.abs(a0)
-    stuck = [k for i, k in enumerate(names)
-             if abs(fin[k][0] - a0[i]) < 0.1 * sig0[i] and fin[k][1] > 0.9 * sig0[i]]
+    stuck = [k for i, k in enumerate(names) if abs(fin[k][0] - a0[i]) < 0.1 * sig0[i] and fin[k][1] > 0.9 * sig0[i]]
     nominal = [float(model.params[i]) for i in idx]
     at_nominal = [k for k, a, nom in zip(names, a0, nominal) if nom != 0 and abs(a - nom) <= 1e-12 * abs(nom)]
     return {
-        "initial_guess": {"rule": "explicit --initial" if init and len(init) == len(names) else
-                          f"{initial_scale:g} x the model's nominal values" + (" (with --initial for "
-                          + ", ".join(init) + ")" if init else ""),
-                          "at_nominal": at_nominal},
-        "warnings": [f"{k} never left its initial value {a0[names.index(k)]:.6g} (not identified by this log)"
-                     for k in stuck],
-        "model": model.name, "log": str(path), "samples": int(t.size), "duration_s": float(t[-1] - t[0]),
-        "measurement_sigma": {c: float(s) for c, s in zip(zcols, sd)}, "passes": passes,
-        "wall_time_s": wall, "mean_nis": float(np.nanmean(res.nis)), "nis_dof": len(zcols),
-        "parameters": {k: {"initial": float(a0[i]), "estimate": fin[k][0], "sigma": fin[k][1]}
-                       for i, k in enumerate(names)},
+        "initial_guess": {
+            "rule": "explicit --initial"
+            if init and len(init) == len(names)
+            else f"{initial_scale:g} x the model's nominal values"
+            + (" (with --initial for " + ", ".join(init) + ")" if init else ""),
+            "at_nominal": at_nominal,
+        },
+        "warnings": [
+            f"{k} never left its initial value {a0[names.index(k)]:.6g} (not identified by this log)" for k in stuck
+        ],
+        "model": model.name,
+        "log": str(path),
+        "samples": int(t.size),
+        "duration_s": float(t[-1] - t[0]),
+        "measurement_sigma": {c: float(s) for c, s in zip(zcols, sd)},
+        "passes": passes,
+        "wall_time_s": wall,
+        "mean_nis": float(np.nanmean(res.nis)),
+        "nis_dof": len(zcols),
+        "parameters": {
+            k: {"initial": float(a0[i]), "estimate": fin[k][0], "sigma": fin[k][1]} for i, k in enumerate(names)
+        },
     }
 
 
@@ -164,18 +189,35 @@ def _cmd(args) -> int:
             raise InputError(f"--r-sigma {args.r_sigma!r}: expected comma-separated numbers") from None
     from ..io.importers.cli import source_options
 
-    out = identify_log(args.log, args.model, args.estimate, prefix=args.prefix,
-                       initial=_parse_kv(args.initial, "--initial"), initial_scale=args.initial_scale,
-                       p0_rel=args.p0_rel, r_sigma=r_sigma, q_rel=args.q_rel, passes=args.passes,
-                       substeps=args.substeps, jacobian=args.jacobian, source=source_options(args))
+    out = identify_log(
+        args.log,
+        args.model,
+        args.estimate,
+        prefix=args.prefix,
+        initial=_parse_kv(args.initial, "--initial"),
+        initial_scale=args.initial_scale,
+        p0_rel=args.p0_rel,
+        r_sigma=r_sigma,
+        q_rel=args.q_rel,
+        passes=args.passes,
+        substeps=args.substeps,
+        jacobian=args.jacobian,
+        source=source_options(args),
+    )
     ig = out["initial_guess"]
-    print(f"initial guesses: {ig['rule']}" + ("" if ig["at_nominal"] else
-          " - not the nominal values that example data are simulated with"))
+    print(
+        f"initial guesses: {ig['rule']}"
+        + ("" if ig["at_nominal"] else " - not the nominal values that example data are simulated with")
+    )
     if ig["at_nominal"]:
-        print(f"warning: the initial guess of {', '.join(ig['at_nominal'])} is the model's nominal value; on data "
-              f"simulated with the nominal model the filter starts at the truth")
-    print(f"model {out['model']}: {out['samples']} samples over {out['duration_s']:.2f} s, "
-          f"filter {out['wall_time_s']:.2f} s, mean NIS {out['mean_nis']:.2f} (expect {out['nis_dof']})")
+        print(
+            f"warning: the initial guess of {', '.join(ig['at_nominal'])} is the model's nominal value; on data "
+            f"simulated with the nominal model the filter starts at the truth"
+        )
+    print(
+        f"model {out['model']}: {out['samples']} samples over {out['duration_s']:.2f} s, "
+        f"filter {out['wall_time_s']:.2f} s, mean NIS {out['mean_nis']:.2f} (expect {out['nis_dof']})"
+    )
     print(f"  {'parameter':<10} {'initial':>13} {'estimate':>13} {'1-sigma':>11} {'sigma/|est|':>11}")
     for k, v in out["parameters"].items():
         rel = v["sigma"] / abs(v["estimate"]) if v["estimate"] != 0 else float("inf")
@@ -193,10 +235,19 @@ def _cmd(args) -> int:
     dest.write_text(json.dumps(out, indent=2))
     print(f"wrote {dest}")
     params = {f"{MODEL_SECTION.get(out['model'], 'vehicle')}.{k}": v["estimate"] for k, v in out["parameters"].items()}
-    unc = {f"{MODEL_SECTION.get(out['model'], 'vehicle')}.{k}": entry(v["estimate"], v["sigma"], 0)
-           for k, v in out["parameters"].items()}
-    mp = write_model(folder / "identified.toml", out["model"], "identify ekf", args.log, params, unc,
-                     [f"initial guesses: {ig['rule']}", *out["warnings"]])
+    unc = {
+        f"{MODEL_SECTION.get(out['model'], 'vehicle')}.{k}": entry(v["estimate"], v["sigma"], 0)
+        for k, v in out["parameters"].items()
+    }
+    mp = write_model(
+        folder / "identified.toml",
+        out["model"],
+        "identify ekf",
+        args.log,
+        params,
+        unc,
+        [f"initial guesses: {ig['rule']}", *out["warnings"]],
+    )
     print(f"wrote {mp}")
     return 0
 
@@ -206,25 +257,33 @@ MODEL_SECTION = {"submarine-vertical": "vehicle"}
 
 
 def register(sub) -> None:
-    p = sub.add_parser("ekf", help="hydrodynamic coefficients by augmented-state EKF (document 002)",
-                       description="Identify model parameters from a log with the continuous-discrete "
-                                   "augmented-state extended Kalman filter.")
+    p = sub.add_parser(
+        "ekf",
+        help="hydrodynamic coefficients by augmented-state EKF (document 002)",
+        description="Identify model parameters from a log with the continuous-discrete "
+        "augmented-state extended Kalman filter.",
+    )
     p.add_argument("log", help="log.parquet / .csv, or a run folder holding log.parquet")
     p.add_argument("--model", default="submarine-vertical", help=f"model name ({', '.join(MODELS)})")
     p.add_argument("--estimate", required=True, help="comma-separated parameter names, e.g. Zw,Zwdot,Mq")
     p.add_argument("--prefix", default="sub", help="column prefix of measurements and inputs (default sub)")
     p.add_argument("--initial", help="initial guesses name=value,... (default: --initial-scale x nominal values)")
-    p.add_argument("--initial-scale", type=float, default=DEFAULT_INITIAL_SCALE,
-                   help="initial guesses = this x the model's nominal values (default 0.5: the nominal values "
-                        "are what the example data were simulated with, so 1 would start at the truth)")
+    p.add_argument(
+        "--initial-scale",
+        type=float,
+        default=DEFAULT_INITIAL_SCALE,
+        help="initial guesses = this x the model's nominal values (default 0.5: the nominal values "
+        "are what the example data were simulated with, so 1 would start at the truth)",
+    )
     p.add_argument("--p0-rel", type=float, default=0.3, help="initial 1-sigma relative to each guess")
     p.add_argument("--r-sigma", help="measurement sigmas (SI, comma-separated); default estimated from the log")
     p.add_argument("--q-rel", type=float, default=2.5e-5, help="state process noise, units of R per second")
     p.add_argument("--passes", type=int, default=1, help="passes over the record")
     p.add_argument("--substeps", type=int, default=1, help="RK4 steps per sample interval")
     p.add_argument("--jacobian", choices=["analytic", "complex-step", "finite-difference"])
-    p.add_argument("--out", help="run folder for ekf_<model>.json and identified.toml "
-                                 "(default: runs/identify-ekf-<time>)")
+    p.add_argument(
+        "--out", help="run folder for ekf_<model>.json and identified.toml (default: runs/identify-ekf-<time>)"
+    )
     from ..io.importers.cli import add_source_options
 
     add_source_options(p)

@@ -120,33 +120,48 @@ class Report:
     units: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
-        return {"units": self.units, "trials": [asdict(s) for s in self.steps],
-                "speed_fits": {k: asdict(v) for k, v in self.fits.items()},
-                "zigzag": [asdict(z) for z in self.zigzags]}
+        return {
+            "units": self.units,
+            "trials": [asdict(s) for s in self.steps],
+            "speed_fits": {k: asdict(v) for k, v in self.fits.items()},
+            "zigzag": [asdict(z) for z in self.zigzags],
+        }
 
     def table(self) -> str:
         """Human-readable tables (trials, linear fits, zig-zags)."""
         lines = []
         if self.steps:
-            lines.append(f"{'trial':>5} {'kind':<8} {'speed':>7} {'K':>11} {'+-K':>9} {'T [s]':>8} {'+-T':>7} "
-                         f"{'t1':>7} {'t2':>7} {'t3':>7}")
+            lines.append(
+                f"{'trial':>5} {'kind':<8} {'speed':>7} {'K':>11} {'+-K':>9} {'T [s]':>8} {'+-T':>7} "
+                f"{'t1':>7} {'t2':>7} {'t3':>7}"
+            )
             for s in self.steps:
-                lines.append(f"{s.trial:>5d} {s.kind:<8} {s.speed:7.3f} {s.K:11.5g} {s.K_std:9.2g} {s.T:8.4f} "
-                             f"{s.T_std:7.2g} {s.t1:7.2f} {s.t2:7.2f} {s.t3:7.2f}")
+                lines.append(
+                    f"{s.trial:>5d} {s.kind:<8} {s.speed:7.3f} {s.K:11.5g} {s.K_std:9.2g} {s.T:8.4f} "
+                    f"{s.T_std:7.2g} {s.t1:7.2f} {s.t2:7.2f} {s.t3:7.2f}"
+                )
         if self.fits:
             lines.append("")
-            lines.append(f"{'coef':<5} {'slope a':>11} {'+-a':>9} {'intercept b':>12} {'+-b':>9} {'res rms':>9} {'n':>3}"
-                         "   (coef = a u + b, u in m/s)")
+            lines.append(
+                f"{'coef':<5} {'slope a':>11} {'+-a':>9} {'intercept b':>12} {'+-b':>9} {'res rms':>9} {'n':>3}"
+                "   (coef = a u + b, u in m/s)"
+            )
             for k, f in self.fits.items():
-                lines.append(f"{k:<5} {f.slope:11.5g} {f.slope_std:9.2g} {f.intercept:12.5g} {f.intercept_std:9.2g} "
-                             f"{f.residual_rms:9.2g} {f.n:3d}")
+                lines.append(
+                    f"{k:<5} {f.slope:11.5g} {f.slope_std:9.2g} {f.intercept:12.5g} {f.intercept_std:9.2g} "
+                    f"{f.residual_rms:9.2g} {f.n:3d}"
+                )
         if self.zigzags:
             lines.append("")
-            lines.append(f"{'trial':>5} {'psi amp':>8} {'rudder':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} "
-                         f"{'+-T':>8} {'rms psi':>8}")
+            lines.append(
+                f"{'trial':>5} {'psi amp':>8} {'rudder':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} "
+                f"{'+-T':>8} {'rms psi':>8}"
+            )
             for z in self.zigzags:
-                lines.append(f"{z.trial:>5d} {z.amplitude_deg:7.1f}d {z.rudder:8.4g} {z.speed:7.3f} {z.K:9.5g} "
-                             f"{z.K_std:8.2g} {z.T:8.4f} {z.T_std:8.2g} {z.heading_rms_deg:7.3f}d")
+                lines.append(
+                    f"{z.trial:>5d} {z.amplitude_deg:7.1f}d {z.rudder:8.4g} {z.speed:7.3f} {z.K:9.5g} "
+                    f"{z.K_std:8.2g} {z.T:8.4f} {z.T_std:8.2g} {z.heading_rms_deg:7.3f}d"
+                )
         if self.units:
             lines.append("")
             lines.append("units: " + "; ".join(f"{k} in {v}" for k, v in self.units.items()))
@@ -154,6 +169,7 @@ class Report:
 
 
 # -- helpers --------------------------------------------------------------------------------------------
+
 
 def noise_std(y) -> float:
     """Noise standard deviation of a smooth signal plus white noise, from robust second differences."""
@@ -167,7 +183,7 @@ def noise_std(y) -> float:
 
 def _zoh_integral(t, w, a, b):
     """int_{t_a}^{t_b} w dt with w held from each sample to the next (indices a <= b)."""
-    return float(np.sum(w[a:b] * np.diff(t[a:b + 1])))
+    return float(np.sum(w[a:b] * np.diff(t[a : b + 1])))
 
 
 def _trapz_cum(t, y):
@@ -182,8 +198,9 @@ def _smooth(y, m):
     return np.convolve(y, k, mode="same") / np.convolve(np.ones_like(y), k, mode="same")
 
 
-def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, label: str = "trial",
-                  out_name: str = "output"):
+def detect_points(
+    t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, label: str = "trial", out_name: str = "output"
+):
     """Sample indices (i1, i2, i3) of the transient (1, 2) and steady (2, 3) intervals of a step trial."""
     n = t.size
     if n < 10:
@@ -204,11 +221,12 @@ def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, 
         sig = 0.0
     m = int(round(1.0 / h)) if sig > 0 else 1
     ys = _smooth(y, m)
-    y1 = float(np.mean(y[max(0, i1 - m + 1):i1 + 1]))
+    y1 = float(np.mean(y[max(0, i1 - m + 1) : i1 + 1]))
     dy = yf - y1
     if not abs(dy) > 5 * sig + 1e-12:
-        raise InputError(f"{label}: the {out_name} does not respond to the input step (change {dy:.3g}, "
-                         f"noise {sig:.3g})")
+        raise InputError(
+            f"{label}: the {out_name} does not respond to the input step (change {dy:.3g}, noise {sig:.3g})"
+        )
     tol = settle_tol * abs(dy) + 5.0 * sig / math.sqrt(max(1, m // 2))
     off = np.nonzero(np.abs(ys[i1:] - yf) > tol)[0]
     i2 = i1 + (int(off[-1]) + 1 if off.size else 1)
@@ -219,10 +237,12 @@ def detect_points(t, w, y, settle_tol: float = 0.01, min_steady_s: float = 3.0, 
     slope = np.polyfit(t[k0:], y[k0:], 1)[0]
     drift = abs(slope) * (t[i3] - t[k0])
     if drift > 2 * tol or i2 >= i3 or t[i3] - t[i2] < min_steady_s:
-        raise InputError(f"{label}: no steady interval: the {out_name} changes by {100 * drift / abs(dy):.1f} % "
-                         f"of its step over the last {t[i3] - t[k0]:.1f} s and is within {100 * tol / abs(dy):.1f} % "
-                         f"of its final value only for the last {t[i3] - t[i2]:.1f} s (need {min_steady_s:g} s); "
-                         f"lengthen the trial or give the points with --points T1 T2 T3")
+        raise InputError(
+            f"{label}: no steady interval: the {out_name} changes by {100 * drift / abs(dy):.1f} % "
+            f"of its step over the last {t[i3] - t[k0]:.1f} s and is within {100 * tol / abs(dy):.1f} % "
+            f"of its final value only for the last {t[i3] - t[i2]:.1f} s (need {min_steady_s:g} s); "
+            f"lengthen the trial or give the points with --points T1 T2 T3"
+        )
     return i1, i2, i3, m, sig
 
 
@@ -266,9 +286,23 @@ def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint")
     return float(K), float(T)
 
 
-def identify_step(t, w, y, Y=None, Y_measured: bool = False, kind: str = "turn", trial: int = 0,
-                  speed=None, points=None, settle_tol: float = 0.01, min_steady_s: float = 3.0,
-                  n_mc: int = 200, rng=None, out_name: str = "output", method: str = "joint") -> StepFit:
+def identify_step(
+    t,
+    w,
+    y,
+    Y=None,
+    Y_measured: bool = False,
+    kind: str = "turn",
+    trial: int = 0,
+    speed=None,
+    points=None,
+    settle_tol: float = 0.01,
+    min_steady_s: float = 3.0,
+    n_mc: int = 200,
+    rng=None,
+    out_name: str = "output",
+    method: str = "joint",
+) -> StepFit:
     """Integral-method fit of one step trial.
 
     Parameters
@@ -313,8 +347,19 @@ def identify_step(t, w, y, Y=None, Y_measured: bool = False, kind: str = "turn",
         K_std, T_std = float(np.std(ks)), float(np.std(ts))
     sp = y if speed is None else np.asarray(speed, float)
     k_sp = max(i2, i3 + 1 - max(3, t.size // 5))  # the trial's speed: mean over the end of the steady interval
-    return StepFit(trial, kind, float(np.mean(sp[k_sp:i3 + 1])), K, T, K_std, T_std, float(t[i1]), float(t[i2]),
-                   float(t[i3]), sig)
+    return StepFit(
+        trial,
+        kind,
+        float(np.mean(sp[k_sp : i3 + 1])),
+        K,
+        T,
+        K_std,
+        T_std,
+        float(t[i1]),
+        float(t[i2]),
+        float(t[i3]),
+        sig,
+    )
 
 
 def fit_vs_speed(name: str, speeds, values) -> LinearFit:
@@ -333,8 +378,9 @@ def fit_vs_speed(name: str, speeds, values) -> LinearFit:
         sa, sb = math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
     else:
         sa = sb = float("nan")
-    return LinearFit(name, float(coef[0]), float(coef[1]), sa, sb, float(np.sqrt(np.mean(res ** 2))),
-                     res.tolist(), u.tolist(), n)
+    return LinearFit(
+        name, float(coef[0]), float(coef[1]), sa, sb, float(np.sqrt(np.mean(res**2))), res.tolist(), u.tolist(), n
+    )
 
 
 def _nomoto_basis(t, delta, T, r0):
@@ -349,7 +395,7 @@ def _nomoto_basis(t, delta, T, r0):
     inc = d * hm + (r - d) * T * (1.0 - a)
     g = np.concatenate([[0.0], np.cumsum(inc)])
     k = np.arange(t.size - 1)
-    q = np.concatenate([[0.0], np.cumsum(r0 * a ** k * T * (1.0 - a))])
+    q = np.concatenate([[0.0], np.cumsum(r0 * a**k * T * (1.0 - a))])
     return g, q
 
 
@@ -403,11 +449,21 @@ def fit_nomoto_zigzag(t, delta, psi, r0: float = 0.0, trial: int = 0, speed: flo
     rev = np.nonzero(np.diff(np.sign(delta)) != 0)[0] + 1
     rev = rev[np.abs(delta[rev - 1]) > 0]
     amp = math.degrees(float(np.mean(np.abs(y[rev])))) if rev.size else float("nan")
-    return ZigzagFit(trial, speed, round(amp, 1), float(np.max(np.abs(delta))), float(sol.x[0]), float(sol.x[1]),
-                     ks, ts, math.degrees(math.sqrt(float(np.mean(res ** 2)))))
+    return ZigzagFit(
+        trial,
+        speed,
+        round(amp, 1),
+        float(np.max(np.abs(delta))),
+        float(sol.x[0]),
+        float(sol.x[1]),
+        ks,
+        ts,
+        math.degrees(math.sqrt(float(np.mean(res**2)))),
+    )
 
 
 # -- logs ------------------------------------------------------------------------------------------------
+
 
 def _classify(steer, thrust) -> str:
     if steer is not None:
@@ -430,16 +486,26 @@ def check_log(df, cols: Columns, options: dict | None = None):
     """
     options = options or {}
     if cols.time not in df.columns:
-        raise InputError(f"log has no time column '{cols.time}' (--time); columns: {', '.join(map(str, df.columns[:30]))}")
-    have = {k: getattr(cols, k) for k in ("steer", "thrust", "speed", "heading", "yaw_rate")
-            if getattr(cols, k) in df.columns}
+        raise InputError(
+            f"log has no time column '{cols.time}' (--time); columns: {', '.join(map(str, df.columns[:30]))}"
+        )
+    have = {
+        k: getattr(cols, k)
+        for k in ("steer", "thrust", "speed", "heading", "yaw_rate")
+        if getattr(cols, k) in df.columns
+    }
     can_straight = "thrust" in have and "speed" in have
     can_turn = "steer" in have and ("heading" in have or "yaw_rate" in have)
     if not (can_straight or can_turn):
-        missing = [f"'{getattr(cols, k)}' ({options.get(k, '--' + k.replace('_', '-'))})"
-                   for k in ("thrust", "speed", "steer", "heading", "yaw_rate") if k not in have]
-        raise InputError(f"log has no column {', '.join(missing)}: need thrust+speed (straight trials) or "
-                         f"steer+heading/yaw-rate (turning trials); columns: {', '.join(map(str, df.columns[:30]))}")
+        missing = [
+            f"'{getattr(cols, k)}' ({options.get(k, '--' + k.replace('_', '-'))})"
+            for k in ("thrust", "speed", "steer", "heading", "yaw_rate")
+            if k not in have
+        ]
+        raise InputError(
+            f"log has no column {', '.join(missing)}: need thrust+speed (straight trials) or "
+            f"steer+heading/yaw-rate (turning trials); columns: {', '.join(map(str, df.columns[:30]))}"
+        )
     t = df[cols.time].to_numpy(float)
     used = [cols.time, *have.values()] + [c for c in (cols.trial, cols.kind) if c and c in df.columns]
     for c in used:
@@ -452,14 +518,25 @@ def check_log(df, cols: Columns, options: dict | None = None):
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0)) + 1
-        raise InputError(f"time column '{cols.time}' is not increasing at row {i} (t={t[i - 1]:.6g} s then "
-                         f"{t[i]:.6g} s)")
+        raise InputError(
+            f"time column '{cols.time}' is not increasing at row {i} (t={t[i - 1]:.6g} s then {t[i]:.6g} s)"
+        )
     return have
 
 
-def identify_log(df, cols: Columns | None = None, points=None, steer_deg: bool = False, heading_deg: bool = False,
-                 settle_tol: float = 0.01, min_steady_s: float = 3.0, n_mc: int = 200, seed: int = 0,
-                 options: dict | None = None, method: str = "joint") -> Report:
+def identify_log(
+    df,
+    cols: Columns | None = None,
+    points=None,
+    steer_deg: bool = False,
+    heading_deg: bool = False,
+    settle_tol: float = 0.01,
+    min_steady_s: float = 3.0,
+    n_mc: int = 200,
+    seed: int = 0,
+    options: dict | None = None,
+    method: str = "joint",
+) -> Report:
     """Identify every trial of a log and fit the coefficients against speed.
 
     Trials are split by the ``cols.trial`` column if present (else the log is one trial), their kind
@@ -490,25 +567,56 @@ def identify_log(df, cols: Columns | None = None, points=None, steer_deg: bool =
         if kind == "straight":
             if thrust is None or spd is None:
                 raise InputError(f"trial {tid} (straight) needs the thrust and speed columns")
-            rep.steps.append(identify_step(t, thrust, spd, kind="straight", trial=tid, points=points,
-                                           settle_tol=settle_tol, min_steady_s=min_steady_s, n_mc=n_mc, rng=rng,
-                                           out_name="speed", method=method))
+            rep.steps.append(
+                identify_step(
+                    t,
+                    thrust,
+                    spd,
+                    kind="straight",
+                    trial=tid,
+                    points=points,
+                    settle_tol=settle_tol,
+                    min_steady_s=min_steady_s,
+                    n_mc=n_mc,
+                    rng=rng,
+                    out_name="speed",
+                    method=method,
+                )
+            )
         elif kind in ("turn", "zigzag"):
             psi = np.unwrap(col["heading"][idx] * hd) if "heading" in col else None
             r = col["yaw_rate"][idx] * hd if "yaw_rate" in col else None
             if r is None:
                 r = np.gradient(psi, t)
             if kind == "turn":
-                rep.steps.append(identify_step(t, steer, r, Y=psi, Y_measured=psi is not None, kind="turn",
-                                               trial=tid, speed=spd, points=points, settle_tol=settle_tol,
-                                               min_steady_s=min_steady_s, n_mc=n_mc, rng=rng, out_name="yaw rate",
-                                               method=method))
+                rep.steps.append(
+                    identify_step(
+                        t,
+                        steer,
+                        r,
+                        Y=psi,
+                        Y_measured=psi is not None,
+                        kind="turn",
+                        trial=tid,
+                        speed=spd,
+                        points=points,
+                        settle_tol=settle_tol,
+                        min_steady_s=min_steady_s,
+                        n_mc=n_mc,
+                        rng=rng,
+                        out_name="yaw rate",
+                        method=method,
+                    )
+                )
             else:
                 if psi is None:
                     psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))])
                 r0 = float(np.mean(r[:3]))
-                rep.zigzags.append(fit_nomoto_zigzag(t, steer, psi, r0=r0, trial=tid,
-                                                     speed=float(np.mean(spd)) if spd is not None else float("nan")))
+                rep.zigzags.append(
+                    fit_nomoto_zigzag(
+                        t, steer, psi, r0=r0, trial=tid, speed=float(np.mean(spd)) if spd is not None else float("nan")
+                    )
+                )
         else:
             raise InputError(f"trial {tid}: neither the steer nor the thrust changes; nothing to identify")
     for kind, names in (("straight", ("K_v", "T_v")), ("turn", ("K_r", "T_r"))):
@@ -517,6 +625,10 @@ def identify_log(df, cols: Columns | None = None, points=None, steer_deg: bool =
             u = [s.speed for s in st]
             rep.fits[names[0]] = fit_vs_speed(names[0], u, [s.K for s in st])
             rep.fits[names[1]] = fit_vs_speed(names[1], u, [s.T for s in st])
-    rep.units = {"K_v": "speed unit per thrust-column unit (m/s per rpm for the first-order USV)",
-                 "K_r": "rad/s of yaw rate per steer-column unit (1/s with the steer in rad or --steer-deg)", "T_v, T_r": "s", "speed": "m/s"}
+    rep.units = {
+        "K_v": "speed unit per thrust-column unit (m/s per rpm for the first-order USV)",
+        "K_r": "rad/s of yaw rate per steer-column unit (1/s with the steer in rad or --steer-deg)",
+        "T_v, T_r": "s",
+        "speed": "m/s",
+    }
     return rep

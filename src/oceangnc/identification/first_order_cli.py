@@ -22,8 +22,15 @@ from pathlib import Path
 
 from ..errors import InputError
 
-_OPTS = {"time": "--time", "steer": "--steer", "thrust": "--thrust", "speed": "--speed", "heading": "--heading",
-         "yaw_rate": "--yaw-rate", "trial": "--trial"}
+_OPTS = {
+    "time": "--time",
+    "steer": "--steer",
+    "thrust": "--thrust",
+    "speed": "--speed",
+    "heading": "--heading",
+    "yaw_rate": "--yaw-rate",
+    "trial": "--trial",
+}
 
 
 def _finite(v):
@@ -38,8 +45,9 @@ def _finite(v):
 
 
 def register(methods) -> None:
-    p = methods.add_parser("first-order", help="first-order speed/Nomoto models by the integral method (000 eq. 8-21)",
-                           description=__doc__)
+    p = methods.add_parser(
+        "first-order", help="first-order speed/Nomoto models by the integral method (000 eq. 8-21)", description=__doc__
+    )
     p.add_argument("log", help="Parquet or CSV log (or a run folder holding log.parquet)")
     p.add_argument("--time", default="t", help="time column, s (default t)")
     p.add_argument("--steer", default="trial.steer", help="steer (rudder) column, rad unless --steer-deg")
@@ -48,20 +56,34 @@ def register(methods) -> None:
     p.add_argument("--heading", default="trial.heading", help="heading column, rad unless --heading-deg")
     p.add_argument("--yaw-rate", default="trial.yaw_rate", help="yaw-rate column, rad/s unless --heading-deg")
     p.add_argument("--trial", default="trial.id", help="trial id column splitting the log (absent: one trial)")
-    p.add_argument("--kind", default="trial.kind", help="trial kind column, 0 straight 1 turn 2 zig-zag "
-                                                        "(absent: detected from the inputs)")
+    p.add_argument(
+        "--kind",
+        default="trial.kind",
+        help="trial kind column, 0 straight 1 turn 2 zig-zag (absent: detected from the inputs)",
+    )
     p.add_argument("--select-trial", type=int, metavar="ID", help="identify only the trial with this id")
     p.add_argument("--steer-deg", action="store_true", help="the steer column is in degrees")
     p.add_argument("--heading-deg", action="store_true", help="heading in deg and yaw rate in deg/s")
-    p.add_argument("--points", nargs=3, type=float, metavar=("T1", "T2", "T3"),
-                   help="override the detected transient (T1-T2) and steady (T2-T3) intervals, s "
-                        "(log time; one trial: use with --select-trial on multi-trial logs)")
+    p.add_argument(
+        "--points",
+        nargs=3,
+        type=float,
+        metavar=("T1", "T2", "T3"),
+        help="override the detected transient (T1-T2) and steady (T2-T3) intervals, s "
+        "(log time; one trial: use with --select-trial on multi-trial logs)",
+    )
     p.add_argument("--settle-tol", type=float, default=0.01, help="settling band, fraction of the step (default 0.01)")
     p.add_argument("--min-steady", type=float, default=3.0, help="shortest steady interval accepted, s (default 3)")
-    p.add_argument("--method", choices=("joint", "paper"), default="joint",
-                   help="joint: eq. 11+13 solved together (exact); paper: eq. 12/14 and 19/21 as printed")
-    p.add_argument("--out", help="run folder for identification.json and identified.toml "
-                                 "(default: runs/identify-first-order-<time>)")
+    p.add_argument(
+        "--method",
+        choices=("joint", "paper"),
+        default="joint",
+        help="joint: eq. 11+13 solved together (exact); paper: eq. 12/14 and 19/21 as printed",
+    )
+    p.add_argument(
+        "--out",
+        help="run folder for identification.json and identified.toml (default: runs/identify-first-order-<time>)",
+    )
     p.add_argument("--seed", type=int, default=0, help="seed of the uncertainty replicas")
     from ..io.importers.cli import add_source_options
 
@@ -70,10 +92,14 @@ def register(methods) -> None:
 
 
 #: standard signals of an imported field log (oceangnc.io.importers) used when the trial columns are absent
-STANDARD = {"steer": "act.steer", "thrust": "act.throttle", "speed": "usv.u", "heading": "usv.psi",
-            "yaw_rate": "usv.r"}
-_DEFAULTS = {"steer": "trial.steer", "thrust": "trial.thrust", "speed": "trial.speed", "heading": "trial.heading",
-             "yaw_rate": "trial.yaw_rate"}
+STANDARD = {"steer": "act.steer", "thrust": "act.throttle", "speed": "usv.u", "heading": "usv.psi", "yaw_rate": "usv.r"}
+_DEFAULTS = {
+    "steer": "trial.steer",
+    "thrust": "trial.thrust",
+    "speed": "trial.speed",
+    "heading": "trial.heading",
+    "yaw_rate": "trial.yaw_rate",
+}
 
 
 def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
@@ -92,13 +118,17 @@ def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
         f = rep.fits.get(name)
         if f is not None:
             dof = max(0, f.n - 2)
-            for part, val, se, u in (("slope", f.slope, f.slope_std, unit + " per m/s"),
-                                     ("intercept", f.intercept, f.intercept_std, unit)):
+            for part, val, se, u in (
+                ("slope", f.slope, f.slope_std, unit + " per m/s"),
+                ("intercept", f.intercept, f.intercept_std, unit),
+            ):
                 k = f"usv.{stem}_{part}"
                 params[k] = val
                 unc[k] = entry(val, se, dof, u)
-    for kind, lo, hi, coefs in (("straight", "straight_lo_mps", "straight_hi_mps", ("K_v", "T_v")),
-                                ("turn", "turn_lo_mps", "turn_hi_mps", ("K_r", "T_r"))):
+    for kind, lo, hi, coefs in (
+        ("straight", "straight_lo_mps", "straight_hi_mps", ("K_v", "T_v")),
+        ("turn", "turn_lo_mps", "turn_hi_mps", ("K_r", "T_r")),
+    ):
         st = [s for s in rep.steps if s.kind == kind]
         if kind == "turn" and not st and rep.zigzags:
             st = rep.zigzags
@@ -147,22 +177,43 @@ def _handler(args) -> int:
             if df.empty:
                 raise InputError(f"--select-trial {args.select_trial}: no rows with {args.trial} = {args.select_trial}")
         elif args.points is not None and df[args.trial].nunique() > 1:
-            raise InputError(f"--points sets the intervals of one trial but the log holds "
-                             f"{df[args.trial].nunique()} trials; pick one with --select-trial ID")
+            raise InputError(
+                f"--points sets the intervals of one trial but the log holds "
+                f"{df[args.trial].nunique()} trials; pick one with --select-trial ID"
+            )
     elif args.select_trial is not None:
         raise InputError(f"--select-trial needs the trial column '{args.trial}' (--trial)")
-    cols = Columns(time=args.time, steer=args.steer, thrust=args.thrust, speed=args.speed, heading=args.heading,
-                   yaw_rate=args.yaw_rate, trial=args.trial, kind=args.kind)
+    cols = Columns(
+        time=args.time,
+        steer=args.steer,
+        thrust=args.thrust,
+        speed=args.speed,
+        heading=args.heading,
+        yaw_rate=args.yaw_rate,
+        trial=args.trial,
+        kind=args.kind,
+    )
     try:
-        rep = identify_log(df, cols, points=args.points, steer_deg=args.steer_deg, heading_deg=args.heading_deg,
-                           settle_tol=args.settle_tol, min_steady_s=args.min_steady, seed=args.seed, options=_OPTS,
-                           method=args.method)
+        rep = identify_log(
+            df,
+            cols,
+            points=args.points,
+            steer_deg=args.steer_deg,
+            heading_deg=args.heading_deg,
+            settle_tol=args.settle_tol,
+            min_steady_s=args.min_steady,
+            seed=args.seed,
+            options=_OPTS,
+            method=args.method,
+        )
     except InputError as e:
         raise InputError(f"{src}: {e}") from None
     if not (rep.steps or rep.zigzags):
         raise InputError(f"{src}: no usable manoeuvre (no input step or zig-zag found)")
-    print("starting point: none needed - the integral method is closed-form (000 eq. 11-21) and the zig-zag fit "
-          "starts from a grid search over T, not from a guess of the answer")
+    print(
+        "starting point: none needed - the integral method is closed-form (000 eq. 11-21) and the zig-zag fit "
+        "starts from a grid search over T, not from a guess of the answer"
+    )
     print(rep.table())
     from ..api import new_run_dir
     from .model_file import write_model
@@ -180,6 +231,8 @@ def _handler(args) -> int:
         mp = write_model(out / "identified.toml", "usv-first-order", "identify first-order", src, params, unc, notes)
         print(f"wrote {mp} (oceangnc run SCENARIO --model {mp})")
         for k, u in unc.items():
-            print(f"  {k:<22} {u['estimate']:12.6g} +- {u['std_error']:9.3g}  95% [{u['ci95'][0]:.6g}, "
-                  f"{u['ci95'][1]:.6g}]")
+            print(
+                f"  {k:<22} {u['estimate']:12.6g} +- {u['std_error']:9.3g}  95% [{u['ci95'][0]:.6g}, "
+                f"{u['ci95'][1]:.6g}]"
+            )
     return 0

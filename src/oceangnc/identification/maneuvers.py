@@ -127,10 +127,19 @@ class ManeuverData:
         return out
 
 
-def zigzag(params, x0, maneuver: str = "10-5", duration: float = 200.0, rate_hz: float = 100.0,
-           dt_truth: float = 1e-4, noise_std=(0.0, 0.0, 0.0), rng: np.random.Generator | None = None,
-           t_start_s: float = 0.0, plane_rate_degps: float = 0.0, response_sign: float | None = None
-           ) -> ManeuverData:
+def zigzag(
+    params,
+    x0,
+    maneuver: str = "10-5",
+    duration: float = 200.0,
+    rate_hz: float = 100.0,
+    dt_truth: float = 1e-4,
+    noise_std=(0.0, 0.0, 0.0),
+    rng: np.random.Generator | None = None,
+    t_start_s: float = 0.0,
+    plane_rate_degps: float = 0.0,
+    response_sign: float | None = None,
+) -> ManeuverData:
     """Simulate a vertical zig-zag of the submarine and sample it (002 ch. 4-5).
 
     Parameters
@@ -168,9 +177,21 @@ def zigzag(params, x0, maneuver: str = "10-5", duration: float = 200.0, rate_hz:
         response_sign = math.copysign(1.0, mds) if mds != 0 else -1.0
     X = np.zeros((n_meas, 4))
     DS = np.zeros(n_meas)
-    n_sw = _zigzag_loop(sub_rhs, np.asarray(x0, dtype=np.float64), p, n_meas, dt_meas, n_fine, math.radians(a_deg),
-                        math.radians(b_deg), float(response_sign), float(t_start_s),
-                        math.radians(plane_rate_degps), X, DS)
+    n_sw = _zigzag_loop(
+        sub_rhs,
+        np.asarray(x0, dtype=np.float64),
+        p,
+        n_meas,
+        dt_meas,
+        n_fine,
+        math.radians(a_deg),
+        math.radians(b_deg),
+        float(response_sign),
+        float(t_start_s),
+        math.radians(plane_rate_degps),
+        X,
+        DS,
+    )
     if n_sw < 0:
         raise ConfigError(f"zigzag: the truth model diverged at t={(-1 - n_sw) * dt_meas:.2f} s; check the parameters")
     sd = np.asarray(noise_std, dtype=np.float64)

@@ -47,19 +47,32 @@ def quantile95(dof: int) -> float:
 def entry(estimate: float, std_error: float, dof: int = 0, unit: str = "") -> dict:
     q = quantile95(dof)
     se = float(std_error) if std_error is not None and math.isfinite(std_error) else float("nan")
-    return {"estimate": float(estimate), "std_error": se, "ci95": [float(estimate) - q * se, float(estimate) + q * se],
-            "dof": int(dof), "unit": unit}
+    return {
+        "estimate": float(estimate),
+        "std_error": se,
+        "ci95": [float(estimate) - q * se, float(estimate) + q * se],
+        "dof": int(dof),
+        "unit": unit,
+    }
 
 
-def write_model(path, kind: str, method: str, source: str, parameters: dict, uncertainty: dict,
-                notes: list[str] | None = None) -> Path:
+def write_model(
+    path, kind: str, method: str, source: str, parameters: dict, uncertainty: dict, notes: list[str] | None = None
+) -> Path:
     """Write the model TOML (NaN standard errors are written as the string "nan": TOML has nan too)."""
     import tomli_w
 
-    doc: dict = {"model": {"kind": kind, "method": method, "source": str(source),
-                     "created": _dt.datetime.now().isoformat(timespec="seconds"), "confidence": 0.95},
-           "parameters": {k: float(v) for k, v in parameters.items()},
-           "uncertainty": {k: v for k, v in uncertainty.items()}}
+    doc: dict = {
+        "model": {
+            "kind": kind,
+            "method": method,
+            "source": str(source),
+            "created": _dt.datetime.now().isoformat(timespec="seconds"),
+            "confidence": 0.95,
+        },
+        "parameters": {k: float(v) for k, v in parameters.items()},
+        "uncertainty": {k: v for k, v in uncertainty.items()},
+    }
     if notes:
         doc["model"]["notes"] = list(notes)
     p = Path(path)
@@ -75,8 +88,9 @@ def load_model_overrides(path) -> dict:
     doc = load_toml(path)
     params = doc.get("parameters")
     if not isinstance(params, dict) or not params:
-        raise ConfigError(f"model file {path}: no [parameters] table (expected dotted config keys, e.g. "
-                          f"\"usv.kr_intercept\" = 0.71)")
+        raise ConfigError(
+            f'model file {path}: no [parameters] table (expected dotted config keys, e.g. "usv.kr_intercept" = 0.71)'
+        )
     bad = [k for k, v in params.items() if not isinstance(v, (int, float)) or isinstance(v, bool)]
     if bad:
         raise ConfigError(f"model file {path}: parameter {bad[0]} is not a number")

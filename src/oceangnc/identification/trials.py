@@ -24,7 +24,6 @@ class TrialNoise(StrictModel):
     yaw_rate_degps: float = Field(0.0, ge=0, le=30, description="yaw-rate noise std, deg/s")
 
 
-
 @register_block("usv.zigzag")
 class ZigZag(Block):
     """ITTC zig-zag: steer +amp until the heading change reaches +psi_z, then -amp until -psi_z, and so on.
@@ -82,8 +81,13 @@ class TrialSensors(Block):
         self.period = period
         self.steer_fn, self.thrust_fn = steer_fn, thrust_fn
         self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", **(inputs or {})}
-        self.outputs = {"trial.speed": "m/s", "trial.heading": "rad", "trial.yaw_rate": "rad/s", "trial.steer": "1",
-                        "trial.thrust": "1"}
+        self.outputs = {
+            "trial.speed": "m/s",
+            "trial.heading": "rad",
+            "trial.yaw_rate": "rad/s",
+            "trial.steer": "1",
+            "trial.thrust": "1",
+        }
 
     def reset(self, rng):
         self.rng = rng
@@ -94,6 +98,8 @@ class TrialSensors(Block):
         bus["trial.speed"] = bus["usv.u"] + (g.normal(0, n.speed_mps) if n.speed_mps else 0.0)
         psi = bus["usv.psi"] + (g.normal(0, math.radians(n.heading_deg)) if n.heading_deg else 0.0)
         bus["trial.heading"] = wrap(psi)
-        bus["trial.yaw_rate"] = bus["usv.r"] + (g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0)
+        bus["trial.yaw_rate"] = bus["usv.r"] + (
+            g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0
+        )
         bus["trial.steer"] = self.steer_fn(bus)
         bus["trial.thrust"] = self.thrust_fn(bus)

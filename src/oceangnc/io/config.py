@@ -79,10 +79,12 @@ class SimConfig(StrictModel):
 class LogConfig(StrictModel):
     """Run log settings (crash safety: see :mod:`oceangnc.io.logs`)."""
 
-    flush_period: float = Field(1.0, gt=0, le=3600, description="simulated time between log flushes, "
-                                "the most a crash can lose, s")
-    fsync: bool = Field(False, description="force each flushed part to disk (power-cut safety; about 10 ms "
-                        "per part on a busy disk)")
+    flush_period: float = Field(
+        1.0, gt=0, le=3600, description="simulated time between log flushes, the most a crash can lose, s"
+    )
+    fsync: bool = Field(
+        False, description="force each flushed part to disk (power-cut safety; about 10 ms per part on a busy disk)"
+    )
 
 
 class ScenarioConfig(StrictModel):
@@ -94,6 +96,7 @@ class ScenarioConfig(StrictModel):
 
 
 # -- loading and merging ------------------------------------------------------------------------------
+
 
 def load_toml(path: str | Path) -> dict:
     """Read a TOML file; a syntax error becomes a ConfigError naming the file and line."""
@@ -165,6 +168,7 @@ def flatten(d: dict, prefix: str = "") -> dict:
 
 
 # -- error messages -------------------------------------------------------------------------------------
+
 
 def _field_info(model: type[BaseModel], loc: tuple):
     """Walk ``loc`` through nested models; return (FieldInfo, parent model) or (None, model)."""
@@ -261,7 +265,7 @@ def format_validation_error(model: type[BaseModel], err: ValidationError) -> str
     elif e["type"] in ("too_short", "too_long") and isinstance(val, (list, tuple)):
         msg = f"{len(val)} item(s)"
     elif e["type"] == "value_error" and e["msg"].startswith("Value error, "):
-        msg = e["msg"][len("Value error, "):]
+        msg = e["msg"][len("Value error, ") :]
     else:
         msg = e["msg"][0].lower() + e["msg"][1:]
     tail = f"; {allowed}" if allowed else ""

@@ -111,8 +111,16 @@ class LogWriter:
     Extra columns that are constant for a whole sub-run (``extra``, e.g. ``run``) are also floats.
     """
 
-    def __init__(self, path: str | Path, flush_period: float = 1.0, flush_rows: int = 100_000,
-                 start_part: int = 0, start_row: int = 0, compact: bool = True, fsync: bool = False):
+    def __init__(
+        self,
+        path: str | Path,
+        flush_period: float = 1.0,
+        flush_rows: int = 100_000,
+        start_part: int = 0,
+        start_row: int = 0,
+        compact: bool = True,
+        fsync: bool = False,
+    ):
         self.path = Path(path)
         self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
@@ -149,8 +157,7 @@ class LogWriter:
             else:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
-        if (t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0
-                or len(self._buf["t"]) >= self.flush_rows):
+        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or len(self._buf["t"]) >= self.flush_rows:
             self.flush()
 
     def append_rows(self, t, names: list[str], values) -> None:
@@ -202,8 +209,10 @@ class LogWriter:
             os.replace(tmp, final)
         except OSError as e:
             tmp.unlink(missing_ok=True)
-            raise InputError(f"cannot write the log {self.path}: {e.strerror or e}; the "
-                             f"{self.rows_written} rows flushed before are kept") from None
+            raise InputError(
+                f"cannot write the log {self.path}: {e.strerror or e}; the "
+                f"{self.rows_written} rows flushed before are kept"
+            ) from None
         if final_part:
             _fsync_dir(self.path)
         else:
@@ -371,7 +380,8 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
         tables = [pq.read_table(q, columns=columns) for q in keep]
         schema = tables[0].schema
         return pa.concat_tables([t.replace_schema_metadata(None) for t in tables]).replace_schema_metadata(
-            {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None)
+            {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None
+        )
     return pq.read_table(p, columns=columns)
 
 

@@ -4,28 +4,50 @@ from __future__ import annotations
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("mavlink", help="serve a live scenario as a MAVLink vehicle (ArduPilot Rover modes) "
-                              "for QGroundControl, Mission Planner, MAVProxy",
-                              description="The running scenario appears as a MAVLink 2 vehicle: USV system 1 "
-                                          "(SURFACE_BOAT), UUV system 2 (SUBMARINE). See docs/mavlink-and-logs.md.")
-    p.add_argument("scenario", nargs="?", default="usv-remote",
-                   help="live scenario (default usv-remote; combined-survey adds the UUV and the cable)")
-    p.add_argument("--listen", default="udp:127.0.0.1:14550",
-                   help="UDP address to bind; ground stations sending to it get telemetry back "
-                        "(default udp:127.0.0.1:14550)")
-    p.add_argument("--gcs", action="append", metavar="udp:HOST:PORT",
-                   help="also send telemetry to this address from the start (a GCS listening, repeatable)")
+    p = subparsers.add_parser(
+        "mavlink",
+        help="serve a live scenario as a MAVLink vehicle (ArduPilot Rover modes) "
+        "for QGroundControl, Mission Planner, MAVProxy",
+        description="The running scenario appears as a MAVLink 2 vehicle: USV system 1 "
+        "(SURFACE_BOAT), UUV system 2 (SUBMARINE). See docs/mavlink-and-logs.md.",
+    )
+    p.add_argument(
+        "scenario",
+        nargs="?",
+        default="usv-remote",
+        help="live scenario (default usv-remote; combined-survey adds the UUV and the cable)",
+    )
+    p.add_argument(
+        "--listen",
+        default="udp:127.0.0.1:14550",
+        help="UDP address to bind; ground stations sending to it get telemetry back (default udp:127.0.0.1:14550)",
+    )
+    p.add_argument(
+        "--gcs",
+        action="append",
+        metavar="udp:HOST:PORT",
+        help="also send telemetry to this address from the start (a GCS listening, repeatable)",
+    )
     p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall-clock second (default 1)")
     p.add_argument("--duration", type=float, help="end after this much simulated time, s (default: until Ctrl-C)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
-                        "mavlink.origin_lat_deg=59.9 mavlink.gcs_timeout_s=1.5")
-    p.add_argument("--model", help="identified model file (identified.toml from 'oceangnc identify'): the "
-                                   "vehicle's parameters (--set still wins)")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
+        "mavlink.origin_lat_deg=59.9 mavlink.gcs_timeout_s=1.5",
+    )
+    p.add_argument(
+        "--model",
+        help="identified model file (identified.toml from 'oceangnc identify'): the "
+        "vehicle's parameters (--set still wins)",
+    )
     p.add_argument("--out", default="runs", help="folder for the run's log (default runs/)")
-    p.add_argument("--no-tlog", action="store_true",
-                   help="do not write telemetry.tlog (every packet sent, stamped with simulated time) "
-                        "in the run folder")
+    p.add_argument(
+        "--no-tlog",
+        action="store_true",
+        help="do not write telemetry.tlog (every packet sent, stamped with simulated time) in the run folder",
+    )
     p.add_argument("--quiet", action="store_true", help="do not print the vehicle's events")
     p.set_defaults(func=_cmd)
 
@@ -37,24 +59,37 @@ def _cmd(args) -> int:
     try:
         from .vehicle import MavlinkVehicle
     except ModuleNotFoundError as e:
-        raise InputError(f"oceangnc mavlink needs the optional package '{e.name}'; install with "
-                         f"pip install 'oceangnc[field]'") from None
+        raise InputError(
+            f"oceangnc mavlink needs the optional package '{e.name}'; install with pip install 'oceangnc[field]'"
+        ) from None
 
     if args.duration is not None and not args.duration > 0:
         raise InputError(f"--duration {args.duration}: must be > 0 s")
     sets = flatten(parse_sets(args.set))
-    mav = {k[len("mavlink."):]: v for k, v in sets.items() if k.startswith("mavlink.")}
+    mav = {k[len("mavlink.") :]: v for k, v in sets.items() if k.startswith("mavlink.")}
     over = {k: v for k, v in sets.items() if not k.startswith("mavlink.")}
     if args.model:
         from ..identification.model_file import load_model_overrides
 
         over = {**load_model_overrides(args.model), **over}
-    v = MavlinkVehicle(args.scenario, overrides=over, mav=mav, listen=args.listen, gcs=args.gcs, speed=args.speed,
-                       out_root=args.out, duration=args.duration, verbose=not args.quiet,
-                       tlog=None if args.no_tlog else "telemetry.tlog")
+    v = MavlinkVehicle(
+        args.scenario,
+        overrides=over,
+        mav=mav,
+        listen=args.listen,
+        gcs=args.gcs,
+        speed=args.speed,
+        out_root=args.out,
+        duration=args.duration,
+        verbose=not args.quiet,
+        tlog=None if args.no_tlog else "telemetry.tlog",
+    )
     if not args.quiet:
-        print(f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
-              f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop", flush=True)
+        print(
+            f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
+            f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop",
+            flush=True,
+        )
     try:
         v.serve()
     except KeyboardInterrupt:

@@ -10,20 +10,27 @@ from ..io.config import StrictModel
 class MavlinkConfig(StrictModel):
     """Identity, geodetic origin, failsafe and limits of the MAVLink endpoint."""
 
-    origin_lat_deg: float = Field(47.397742, ge=-89.9, le=89.9,
-                                  description="latitude of the local NED origin (x = y = 0), deg")
-    origin_lon_deg: float = Field(8.545594, ge=-180, le=180,
-                                  description="longitude of the local NED origin, deg")
+    origin_lat_deg: float = Field(
+        47.397742, ge=-89.9, le=89.9, description="latitude of the local NED origin (x = y = 0), deg"
+    )
+    origin_lon_deg: float = Field(8.545594, ge=-180, le=180, description="longitude of the local NED origin, deg")
     origin_alt_m: float = Field(0.0, ge=-1000, le=10000, description="altitude (AMSL) of the sea surface, m")
     system_id: int = Field(1, ge=1, le=250, description="MAVLink system id of the USV")
     uuv_system_id: int = Field(2, ge=1, le=250, description="MAVLink system id of the UUV (if the scenario has one)")
-    gcs_timeout_s: float = Field(0.7, gt=0.05, le=30,
-                                 description="no message from the ground station for this long in a stick mode "
-                                             "(MANUAL, ACRO) -> failsafe to HOLD, wall-clock s")
-    max_packets_per_loop: int = Field(500, ge=1, le=100000,
-                                      description="datagrams read per loop pass (bounds the work a flood can cause)")
-    mission_timeout_s: float = Field(3.0, gt=0, le=60,
-                                     description="mission upload abandoned after this long without an item, s")
+    gcs_timeout_s: float = Field(
+        0.7,
+        gt=0.05,
+        le=30,
+        description="no message from the ground station for this long in a stick mode "
+        "(MANUAL, ACRO) -> failsafe to HOLD, wall-clock s",
+    )
+    max_packets_per_loop: int = Field(
+        500, ge=1, le=100000, description="datagrams read per loop pass (bounds the work a flood can cause)"
+    )
+    mission_timeout_s: float = Field(
+        3.0, gt=0, le=60, description="mission upload abandoned after this long without an item, s"
+    )
     max_mission_items: int = Field(200, ge=2, le=10000, description="largest mission accepted (items)")
-    peer_timeout_s: float = Field(10.0, gt=0, le=3600,
-                                  description="a GCS address silent for this long gets no more telemetry, s")
+    peer_timeout_s: float = Field(
+        10.0, gt=0, le=3600, description="a GCS address silent for this long gets no more telemetry, s"
+    )

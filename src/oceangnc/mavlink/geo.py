@@ -24,7 +24,7 @@ def radii(lat0_deg: float) -> tuple[float, float]:
     """(R_M, R_N): meridian and prime-vertical radii of curvature at ``lat0_deg`` (m)."""
     s = math.sin(math.radians(lat0_deg))
     w = 1.0 - E2_WGS84 * s * s
-    return A_WGS84 * (1.0 - E2_WGS84) / w ** 1.5, A_WGS84 / math.sqrt(w)
+    return A_WGS84 * (1.0 - E2_WGS84) / w**1.5, A_WGS84 / math.sqrt(w)
 
 
 def ned_to_latlon(n: float, e: float, lat0_deg: float, lon0_deg: float) -> tuple[float, float]:

@@ -30,35 +30,59 @@ STICK_MODES = (MANUAL, ACRO)
 #: telemetry the vehicle sends: message -> (rate Hz, content). Rates are ArduPilot's SRx_* defaults
 #: for a telemetry link (SR_EXT_STAT 2, SR_POSITION 3..10, SR_EXTRA1 4..10, SR_EXTRA2 4).
 TELEMETRY = {
-    "HEARTBEAT": (1.0, ("type SURFACE_BOAT (USV, system 1) / SUBMARINE (UUV, system 2), ArduPilot autopilot, "
-                       "armed flag, Rover custom_mode, system_status (STANDBY / ACTIVE / CRITICAL in failsafe / "
-                       "EMERGENCY after an e-stop)")),
-    "SYS_STATUS": (1.0, ("sensors present/enabled/healthy (GPS, AHRS, motors), comm drop rate = malformed share, "
-                        "errors_count1 malformed, _count2 unknown, _count3 out of range")),
-    "GPS_RAW_INT": (5.0, ("GPS fix (the scenario's gps.x/gps.y if it has a GPS, else the true position): lat, "
-                         "lon, alt, fix_type 3 (0 in an outage), ground speed and course")),
-    "GLOBAL_POSITION_INT": (10.0, ("true position as lat/lon about the origin, alt (UUV: origin alt - depth), "
-                                  "relative_alt (UUV: -depth), NED velocity, heading")),
+    "HEARTBEAT": (
+        1.0,
+        (
+            "type SURFACE_BOAT (USV, system 1) / SUBMARINE (UUV, system 2), ArduPilot autopilot, "
+            "armed flag, Rover custom_mode, system_status (STANDBY / ACTIVE / CRITICAL in failsafe / "
+            "EMERGENCY after an e-stop)"
+        ),
+    ),
+    "SYS_STATUS": (
+        1.0,
+        (
+            "sensors present/enabled/healthy (GPS, AHRS, motors), comm drop rate = malformed share, "
+            "errors_count1 malformed, _count2 unknown, _count3 out of range"
+        ),
+    ),
+    "GPS_RAW_INT": (
+        5.0,
+        (
+            "GPS fix (the scenario's gps.x/gps.y if it has a GPS, else the true position): lat, "
+            "lon, alt, fix_type 3 (0 in an outage), ground speed and course"
+        ),
+    ),
+    "GLOBAL_POSITION_INT": (
+        10.0,
+        (
+            "true position as lat/lon about the origin, alt (UUV: origin alt - depth), "
+            "relative_alt (UUV: -depth), NED velocity, heading"
+        ),
+    ),
     "ATTITUDE": (10.0, "roll, pitch, yaw (rad), body rates (rad/s)"),
     "VFR_HUD": (4.0, "ground speed, heading (deg), throttle % (mean thruster command / max), alt, climb"),
-    "NAMED_VALUE_FLOAT": (2.0, ("cable_T: cable top tension (N); uuv_depth: UUV depth (m); rx_bad: "
-                               "malformed packets")),
+    "NAMED_VALUE_FLOAT": (2.0, ("cable_T: cable top tension (N); uuv_depth: UUV depth (m); rx_bad: malformed packets")),
     "MISSION_CURRENT": (1.0, "mission item being flown (seq)"),
-    "SERVO_OUTPUT_RAW": (10.0, ("thruster commands as PWM (skid steer, ArduPilot SERVOn_FUNCTION 73/74): servo1 "
-                               "port, servo3 starboard, 1500 us stop, +-400 us full ahead / astern")),
+    "SERVO_OUTPUT_RAW": (
+        10.0,
+        (
+            "thruster commands as PWM (skid steer, ArduPilot SERVOn_FUNCTION 73/74): servo1 "
+            "port, servo3 starboard, 1500 us stop, +-400 us full ahead / astern"
+        ),
+    ),
 }
 #: messages the vehicle reacts to
 ACCEPTED = {
     "HEARTBEAT": "keeps the GCS link alive (failsafe watchdog)",
     "COMMAND_LONG": "MAV_CMD_COMPONENT_ARM_DISARM (400), MAV_CMD_DO_SET_MODE (176), MAV_CMD_DO_FLIGHTTERMINATION "
-                    "(185: e-stop, param1 1 engage / 0 reset), MAV_CMD_DO_SET_MISSION_CURRENT (224), "
-                    "MAV_CMD_MISSION_START (300: AUTO from item param1), "
-                    "MAV_CMD_REQUEST_MESSAGE (512, AUTOPILOT_VERSION / HOME_POSITION), others: "
-                    "COMMAND_ACK UNSUPPORTED",
+    "(185: e-stop, param1 1 engage / 0 reset), MAV_CMD_DO_SET_MISSION_CURRENT (224), "
+    "MAV_CMD_MISSION_START (300: AUTO from item param1), "
+    "MAV_CMD_REQUEST_MESSAGE (512, AUTOPILOT_VERSION / HOME_POSITION), others: "
+    "COMMAND_ACK UNSUPPORTED",
     "SET_MODE": "custom_mode = Rover mode number (table above)",
     "MANUAL_CONTROL": "x: surge, r: yaw, each -1000..1000 (INT16_MAX: axis unused)",
     "RC_CHANNELS_OVERRIDE": "chan1 steering, chan3 throttle, PWM 1100..1900 about 1500 (Rover convention); "
-                            "0 / 65535: released",
+    "0 / 65535: released",
     "MISSION_COUNT / MISSION_ITEM_INT / MISSION_ITEM": "mission upload (vehicle requests with MISSION_REQUEST_INT)",
     "MISSION_REQUEST_LIST / MISSION_REQUEST_INT / MISSION_REQUEST": "mission download",
     "MISSION_CLEAR_ALL, MISSION_SET_CURRENT, MISSION_ACK": "mission management",

@@ -78,7 +78,7 @@ def parse_endpoint(text: str) -> tuple[str, int]:
     s = text.strip()
     for pre in ("udpin:", "udp:", "udpout:"):
         if s.startswith(pre):
-            s = s[len(pre):]
+            s = s[len(pre) :]
             break
     host, _, port = s.rpartition(":")
     try:
@@ -260,12 +260,23 @@ class MavlinkVehicle:
         End the run after this much simulated time (None: until stopped).
     """
 
-    def __init__(self, scenario: str | None = None, overrides: dict | None = None,
-                 mav: MavlinkConfig | dict | None = None, listen: str = "udp:127.0.0.1:14550",
-                 gcs: list[str] | None = None, speed: float = 1.0, out_root: str | Path | None = "runs",
-                 duration: float | None = None, loop_hz: float = 100.0, max_lag: float = 0.5,
-                 clock=time.monotonic, verbose: bool = False, tlog: str | Path | None = None,
-                 tlog_epoch: float = 1.7e9):
+    def __init__(
+        self,
+        scenario: str | None = None,
+        overrides: dict | None = None,
+        mav: MavlinkConfig | dict | None = None,
+        listen: str = "udp:127.0.0.1:14550",
+        gcs: list[str] | None = None,
+        speed: float = 1.0,
+        out_root: str | Path | None = "runs",
+        duration: float | None = None,
+        loop_hz: float = 100.0,
+        max_lag: float = 0.5,
+        clock=time.monotonic,
+        verbose: bool = False,
+        tlog: str | Path | None = None,
+        tlog_epoch: float = 1.7e9,
+    ):
         from ..api import new_run_dir, resolve_config
         from ..io.config import dump_toml, validate
 
@@ -282,8 +293,9 @@ class MavlinkVehicle:
         fixed = [parse_endpoint(g) for g in (gcs or [])]
         sc, cfg = resolve_config(scenario or "usv-remote", overrides=overrides)
         if not builds_live(sc):
-            raise InputError(f"scenario {sc.name} has no live simulation; live scenarios: "
-                             f"{', '.join(live_scenarios())}")
+            raise InputError(
+                f"scenario {sc.name} has no live simulation; live scenarios: {', '.join(live_scenarios())}"
+            )
         self.scenario, self.cfg = sc, cfg
         self.sim = sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
         _gate_pilots(sim)
@@ -298,8 +310,15 @@ class MavlinkVehicle:
         self.stick = (0.0, 0.0)
         self.t_gcs = -math.inf  # wall time of the last message from a ground station
         self.gcs_sysid: int | None = None
-        self.counts = {"rx_packets": 0, "rx_bad": 0, "rx_unknown": 0, "rx_out_of_range": 0, "rx_ignored": 0,
-                       "tx_packets": 0, "tx_errors": 0}
+        self.counts = {
+            "rx_packets": 0,
+            "rx_bad": 0,
+            "rx_unknown": 0,
+            "rx_out_of_range": 0,
+            "rx_ignored": 0,
+            "tx_packets": 0,
+            "tx_errors": 0,
+        }
         self.events: list[tuple[float, str]] = []
         self.reached: list[int] = []  # mission seqs reported reached, in order
         self.ended = False
@@ -354,17 +373,30 @@ class MavlinkVehicle:
         self._push_bus()
         sim.run(0.0, log=self.writer)
         self._anchor = (self.clock(), sim.t)
-        self.event(f"vehicle up: scenario {sc.name}, system {c.system_id}"
-                   + (f" + UUV system {c.uuv_system_id}" if self.has_uuv else "")
-                   + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD")
+        self.event(
+            f"vehicle up: scenario {sc.name}, system {c.system_id}"
+            + (f" + UUV system {c.uuv_system_id}" if self.has_uuv else "")
+            + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD"
+        )
 
     # -- mission store -------------------------------------------------------------------------------
     def _item(self, seq: int, n: float, e: float, command: int = M.MAV_CMD_NAV_WAYPOINT, alt: float = 0.0) -> dict:
         c = self.cfg_mav
         lat, lon = ned_to_latlon(n, e, c.origin_lat_deg, c.origin_lon_deg)
-        return {"seq": seq, "frame": M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
-                "command": command, "current": 0, "autocontinue": 1, "p1": 0.0, "p2": 0.0, "p3": 0.0, "p4": 0.0,
-                "lat": lat, "lon": lon, "alt": alt}
+        return {
+            "seq": seq,
+            "frame": M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
+            "command": command,
+            "current": 0,
+            "autocontinue": 1,
+            "p1": 0.0,
+            "p2": 0.0,
+            "p3": 0.0,
+            "p4": 0.0,
+            "lat": lat,
+            "lon": lon,
+            "alt": alt,
+        }
 
     def _set_initial_mission(self) -> None:
         pts = self.route.initial_route(self.cfg) if self.route.available else []
@@ -375,7 +407,7 @@ class MavlinkVehicle:
     def _nav_points(self, start: int) -> tuple[list[tuple[float, float]], list[int]]:
         c = self.cfg_mav
         pts, seqs = [], []
-        for it in self.mission[max(1, start):]:
+        for it in self.mission[max(1, start) :]:
             if it["command"] == M.MAV_CMD_NAV_WAYPOINT:
                 pts.append(latlon_to_ned(it["lat"], it["lon"], c.origin_lat_deg, c.origin_lon_deg))
                 seqs.append(it["seq"])
@@ -480,8 +512,7 @@ class MavlinkVehicle:
             if m.type in _GCS_TYPES or m.get_srcSystem() not in (self.cfg_mav.system_id, self.cfg_mav.uuv_system_id):
                 self._link_alive(m)
             return
-        if kind in ("RADIO_STATUS", "TIMESYNC", "SYSTEM_TIME", "REQUEST_DATA_STREAM", "MISSION_ACK",
-                    "GCS_HEARTBEAT"):
+        if kind in ("RADIO_STATUS", "TIMESYNC", "SYSTEM_TIME", "REQUEST_DATA_STREAM", "MISSION_ACK", "GCS_HEARTBEAT"):
             self._link_alive(m)
             if kind == "MISSION_ACK":
                 pass
@@ -583,8 +614,10 @@ class MavlinkVehicle:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1
                 self._start_mission()
-            self.event(f"Mode {mode_name(num)}" + ("" if num != AUTO or self.route.available else
-                                                   ": the scenario's own guidance (no mission upload)"))
+            self.event(
+                f"Mode {mode_name(num)}"
+                + ("" if num != AUTO or self.route.available else ": the scenario's own guidance (no mission upload)")
+            )
         return M.MAV_RESULT_ACCEPTED
 
     def _estop(self, engage: bool) -> int:
@@ -641,8 +674,11 @@ class MavlinkVehicle:
             self._send(self.mav.param_value_encode(k.encode(), params[k], M.MAV_PARAM_TYPE_REAL32, len(names), idx))
 
     def _params(self) -> dict[str, float]:
-        return {"FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s), "SYSID_THISMAV": float(self.cfg_mav.system_id),
-                "SIM_SPEEDUP": float(self.speed)}
+        return {
+            "FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s),
+            "SYSID_THISMAV": float(self.cfg_mav.system_id),
+            "SIM_SPEEDUP": float(self.speed),
+        }
 
     # -- mission protocol --------------------------------------------------------------------------------
     def _mission_ack(self, result: int, mission_type: int = 0) -> None:
@@ -665,8 +701,14 @@ class MavlinkVehicle:
             self._mission_ack(M.MAV_MISSION_ACCEPTED)
             self.event("Mission cleared")
             return
-        self._upload = {"count": int(m.count), "items": [], "t": self.clock(), "tries": 0,
-                        "sys": m.get_srcSystem(), "comp": m.get_srcComponent()}
+        self._upload = {
+            "count": int(m.count),
+            "items": [],
+            "t": self.clock(),
+            "tries": 0,
+            "sys": m.get_srcSystem(),
+            "comp": m.get_srcComponent(),
+        }
         self._request_item()
 
     def _request_item(self) -> None:
@@ -691,9 +733,22 @@ class MavlinkVehicle:
             self._upload = None
             self._mission_ack(M.MAV_MISSION_INVALID_PARAM5 if abs(lat) > 90 else M.MAV_MISSION_INVALID_PARAM6)
             return
-        u["items"].append({"seq": m.seq, "frame": m.frame, "command": m.command, "current": m.current,
-                           "autocontinue": m.autocontinue, "p1": m.param1, "p2": m.param2, "p3": m.param3,
-                           "p4": m.param4, "lat": lat, "lon": lon, "alt": float(m.z)})
+        u["items"].append(
+            {
+                "seq": m.seq,
+                "frame": m.frame,
+                "command": m.command,
+                "current": m.current,
+                "autocontinue": m.autocontinue,
+                "p1": m.param1,
+                "p2": m.param2,
+                "p3": m.param3,
+                "p4": m.param4,
+                "lat": lat,
+                "lon": lon,
+                "alt": float(m.z),
+            }
+        )
         u["t"] = self.clock()
         u["tries"] = 0
         if len(u["items"]) < u["count"]:
@@ -724,11 +779,23 @@ class MavlinkVehicle:
             return
         it = self.mission[m.seq]
         cur = 1 if it["seq"] == self.mission_current else 0
-        args = (m.get_srcSystem(), m.get_srcComponent(), it["seq"], it["frame"], it["command"], cur,
-                it["autocontinue"], it["p1"], it["p2"], it["p3"], it["p4"])
+        args = (
+            m.get_srcSystem(),
+            m.get_srcComponent(),
+            it["seq"],
+            it["frame"],
+            it["command"],
+            cur,
+            it["autocontinue"],
+            it["p1"],
+            it["p2"],
+            it["p3"],
+            it["p4"],
+        )
         if as_int:
-            self._send(self.mav.mission_item_int_encode(*args, round(it["lat"] * 1e7),
-                                                        round(it["lon"] * 1e7), it["alt"], 0))
+            self._send(
+                self.mav.mission_item_int_encode(*args, round(it["lat"] * 1e7), round(it["lon"] * 1e7), it["alt"], 0)
+            )
         else:
             self._send(self.mav.mission_item_encode(*args, it["lat"], it["lon"], it["alt"], 0))
 
@@ -780,8 +847,7 @@ class MavlinkVehicle:
             self.reached.append(seq)
             self._send(self.mav.mission_item_reached_encode(seq))
             self.event(f"Reached waypoint #{seq}")
-            self.mission_current = self._route_seqs[self._progress] if self._progress < len(self._route_seqs) \
-                else seq
+            self.mission_current = self._route_seqs[self._progress] if self._progress < len(self._route_seqs) else seq
             self._send(self.mav.mission_current_encode(self.mission_current))
         if self._progress >= len(self._route_seqs):
             self._route_seqs = []
@@ -801,12 +867,18 @@ class MavlinkVehicle:
         # thrust zero while disarmed or e-stopped, and in HOLD when the scenario cannot take a zero stick
         stop = (not self.armed) or self.estop or (self.mode == HOLD and not self.reads_stick)
         stick = self.stick if self.mode in STICK_MODES else (0.0, 0.0)
-        vals = {"console.mode": "auto" if self.mode == AUTO else "remote",
-                "console.loop": "open" if self.mode == MANUAL else "closed",
-                "joystick.surge": float(stick[0]), "joystick.yaw": float(stick[1]), "_estop": bool(stop),
-                "console.failsafe": float(self.failsafe), "console.estop": float(self.estop),
-                "mavlink.armed": float(self.armed), "mavlink.mode": float(self.mode),
-                "mavlink.mission_current": float(self.mission_current)}
+        vals = {
+            "console.mode": "auto" if self.mode == AUTO else "remote",
+            "console.loop": "open" if self.mode == MANUAL else "closed",
+            "joystick.surge": float(stick[0]),
+            "joystick.yaw": float(stick[1]),
+            "_estop": bool(stop),
+            "console.failsafe": float(self.failsafe),
+            "console.estop": float(self.estop),
+            "mavlink.armed": float(self.armed),
+            "mavlink.mode": float(self.mode),
+            "mavlink.mission_current": float(self.mission_current),
+        }
         vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if not k.startswith("tx_")})
         self.sim.inject(vals)
 
@@ -882,20 +954,38 @@ class MavlinkVehicle:
         else:
             status = M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY
         typ = M.MAV_TYPE_SUBMARINE if uuv else M.MAV_TYPE_SURFACE_BOAT
-        self._send((self.mav_uuv if uuv else self.mav).heartbeat_encode(
-            typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, self.mode, status), uuv=uuv)
+        self._send(
+            (self.mav_uuv if uuv else self.mav).heartbeat_encode(
+                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, self.mode, status
+            ),
+            uuv=uuv,
+        )
 
     def _body(self, name: str) -> dict:
         b = self.sim.bus
+
         def g(k, d=0.0):
             return float(b.get(f"{name}.{k}", d))
+
         x, y, z = g("x"), g("y"), g("z")
         psi, u, v, w = g("psi"), g("u"), g("v"), g("w")
         vn = u * math.cos(psi) - v * math.sin(psi)
         ve = u * math.sin(psi) + v * math.cos(psi)
-        return {"x": x, "y": y, "z": z, "psi": psi, "phi": g("phi"), "theta": g("theta"), "p": g("p"),
-                "q": g("q"), "r": g("r"), "vn": vn, "ve": ve, "vd": w if name == "uuv" else 0.0,
-                "speed": math.hypot(vn, ve)}
+        return {
+            "x": x,
+            "y": y,
+            "z": z,
+            "psi": psi,
+            "phi": g("phi"),
+            "theta": g("theta"),
+            "p": g("p"),
+            "q": g("q"),
+            "r": g("r"),
+            "vn": vn,
+            "ve": ve,
+            "vd": w if name == "uuv" else 0.0,
+            "speed": math.hypot(vn, ve),
+        }
 
     def _global_position(self, s: dict, uuv: bool) -> None:
         c = self.cfg_mav
@@ -903,16 +993,33 @@ class MavlinkVehicle:
         depth = s["z"] if uuv else 0.0
         hdg = round(math.degrees(s["psi"]) % 360.0 * 100) % 36000
         tms = int(self.sim.t * 1000) & 0xFFFFFFFF
+
         def cl(v):
             return int(max(-32767, min(32767, round(v * 100))))
-        self._send((self.mav_uuv if uuv else self.mav).global_position_int_encode(
-            tms, round(lat * 1e7), round(lon * 1e7), round((c.origin_alt_m - depth) * 1000),
-            round(-depth * 1000), cl(s["vn"]), cl(s["ve"]), cl(s["vd"]), hdg), uuv=uuv)
+
+        self._send(
+            (self.mav_uuv if uuv else self.mav).global_position_int_encode(
+                tms,
+                round(lat * 1e7),
+                round(lon * 1e7),
+                round((c.origin_alt_m - depth) * 1000),
+                round(-depth * 1000),
+                cl(s["vn"]),
+                cl(s["ve"]),
+                cl(s["vd"]),
+                hdg,
+            ),
+            uuv=uuv,
+        )
 
     def _attitude(self, s: dict, uuv: bool) -> None:
         psi = math.atan2(math.sin(s["psi"]), math.cos(s["psi"]))
-        self._send((self.mav_uuv if uuv else self.mav).attitude_encode(
-            int(self.sim.t * 1000) & 0xFFFFFFFF, s["phi"], s["theta"], psi, s["p"], s["q"], s["r"]), uuv=uuv)
+        self._send(
+            (self.mav_uuv if uuv else self.mav).attitude_encode(
+                int(self.sim.t * 1000) & 0xFFFFFFFF, s["phi"], s["theta"], psi, s["p"], s["q"], s["r"]
+            ),
+            uuv=uuv,
+        )
 
     def _throttle(self) -> int:
         b = self.sim.bus
@@ -945,26 +1052,54 @@ class MavlinkVehicle:
             if uuv is not None:
                 self._heartbeat(uuv=True)
         if self._due("SYS_STATUS", now):
-            sensors = M.MAV_SYS_STATUS_SENSOR_GPS | M.MAV_SYS_STATUS_SENSOR_3D_GYRO | \
-                M.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
+            sensors = (
+                M.MAV_SYS_STATUS_SENSOR_GPS | M.MAV_SYS_STATUS_SENSOR_3D_GYRO | M.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
+            )
             gps_ok = float(self.sim.bus.get("gps.valid", 1.0)) > 0.5
             healthy = sensors if gps_ok else sensors & ~M.MAV_SYS_STATUS_SENSOR_GPS
             n = max(1, self.counts["rx_packets"])
             drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
+
             def cap(v):
                 return min(65535, int(v))
-            self._send(self.mav.sys_status_encode(sensors, sensors, healthy, 0, 0, -1, -1, drop, 0,
-                                                  cap(self.counts["rx_bad"]), cap(self.counts["rx_unknown"]),
-                                                  cap(self.counts["rx_out_of_range"]), 0))
+
+            self._send(
+                self.mav.sys_status_encode(
+                    sensors,
+                    sensors,
+                    healthy,
+                    0,
+                    0,
+                    -1,
+                    -1,
+                    drop,
+                    0,
+                    cap(self.counts["rx_bad"]),
+                    cap(self.counts["rx_unknown"]),
+                    cap(self.counts["rx_out_of_range"]),
+                    0,
+                )
+            )
         if self._due("GPS_RAW_INT", now):
             b = self.sim.bus
             gx, gy = float(b.get("gps.x", usv["x"])), float(b.get("gps.y", usv["y"]))
             lat, lon = ned_to_latlon(gx, gy, c.origin_lat_deg, c.origin_lon_deg)
             fix = 3 if float(b.get("gps.valid", 1.0)) > 0.5 else 0
             cog = round(math.degrees(math.atan2(usv["ve"], usv["vn"])) % 360.0 * 100) % 36000
-            self._send(self.mav.gps_raw_int_encode(int(self.sim.t * 1e6), fix, round(lat * 1e7),
-                                                   round(lon * 1e7), round(c.origin_alt_m * 1000), 100,
-                                                   100, round(usv["speed"] * 100), cog, 12))
+            self._send(
+                self.mav.gps_raw_int_encode(
+                    int(self.sim.t * 1e6),
+                    fix,
+                    round(lat * 1e7),
+                    round(lon * 1e7),
+                    round(c.origin_alt_m * 1000),
+                    100,
+                    100,
+                    round(usv["speed"] * 100),
+                    cog,
+                    12,
+                )
+            )
         if self._due("GLOBAL_POSITION_INT", now):
             self._global_position(usv, False)
             if uuv is not None:
@@ -977,9 +1112,17 @@ class MavlinkVehicle:
             hdg = round(math.degrees(usv["psi"])) % 360
             self._send(self.mav.vfr_hud_encode(usv["speed"], usv["speed"], hdg, self._throttle(), c.origin_alt_m, 0.0))
             if uuv is not None:
-                self._send(self.mav_uuv.vfr_hud_encode(uuv["speed"], uuv["speed"],
-                                                       round(math.degrees(uuv["psi"])) % 360, 0,
-                                                       c.origin_alt_m - uuv["z"], -uuv["vd"]), uuv=True)
+                self._send(
+                    self.mav_uuv.vfr_hud_encode(
+                        uuv["speed"],
+                        uuv["speed"],
+                        round(math.degrees(uuv["psi"])) % 360,
+                        0,
+                        c.origin_alt_m - uuv["z"],
+                        -uuv["vd"],
+                    ),
+                    uuv=True,
+                )
         if self._due("NAMED_VALUE_FLOAT", now):
             tms = int(self.sim.t * 1000) & 0xFFFFFFFF
             b = self.sim.bus
@@ -989,21 +1132,38 @@ class MavlinkVehicle:
                 self._send(self.mav.named_value_float_encode(tms, b"uuv_depth", uuv["z"]))
             self._send(self.mav.named_value_float_encode(tms, b"rx_bad", float(self.counts["rx_bad"])))
         if self._due("SERVO_OUTPUT_RAW", now):
-            self._send(self.mav.servo_output_raw_encode(int(self.sim.t * 1e6) & 0xFFFFFFFF, 0, self._pwm("port"),
-                                                        1500, self._pwm("stbd"), 1500, 0, 0, 0, 0))
+            self._send(
+                self.mav.servo_output_raw_encode(
+                    int(self.sim.t * 1e6) & 0xFFFFFFFF, 0, self._pwm("port"), 1500, self._pwm("stbd"), 1500, 0, 0, 0, 0
+                )
+            )
         if self._due("MISSION_CURRENT", now):
             self._send(self.mav.mission_current_encode(min(self.mission_current, max(0, len(self.mission) - 1))))
 
     def _send_autopilot_version(self) -> None:
-        caps = M.MAV_PROTOCOL_CAPABILITY_MISSION_INT | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2 | \
-            M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+        caps = (
+            M.MAV_PROTOCOL_CAPABILITY_MISSION_INT
+            | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            | M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+        )
         self._send(self.mav.autopilot_version_encode(caps, 0, 0, 0, 0, [0] * 8, [0] * 8, [0] * 8, 0, 0, 0))
 
     def _send_home(self) -> None:
         c = self.cfg_mav
-        self._send(self.mav.home_position_encode(round(c.origin_lat_deg * 1e7), round(c.origin_lon_deg * 1e7),
-                                                 round(c.origin_alt_m * 1000), 0.0, 0.0, 0.0, [1, 0, 0, 0],
-                                                 0.0, 0.0, 0.0))
+        self._send(
+            self.mav.home_position_encode(
+                round(c.origin_lat_deg * 1e7),
+                round(c.origin_lon_deg * 1e7),
+                round(c.origin_alt_m * 1000),
+                0.0,
+                0.0,
+                0.0,
+                [1, 0, 0, 0],
+                0.0,
+                0.0,
+                0.0,
+            )
+        )
 
     # -- running ---------------------------------------------------------------------------------------
     def _loop(self) -> None:
@@ -1056,10 +1216,16 @@ class MavlinkVehicle:
             if self.writer is None or self.run_dir is None:
                 return
             self.writer.close()
-            summary = {"scenario": self.scenario.name, "source": "mavlink", "duration_s": float(self.sim.t),
-                       "armed_at_end": self.armed, "mode_at_end": mode_name(self.mode),
-                       "waypoints_reached": list(self.reached), **{f"mavlink.{k}": v for k, v in self.counts.items()},
-                       "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]]}
+            summary = {
+                "scenario": self.scenario.name,
+                "source": "mavlink",
+                "duration_s": float(self.sim.t),
+                "armed_at_end": self.armed,
+                "mode_at_end": mode_name(self.mode),
+                "waypoints_reached": list(self.reached),
+                **{f"mavlink.{k}": v for k, v in self.counts.items()},
+                "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]],
+            }
             if self.error:
                 summary["error"] = self.error
             (self.run_dir / "summary.json").write_text(json.dumps(summary, indent=2))

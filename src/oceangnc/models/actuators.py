@@ -30,8 +30,16 @@ USV_V_MIN, USV_V_MAX = 0.05, 4.68  # V, DAC range
 USV_DEAD_LO, USV_DEAD_HI = 1.6, 3.2  # V, dead zone
 USV_T_REV_KGF, USV_T_FWD_KGF = -13.83, 29.12  # kgf at the ends of the range
 USV_RATED_KGF = 36.2  # Minn Kota rated thrust, kgf
-USV_V_REV_FULL = float(min((r.real for r in np.roots(np.polyder(USV_POLY_KGF)) if abs(r.imag) < 1e-12
-                           and USV_V_MIN <= r.real <= USV_DEAD_LO), default=USV_V_MIN))  # 0.0629 V
+USV_V_REV_FULL = float(
+    min(
+        (
+            r.real
+            for r in np.roots(np.polyder(USV_POLY_KGF))
+            if abs(r.imag) < 1e-12 and USV_V_MIN <= r.real <= USV_DEAD_LO
+        ),
+        default=USV_V_MIN,
+    )
+)  # 0.0629 V
 
 UUV_POLY_N = np.array([0.002, 0.03, 0.356, 0.47, 0.782, 0.0])  # N vs V, highest power first
 UUV_T_FWD_N = 7.7 * KGF

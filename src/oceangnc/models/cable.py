@@ -58,35 +58,50 @@ from ..units import G, RHO_WATER
 class CableConfig(StrictModel):
     """Cable parameters (003 table 2-6) and its attachment points."""
 
-    segments: int | None = Field(None, ge=1, le=1000,
-                                 description="number of segments n (003 ch. 4: 20); default from the length: "
-                                             "max(20, ceil(L / 2 m)), or from cable.segment_length, -")
-    segment_length: float | None = Field(None, gt=0, le=1e3,
-                                         description="nominal segment length, alternative to cable.segments: "
-                                                     "n = max(1, round(L / segment_length)), m")
+    segments: int | None = Field(
+        None,
+        ge=1,
+        le=1000,
+        description="number of segments n (003 ch. 4: 20); default from the length: "
+        "max(20, ceil(L / 2 m)), or from cable.segment_length, -",
+    )
+    segment_length: float | None = Field(
+        None,
+        gt=0,
+        le=1e3,
+        description="nominal segment length, alternative to cable.segments: n = max(1, round(L / segment_length)), m",
+    )
     length: float = Field(3.0, gt=0, le=1e4, description="unstretched length L (003 table 2-6), m")
     diameter: float = Field(0.025, gt=0, le=1.0, description="diameter d_c (003 table 2-6), m")
     density: float = Field(3121.0, gt=0, le=2e4, description="cable density rho_c (003 table 2-6), kg/m3")
     cd: float = Field(2.5, ge=0, le=10, description="drag coefficient C_d (003 table 2-6), -")
     drag_law: Literal["loading-functions", "normal-tangential"] = Field(
-        "loading-functions", description="loading-functions: 003 eq. 2.24-2.25 with C_d; normal-tangential: "
-                                         "1/2 rho C_dn d |V_n| V_n + 1/2 rho C_dt pi d |v_t| v_t per unit length")
-    cd_normal: float | None = Field(None, ge=0, le=10,
-                                    description="normal drag coefficient C_dn (normal-tangential law; "
-                                                "default: cable.cd), -")
-    cd_tangential: float | None = Field(None, ge=0, le=1,
-                                        description="tangential drag coefficient C_dt on the wetted perimeter pi d "
-                                                    "(normal-tangential law; default 0.02 C_d / pi, eq. 2.25's "
-                                                    "f_q(0)), -")
+        "loading-functions",
+        description="loading-functions: 003 eq. 2.24-2.25 with C_d; normal-tangential: "
+        "1/2 rho C_dn d |V_n| V_n + 1/2 rho C_dt pi d |v_t| v_t per unit length",
+    )
+    cd_normal: float | None = Field(
+        None, ge=0, le=10, description="normal drag coefficient C_dn (normal-tangential law; default: cable.cd), -"
+    )
+    cd_tangential: float | None = Field(
+        None,
+        ge=0,
+        le=1,
+        description="tangential drag coefficient C_dt on the wetted perimeter pi d "
+        "(normal-tangential law; default 0.02 C_d / pi, eq. 2.25's "
+        "f_q(0)), -",
+    )
     damping: float = Field(100.0, ge=0, le=1e6, description="axial damping coefficient C_v (003 eq. 2.23), N s/m")
-    E: float = Field(7.5e6, gt=0, le=1e12,
-                     description="effective modulus of elasticity (003 table 2-6, read as E in Pa), Pa")
-    added_mass_coeff: float = Field(1.0, ge=0, le=5,
-                                    description="normal added-mass coefficient C_a (003 eq. 2.27), -")
+    E: float = Field(
+        7.5e6, gt=0, le=1e12, description="effective modulus of elasticity (003 table 2-6, read as E in Pa), Pa"
+    )
+    added_mass_coeff: float = Field(1.0, ge=0, le=5, description="normal added-mass coefficient C_a (003 eq. 2.27), -")
     integrator: Literal["rk4", "rk4-split", "imex"] = Field(
-        "rk4-split", description="rk4-split: axial damping implicit, the rest RK4 (Strang split, 2.2x larger "
-                                 "stable step); rk4: classical RK4 on everything; imex: ROS2 W-method with the "
-                                 "axial stiffness and damping implicit (no axial step limit, O(n) solve)")
+        "rk4-split",
+        description="rk4-split: axial damping implicit, the rest RK4 (Strang split, 2.2x larger "
+        "stable step); rk4: classical RK4 on everything; imex: ROS2 W-method with the "
+        "axial stiffness and damping implicit (no axial step limit, O(n) solve)",
+    )
     drag_on: bool = Field(True, description="hydrodynamic drag on the cable (off only for energy checks)")
     rho_water: float = Field(RHO_WATER, gt=900, le=1100, description="water density, kg/m3")
     top_x: float = Field(0.0, ge=-50, le=50, description="USV attachment point, body x (forward of the CG), m")
@@ -104,8 +119,10 @@ class CableConfig(StrictModel):
                 raise ConfigError("cable.segments and cable.segment_length are alternatives: set only one")
             n = max(1, int(round(self.length / self.segment_length)))
             if n > 1000:
-                raise ConfigError(f"cable.segment_length = {self.segment_length:g}: gives {n} segments for "
-                                  f"{self.length:g} m; allowed range: at most 1000 segments")
+                raise ConfigError(
+                    f"cable.segment_length = {self.segment_length:g}: gives {n} segments for "
+                    f"{self.length:g} m; allowed range: at most 1000 segments"
+                )
             self.__dict__["segments"] = n
         elif self.segments is None:
             self.__dict__["segments"] = max(20, math.ceil(self.length / 2.0 - 1e-9))
@@ -124,7 +141,7 @@ class CableConfig(StrictModel):
     @property
     def area(self) -> float:
         """Cross-section A = pi d^2 / 4 (m2)."""
-        return math.pi * self.diameter ** 2 / 4.0
+        return math.pi * self.diameter**2 / 4.0
 
     @property
     def EA(self) -> float:
@@ -178,8 +195,19 @@ def atan_ratio(y, x):
         a = x / y
         flip = True
     a2 = a * a
-    r = a * (0.9999993329 + a2 * (-0.3332985605 + a2 * (0.1994653599 + a2 * (-0.1390853351 + a2 * (
-        0.0964200441 + a2 * (-0.0559098861 + a2 * (0.0218612288 - 0.0040540580 * a2)))))))
+    r = a * (
+        0.9999993329
+        + a2
+        * (
+            -0.3332985605
+            + a2
+            * (
+                0.1994653599
+                + a2
+                * (-0.1390853351 + a2 * (0.0964200441 + a2 * (-0.0559098861 + a2 * (0.0218612288 - 0.0040540580 * a2))))
+            )
+        )
+    )
     return 0.5 * math.pi - r if flip else r
 
 
@@ -192,8 +220,27 @@ def _loading(c, s, eta):
 
 
 @njit(cache=True)
-def cable_loads(pos, vel, F, Mn, n, l0, ea, cv, m_c, m_a, w_seg, kdrag, vcn, vce, cv_last=-1.0, law=0,
-                kdt=0.0, l0_top=-1.0, ldot_top=0.0):
+def cable_loads(
+    pos,
+    vel,
+    F,
+    Mn,
+    n,
+    l0,
+    ea,
+    cv,
+    m_c,
+    m_a,
+    w_seg,
+    kdrag,
+    vcn,
+    vce,
+    cv_last=-1.0,
+    law=0,
+    kdt=0.0,
+    l0_top=-1.0,
+    ldot_top=0.0,
+):
     """Accumulate node forces ``F`` (3(n+1)) and node mass matrices ``Mn`` (6(n+1): xx xy xz yy yz zz).
 
     ``pos``, ``vel``: node positions and velocities (3(n+1), NED, node 0 on top). Loads of each segment
@@ -325,16 +372,18 @@ def solve_sym3(M, c, fx, fy, fz):
     c22 = a * e - b * b
     det = a * c00 + b * c01 + d * c02
     inv = 1.0 / det
-    return ((c00 * fx + c01 * fy + c02 * fz) * inv, (c01 * fx + c11 * fy + c12 * fz) * inv,
-            (c02 * fx + c12 * fy + c22 * fz) * inv)
+    return (
+        (c00 * fx + c01 * fy + c02 * fz) * inv,
+        (c01 * fx + c11 * fy + c12 * fz) * inv,
+        (c02 * fx + c12 * fy + c22 * fz) * inv,
+    )
 
 
 def _rk4_amplification(z):
-    return np.abs(1 + z + z * z / 2 + z ** 3 / 6 + z ** 4 / 24)
+    return np.abs(1 + z + z * z / 2 + z**3 / 6 + z**4 / 24)
 
 
-def axial_eigenvalues(cfg: CableConfig, end_mass: float | None = None, last_damper_only: bool = False
-                      ) -> np.ndarray:
+def axial_eigenvalues(cfg: CableConfig, end_mass: float | None = None, last_damper_only: bool = False) -> np.ndarray:
     """Eigenvalues (1/s) of the linearised axial chain: top node fixed, nodes 1..n free.
 
     Node masses are m_c (interior) and m_c / 2 + ``end_mass`` at the bottom (the UUV's surge mass;
@@ -382,8 +431,7 @@ def axial_eigenvalues(cfg: CableConfig, end_mass: float | None = None, last_damp
     return np.linalg.eigvals(A)
 
 
-def axial_stability_limit(cfg: CableConfig, end_mass: float | None = None, last_damper_only: bool = False
-                          ) -> float:
+def axial_stability_limit(cfg: CableConfig, end_mass: float | None = None, last_damper_only: bool = False) -> float:
     """Largest classical-RK4 step (s) stable for every axial mode of the lumped-mass chain.
 
     Bisection on h with the RK4 amplification |R(h lambda)| <= 1 for all eigenvalues of

@@ -45,11 +45,31 @@ from .uuv import STATE_NAMES as UUV_STATES
 from .uuv import UUVConfig, uuv_deriv, uuv_energy
 
 INTEGRATORS = ("rk4", "rk4-split", "imex")
-VAR_KEYS = ["cable.length", "cable.nodes", "cable.mass", "winch.speed", "winch.speed_cmd_sat", "winch.cmd_saturated",
-            "winch.rendering", "winch.at_capacity", "winch.tension", "winch.power", "uuv.altitude",
-            "cable.nodes_on_bed"]
-INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n",
-               "env.wind_e", "uuv.thrust_port", "uuv.thrust_stbd", "uuv.thrust_bow")
+VAR_KEYS = [
+    "cable.length",
+    "cable.nodes",
+    "cable.mass",
+    "winch.speed",
+    "winch.speed_cmd_sat",
+    "winch.cmd_saturated",
+    "winch.rendering",
+    "winch.at_capacity",
+    "winch.tension",
+    "winch.power",
+    "uuv.altitude",
+    "cable.nodes_on_bed",
+]
+INPUT_NAMES = (
+    "usv.thrust_port",
+    "usv.thrust_stbd",
+    "env.current_n",
+    "env.current_e",
+    "env.wind_n",
+    "env.wind_e",
+    "uuv.thrust_port",
+    "uuv.thrust_stbd",
+    "uuv.thrust_bow",
+)
 
 # parameter layout: header, USV params, UUV params, scratch
 H_N, H_TOP, H_FIX, H_ATT, H_L0, H_EA, H_CV, H_MC, H_MA, H_WSEG, H_KDRAG = 0, 1, 2, 5, 8, 9, 10, 11, 12, 13, 14
@@ -122,10 +142,10 @@ def _ends(x, p, n, pos, vel):
 def _gather(x, p, n):
     """Node positions/velocities into the scratch part of ``p``; returns the scratch views."""
     m = 3 * (n + 1)
-    pos = p[P_SCR:P_SCR + m]
-    vel = p[P_SCR + m:P_SCR + 2 * m]
-    F = p[P_SCR + 2 * m:P_SCR + 3 * m]
-    Mn = p[P_SCR + 3 * m:P_SCR + 5 * m]
+    pos = p[P_SCR : P_SCR + m]
+    vel = p[P_SCR + m : P_SCR + 2 * m]
+    F = p[P_SCR + 2 * m : P_SCR + 3 * m]
+    Mn = p[P_SCR + 3 * m : P_SCR + 5 * m]
     _ends(x, p, n, pos, vel)
     po = int(p[H_PO])
     vo = int(p[H_VO])
@@ -185,15 +205,34 @@ def _contact(p, x, y, z, vx, vy, vz, radius, mass):
 def combined_rhs(t, x, u, p, out):
     """dx/dt of the combined USV + cable + UUV (layout in the module docstring); allocates nothing."""
     n = int(p[H_N])
-    usv_rhs(t, x[0:6], u[0:6], p[P_USV:P_USV + N_USV], out[0:6])
+    usv_rhs(t, x[0:6], u[0:6], p[P_USV : P_USV + N_USV], out[0:6])
     if p[H_TOP] > 0.5:
         for k in range(6):
             out[k] = 0.0
     pos, vel, F, Mn = _gather(x, p, n)
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    cable_loads(pos, vel, F, Mn, n, p[H_L0], p[H_EA], p[H_CVE], p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG],
-                u[2], u[3], p[H_CV], int(p[H_LAW]), p[H_KDT], lt, ldot)
+    cable_loads(
+        pos,
+        vel,
+        F,
+        Mn,
+        n,
+        p[H_L0],
+        p[H_EA],
+        p[H_CVE],
+        p[H_MC],
+        p[H_MA],
+        p[H_WSEG],
+        p[H_KDRAG],
+        u[2],
+        u[3],
+        p[H_CV],
+        int(p[H_LAW]),
+        p[H_KDT],
+        lt,
+        ldot,
+    )
     po = int(p[H_PO])
     vo = int(p[H_VO])
     bed = p[H_BED] > 0.5
@@ -219,13 +258,11 @@ def combined_rhs(t, x, u, p, out):
     fby = F[b + 1]
     fbz = F[b + 2]
     if bed:  # UUV: a sphere of radius H_BED_R around the CB, force applied at the tow point
-        cx, cy, cz = _contact(p, x[o], x[o + 1], x[o + 2], vel[b], vel[b + 1], vel[b + 2], p[H_BED_R],
-                              p[P_UUV + P_MRB])
+        cx, cy, cz = _contact(p, x[o], x[o + 1], x[o + 2], vel[b], vel[b + 1], vel[b + 2], p[H_BED_R], p[P_UUV + P_MRB])
         fbx += cx
         fby += cy
         fbz += cz
-    uuv_deriv(x[o:o + 12], out[o:o + 12], p[P_UUV:P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3],
-              fbx, fby, fbz)
+    uuv_deriv(x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3], fbx, fby, fbz)
     if p[H_WIN] > 0.5:
         nmax = int(p[H_NMAX])
         for k in range(3 * (n - 1), 3 * (nmax - 1)):  # inactive node slots stay put
@@ -281,15 +318,53 @@ def cable_state(x, p, nodes, ends):
     lt = top_l0(x, p, n)
     law = int(p[H_LAW])
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    cable_loads(pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA], p[H_WSEG],
-                p[H_KDRAG], ends[6], ends[7], -1.0, law, p[H_KDT], lt, ldot)
+    cable_loads(
+        pos[0:6],
+        vel[0:6],
+        F[0:6],
+        Mn[0:12],
+        1,
+        p[H_L0],
+        p[H_EA],
+        p[H_CV],
+        p[H_MC],
+        p[H_MA],
+        p[H_WSEG],
+        p[H_KDRAG],
+        ends[6],
+        ends[7],
+        -1.0,
+        law,
+        p[H_KDT],
+        lt,
+        ldot,
+    )
     for k in range(3):
         ends[k] = F[k]
     b = 3 * (n - 1)
     lb = lt if n == 1 else -1.0
     lbd = ldot if n == 1 else 0.0
-    cable_loads(pos[b:b + 6], vel[b:b + 6], F[0:6], Mn[0:12], 1, p[H_L0], p[H_EA], p[H_CV], p[H_MC], p[H_MA],
-                p[H_WSEG], p[H_KDRAG], ends[6], ends[7], -1.0, law, p[H_KDT], lb, lbd)
+    cable_loads(
+        pos[b : b + 6],
+        vel[b : b + 6],
+        F[0:6],
+        Mn[0:12],
+        1,
+        p[H_L0],
+        p[H_EA],
+        p[H_CV],
+        p[H_MC],
+        p[H_MA],
+        p[H_WSEG],
+        p[H_KDRAG],
+        ends[6],
+        ends[7],
+        -1.0,
+        law,
+        p[H_KDT],
+        lb,
+        lbd,
+    )
     for k in range(3):
         ends[3 + k] = F[3 + k]
 
@@ -297,7 +372,17 @@ def cable_state(x, p, nodes, ends):
 @njit(cache=True)
 def _inv3(a, o, out, q):
     """Inverse of the general 3x3 matrix a[o:o+9] (row-major) into out[q:q+9]."""
-    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a[o], a[o + 1], a[o + 2], a[o + 3], a[o + 4], a[o + 5], a[o + 6], a[o + 7], a[o + 8]
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = (
+        a[o],
+        a[o + 1],
+        a[o + 2],
+        a[o + 3],
+        a[o + 4],
+        a[o + 5],
+        a[o + 6],
+        a[o + 7],
+        a[o + 8],
+    )
     c0 = a4 * a8 - a5 * a7
     c1 = a5 * a6 - a3 * a8
     c2 = a3 * a7 - a4 * a6
@@ -330,10 +415,10 @@ def damping_substep(x, p, h):
     pos, vel, F, Mn = _gather(x, p, n)
     m3 = 3 * (n + 1)
     base = P_SCR + 15 * (n + 1)
-    T = p[base:base + m3]  # tangents of segments 1..n at T[3 i - 3 ...], taut flag folded in (0 vector)
-    D = p[base + m3:base + m3 + 9 * (n + 1)]  # inverted modified diagonal blocks
-    R = p[base + m3 + 9 * (n + 1):base + m3 + 12 * (n + 1)]  # modified right-hand sides
-    W = p[base + m3 + 12 * (n + 1):base + m3 + 21 * (n + 1)]  # work 3x3 blocks
+    T = p[base : base + m3]  # tangents of segments 1..n at T[3 i - 3 ...], taut flag folded in (0 vector)
+    D = p[base + m3 : base + m3 + 9 * (n + 1)]  # inverted modified diagonal blocks
+    R = p[base + m3 + 9 * (n + 1) : base + m3 + 12 * (n + 1)]  # modified right-hand sides
+    W = p[base + m3 + 12 * (n + 1) : base + m3 + 21 * (n + 1)]  # work 3x3 blocks
     l0 = p[H_L0]
     mt = 0.5 * (p[H_MC] + p[H_MA])
     ha = 0.5 * p[H_MA]
@@ -508,13 +593,13 @@ def _imex_factor(x, p, n, gh):
     the diagonal of nodes 1 and n-1 only.
     """
     m = 3 * (n + 1)
-    pos = p[P_SCR:P_SCR + m]
-    Mn = p[P_SCR + 3 * m:P_SCR + 5 * m]
+    pos = p[P_SCR : P_SCR + m]
+    Mn = p[P_SCR + 3 * m : P_SCR + 5 * m]
     base = _imex_base(n)
-    K = p[base:base + 6 * (n + 1)]
-    S = p[base + 6 * (n + 1):base + 12 * (n + 1)]
-    Ms = p[base + 12 * (n + 1):base + 18 * (n + 1)]
-    Di = p[base + 18 * (n + 1):base + 27 * (n + 1)]
+    K = p[base : base + 6 * (n + 1)]
+    S = p[base + 6 * (n + 1) : base + 12 * (n + 1)]
+    Ms = p[base + 12 * (n + 1) : base + 18 * (n + 1)]
+    Di = p[base + 18 * (n + 1) : base + 27 * (n + 1)]
     lt = top_l0(x, p, n)
     cv = p[H_CV]
     gh2 = gh * gh
@@ -529,7 +614,7 @@ def _imex_factor(x, p, n, gh):
         ln = math.sqrt(dx * dx + dy * dy + dz * dz)
         c = 6 * s
         if s == 1:  # winch: dF_1/dL and dF_1/ds (top segment taut), known-stage terms of the solve
-            G = p[base + 30 * (n + 1) + 30:base + 30 * (n + 1) + 36]
+            G = p[base + 30 * (n + 1) + 30 : base + 30 * (n + 1) + 36]
             for k in range(6):
                 G[k] = 0.0
             if p[H_WIN] > 0.5 and ln > l0:
@@ -585,7 +670,7 @@ def _imex_factor(x, p, n, gh):
             q = 9 * (i - 1)
             s00, s01, s02, s11, s12, s22 = S[ca], S[ca + 1], S[ca + 2], S[ca + 3], S[ca + 4], S[ca + 5]
             # W = D^-1 S (3x3), then S W
-            w = p[base + 30 * (n + 1) + 12:base + 30 * (n + 1) + 21]
+            w = p[base + 30 * (n + 1) + 12 : base + 30 * (n + 1) + 21]
             for r in range(3):
                 d0 = Di[q + 3 * r]
                 d1 = Di[q + 3 * r + 1]
@@ -594,14 +679,15 @@ def _imex_factor(x, p, n, gh):
                 w[3 * r + 1] = d0 * s01 + d1 * s11 + d2 * s12
                 w[3 * r + 2] = d0 * s02 + d1 * s12 + d2 * s22
             srow = (s00, s01, s02, s01, s11, s12, s02, s12, s22)
-            A2 = p[base + 30 * (n + 1) + 21:base + 30 * (n + 1) + 30]
+            A2 = p[base + 30 * (n + 1) + 21 : base + 30 * (n + 1) + 30]
             for r in range(3):
                 for cc in range(3):
-                    A2[3 * r + cc] = A[3 * r + cc] - (srow[3 * r] * w[cc] + srow[3 * r + 1] * w[3 + cc]
-                                                      + srow[3 * r + 2] * w[6 + cc])
+                    A2[3 * r + cc] = A[3 * r + cc] - (
+                        srow[3 * r] * w[cc] + srow[3 * r + 1] * w[3 + cc] + srow[3 * r + 2] * w[6 + cc]
+                    )
             _inv3(A2, 0, Di, 9 * i)
         else:
-            A2 = p[base + 30 * (n + 1) + 21:base + 30 * (n + 1) + 30]
+            A2 = p[base + 30 * (n + 1) + 21 : base + 30 * (n + 1) + 30]
             for k in range(9):
                 A2[k] = A[k]
             _inv3(A2, 0, Di, 9 * i)
@@ -673,12 +759,12 @@ def _imex_solve(x, p, n, k, gh):
     if n < 2:
         return
     base = _imex_base(n)
-    K = p[base:base + 6 * (n + 1)]
-    S = p[base + 6 * (n + 1):base + 12 * (n + 1)]
-    Ms = p[base + 12 * (n + 1):base + 18 * (n + 1)]
-    Di = p[base + 18 * (n + 1):base + 27 * (n + 1)]
-    R = p[base + 27 * (n + 1):base + 30 * (n + 1)]
-    e = p[base + 30 * (n + 1):base + 30 * (n + 1) + 12]
+    K = p[base : base + 6 * (n + 1)]
+    S = p[base + 6 * (n + 1) : base + 12 * (n + 1)]
+    Ms = p[base + 12 * (n + 1) : base + 18 * (n + 1)]
+    Di = p[base + 18 * (n + 1) : base + 27 * (n + 1)]
+    R = p[base + 27 * (n + 1) : base + 30 * (n + 1)]
+    e = p[base + 30 * (n + 1) : base + 30 * (n + 1) + 12]
     _imex_end_increments(x, k, p, n, e)
     gh2 = gh * gh
     po = int(p[H_PO])
@@ -736,7 +822,7 @@ def _imex_solve(x, p, n, k, gh):
             r1 += K[c + 1] * ax_ + K[c + 3] * ay_ + K[c + 4] * az_ + S[c + 1] * bx_ + S[c + 3] * by_ + S[c + 4] * bz_
             r2 += K[c + 2] * ax_ + K[c + 4] * ay_ + K[c + 5] * az_ + S[c + 2] * bx_ + S[c + 4] * by_ + S[c + 5] * bz_
         if i == 1 and p[H_WIN] > 0.5:  # + gh (dF_1/dL k_L + dF_1/ds k_s), the winch's stage known
-            G = p[base + 30 * (n + 1) + 30:base + 30 * (n + 1) + 36]
+            G = p[base + 30 * (n + 1) + 30 : base + 30 * (n + 1) + 36]
             wo = int(p[H_WO])
             kl = gh * k[wo]
             ks = gh * k[wo + 1]
@@ -853,8 +939,8 @@ def remesh(x, p):
     vo = int(p[H_VO])
     if lt > 1.5 * l0 and n < int(p[H_NMAX]):
         m = 3 * (n + 1)
-        pos = p[P_SCR:P_SCR + m]
-        vel = p[P_SCR + m:P_SCR + 2 * m]
+        pos = p[P_SCR : P_SCR + m]
+        vel = p[P_SCR + m : P_SCR + 2 * m]
         _ends(x, p, n, pos, vel)  # the ends only (node 0 and the tow point)
         for k in range(3 * (n - 1) - 1, -1, -1):  # node i -> i + 1
             x[po + 3 + k] = x[po + k]
@@ -896,8 +982,13 @@ def remesh(x, p):
 def _check(cable: CableConfig, uuv: UUVConfig) -> None:
     if cable.segments < 1:
         raise ConfigError(f"cable.segments = {cable.segments}: allowed range 1 <= value")
-    for key, v in (("cable.length", cable.length), ("cable.diameter", cable.diameter), ("cable.E", cable.E),
-                   ("cable.density", cable.density), ("uuv.mass", uuv.mass)):
+    for key, v in (
+        ("cable.length", cable.length),
+        ("cable.diameter", cable.diameter),
+        ("cable.E", cable.E),
+        ("cable.density", cable.density),
+        ("uuv.mass", uuv.mass),
+    ):
         if not (v > 0 and math.isfinite(v)):
             raise ConfigError(f"{key} = {v}: must be > 0")
 
@@ -972,11 +1063,35 @@ def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
         out[k + 11] = 0.0
 
 
-_UNITS = {"x": "m", "y": "m", "z": "m", "psi": "rad", "phi": "rad", "theta": "rad", "u": "m/s", "v": "m/s",
-          "w": "m/s", "p": "rad/s", "q": "rad/s", "r": "rad/s", "speed": "m/s", "top_tension": "N",
-          "bottom_tension": "N", "angle_deg": "deg", "length": "m", "nodes": "count", "mass": "kg",
-          "speed_cmd_sat": "m/s", "cmd_saturated": "bool", "rendering": "bool", "at_capacity": "bool",
-          "tension": "N", "power": "W", "altitude": "m", "nodes_on_bed": "count"}
+_UNITS = {
+    "x": "m",
+    "y": "m",
+    "z": "m",
+    "psi": "rad",
+    "phi": "rad",
+    "theta": "rad",
+    "u": "m/s",
+    "v": "m/s",
+    "w": "m/s",
+    "p": "rad/s",
+    "q": "rad/s",
+    "r": "rad/s",
+    "speed": "m/s",
+    "top_tension": "N",
+    "bottom_tension": "N",
+    "angle_deg": "deg",
+    "length": "m",
+    "nodes": "count",
+    "mass": "kg",
+    "speed_cmd_sat": "m/s",
+    "cmd_saturated": "bool",
+    "rendering": "bool",
+    "at_capacity": "bool",
+    "tension": "N",
+    "power": "W",
+    "altitude": "m",
+    "nodes_on_bed": "count",
+}
 
 
 def _unit_of(key: str) -> str:
@@ -997,19 +1112,31 @@ class CombinedPlant(Plant):
     name : plant name (used in divergence messages).
     """
 
-    def __init__(self, usv_cfg: USVConfig, uuv_cfg: UUVConfig, cable_cfg: CableConfig, top: str = "usv",
-                 name: str = "combined", integrator: str | None = None, winch=None, seabed=None):
+    def __init__(
+        self,
+        usv_cfg: USVConfig,
+        uuv_cfg: UUVConfig,
+        cable_cfg: CableConfig,
+        top: str = "usv",
+        name: str = "combined",
+        integrator: str | None = None,
+        winch=None,
+        seabed=None,
+    ):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
         integrator = integrator or cable_cfg.integrator
         if integrator not in INTEGRATORS:
-            raise ConfigError(f"cable.integrator = {integrator!r}: allowed values "
-                              + ", ".join(repr(k) for k in INTEGRATORS))
+            raise ConfigError(
+                f"cable.integrator = {integrator!r}: allowed values " + ", ".join(repr(k) for k in INTEGRATORS)
+            )
         has_winch = winch is not None and winch.enabled
         has_bed = seabed is not None and seabed.depth is not None
         if has_winch and integrator != "imex":
-            raise ConfigError(f"cable.integrator = {integrator!r}: the winch (winch.enabled) needs 'imex' "
-                              "(its top segment may be short and stiff)")
+            raise ConfigError(
+                f"cable.integrator = {integrator!r}: the winch (winch.enabled) needs 'imex' "
+                "(its top segment may be short and stiff)"
+            )
         self.integrator = integrator
         _check(cable_cfg, uuv_cfg)
         self.usv_cfg = usv_cfg
@@ -1022,8 +1149,9 @@ class CombinedPlant(Plant):
         if has_winch:
             l0 = c.segment_length if c.segment_length is not None else c.length / c.segments
             if winch.capacity < c.length:
-                raise ConfigError(f"cable.length = {c.length:g}: above the drum's capacity winch.capacity = "
-                                  f"{winch.capacity:g} m")
+                raise ConfigError(
+                    f"cable.length = {c.length:g}: above the drum's capacity winch.capacity = {winch.capacity:g} m"
+                )
             if winch.min_length > c.length:
                 raise ConfigError(f"cable.length = {c.length:g}: below winch.min_length = {winch.min_length:g} m")
             n = max(1, int(round(c.length / l0)))
@@ -1039,8 +1167,8 @@ class CombinedPlant(Plant):
         p = np.zeros(P_SCR + 40 * (nmax + 1) + 30 * (nmax + 1) + 36)
         p[H_N] = n
         p[H_TOP] = 1.0 if top == "fixed" else 0.0
-        p[H_FIX:H_FIX + 3] = top0
-        p[H_ATT:H_ATT + 3] = c.top_point
+        p[H_FIX : H_FIX + 3] = top0
+        p[H_ATT : H_ATT + 3] = c.top_point
         area = c.area
         p[H_L0] = l0
         p[H_EA] = c.EA
@@ -1055,8 +1183,8 @@ class CombinedPlant(Plant):
             p[H_KDT] = 0.5 * c.rho_water * c.cd_t * math.pi * c.diameter * l0 if c.drag_on else 0.0
         else:
             p[H_KDRAG] = 0.5 * c.rho_water * c.cd * c.diameter * l0 if c.drag_on else 0.0
-        p[P_USV:P_USV + N_USV] = usv_cfg.params()
-        p[P_UUV:P_UUV + UUV_NP] = uuv_cfg.params(tow_point=c.tow_point)
+        p[P_USV : P_USV + N_USV] = usv_cfg.params()
+        p[P_UUV : P_UUV + UUV_NP] = uuv_cfg.params(tow_point=c.tow_point)
         if has_bed:
             sl = math.tan(math.radians(seabed.slope_deg))
             ds = math.radians(seabed.slope_direction_deg)
@@ -1070,8 +1198,10 @@ class CombinedPlant(Plant):
             p[H_BED_R] = uuv_cfg.diameter / 2.0
             zb = seabed.depth + p[H_BED_GX] * top0[0] + p[H_BED_GY] * top0[1]
             if zb <= top0[2]:
-                raise ConfigError(f"environment.seabed.depth = {seabed.depth:g}: the seabed ({zb:.3g} m deep under "
-                                  f"the USV) is above the cable's attachment point (cable.top_z = {c.top_z:g} m)")
+                raise ConfigError(
+                    f"environment.seabed.depth = {seabed.depth:g}: the seabed ({zb:.3g} m deep under "
+                    f"the USV) is above the cable's attachment point (cable.top_z = {c.top_z:g} m)"
+                )
         # state layout
         if has_winch:
             uo, wo, po = 6, 18, 20
@@ -1095,7 +1225,7 @@ class CombinedPlant(Plant):
         # initial state: USV, straight cable between the attachment points, UUV
         x0 = np.zeros(size)
         x0[:6] = [usv_cfg.x0, usv_cfg.y0, psi0, usv_cfg.u0, 0.0, 0.0]
-        x0[uo:uo + 12] = uuv_cfg.initial_state()
+        x0[uo : uo + 12] = uuv_cfg.initial_state()
         if has_winch:
             x0[wo] = c.length
         pos = np.zeros(3 * (n + 1))
@@ -1106,8 +1236,8 @@ class CombinedPlant(Plant):
         lt = c.length - (n - 1) * l0
         for i in range(1, n):
             f = (lt + (i - 1) * l0) / c.length  # unstretched arc-length fraction of node i
-            x0[po + 3 * (i - 1):po + 3 * i] = (1 - f) * pos[0] + f * pos[n]
-            x0[vo + 3 * (i - 1):vo + 3 * i] = (1 - f) * vel[0] + f * vel[n]
+            x0[po + 3 * (i - 1) : po + 3 * i] = (1 - f) * pos[0] + f * pos[n]
+            x0[vo + 3 * (i - 1) : vo + 3 * i] = (1 - f) * vel[0] + f * vel[n]
         names = [f"usv.{s}" for s in USV_STATES]
         cab = [f"cable.{a}{i}" for i in range(1, nmax) for a in "xyz"]
         cab += [f"cable.v{a}{i}" for i in range(1, nmax) for a in "xyz"]
@@ -1115,22 +1245,32 @@ class CombinedPlant(Plant):
             names += [f"uuv.{s}" for s in UUV_STATES] + ["winch.length", "winch.speed"] + cab
         else:
             names += cab + [f"uuv.{s}" for s in UUV_STATES]
-        mrb = p[P_UUV + P_MRB:P_UUV + P_MRB + 36].reshape(6, 6)
-        ma = p[P_UUV + P_MA:P_UUV + P_MA + 36].reshape(6, 6)
+        mrb = p[P_UUV + P_MRB : P_UUV + P_MRB + 36].reshape(6, 6)
+        ma = p[P_UUV + P_MA : P_UUV + P_MA + 36].reshape(6, 6)
         end_mass = float(mrb[0, 0] + ma[0, 0])
         if integrator == "imex":
             # no stability limit from the axial modes: the step is set by accuracy (docs/uuv-and-cable.md)
             self.stability_limit = math.inf
         else:
-            self.stability_limit = axial_stability_limit(c, end_mass=end_mass,
-                                                         last_damper_only=(integrator == "rk4-split"))
+            self.stability_limit = axial_stability_limit(
+                c, end_mass=end_mass, last_damper_only=(integrator == "rk4-split")
+            )
             if has_bed:  # the explicit contact spring: RK4 limit 2.785 / w on the imaginary axis
                 self.stability_limit = min(self.stability_limit, 2.0 / seabed.contact_frequency)
         inputs = INPUT_NAMES + (("winch.speed_cmd",) if has_winch else ())
         units = ("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N") + (("m/s",) if has_winch else ())
-        super().__init__(name, combined_rhs, x0, p, names, inputs, state_bound=1e6,
-                         max_dt=self.stability_limit if math.isfinite(self.stability_limit) else None,
-                         input_units=units, input_defaults=CALM)
+        super().__init__(
+            name,
+            combined_rhs,
+            x0,
+            p,
+            names,
+            inputs,
+            state_bound=1e6,
+            max_dt=self.stability_limit if math.isfinite(self.stability_limit) else None,
+            input_units=units,
+            input_defaults=CALM,
+        )
         self._var = has_winch or has_bed
         self._nodes = np.zeros(3 * (nmax + 1))
         self._ends = np.zeros(8)
@@ -1138,12 +1278,24 @@ class CombinedPlant(Plant):
         self._usv_keys = [f"usv.{s}" for s in USV_STATES]
         self._uuv_keys = [f"uuv.{s}" for s in UUV_STATES]
         self._node_keys = [f"cable.{a}{i}" for i in range(nmax + 1) for a in "xyz"]
-        base = [*self._usv_keys, "usv.speed", *self._uuv_keys, "uuv.speed", "cable.top_tension",
-                "cable.bottom_tension", "cable.angle_deg", *self._node_keys]
+        base = [
+            *self._usv_keys,
+            "usv.speed",
+            *self._uuv_keys,
+            "uuv.speed",
+            "cable.top_tension",
+            "cable.bottom_tension",
+            "cable.angle_deg",
+            *self._node_keys,
+        ]
         self._out_keys = list(base)
         if self._var:
-            extra = [k for k in VAR_KEYS if (has_winch or not k.startswith("winch.") or k == "winch.tension")
-                     and (has_bed or k not in ("uuv.altitude", "cable.nodes_on_bed"))]
+            extra = [
+                k
+                for k in VAR_KEYS
+                if (has_winch or not k.startswith("winch.") or k == "winch.tension")
+                and (has_bed or k not in ("uuv.altitude", "cable.nodes_on_bed"))
+            ]
             self._out_keys += extra
             full = base + VAR_KEYS
             self._out_idx = np.array([full.index(k) for k in self._out_keys])
@@ -1177,8 +1329,12 @@ class CombinedPlant(Plant):
         if t_new < 0.0:
             k = int(-t_new - 1.0)
             finite = bool(np.all(np.isfinite(self.x)))
-            raise DivergenceError(t + (k + 1) * dt, self.name, self.state_dict(),
-                                  reason="non-finite state" if not finite else f"|state| above {self.state_bound:g}")
+            raise DivergenceError(
+                t + (k + 1) * dt,
+                self.name,
+                self.state_dict(),
+                reason="non-finite state" if not finite else f"|state| above {self.state_bound:g}",
+            )
         return t_new
 
     # -- outputs -----------------------------------------------------------------------------------
@@ -1196,8 +1352,7 @@ class CombinedPlant(Plant):
         self._ends[6] = self.u[2]
         self._ends[7] = self.u[3]
         if self._var:
-            _fill_outputs_var(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u,
-                              self.n_max)
+            _fill_outputs_var(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u, self.n_max)
             self._out[:] = self._out_full[self._out_idx]
         else:
             _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
@@ -1215,8 +1370,8 @@ class CombinedPlant(Plant):
         combined_rhs(0.0, self.x, self.u, self.p, np.zeros_like(self.x))  # fills node velocities and masses
         p = self.p
         m = 3 * (n + 1)
-        vel = p[P_SCR + m:P_SCR + 2 * m].reshape(-1, 3)
-        Mn = p[P_SCR + 3 * m:P_SCR + 5 * m].reshape(-1, 6)
+        vel = p[P_SCR + m : P_SCR + 2 * m].reshape(-1, 3)
+        Mn = p[P_SCR + 3 * m : P_SCR + 5 * m].reshape(-1, 6)
         ke = 0.0
         for i in range(1, n):
             a = Mn[i]
@@ -1227,11 +1382,11 @@ class CombinedPlant(Plant):
         l0s = np.full(n, p[H_L0])
         l0s[0] = top_l0(self.x, p, n)
         eps = np.maximum(ln - l0s, 0.0) / l0s
-        strain = 0.5 * p[H_EA] * float(np.sum(l0s * eps ** 2))
+        strain = 0.5 * p[H_EA] * float(np.sum(l0s * eps**2))
         zc = 0.5 * (nodes[:-1, 2] + nodes[1:, 2])
         pe = -p[H_WSEG] / p[H_L0] * float(np.sum(l0s * zc))
         o = self.o_uuv
-        e_uuv = uuv_energy(self.x[o:o + 12], p[P_UUV:P_UUV + UUV_NP])
+        e_uuv = uuv_energy(self.x[o : o + 12], p[P_UUV : P_UUV + UUV_NP])
         return float(ke + strain + pe + e_uuv)
 
     def submerged_weight(self) -> float:

@@ -60,12 +60,23 @@ INPUTS = (("rpm", "rpm"), ("delta_s", "rad"), ("u_op", "m/s"))
 STATE_NAMES = tuple(k for k, _ in STATES)
 INPUT_NAMES = ("usv.rpm", "usv.delta_s", "usv.u_op")
 #: parameters (000 table 2), generated layout
-LAYOUT = ParamLayout([
-    Param("kv_slope", "(m/s)/rpm per m/s"), Param("kv_intercept", "(m/s)/rpm"), Param("tv_slope", "s per m/s"),
-    Param("tv_intercept", "s"), Param("kr_slope", "1/s per m/s"), Param("kr_intercept", "1/s"),
-    Param("tr_slope", "s per m/s"), Param("tr_intercept", "s"), Param("straight_lo", "m/s"),
-    Param("straight_hi", "m/s"), Param("turn_lo", "m/s"), Param("turn_hi", "m/s"),
-    Param("use_operating_speed", "bool", description="1: coefficients at u_op, 0: at the speed")])
+LAYOUT = ParamLayout(
+    [
+        Param("kv_slope", "(m/s)/rpm per m/s"),
+        Param("kv_intercept", "(m/s)/rpm"),
+        Param("tv_slope", "s per m/s"),
+        Param("tv_intercept", "s"),
+        Param("kr_slope", "1/s per m/s"),
+        Param("kr_intercept", "1/s"),
+        Param("tr_slope", "s per m/s"),
+        Param("tr_intercept", "s"),
+        Param("straight_lo", "m/s"),
+        Param("straight_hi", "m/s"),
+        Param("turn_lo", "m/s"),
+        Param("turn_hi", "m/s"),
+        Param("use_operating_speed", "bool", description="1: coefficients at u_op, 0: at the speed"),
+    ]
+)
 P_NAMES = LAYOUT.names
 (_KVS, _KVI, _TVS, _TVI, _KRS, _KRI, _TRS, _TRI, _SLO, _SHI, _TLO, _THI, _OPER) = LAYOUT.indices(*P_NAMES)
 
@@ -73,7 +84,9 @@ P_NAMES = LAYOUT.names
 class FirstOrderConfig(StrictModel):
     """The first-order USV (000 table 2) and its actuator limits and initial state."""
 
-    kv_slope: float = Field(0.0004, ge=-1.0, le=1.0, description="K_v = kv_slope u + kv_intercept: slope, (m/s)/rpm per m/s")
+    kv_slope: float = Field(
+        0.0004, ge=-1.0, le=1.0, description="K_v = kv_slope u + kv_intercept: slope, (m/s)/rpm per m/s"
+    )
     kv_intercept: float = Field(0.0014, ge=-1.0, le=1.0, description="K_v intercept, (m/s)/rpm")
     tv_slope: float = Field(1.1737, ge=-100, le=100, description="T_v = tv_slope u + tv_intercept: slope, s per m/s")
     tv_intercept: float = Field(-2.2474, ge=-1000, le=1000, description="T_v intercept, s")
@@ -87,8 +100,10 @@ class FirstOrderConfig(StrictModel):
     turn_hi_mps: float = Field(8.74, ge=0, le=100, description="highest speed of the turning trials, m/s")
     rudder_limit_deg: float = Field(35.0, gt=0, le=90, description="rudder angle limit, deg")
     schedule: Literal["speed", "operating"] = Field(
-        "speed", description="coefficients at the instantaneous speed ('speed') or at the operating speed u_0 "
-                             "read from the bus key usv.u_op ('operating', the linear model of a trial)")
+        "speed",
+        description="coefficients at the instantaneous speed ('speed') or at the operating speed u_0 "
+        "read from the bus key usv.u_op ('operating', the linear model of a trial)",
+    )
     rpm_max: float = Field(2100.0, gt=0, le=1e5, description="largest shaft speed, rpm")
     rpm_min: float = Field(0.0, ge=0, le=1e5, description="smallest shaft speed (no reverse), rpm")
     x0: float = Field(0.0, ge=-1e7, le=1e7, description="initial north position, m")
@@ -105,8 +120,10 @@ class FirstOrderConfig(StrictModel):
             raise ValueError("turn_lo_mps must be <= turn_hi_mps")
         if self.rpm_min > self.rpm_max:
             raise ValueError("rpm_min must be <= rpm_max")
-        for name, lo, hi in (("T_v", self.straight_lo_mps, self.straight_hi_mps),
-                             ("T_r", self.turn_lo_mps, self.turn_hi_mps)):
+        for name, lo, hi in (
+            ("T_v", self.straight_lo_mps, self.straight_hi_mps),
+            ("T_r", self.turn_lo_mps, self.turn_hi_mps),
+        ):
             for u in (lo, hi):
                 T = self.coefficients(u)[name]
                 if not T > 0.0:
@@ -116,8 +133,13 @@ class FirstOrderConfig(StrictModel):
     def params(self) -> np.ndarray:
         """Flat parameter array in the layout :data:`LAYOUT`."""
         v = {k: getattr(self, k) for k in P_NAMES[:8]}
-        v.update(straight_lo=self.straight_lo_mps, straight_hi=self.straight_hi_mps, turn_lo=self.turn_lo_mps,
-                 turn_hi=self.turn_hi_mps, use_operating_speed=1.0 if self.schedule == "operating" else 0.0)
+        v.update(
+            straight_lo=self.straight_lo_mps,
+            straight_hi=self.straight_hi_mps,
+            turn_lo=self.turn_lo_mps,
+            turn_hi=self.turn_hi_mps,
+            use_operating_speed=1.0 if self.schedule == "operating" else 0.0,
+        )
         return LAYOUT.pack(v)
 
     def coefficients(self, u: float) -> dict:
@@ -133,8 +155,11 @@ class FirstOrderConfig(StrictModel):
 
     def max_dt(self) -> float:
         """RK4 stability limit (s): 2.5 times the smallest time constant over the trial ranges."""
-        ts = [self.coefficients(u)[k] for u in (self.straight_lo_mps, self.straight_hi_mps, self.turn_lo_mps,
-                                                self.turn_hi_mps) for k in ("T_v", "T_r")]
+        ts = [
+            self.coefficients(u)[k]
+            for u in (self.straight_lo_mps, self.straight_hi_mps, self.turn_lo_mps, self.turn_hi_mps)
+            for k in ("T_v", "T_r")
+        ]
         return 2.5 * min(ts)
 
 
@@ -165,8 +190,16 @@ def first_order_rhs(t, x, u, p, out):
 def first_order_model(cfg: FirstOrderConfig | None = None, params=None) -> Model:
     """The first-order USV of 000 (eq. 8, 15, 1) as a :class:`~oceangnc.core.model.Model`."""
     p = (cfg or FirstOrderConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
-    return Model("first-order", first_order_rhs, STATES, INPUTS, LAYOUT, p, bound=1e7,
-                 description="000 first-order speed/yaw-rate USV (Nomoto), states x, y, psi, u, r")
+    return Model(
+        "first-order",
+        first_order_rhs,
+        STATES,
+        INPUTS,
+        LAYOUT,
+        p,
+        bound=1e7,
+        description="000 first-order speed/yaw-rate USV (Nomoto), states x, y, psi, u, r",
+    )
 
 
 class FirstOrderUSV(Plant):
@@ -179,9 +212,12 @@ class FirstOrderUSV(Plant):
     def __init__(self, cfg: FirstOrderConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, math.radians(cfg.r0_degps)])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**first_order_model(cfg).plant_args(name, x0, inputs, declare=True), max_dt=cfg.max_dt(),
-                         input_defaults={f"{name}.u_op": 0.0},
-                         extra_outputs={f"{name}.speed": "m/s", f"{name}.schedule_clamped": "bool"})
+        super().__init__(
+            **first_order_model(cfg).plant_args(name, x0, inputs, declare=True),
+            max_dt=cfg.max_dt(),
+            input_defaults={f"{name}.u_op": 0.0},
+            extra_outputs={f"{name}.speed": "m/s", f"{name}.schedule_clamped": "bool"},
+        )
         self.cfg = cfg
         self._warned = False
 
@@ -198,10 +234,13 @@ class FirstOrderUSV(Plant):
         bus[f"{self.name}.schedule_clamped"] = 1.0 if out else 0.0
         if out and not self._warned:
             self._warned = True
-            warnings.warn(f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
-                          f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
-                          f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends", RuntimeWarning,
-                          stacklevel=2)
+            warnings.warn(
+                f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
+                f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
+                f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends",
+                RuntimeWarning,
+                stacklevel=2,
+            )
 
 
 class FirstOrderActuators(Block):

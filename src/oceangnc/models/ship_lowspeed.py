@@ -76,32 +76,170 @@ from ..units import RHO_AIR, RHO_WATER
 from .actuators import saturate
 from .usv import wind_load
 
-STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("delta", "rad"),
-          ("n", "Hz"), ("n_bow", "Hz"), ("n_stern", "Hz"))  # shaft speeds in rev/s
-INPUTS = (("rudder_cmd", "rad"), ("n_prop_cmd", "Hz"), ("n_bow_cmd", "Hz"), ("n_stern_cmd", "Hz"),
-          ("current_n", "m/s"), ("current_e", "m/s"), ("wind_n", "m/s"), ("wind_e", "m/s"))
+STATES = (
+    ("x", "m"),
+    ("y", "m"),
+    ("psi", "rad"),
+    ("u", "m/s"),
+    ("v", "m/s"),
+    ("r", "rad/s"),
+    ("delta", "rad"),
+    ("n", "Hz"),
+    ("n_bow", "Hz"),
+    ("n_stern", "Hz"),
+)  # shaft speeds in rev/s
+INPUTS = (
+    ("rudder_cmd", "rad"),
+    ("n_prop_cmd", "Hz"),
+    ("n_bow_cmd", "Hz"),
+    ("n_stern_cmd", "Hz"),
+    ("current_n", "m/s"),
+    ("current_e", "m/s"),
+    ("wind_n", "m/s"),
+    ("wind_e", "m/s"),
+)
 STATE_NAMES = tuple(k for k, _ in STATES)
-INPUT_NAMES = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd",
-               "env.current_n", "env.current_e", "env.wind_n", "env.wind_e")
+INPUT_NAMES = (
+    "ship.rudder_cmd",
+    "ship.n_prop_cmd",
+    "ship.n_bow_cmd",
+    "ship.n_stern_cmd",
+    "env.current_n",
+    "env.current_e",
+    "env.wind_n",
+    "env.wind_e",
+)
 
 #: parameter layout of :meth:`ShipConfig.params` (dimensional, SI), generated from the declared names
-LAYOUT = ParamLayout([Param(k, u) for k, u in (
-    ("L", "m"), ("T", "m"), ("rho", "kg/m^3"), ("m", "kg"), ("xG", "m"), ("m11", "kg"), ("M1_11", "kg"),
-    ("M1_12", "kg m"), ("M1_21", "kg m"), ("M1_22", "kg m^2"), ("X_uu", "kg/m"), ("X_vr", "kg"), ("X_vv", "kg/m"),
-    ("X_rr", "kg m"), ("Y_v", "kg/m"), ("Y_r", "kg"), ("m_x", "kg"), ("Nv_drift", "kg"), ("N_r", "kg m"),
-    ("alpha0", "rad"), ("C_D", "1"), ("C_Yr", "1"), ("C_Nr", "1"), ("A_R", "m^2"), ("f_alpha", "1"), ("t_R", "1"),
-    ("a_H", "1"), ("x_H", "m"), ("x_R", "m"), ("gamma_R", "1"), ("c_Rr", "1"), ("eps", "1"), ("kappa", "1"),
-    ("D", "m"), ("t_p", "1"), ("w_p", "1"), ("a1", "1"), ("a2", "1"), ("a3", "1"), ("b_B", "N s^2"),
-    ("b_S", "N s^2"), ("x_TB", "m"), ("x_TS", "m"), ("tau_p", "s"), ("tau_d", "s"), ("tau_tb", "s"), ("tau_ts", "s"),
-    ("n_max", "rev/s"), ("delta_max", "rad"), ("delta_rate", "rad/s"), ("nB_max", "rev/s"), ("nS_max", "rev/s"),
-    ("rho_air", "kg/m^3"), ("A_F", "m^2"), ("A_L", "m^2"), ("L_oa", "m"), ("c_x", "1"), ("c_y", "1"), ("c_n", "1"),
-)])
+LAYOUT = ParamLayout(
+    [
+        Param(k, u)
+        for k, u in (
+            ("L", "m"),
+            ("T", "m"),
+            ("rho", "kg/m^3"),
+            ("m", "kg"),
+            ("xG", "m"),
+            ("m11", "kg"),
+            ("M1_11", "kg"),
+            ("M1_12", "kg m"),
+            ("M1_21", "kg m"),
+            ("M1_22", "kg m^2"),
+            ("X_uu", "kg/m"),
+            ("X_vr", "kg"),
+            ("X_vv", "kg/m"),
+            ("X_rr", "kg m"),
+            ("Y_v", "kg/m"),
+            ("Y_r", "kg"),
+            ("m_x", "kg"),
+            ("Nv_drift", "kg"),
+            ("N_r", "kg m"),
+            ("alpha0", "rad"),
+            ("C_D", "1"),
+            ("C_Yr", "1"),
+            ("C_Nr", "1"),
+            ("A_R", "m^2"),
+            ("f_alpha", "1"),
+            ("t_R", "1"),
+            ("a_H", "1"),
+            ("x_H", "m"),
+            ("x_R", "m"),
+            ("gamma_R", "1"),
+            ("c_Rr", "1"),
+            ("eps", "1"),
+            ("kappa", "1"),
+            ("D", "m"),
+            ("t_p", "1"),
+            ("w_p", "1"),
+            ("a1", "1"),
+            ("a2", "1"),
+            ("a3", "1"),
+            ("b_B", "N s^2"),
+            ("b_S", "N s^2"),
+            ("x_TB", "m"),
+            ("x_TS", "m"),
+            ("tau_p", "s"),
+            ("tau_d", "s"),
+            ("tau_tb", "s"),
+            ("tau_ts", "s"),
+            ("n_max", "rev/s"),
+            ("delta_max", "rad"),
+            ("delta_rate", "rad/s"),
+            ("nB_max", "rev/s"),
+            ("nS_max", "rev/s"),
+            ("rho_air", "kg/m^3"),
+            ("A_F", "m^2"),
+            ("A_L", "m^2"),
+            ("L_oa", "m"),
+            ("c_x", "1"),
+            ("c_y", "1"),
+            ("c_n", "1"),
+        )
+    ]
+)
 P_NAMES = LAYOUT.names
 P = {k: LAYOUT.index(k) for k in P_NAMES}
-(_L, _T, _RHO, _M, _XG, _M11, _M1_11, _M1_12, _M1_21, _M1_22, _X_UU, _X_VR, _X_VV, _X_RR, _Y_V, _Y_R, _M_X,
-    _NV_DRIFT, _N_R, _ALPHA0, _C_D, _C_YR, _C_NR, _A_R, _F_ALPHA, _T_R, _A_H, _X_H, _X_R, _GAMMA_R, _C_RR,
-    _EPS, _KAPPA, _D, _T_P, _W_P, _A1, _A2, _A3, _B_B, _B_S, _X_TB, _X_TS, _TAU_P, _TAU_D, _TAU_TB, _TAU_TS,
-    _N_MAX, _DELTA_MAX, _DELTA_RATE, _NB_MAX, _NS_MAX, _RHO_AIR, _A_F, _A_L, _L_OA, _C_X, _C_Y, _C_N) = LAYOUT.indices(*P_NAMES)
+(
+    _L,
+    _T,
+    _RHO,
+    _M,
+    _XG,
+    _M11,
+    _M1_11,
+    _M1_12,
+    _M1_21,
+    _M1_22,
+    _X_UU,
+    _X_VR,
+    _X_VV,
+    _X_RR,
+    _Y_V,
+    _Y_R,
+    _M_X,
+    _NV_DRIFT,
+    _N_R,
+    _ALPHA0,
+    _C_D,
+    _C_YR,
+    _C_NR,
+    _A_R,
+    _F_ALPHA,
+    _T_R,
+    _A_H,
+    _X_H,
+    _X_R,
+    _GAMMA_R,
+    _C_RR,
+    _EPS,
+    _KAPPA,
+    _D,
+    _T_P,
+    _W_P,
+    _A1,
+    _A2,
+    _A3,
+    _B_B,
+    _B_S,
+    _X_TB,
+    _X_TS,
+    _TAU_P,
+    _TAU_D,
+    _TAU_TB,
+    _TAU_TS,
+    _N_MAX,
+    _DELTA_MAX,
+    _DELTA_RATE,
+    _NB_MAX,
+    _NS_MAX,
+    _RHO_AIR,
+    _A_F,
+    _A_L,
+    _L_OA,
+    _C_X,
+    _C_Y,
+    _C_N,
+) = LAYOUT.indices(*P_NAMES)
 
 
 class ShipConfig(StrictModel):
@@ -185,7 +323,7 @@ class ShipConfig(StrictModel):
     def params(self) -> np.ndarray:
         """Flat parameter array in the layout :data:`P_NAMES` (dimensional, SI)."""
         L, T, rho = self.length, self.draft, self.rho
-        q2, q3, q4, q5 = 0.5 * rho * L ** 2, 0.5 * rho * L ** 3, 0.5 * rho * L ** 4, 0.5 * rho * L ** 5
+        q2, q3, q4, q5 = 0.5 * rho * L**2, 0.5 * rho * L**3, 0.5 * rho * L**4, 0.5 * rho * L**5
         m = self.mass
         mx = self.mx_p * q3
         my = self.my_p * q3
@@ -196,28 +334,73 @@ class ShipConfig(StrictModel):
         lam = self.rudder_aspect
         nmax = self.n_max_rpm / 60.0
         ntmax = self.thruster_rpm_max / 60.0
-        b = self.thruster_force_kn * 1e3 / ntmax ** 2
+        b = self.thruster_force_kn * 1e3 / ntmax**2
         vals = {
-            "L": L, "T": T, "rho": rho, "m": m, "xG": self.x_g, "m11": m + mx,
-            "M1_11": m + my, "M1_12": m * self.x_g - yrdot, "M1_21": m * self.x_g - nvdot, "M1_22": iz + jz,
-            "X_uu": self.xuu_p * q2, "X_vr": (self.xvr_p + self.my_p) * q3, "X_vv": self.xvv_p * q2,
-            "X_rr": self.xrr_p * q4, "Y_v": self.yv_p * q2, "Y_r": self.yr_p * q3, "m_x": mx,
-            "Nv_drift": self.nv_p * q3, "N_r": self.nr_p * q4, "alpha0": math.radians(self.alpha0_deg),
-            "C_D": self.c_d, "C_Yr": self.c_yr, "C_Nr": self.c_nr, "A_R": self.rudder_area,
-            "f_alpha": 6.13 * lam / (lam + 2.25), "t_R": self.t_r, "a_H": self.a_h,
-            "x_H": self.x_h_p * L, "x_R": self.x_r_p * L, "gamma_R": self.gamma_r, "c_Rr": self.c_rr,
-            "eps": self.epsilon, "kappa": self.kappa, "D": self.prop_diameter, "t_p": self.t_p,
-            "w_p": self.w_p, "a1": self.kt_a1, "a2": self.kt_a2, "a3": self.kt_a3, "b_B": b, "b_S": b,
-            "x_TB": self.x_tb, "x_TS": self.x_ts, "tau_p": self.tau_prop, "tau_d": self.tau_rudder,
-            "tau_tb": self.tau_thruster, "tau_ts": self.tau_thruster, "n_max": nmax,
-            "delta_max": math.radians(self.rudder_max_deg), "delta_rate": math.radians(self.rudder_rate_degps),
-            "nB_max": ntmax, "nS_max": ntmax, "rho_air": self.rho_air, "A_F": self.area_front,
-            "A_L": self.area_side, "L_oa": L, "c_x": self.c_x, "c_y": self.c_y, "c_n": self.c_n,
+            "L": L,
+            "T": T,
+            "rho": rho,
+            "m": m,
+            "xG": self.x_g,
+            "m11": m + mx,
+            "M1_11": m + my,
+            "M1_12": m * self.x_g - yrdot,
+            "M1_21": m * self.x_g - nvdot,
+            "M1_22": iz + jz,
+            "X_uu": self.xuu_p * q2,
+            "X_vr": (self.xvr_p + self.my_p) * q3,
+            "X_vv": self.xvv_p * q2,
+            "X_rr": self.xrr_p * q4,
+            "Y_v": self.yv_p * q2,
+            "Y_r": self.yr_p * q3,
+            "m_x": mx,
+            "Nv_drift": self.nv_p * q3,
+            "N_r": self.nr_p * q4,
+            "alpha0": math.radians(self.alpha0_deg),
+            "C_D": self.c_d,
+            "C_Yr": self.c_yr,
+            "C_Nr": self.c_nr,
+            "A_R": self.rudder_area,
+            "f_alpha": 6.13 * lam / (lam + 2.25),
+            "t_R": self.t_r,
+            "a_H": self.a_h,
+            "x_H": self.x_h_p * L,
+            "x_R": self.x_r_p * L,
+            "gamma_R": self.gamma_r,
+            "c_Rr": self.c_rr,
+            "eps": self.epsilon,
+            "kappa": self.kappa,
+            "D": self.prop_diameter,
+            "t_p": self.t_p,
+            "w_p": self.w_p,
+            "a1": self.kt_a1,
+            "a2": self.kt_a2,
+            "a3": self.kt_a3,
+            "b_B": b,
+            "b_S": b,
+            "x_TB": self.x_tb,
+            "x_TS": self.x_ts,
+            "tau_p": self.tau_prop,
+            "tau_d": self.tau_rudder,
+            "tau_tb": self.tau_thruster,
+            "tau_ts": self.tau_thruster,
+            "n_max": nmax,
+            "delta_max": math.radians(self.rudder_max_deg),
+            "delta_rate": math.radians(self.rudder_rate_degps),
+            "nB_max": ntmax,
+            "nS_max": ntmax,
+            "rho_air": self.rho_air,
+            "A_F": self.area_front,
+            "A_L": self.area_side,
+            "L_oa": L,
+            "c_x": self.c_x,
+            "c_y": self.c_y,
+            "c_n": self.c_n,
         }
         return LAYOUT.pack(vals)
 
 
 # -- force components ------------------------------------------------------------------------------
+
 
 @njit(cache=True)
 def _g3(w):
@@ -239,7 +422,7 @@ def crossflow_integrals(a, b, L):
     """
     h = 0.5 * L
     if abs(b.real) * h.real <= 1e-4 * abs(a.real) or b == 0.0:
-        return L * a * cabs(a), cabs(a) * b * L ** 3 / 6.0
+        return L * a * cabs(a), cabs(a) * b * L**3 / 6.0
     w1 = a + b * h
     w0 = a - b * h
     i0 = (_g3(w1) - _g3(w0)) / b
@@ -286,7 +469,7 @@ def prop_thrust_coef(n, up, p):
     """n|n| D^4 K_T(J) expanded (defined at n = 0), with J = u_P/(|n| D): rev^2/s^2 m^4."""
     D = p[_D]
     sg = 1.0 if n.real > 0.0 else (-1.0 if n.real < 0.0 else 0.0)
-    return p[_A1] * n * cabs(n) * D ** 4 + p[_A2] * n * up * D ** 3 + p[_A3] * sg * up * up * D * D
+    return p[_A1] * n * cabs(n) * D**4 + p[_A2] * n * up * D**3 + p[_A3] * sg * up * up * D * D
 
 
 @njit(cache=True)
@@ -304,7 +487,7 @@ def rudder_inflow(ur, vr, r, n, p):
     eps = p[_EPS]
     race = 0.0
     if n.real > 0.0:
-        kt2 = prop_thrust_coef(n, up, p) / D ** 4  # K_T n^2
+        kt2 = prop_thrust_coef(n, up, p) / D**4  # K_T n^2
         if kt2.real > 0.0:
             race = 8.0 * p[_KAPPA] * kt2 * D * D / math.pi
     uR2 = eps * eps * (up * up + race)
@@ -330,8 +513,7 @@ def rudder_forces(delta, ur, vr, r, n, p):
     """(X_R, Y_R, N_R) of 001 eq. 12-14, N and N m."""
     fn = rudder_normal_force(delta, ur, vr, r, n, p)
     c = ccos(delta)
-    return (-(1.0 - p[_T_R]) * fn * csin(delta), -(1.0 + p[_A_H]) * fn * c,
-            -(p[_X_R] + p[_A_H] * p[_X_H]) * fn * c)
+    return (-(1.0 - p[_T_R]) * fn * csin(delta), -(1.0 + p[_A_H]) * fn * c, -(p[_X_R] + p[_A_H] * p[_X_H]) * fn * c)
 
 
 @njit(cache=True)
@@ -401,8 +583,16 @@ def inverse_mass(p) -> tuple[float, float, float, float]:
 def ship_model(cfg: ShipConfig | None = None, params=None) -> Model:
     """The S-175 low-speed ship (001 eq. 1-25) as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
     p = (cfg or ShipConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
-    return Model("ship", ship_rhs, STATES, INPUTS, LAYOUT, p, bound=1e8,
-                 description="S-175 container ship at low speed with rudder, propeller and tunnel thrusters")
+    return Model(
+        "ship",
+        ship_rhs,
+        STATES,
+        INPUTS,
+        LAYOUT,
+        p,
+        bound=1e8,
+        description="S-175 container ship at low speed with rudder, propeller and tunnel thrusters",
+    )
 
 
 class ShipPlant(Plant):
@@ -419,8 +609,32 @@ class ShipPlant(Plant):
         x0[:] = [cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0, 0.0, cfg.n0_rpm / 60.0, 0.0, 0.0]
         inputs = [k.replace("ship.", f"{name}.") for k in INPUT_NAMES]
         tau_min = min(cfg.tau_prop, cfg.tau_rudder, cfg.tau_thruster)
-        super().__init__(**ship_model(cfg).plant_args(name, x0, inputs, declare=True), state_bound=1e8,
-                         max_dt=min(1.0, 2.5 * tau_min), input_defaults=CALM, outputs={**{f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"), ("rudder", "rad"), ("rpm_prop", "rpm"), ("rpm_bow", "rpm"), ("rpm_stern", "rpm"), ("speed", "m/s"), ("u_r", "m/s"), ("v_r", "m/s"))}})
+        super().__init__(
+            **ship_model(cfg).plant_args(name, x0, inputs, declare=True),
+            state_bound=1e8,
+            max_dt=min(1.0, 2.5 * tau_min),
+            input_defaults=CALM,
+            outputs={
+                **{
+                    f"{name}.{k}": u
+                    for k, u in (
+                        ("x", "m"),
+                        ("y", "m"),
+                        ("psi", "rad"),
+                        ("u", "m/s"),
+                        ("v", "m/s"),
+                        ("r", "rad/s"),
+                        ("rudder", "rad"),
+                        ("rpm_prop", "rpm"),
+                        ("rpm_bow", "rpm"),
+                        ("rpm_stern", "rpm"),
+                        ("speed", "m/s"),
+                        ("u_r", "m/s"),
+                        ("v_r", "m/s"),
+                    )
+                }
+            },
+        )
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:
@@ -443,8 +657,9 @@ class ShipPlant(Plant):
         bus[f"{b}.v_r"] = float(x[4] - (-s * cn + c * ce))
 
 
-def simulate_open(cfg: ShipConfig, duration: float, cmds, dt: float = 0.1, env=(0.0, 0.0, 0.0, 0.0),
-                  x0=None) -> np.ndarray:
+def simulate_open(
+    cfg: ShipConfig, duration: float, cmds, dt: float = 0.1, env=(0.0, 0.0, 0.0, 0.0), x0=None
+) -> np.ndarray:
     """Integrate the ship alone with constant commands ``cmds = (delta_c rad, n_c, n_Bc, n_Sc rev/s)``.
 
     Returns the state history (k+1, 10) at every ``dt``; one compiled call per sample (for checks and

@@ -59,9 +59,20 @@ from ..io.config import StrictModel
 COEFF_NAMES = ("Zw", "Zwdot", "Zq", "Zqdot", "Zds", "Mw", "Mwdot", "Mq", "Mqdot", "Mds")
 CONST_NAMES = ("m", "Iy_nd", "W", "B", "xG", "zG", "rho", "L", "U")
 #: parameter layout, generated from the declared names (002 table 2.1 primes, then table 4.1 constants)
-LAYOUT = ParamLayout([Param(k, "1", description=f"{k}' (002 table 2.1 scaling)") for k in COEFF_NAMES]
-                     + [Param("m", "kg"), Param("Iy_nd", "1"), Param("W", "N"), Param("B", "N"), Param("xG", "m"),
-                        Param("zG", "m"), Param("rho", "kg/m^3"), Param("L", "m"), Param("U", "m/s")])
+LAYOUT = ParamLayout(
+    [Param(k, "1", description=f"{k}' (002 table 2.1 scaling)") for k in COEFF_NAMES]
+    + [
+        Param("m", "kg"),
+        Param("Iy_nd", "1"),
+        Param("W", "N"),
+        Param("B", "N"),
+        Param("xG", "m"),
+        Param("zG", "m"),
+        Param("rho", "kg/m^3"),
+        Param("L", "m"),
+        Param("U", "m/s"),
+    ]
+)
 P_NAMES = LAYOUT.names
 _C0 = LAYOUT.index("Zw")  # the ten coefficients are consecutive, in COEFF_NAMES order
 _M, _IY, _W, _B, _XG, _ZG, _RHO, _L, _U = LAYOUT.indices(*CONST_NAMES)
@@ -72,19 +83,57 @@ STATE_UNITS = ("m/s", "rad", "rad/s", "m")
 INPUT_NAMES = ("ds",)
 
 #: True non-dimensional coefficients, 002 tables 5.2 and 5.3 (M_w' with the physical + sign).
-TRUE_COEFFS = {"Zw": -0.01991, "Zwdot": -0.01258, "Zq": -0.006371, "Zqdot": -0.000016, "Zds": -0.008791,
-               "Mw": 0.004059, "Mwdot": -0.004970, "Mq": -0.002995, "Mqdot": -0.005198, "Mds": -0.003663}
+TRUE_COEFFS = {
+    "Zw": -0.01991,
+    "Zwdot": -0.01258,
+    "Zq": -0.006371,
+    "Zqdot": -0.000016,
+    "Zds": -0.008791,
+    "Mw": 0.004059,
+    "Mwdot": -0.004970,
+    "Mq": -0.002995,
+    "Mqdot": -0.005198,
+    "Mds": -0.003663,
+}
 #: The truncated values of 002 table 4.1 (used as a possible set of initial guesses).
-TABLE41_COEFFS = {"Zw": -0.019, "Zwdot": -0.0125, "Zq": -0.0063, "Zqdot": -0.00001, "Zds": -0.0087,
-                  "Mw": 0.004, "Mwdot": -0.0049, "Mq": -0.0029, "Mqdot": -0.0051, "Mds": -0.0036}
+TABLE41_COEFFS = {
+    "Zw": -0.019,
+    "Zwdot": -0.0125,
+    "Zq": -0.0063,
+    "Zqdot": -0.00001,
+    "Zds": -0.0087,
+    "Mw": 0.004,
+    "Mwdot": -0.0049,
+    "Mq": -0.0029,
+    "Mqdot": -0.0051,
+    "Mds": -0.0036,
+}
 #: Published estimates, 002 tables 5.2/5.3: (5-5 zig-zag, 10-5 zig-zag).
-PUBLISHED_ESTIMATES = {"Zw": (-0.01989, -0.01990), "Zwdot": (-0.01256, -0.01250), "Zq": (-0.00634, -0.00629),
-                       "Zqdot": (-0.0000159, -0.0000154), "Zds": (-0.00874, -0.00871),
-                       "Mw": (0.004051, 0.004060), "Mwdot": (-0.004965, -0.004967),
-                       "Mq": (-0.002990, -0.002992), "Mqdot": (-0.005195, -0.005192), "Mds": (-0.003661, -0.00362)}
+PUBLISHED_ESTIMATES = {
+    "Zw": (-0.01989, -0.01990),
+    "Zwdot": (-0.01256, -0.01250),
+    "Zq": (-0.00634, -0.00629),
+    "Zqdot": (-0.0000159, -0.0000154),
+    "Zds": (-0.00874, -0.00871),
+    "Mw": (0.004051, 0.004060),
+    "Mwdot": (-0.004965, -0.004967),
+    "Mq": (-0.002990, -0.002992),
+    "Mqdot": (-0.005195, -0.005192),
+    "Mds": (-0.003661, -0.00362),
+}
 #: Table 2.1 scale of each coefficient: (power of L, power of U) in rho/2 L^a U^b.
-SCALE_POWERS = {"Zw": (2, 1), "Zwdot": (3, 0), "Zq": (3, 1), "Zqdot": (4, 0), "Zds": (2, 2),
-                "Mw": (3, 1), "Mwdot": (4, 0), "Mq": (4, 1), "Mqdot": (5, 0), "Mds": (3, 2)}
+SCALE_POWERS = {
+    "Zw": (2, 1),
+    "Zwdot": (3, 0),
+    "Zq": (3, 1),
+    "Zqdot": (4, 0),
+    "Zds": (2, 2),
+    "Mw": (3, 1),
+    "Mwdot": (4, 0),
+    "Mq": (4, 1),
+    "Mqdot": (5, 0),
+    "Mds": (3, 2),
+}
 
 
 class SubmarineVerticalConfig(StrictModel):
@@ -135,8 +184,8 @@ def dimensional(p) -> dict[str, float]:
     out = {}
     for i, k in enumerate(COEFF_NAMES):
         a, b = SCALE_POWERS[k]
-        out[k] = float(p[_C0 + i] * 0.5 * rho * L ** a * U ** b)
-    out["Iy"] = float(p[_IY] * 0.5 * rho * L ** 5)
+        out[k] = float(p[_C0 + i] * 0.5 * rho * L**a * U**b)
+    out["Iy"] = float(p[_IY] * 0.5 * rho * L**5)
     return out
 
 
@@ -265,35 +314,35 @@ def sub_jac(x, p, u, J):
     J[1, 2] = 1.0
     # derivative list: (dA, dB, dM11, dM12, dM21, dM22) for each y
     d = np.zeros((22, 6))
-    d[0, 0] = D[0]                                   # w
+    d[0, 0] = D[0]  # w
     d[0, 1] = D[5] - m * zG * q
-    d[1, 0] = -(W - Bf) * st                         # theta
+    d[1, 0] = -(W - Bf) * st  # theta
     d[1, 1] = -W * zG * ct + W * xG * st
-    d[2, 0] = m * U + 2.0 * m * zG * q + D[2]        # q
+    d[2, 0] = m * U + 2.0 * m * zG * q + D[2]  # q
     d[2, 1] = D[7] - m * xG * U - m * zG * w
-    d[3, 0] = s[0] * w                               # Zw
-    d[4, 2] = -s[1]                                  # Zwdot
-    d[5, 0] = s[2] * q                               # Zq
-    d[6, 3] = -s[3]                                  # Zqdot
-    d[7, 0] = s[4] * ds                              # Zds
-    d[8, 1] = s[5] * w                               # Mw
-    d[9, 4] = -s[6]                                  # Mwdot
-    d[10, 1] = s[7] * q                              # Mq
-    d[11, 5] = -s[8]                                 # Mqdot
-    d[12, 1] = s[9] * ds                             # Mds
-    d[13, 0] = U * q + zG * q * q                    # m
+    d[3, 0] = s[0] * w  # Zw
+    d[4, 2] = -s[1]  # Zwdot
+    d[5, 0] = s[2] * q  # Zq
+    d[6, 3] = -s[3]  # Zqdot
+    d[7, 0] = s[4] * ds  # Zds
+    d[8, 1] = s[5] * w  # Mw
+    d[9, 4] = -s[6]  # Mwdot
+    d[10, 1] = s[7] * q  # Mq
+    d[11, 5] = -s[8]  # Mqdot
+    d[12, 1] = s[9] * ds  # Mds
+    d[13, 0] = U * q + zG * q * q  # m
     d[13, 1] = -xG * U * q - zG * w * q
     d[13, 2] = 1.0
     d[13, 3] = -xG
     d[13, 4] = -xG
-    d[14, 5] = h * Ls[5]                             # Iy_nd
-    d[15, 0] = ct                                    # W
+    d[14, 5] = h * Ls[5]  # Iy_nd
+    d[15, 0] = ct  # W
     d[15, 1] = -zG * st - xG * ct
-    d[16, 0] = -ct                                   # B
-    d[17, 1] = -m * U * q - W * ct                   # xG
+    d[16, 0] = -ct  # B
+    d[17, 1] = -m * U * q - W * ct  # xG
     d[17, 3] = -m
     d[17, 4] = -m
-    d[18, 0] = m * q * q                             # zG
+    d[18, 0] = m * q * q  # zG
     d[18, 1] = -m * w * q - W * st
     # rho: every scaled term is proportional to rho
     d[19, 0] = (D[0] * w + D[2] * q + D[4] * ds) / p[_RHO]
@@ -338,16 +387,31 @@ def filter_model(params=None) -> Model:
     """The 3-state (w, theta, q) model the EKF of 002 identifies: outputs = states (w, theta, q
     measured directly, 002 ch. 4), analytic Jacobian, complex-step safe."""
     p = default_params() if params is None else np.asarray(params, dtype=np.float64)
-    return Model("submarine-vertical", sub_filter_f, _FILTER_STATES, [("ds", "rad")], LAYOUT, p, jac=sub_filter_jac,
-                 bound=100.0,  # |w| > 100 m/s, |theta| > 100 rad, |q| > 100 rad/s or |coef'| > 100: diverged
-                 description="002 heave-pitch submarine: states w, theta, q; input stern plane ds")
+    return Model(
+        "submarine-vertical",
+        sub_filter_f,
+        _FILTER_STATES,
+        [("ds", "rad")],
+        LAYOUT,
+        p,
+        jac=sub_filter_jac,
+        bound=100.0,  # |w| > 100 m/s, |theta| > 100 rad, |q| > 100 rad/s or |coef'| > 100: diverged
+        description="002 heave-pitch submarine: states w, theta, q; input stern plane ds",
+    )
 
 
 def plant_model(params=None) -> Model:
     """The 4-state plant model (w, theta, q, z) of 002 eq. 2.3-2.5."""
     p = default_params() if params is None else np.asarray(params, dtype=np.float64)
-    return Model("submarine-vertical-plant", sub_rhs, [*_FILTER_STATES, ("z", "m")], [("ds", "rad")], LAYOUT, p,
-                 description="002 heave-pitch submarine with depth")
+    return Model(
+        "submarine-vertical-plant",
+        sub_rhs,
+        [*_FILTER_STATES, ("z", "m")],
+        [("ds", "rad")],
+        LAYOUT,
+        p,
+        description="002 heave-pitch submarine with depth",
+    )
 
 
 def eigenvalues(p, ds: float = 0.0) -> np.ndarray:
@@ -364,6 +428,7 @@ class SubmarineVerticalPlant(Plant):
     """
 
     def __init__(self, cfg: SubmarineVerticalConfig, name: str = "sub"):
-        super().__init__(**plant_model(cfg.params()).plant_args(name, cfg.x0(), [f"{name}.ds"], declare=True),
-                         state_bound=1e6)
+        super().__init__(
+            **plant_model(cfg.params()).plant_args(name, cfg.x0(), [f"{name}.ds"], declare=True), state_bound=1e6
+        )
         self.cfg = cfg

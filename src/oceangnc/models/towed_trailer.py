@@ -142,10 +142,15 @@ class TowedTrailer(Plant):
             raise ValueError(f"cable length must be > 0 m, got {cable_length}")
         self.usv = usv
         self.L = float(cable_length)
-        super().__init__(**trailer_model(self.L).plant_args(name, np.array([psi0]),
-                                                             [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"],
-                                                             declare=True),
-                         outputs={f"{name}.{k}": u for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("r", "rad/s"), ("phi", "rad"))})
+        super().__init__(
+            **trailer_model(self.L).plant_args(
+                name, np.array([psi0]), [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"], declare=True
+            ),
+            outputs={
+                f"{name}.{k}": u
+                for k, u in (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("r", "rad/s"), ("phi", "rad"))
+            },
+        )
 
     def read_inputs(self, bus: dict) -> None:
         self.u[0] = bus.get(f"{self.usv}.u", 0.0)

@@ -50,22 +50,37 @@ from ..io.config import StrictModel
 from ..units import KGF, RHO_AIR
 
 STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"))
-INPUTS = (("thrust_port", "N"), ("thrust_stbd", "N"), ("current_n", "m/s"), ("current_e", "m/s"),
-          ("wind_n", "m/s"), ("wind_e", "m/s"))
+INPUTS = (
+    ("thrust_port", "N"),
+    ("thrust_stbd", "N"),
+    ("current_n", "m/s"),
+    ("current_e", "m/s"),
+    ("wind_n", "m/s"),
+    ("wind_e", "m/s"),
+)
 STATE_NAMES = tuple(k for k, _ in STATES)
 #: bus signals of the inputs (``usv.`` is replaced by the plant's name)
-INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n",
-               "env.wind_e")
+INPUT_NAMES = ("usv.thrust_port", "usv.thrust_stbd", "env.current_n", "env.current_e", "env.wind_n", "env.wind_e")
 #: parameters (003 eq. 2.3-2.9), in this order in ``p``
-LAYOUT = ParamLayout([
-    Param("m11", "kg", description="surge mass incl. added mass"), Param("m22", "kg", description="sway mass"),
-    Param("m33", "kg m^2", description="yaw inertia incl. added inertia"),
-    Param("d11", "N s/m", description="linear surge damping"), Param("d22", "N s/m", description="linear sway damping"),
-    Param("d33", "N m s", description="linear yaw damping"),
-    Param("d11_rr", "N s^3/m", description="surge resistance due to turning"),
-    Param("thruster_spacing", "m"), Param("rho_air", "kg/m^3"), Param("area_front", "m^2"),
-    Param("area_side", "m^2"), Param("length_oa", "m"), Param("c_x", "1"), Param("c_y", "1"), Param("c_n", "1"),
-])
+LAYOUT = ParamLayout(
+    [
+        Param("m11", "kg", description="surge mass incl. added mass"),
+        Param("m22", "kg", description="sway mass"),
+        Param("m33", "kg m^2", description="yaw inertia incl. added inertia"),
+        Param("d11", "N s/m", description="linear surge damping"),
+        Param("d22", "N s/m", description="linear sway damping"),
+        Param("d33", "N m s", description="linear yaw damping"),
+        Param("d11_rr", "N s^3/m", description="surge resistance due to turning"),
+        Param("thruster_spacing", "m"),
+        Param("rho_air", "kg/m^3"),
+        Param("area_front", "m^2"),
+        Param("area_side", "m^2"),
+        Param("length_oa", "m"),
+        Param("c_x", "1"),
+        Param("c_y", "1"),
+        Param("c_n", "1"),
+    ]
+)
 P_NAMES = LAYOUT.names
 (_M11, _M22, _M33, _D11, _D22, _D33, _D11RR, _SPACING, _RHOA, _AF, _AL, _LOA, _CX, _CY, _CN) = LAYOUT.indices(*P_NAMES)
 
@@ -116,8 +131,11 @@ def wind_load(u, v, psi, wn, we, rho, a_front, a_side, loa, c_x, c_y, c_n):
         return 0.0, 0.0, 0.0
     gamma = -catan2(vrw, urw)
     q = 0.5 * rho * v2
-    return (-q * c_x * ccos(gamma) * a_front, q * c_y * csin(gamma) * a_side,
-            q * c_n * csin(2.0 * gamma) * a_side * loa)
+    return (
+        -q * c_x * ccos(gamma) * a_front,
+        q * c_y * csin(gamma) * a_side,
+        q * c_n * csin(2.0 * gamma) * a_side * loa,
+    )
 
 
 @njit(cache=True)
@@ -154,8 +172,16 @@ def usv_rhs(t, x, u, p, out):
 def usv_model(cfg: USVConfig | None = None, params=None) -> Model:
     """The USV of 003 ch. 2.1 as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
     p = (cfg or USVConfig()).params() if params is None else np.asarray(params, dtype=np.float64)
-    return Model("usv", usv_rhs, STATES, INPUTS, LAYOUT, p, bound=1e7,
-                 description="003 3 m USV, 3-DOF (eq. 2.3-2.12): states x, y, psi, u, v, r")
+    return Model(
+        "usv",
+        usv_rhs,
+        STATES,
+        INPUTS,
+        LAYOUT,
+        p,
+        bound=1e7,
+        description="003 3 m USV, 3-DOF (eq. 2.3-2.12): states x, y, psi, u, v, r",
+    )
 
 
 class USVPlant(Plant):
@@ -164,8 +190,12 @@ class USVPlant(Plant):
     def __init__(self, cfg: USVConfig, name: str = "usv"):
         x0 = np.array([cfg.x0, cfg.y0, math.radians(cfg.psi0_deg), cfg.u0, 0.0, 0.0])
         inputs = [k.replace("usv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**usv_model(cfg).plant_args(name, x0, inputs, declare=True), state_bound=1e7,
-                         input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
+        super().__init__(
+            **usv_model(cfg).plant_args(name, x0, inputs, declare=True),
+            state_bound=1e7,
+            input_defaults=CALM,
+            extra_outputs={f"{name}.speed": "m/s"},
+        )
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:
@@ -226,13 +256,29 @@ def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
     of the surge, sway and yaw equations (Newton with the exact complex-step Jacobian)."""
     from ..core.linearize import trim
 
-    res = trim(usv_model(cfg), [0.0, 0.0, 0.0, 0.5, 0.0, 0.1], [t_port, t_stbd, 0.0, 0.0, 0.0, 0.0],
-               free=("u", "v", "r"), zero=("u", "v", "r"), tol=1e-13)
+    res = trim(
+        usv_model(cfg),
+        [0.0, 0.0, 0.0, 0.5, 0.0, 0.1],
+        [t_port, t_stbd, 0.0, 0.0, 0.0, 0.0],
+        free=("u", "v", "r"),
+        zero=("u", "v", "r"),
+        tol=1e-13,
+    )
     return float(res.x[3]), float(res.x[4]), float(res.x[5])
 
 
-def calibrate(m11=210.0, m22=300.0, m33=247.0, spacing=1.2, straight_kgf=30.0, straight_speed=0.8,
-              turn_kgf=(30.0, 15.0), radius=1.75, yaw_rate_degps=16.0, drift_deg=15.0) -> dict:
+def calibrate(
+    m11=210.0,
+    m22=300.0,
+    m33=247.0,
+    spacing=1.2,
+    straight_kgf=30.0,
+    straight_speed=0.8,
+    turn_kgf=(30.0, 15.0),
+    radius=1.75,
+    yaw_rate_degps=16.0,
+    drift_deg=15.0,
+) -> dict:
     """Damping that makes the model reproduce 003 figs 2-7/2-8 (see module docstring).
 
     Straight: d11 U = 2 T. Turn, with U = R r, u = U cos(beta), v = -U sin(beta):

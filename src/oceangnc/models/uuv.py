@@ -72,23 +72,51 @@ INPUT_NAMES = ("uuv.thrust_port", "uuv.thrust_stbd", "uuv.thrust_bow", "env.curr
 #: (a, b) of the length and diameter scale factors used to carry them to this vehicle.
 REMUS_PRESTERO = {
     # added mass
-    "X_udot": (-0.93, 1, 2), "Y_vdot": (-35.5, 1, 2), "Z_wdot": (-35.5, 1, 2), "K_pdot": (-0.0704, 1, 4),
-    "M_qdot": (-4.88, 3, 2), "N_rdot": (-4.88, 3, 2),
-    "Y_rdot": (1.93, 2, 2), "Z_qdot": (-1.93, 2, 2), "M_wdot": (-1.93, 2, 2), "N_vdot": (1.93, 2, 2),
+    "X_udot": (-0.93, 1, 2),
+    "Y_vdot": (-35.5, 1, 2),
+    "Z_wdot": (-35.5, 1, 2),
+    "K_pdot": (-0.0704, 1, 4),
+    "M_qdot": (-4.88, 3, 2),
+    "N_rdot": (-4.88, 3, 2),
+    "Y_rdot": (1.93, 2, 2),
+    "Z_qdot": (-1.93, 2, 2),
+    "M_wdot": (-1.93, 2, 2),
+    "N_vdot": (1.93, 2, 2),
     # quadratic (cross-flow and axial) drag
-    "X_uu": (-1.62, 0, 2), "Y_vv": (-131.0, 1, 1), "Z_ww": (-131.0, 1, 1), "K_pp": (-0.130, 1, 4),
-    "M_qq": (-188.0, 4, 1), "N_rr": (-94.0, 4, 1),
+    "X_uu": (-1.62, 0, 2),
+    "Y_vv": (-131.0, 1, 1),
+    "Z_ww": (-131.0, 1, 1),
+    "K_pp": (-0.130, 1, 4),
+    "M_qq": (-188.0, 4, 1),
+    "N_rr": (-94.0, 4, 1),
     # totals of body lift, fin lift and added-mass cross terms (Munk moment etc.)
-    "Y_uv": (-28.6, 0, 2), "Z_uw": (-28.6, 0, 2), "M_uw": (24.0, 1, 2), "N_uv": (-24.0, 1, 2),
-    "Y_ur": (5.22, 1, 2), "Z_uq": (-5.22, 1, 2), "M_uq": (-2.0, 2, 2), "N_ur": (-2.0, 2, 2),
+    "Y_uv": (-28.6, 0, 2),
+    "Z_uw": (-28.6, 0, 2),
+    "M_uw": (24.0, 1, 2),
+    "N_uv": (-24.0, 1, 2),
+    "Y_ur": (5.22, 1, 2),
+    "Z_uq": (-5.22, 1, 2),
+    "M_uq": (-2.0, 2, 2),
+    "N_ur": (-2.0, 2, 2),
 }
 REMUS_LENGTH = 1.33  # m, Prestero 2001 table 2-1 (1.33 m)
 REMUS_DIAMETER = 0.191  # m
 
-STATES = (("x", "m"), ("y", "m"), ("z", "m"), ("phi", "rad"), ("theta", "rad"), ("psi", "rad"), ("u", "m/s"),
-          ("v", "m/s"), ("w", "m/s"), ("p", "rad/s"), ("q", "rad/s"), ("r", "rad/s"))
-INPUTS = (("thrust_port", "N"), ("thrust_stbd", "N"), ("thrust_bow", "N"), ("current_n", "m/s"),
-          ("current_e", "m/s"))
+STATES = (
+    ("x", "m"),
+    ("y", "m"),
+    ("z", "m"),
+    ("phi", "rad"),
+    ("theta", "rad"),
+    ("psi", "rad"),
+    ("u", "m/s"),
+    ("v", "m/s"),
+    ("w", "m/s"),
+    ("p", "rad/s"),
+    ("q", "rad/s"),
+    ("r", "rad/s"),
+)
+INPUTS = (("thrust_port", "N"), ("thrust_stbd", "N"), ("thrust_bow", "N"), ("current_n", "m/s"), ("current_e", "m/s"))
 DLIN_NAMES = ("X_u", "Y_v", "Z_w", "K_p", "M_q", "N_r")
 DQUAD_NAMES = ("X_uu", "Y_vv", "Z_ww", "K_pp", "M_qq", "N_rr")
 LIFT_NAMES = ("Y_uv", "Y_ur", "Z_uw", "Z_uq", "M_uw", "M_uq", "N_uv", "N_ur")
@@ -98,18 +126,22 @@ _LIFT_UNITS = ("kg/m", "kg", "kg/m", "kg", "kg", "kg m", "kg", "kg m")
 
 #: parameter layout (003 appendix A), generated from the declared names
 LAYOUT = ParamLayout(
-    [Param("W", "N", description="weight m g"), Param("B", "N", description="buoyancy"),
-     Param("r_g", "m", 3, description="centre of gravity (body axes, from the CB)"),
-     Param("r_b", "m", 3, description="centre of buoyancy"),
-     Param("M_RB", "kg, kg m, kg m^2", 36, description="rigid-body mass matrix, row-major (A-7)"),
-     Param("M_A", "kg, kg m, kg m^2", 36, description="added-mass matrix, row-major (A-9)"),
-     Param("M_inv", "1/kg ...", 36, derived=True, description="(M_RB + M_A)^-1, row-major"),
-     *[Param(k, u, description="linear damping (A-11)") for k, u in zip(DLIN_NAMES, _DLIN_UNITS)],
-     *[Param(k, u, description="quadratic damping (A-12)") for k, u in zip(DQUAD_NAMES, _DQUAD_UNITS)],
-     *[Param(k, u, description="body/fin lift (Prestero) times |u_r|") for k, u in zip(LIFT_NAMES, _LIFT_UNITS)],
-     Param("stern_half", "m", description="half the stern thruster spacing"),
-     Param("bow_x", "m", description="bow thruster position ahead of the CB"),
-     Param("r_c", "m", 3, description="tow point (body axes)")])
+    [
+        Param("W", "N", description="weight m g"),
+        Param("B", "N", description="buoyancy"),
+        Param("r_g", "m", 3, description="centre of gravity (body axes, from the CB)"),
+        Param("r_b", "m", 3, description="centre of buoyancy"),
+        Param("M_RB", "kg, kg m, kg m^2", 36, description="rigid-body mass matrix, row-major (A-7)"),
+        Param("M_A", "kg, kg m, kg m^2", 36, description="added-mass matrix, row-major (A-9)"),
+        Param("M_inv", "1/kg ...", 36, derived=True, description="(M_RB + M_A)^-1, row-major"),
+        *[Param(k, u, description="linear damping (A-11)") for k, u in zip(DLIN_NAMES, _DLIN_UNITS)],
+        *[Param(k, u, description="quadratic damping (A-12)") for k, u in zip(DQUAD_NAMES, _DQUAD_UNITS)],
+        *[Param(k, u, description="body/fin lift (Prestero) times |u_r|") for k, u in zip(LIFT_NAMES, _LIFT_UNITS)],
+        Param("stern_half", "m", description="half the stern thruster spacing"),
+        Param("bow_x", "m", description="bow thruster position ahead of the CB"),
+        Param("r_c", "m", 3, description="tow point (body axes)"),
+    ]
+)
 P_W, P_B, P_RG, P_RB, P_MRB, P_MA, P_MINV = LAYOUT.indices("W", "B", "r_g", "r_b", "M_RB", "M_A", "M_inv")
 P_DLIN = LAYOUT.index(DLIN_NAMES[0])  # the six linear terms, consecutive
 P_DQUAD = LAYOUT.index(DQUAD_NAMES[0])  # the six quadratic terms
@@ -122,7 +154,7 @@ def scaled_coefficients(length: float, diameter: float) -> dict[str, float]:
     """Prestero's REMUS-100 coefficients carried to a vehicle of ``length`` x ``diameter`` (m)."""
     sl = length / REMUS_LENGTH
     sd = diameter / REMUS_DIAMETER
-    return {k: v * sl ** a * sd ** b for k, (v, a, b) in REMUS_PRESTERO.items()}
+    return {k: v * sl**a * sd**b for k, (v, a, b) in REMUS_PRESTERO.items()}
 
 
 class UUVConfig(StrictModel):
@@ -131,23 +163,34 @@ class UUVConfig(StrictModel):
     length: float = Field(1.79, gt=0, le=20, description="hull length (003 table 2-5), m")
     diameter: float = Field(0.25, gt=0, le=5, description="hull diameter (003 table 2-5), m")
     mass: float = Field(30.0, gt=0, le=1e4, description="mass in air (003 table 2-5), kg")
-    weight_in_water_kgf: float = Field(12.0, ge=-1e3, le=1e4,
-                                       description="submerged weight W - B (003 table 2-5; > 0 sinks), kgf")
+    weight_in_water_kgf: float = Field(
+        12.0, ge=-1e3, le=1e4, description="submerged weight W - B (003 table 2-5; > 0 sinks), kgf"
+    )
     zg: float = Field(0.02, ge=0.0, le=1.0, description="centre of gravity below the centre of buoyancy, m")
-    Ixx: float | None = Field(None, gt=0, le=1e4, description="roll inertia about the CG (default: uniform cylinder), kg m2")
-    Iyy: float | None = Field(None, gt=0, le=1e5, description="pitch inertia about the CG (default: uniform cylinder), kg m2")
-    Izz: float | None = Field(None, gt=0, le=1e5, description="yaw inertia about the CG (default: uniform cylinder), kg m2")
+    Ixx: float | None = Field(
+        None, gt=0, le=1e4, description="roll inertia about the CG (default: uniform cylinder), kg m2"
+    )
+    Iyy: float | None = Field(
+        None, gt=0, le=1e5, description="pitch inertia about the CG (default: uniform cylinder), kg m2"
+    )
+    Izz: float | None = Field(
+        None, gt=0, le=1e5, description="yaw inertia about the CG (default: uniform cylinder), kg m2"
+    )
     X_u: float = Field(-1.0, ge=-1e4, le=0, description="linear surge damping X_u, N s/m")
     Y_v: float = Field(-10.0, ge=-1e4, le=0, description="linear sway damping Y_v, N s/m")
     Z_w: float = Field(-10.0, ge=-1e4, le=0, description="linear heave damping Z_w, N s/m")
     K_p: float = Field(-0.5, ge=-1e4, le=0, description="linear roll damping K_p, N m s")
     M_q: float = Field(-5.0, ge=-1e4, le=0, description="linear pitch damping M_q, N m s")
     N_r: float = Field(-5.0, ge=-1e4, le=0, description="linear yaw damping N_r, N m s")
-    appendage_drag_area: float = Field(0.03, ge=0.0, le=10.0,
-                                       description="C_d A of the external thrusters and fittings, added to "
-                                                   "X_u|u| as -rho C_d A / 2, m2")
-    drag_scale: float = Field(1.0, ge=0.0, le=100.0,
-                              description="multiplier on the quadratic drag and lift coefficients, -")
+    appendage_drag_area: float = Field(
+        0.03,
+        ge=0.0,
+        le=10.0,
+        description="C_d A of the external thrusters and fittings, added to X_u|u| as -rho C_d A / 2, m2",
+    )
+    drag_scale: float = Field(
+        1.0, ge=0.0, le=100.0, description="multiplier on the quadratic drag and lift coefficients, -"
+    )
     damping_on: bool = Field(True, description="hydrodynamic damping and lift (off only for energy checks)")
     stern_spacing: float = Field(0.3, ge=0, le=5, description="lateral spacing of the two stern thrusters, m")
     bow_arm: float = Field(0.7, ge=0, le=10, description="bow thruster position ahead of the CB, B_f, m")
@@ -164,7 +207,7 @@ class UUVConfig(StrictModel):
         """(Ixx, Iyy, Izz) in kg m2: given, else those of a uniform solid cylinder."""
         r = 0.5 * self.diameter
         ixx = self.Ixx if self.Ixx is not None else 0.5 * self.mass * r * r
-        iyy = self.Iyy if self.Iyy is not None else self.mass * (3 * r * r + self.length ** 2) / 12.0
+        iyy = self.Iyy if self.Iyy is not None else self.mass * (3 * r * r + self.length**2) / 12.0
         izz = self.Izz if self.Izz is not None else iyy
         return ixx, iyy, izz
 
@@ -194,10 +237,14 @@ class UUVConfig(StrictModel):
         """Body/fin lift terms: Prestero's totals minus the added-mass (Munk) parts already in C_A."""
         c = self.coefficients()
         return {
-            "Y_uv": c["Y_uv"], "Z_uw": c["Z_uw"],
-            "Y_ur": c["Y_ur"] - c["X_udot"], "Z_uq": c["Z_uq"] + c["X_udot"],
-            "M_uw": c["M_uw"] - (c["X_udot"] - c["Z_wdot"]), "N_uv": c["N_uv"] - (c["Y_vdot"] - c["X_udot"]),
-            "M_uq": c["M_uq"] + c["Z_qdot"], "N_ur": c["N_ur"] - c["Y_rdot"],
+            "Y_uv": c["Y_uv"],
+            "Z_uw": c["Z_uw"],
+            "Y_ur": c["Y_ur"] - c["X_udot"],
+            "Z_uq": c["Z_uq"] + c["X_udot"],
+            "M_uw": c["M_uw"] - (c["X_udot"] - c["Z_wdot"]),
+            "N_uv": c["N_uv"] - (c["Y_vdot"] - c["X_udot"]),
+            "M_uq": c["M_uq"] + c["Z_qdot"],
+            "N_ur": c["N_ur"] - c["Y_rdot"],
         }
 
     @property
@@ -222,19 +269,33 @@ class UUVConfig(StrictModel):
         c = self.coefficients()
         sc = self.drag_scale * on
         lf = self.lift_coefficients()
-        v = {"W": self.weight, "B": self.buoyancy, "r_g": (0.0, 0.0, self.zg), "r_b": (0.0, 0.0, 0.0),
-             "M_RB": mrb, "M_A": ma, "M_inv": np.linalg.inv(mrb + ma),
-             "stern_half": 0.5 * self.stern_spacing, "bow_x": self.bow_arm, "r_c": tow_point}
+        v = {
+            "W": self.weight,
+            "B": self.buoyancy,
+            "r_g": (0.0, 0.0, self.zg),
+            "r_b": (0.0, 0.0, 0.0),
+            "M_RB": mrb,
+            "M_A": ma,
+            "M_inv": np.linalg.inv(mrb + ma),
+            "stern_half": 0.5 * self.stern_spacing,
+            "bow_x": self.bow_arm,
+            "r_c": tow_point,
+        }
         v.update({k: getattr(self, k) * on for k in DLIN_NAMES})
-        v.update({k: q * sc for k, q in zip(DQUAD_NAMES, (self.X_uu_total, c["Y_vv"], c["Z_ww"], c["K_pp"],
-                                                          c["M_qq"], c["N_rr"]))})
+        v.update(
+            {
+                k: q * sc
+                for k, q in zip(DQUAD_NAMES, (self.X_uu_total, c["Y_vv"], c["Z_ww"], c["K_pp"], c["M_qq"], c["N_rr"]))
+            }
+        )
         v.update({k: lf[k] * sc for k in LIFT_NAMES})
         return LAYOUT.pack(v)
 
     def initial_state(self) -> np.ndarray:
         """x0 (12 states)."""
-        return np.array([self.x0, self.y0, self.z0, 0.0, 0.0, math.radians(self.psi0_deg), self.u0,
-                         0.0, 0.0, 0.0, 0.0, 0.0])
+        return np.array(
+            [self.x0, self.y0, self.z0, 0.0, 0.0, math.radians(self.psi0_deg), self.u0, 0.0, 0.0, 0.0, 0.0, 0.0]
+        )
 
 
 @njit(cache=True)
@@ -383,12 +444,12 @@ def uuv_energy(x, p) -> float:
     The potential is -W z_G + B z_B (z down); conserved by the model when damping is off.
     """
     nu = np.asarray(x[6:12], float)
-    M = p[P_MRB:P_MRB + 36].reshape(6, 6) + p[P_MA:P_MA + 36].reshape(6, 6)
+    M = p[P_MRB : P_MRB + 36].reshape(6, 6) + p[P_MA : P_MA + 36].reshape(6, 6)
     ke = 0.5 * nu @ M @ nu
     phi, th = x[3], x[4]
     # z-component of R r for r = (rx, ry, rz): -sin(th) rx + cos(th) sin(phi) ry + cos(th) cos(phi) rz
-    rg = p[P_RG:P_RG + 3]
-    rb = p[P_RB:P_RB + 3]
+    rg = p[P_RG : P_RG + 3]
+    rb = p[P_RB : P_RB + 3]
     zg = x[2] - math.sin(th) * rg[0] + math.cos(th) * math.sin(phi) * rg[1] + math.cos(th) * math.cos(phi) * rg[2]
     zb = x[2] - math.sin(th) * rb[0] + math.cos(th) * math.sin(phi) * rb[1] + math.cos(th) * math.cos(phi) * rb[2]
     return float(ke - p[P_W] * zg + p[P_B] * zb)
@@ -397,8 +458,16 @@ def uuv_energy(x, p) -> float:
 def uuv_model(cfg: UUVConfig | None = None, params=None, tow_point=(0.0, 0.0, 0.0)) -> Model:
     """The 6-DOF UUV of 003 ch. 2.2 as a :class:`~oceangnc.core.model.Model` (outputs = states)."""
     p = (cfg or UUVConfig()).params(tow_point) if params is None else np.asarray(params, dtype=np.float64)
-    return Model("uuv", uuv_rhs, STATES, INPUTS, LAYOUT, p, bound=1e6,
-                 description="003 1.79 m UUV, Fossen 6-DOF with scaled REMUS-100 coefficients")
+    return Model(
+        "uuv",
+        uuv_rhs,
+        STATES,
+        INPUTS,
+        LAYOUT,
+        p,
+        bound=1e6,
+        description="003 1.79 m UUV, Fossen 6-DOF with scaled REMUS-100 coefficients",
+    )
 
 
 @njit(cache=True)
@@ -437,8 +506,15 @@ def uuv_planar_model(cfg: UUVConfig | None = None) -> Model:
     """The UUV held level in the horizontal plane (states u, v, r), :func:`uuv_planar_rhs`; W = B = 0."""
     p = (cfg or UUVConfig()).params()
     p[P_W] = p[P_B] = 0.0  # level attitude held: no restoring terms in the planar problem
-    return Model("uuv-planar", uuv_planar_rhs, STATES[6:8] + STATES[11:], INPUTS, LAYOUT, p,
-                 description="UUV in the horizontal plane, roll, pitch and heave held")
+    return Model(
+        "uuv-planar",
+        uuv_planar_rhs,
+        STATES[6:8] + STATES[11:],
+        INPUTS,
+        LAYOUT,
+        p,
+        description="UUV in the horizontal plane, roll, pitch and heave held",
+    )
 
 
 class UUVPlant(Plant):
@@ -446,8 +522,11 @@ class UUVPlant(Plant):
 
     def __init__(self, cfg: UUVConfig, name: str = "uuv"):
         inputs = [k.replace("uuv.", f"{name}.") for k in INPUT_NAMES]
-        super().__init__(**uuv_model(cfg).plant_args(name, cfg.initial_state(), inputs, declare=True),
-                         input_defaults=CALM, extra_outputs={f"{name}.speed": "m/s"})
+        super().__init__(
+            **uuv_model(cfg).plant_args(name, cfg.initial_state(), inputs, declare=True),
+            input_defaults=CALM,
+            extra_outputs={f"{name}.speed": "m/s"},
+        )
         self.cfg = cfg
 
     def publish(self, bus: dict) -> None:
@@ -481,8 +560,11 @@ class UUVThrusters(Block):
         from ._compiled import thrusters_step
 
         b = self.body
-        sig = ["_estop", *(f"{b}.thrust_{s}_cmd" for s in ("port", "stbd", "bow")),
-               *(f"{b}.thrust_{s}" for s in ("port", "stbd", "bow"))]
+        sig = [
+            "_estop",
+            *(f"{b}.thrust_{s}_cmd" for s in ("port", "stbd", "bow")),
+            *(f"{b}.thrust_{s}" for s in ("port", "stbd", "bow")),
+        ]
         return CompiledBlock(thrusters_step, sig, params=np.array([3.0, self.hi, self.lo]))
 
     def step(self, t: float, bus: dict) -> None:
@@ -507,8 +589,14 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
     # spurious spiral equilibria exist; the symmetric start keeps Newton on v = r = 0)
     r_guess = 0.0 if moment == 0.0 else math.copysign(0.1, moment)
     try:
-        res = trim(uuv_planar_model(cfg), [u_guess, 0.0, r_guess], [t_port, t_stbd, t_bow, 0.0, 0.0],
-                   free=("u", "v", "r"), zero=("u", "v", "r"), tol=1e-12)
+        res = trim(
+            uuv_planar_model(cfg),
+            [u_guess, 0.0, r_guess],
+            [t_port, t_stbd, t_bow, 0.0, 0.0],
+            free=("u", "v", "r"),
+            zero=("u", "v", "r"),
+            tol=1e-12,
+        )
     except InputError as e:
         raise RuntimeError(f"uuv_steady_planar: no steady turn found ({e})") from None
     return float(res.x[0]), float(res.x[1]), float(res.x[2])

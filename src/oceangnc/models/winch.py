@@ -35,8 +35,9 @@ class WinchConfig(StrictModel):
     enabled: bool = Field(False, description="winch at the USV's attachment point (needs cable.integrator = 'imex')")
     speed_max: float = Field(0.5, gt=0, le=5, description="largest drum (line) speed, m/s")
     accel_max: float = Field(0.5, gt=0, le=10, description="largest drum acceleration, m/s2")
-    tension_max: float = Field(2000.0, gt=0, le=1e6,
-                               description="tension limit: above it the winch pays out at speed_max, N")
+    tension_max: float = Field(
+        2000.0, gt=0, le=1e6, description="tension limit: above it the winch pays out at speed_max, N"
+    )
     capacity: float = Field(100.0, gt=0, le=1e4, description="cable length on the drum (largest payout), m")
     min_length: float = Field(0.5, gt=0, le=1e3, description="shortest paid-out length (haul-in stops), m")
     time_constant: float = Field(0.2, ge=0.01, le=10, description="drum speed loop time constant tau, s")

@@ -30,4 +30,4 @@ def circle_fit_drifting(t, x, y, psi):
     radius = math.sqrt((cx[2] ** 2 + cx[3] ** 2 + cy[2] ** 2 + cy[3] ** 2) / 2.0)
     vx, vy = cx[1], cy[1]
     res = np.concatenate([x - H @ cx, y - H @ cy])
-    return radius, math.hypot(vx, vy), math.degrees(math.atan2(vy, vx)) % 360.0, float(np.sqrt(np.mean(res ** 2)))
+    return radius, math.hypot(vx, vy), math.degrees(math.atan2(vy, vx)) % 360.0, float(np.sqrt(np.mean(res**2)))

@@ -22,6 +22,7 @@ RAD2DEG = 180.0 / math.pi
 
 # -- shared config ----------------------------------------------------------------------------------------
 
+
 class HeadingDesign(StrictModel):
     """Pole placement of the heading PD (000 eq. 26-27)."""
 
@@ -50,22 +51,27 @@ def check_design(cfg) -> None:
     from ..control.pole_placement import heading_gains, speed_gain
 
     u = cfg.usv
-    for sec, law, fn, speeds in (("heading", ("K_r", "T_r"), heading_gains, (u.turn_lo_mps, u.turn_hi_mps)),
-                                 ("speed_control", ("K_v", "T_v"), speed_gain, (u.straight_lo_mps, u.straight_hi_mps))):
+    for sec, law, fn, speeds in (
+        ("heading", ("K_r", "T_r"), heading_gains, (u.turn_lo_mps, u.turn_hi_mps)),
+        ("speed_control", ("K_v", "T_v"), speed_gain, (u.straight_lo_mps, u.straight_hi_mps)),
+    ):
         d = getattr(cfg, sec)
         for sp in speeds:
             c = u.coefficients(sp)
             try:
                 fn(c[law[0]], c[law[1]], d.zeta, d.wn)
             except ConfigError as e:
-                raise ConfigError(f"config error: {sec}.wn = {d.wn:g} / {sec}.zeta = {d.zeta:g}: at {sp:g} m/s "
-                                  f"{str(e).split(': ', 1)[1]}") from None
+                raise ConfigError(
+                    f"config error: {sec}.wn = {d.wn:g} / {sec}.zeta = {d.zeta:g}: at {sp:g} m/s "
+                    f"{str(e).split(': ', 1)[1]}"
+                ) from None
 
 
 def _nomoto(cfg):
     def f(u):
         c = cfg.usv.coefficients(u)
         return c["K_r"], c["T_r"]
+
     return f
 
 
@@ -73,6 +79,7 @@ def _speedlaw(cfg):
     def f(u):
         c = cfg.usv.coefficients(u)
         return c["K_v"], c["T_v"]
+
     return f
 
 
@@ -86,8 +93,11 @@ def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None)
         blocks.append(SpeedAutopilot(_speedlaw(cfg), cfg.speed_control.zeta, cfg.speed_control.wn, h))
     else:
         n = float(rpm_open_loop)
-        blocks.append(FunctionBlock("engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
-                                    inputs={}, outputs={"usv.rpm_cmd": "rpm"}))
+        blocks.append(
+            FunctionBlock(
+                "engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n), inputs={}, outputs={"usv.rpm_cmd": "rpm"}
+            )
+        )
     blocks.append(RudderEngineBlock(cfg.usv, h))
     return blocks
 

@@ -82,9 +82,9 @@ def speed_per_rps(ship: ShipConfig) -> float:
     p = ship.params()
     D, tp, wp, rho = ship.prop_diameter, ship.t_p, ship.w_p, ship.rho
     xuu = p[P["X_uu"]] - 0.5 * ship.rho_air * ship.c_x * ship.area_front  # water and still-air resistance
-    a = xuu + (1 - tp) * rho * ship.kt_a3 * (1 - wp) ** 2 * D ** 2
-    b = (1 - tp) * rho * ship.kt_a2 * (1 - wp) * D ** 3
-    c = (1 - tp) * rho * ship.kt_a1 * D ** 4
+    a = xuu + (1 - tp) * rho * ship.kt_a3 * (1 - wp) ** 2 * D**2
+    b = (1 - tp) * rho * ship.kt_a2 * (1 - wp) * D**3
+    c = (1 - tp) * rho * ship.kt_a1 * D**4
     roots = np.roots([a, b, c])
     return float(max(r.real for r in roots if abs(r.imag) < 1e-12))
 
@@ -136,8 +136,7 @@ class BerthingScenario(Scenario):
         dock), ``ship`` (``length``, ``beam`` in m), ``kind`` ("channel" or "dock").
         """
         pts = self.route_points(cfg)
-        g = {"kind": self.kind, "route": pts.tolist(),
-             "ship": {"length": cfg.ship.length, "beam": cfg.ship.beam}}
+        g = {"kind": self.kind, "route": pts.tolist(), "ship": {"length": cfg.ship.length, "beam": cfg.ship.beam}}
         if self.kind == "channel":
             hw = 0.5 * cfg.channel.width_m
             g["banks"] = [_offset_polyline(pts, -hw).tolist(), _offset_polyline(pts, hw).tolist()]
@@ -156,8 +155,9 @@ class BerthingScenario(Scenario):
         psi0 = math.degrees(math.atan2(d[1], d[0]))
         u0 = cfg.pilot.cruise_kn * KNOT
         n0 = 60.0 * u0 / speed_per_rps(cfg.ship)
-        return cfg.ship.model_copy(update={"x0": float(pts[0, 0]), "y0": float(pts[0, 1]), "psi0_deg": psi0,
-                                           "u0": u0, "n0_rpm": n0})
+        return cfg.ship.model_copy(
+            update={"x0": float(pts[0, 0]), "y0": float(pts[0, 1]), "psi0_deg": psi0, "u0": u0, "n0_rpm": n0}
+        )
 
     def build(self, cfg, rng) -> Simulation:
         """One live run: environment, (scripted pilot), joystick, controller and the ship."""
@@ -168,8 +168,16 @@ class BerthingScenario(Scenario):
             pilot_cfg = cfg.pilot
             if self.kind == "dock" and not pilot_cfg.stop_at_end:
                 pilot_cfg = pilot_cfg.model_copy(update={"stop_at_end": True})
-            blocks.append(ScriptedPilot(pilot_cfg, Route(self.route_points(cfg)), cfg.control.mode, cfg.joystick,
-                                        speed_per_rps(cfg.ship), cfg.control.n_open_rpm / 60.0))
+            blocks.append(
+                ScriptedPilot(
+                    pilot_cfg,
+                    Route(self.route_points(cfg)),
+                    cfg.control.mode,
+                    cfg.joystick,
+                    speed_per_rps(cfg.ship),
+                    cfg.control.n_open_rpm / 60.0,
+                )
+            )
         blocks.append(Joystick(cfg.joystick))
         blocks.append(make_controller(cfg.control, cfg.ship))
         sim = Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
@@ -236,14 +244,19 @@ class BerthingScenario(Scenario):
         plt.close(fig)
         d0 = df[df["run"] == df["run"].min()]
         deg = 180 / math.pi
-        p2 = plot_signals(d0, [
-            ("surge [m/s]", [("cmd.u_d", "u_d", 1.0), ("ship.u", "u", 1.0)]),
-            ("yaw rate [deg/s]", [("cmd.r_d", "r_d", deg), ("ship.r", "r", deg)]),
-            ("rudder [deg]", [("ship.rudder", "delta", deg)]),
-            ("propeller [rpm]", [("ship.rpm_prop", "n", 1.0)]),
-            ("thrusters [rpm]", [("ship.rpm_bow", "bow", 1.0), ("ship.rpm_stern", "stern", 1.0)]),
-            ("stick [-]", [("joystick.surge", "surge", 1.0), ("joystick.yaw", "yaw", 1.0)]),
-        ], out_dir / "actuators.png", title=f"{self.name} ({cfg.control.mode}), run 0")
+        p2 = plot_signals(
+            d0,
+            [
+                ("surge [m/s]", [("cmd.u_d", "u_d", 1.0), ("ship.u", "u", 1.0)]),
+                ("yaw rate [deg/s]", [("cmd.r_d", "r_d", deg), ("ship.r", "r", deg)]),
+                ("rudder [deg]", [("ship.rudder", "delta", deg)]),
+                ("propeller [rpm]", [("ship.rpm_prop", "n", 1.0)]),
+                ("thrusters [rpm]", [("ship.rpm_bow", "bow", 1.0), ("ship.rpm_stern", "stern", 1.0)]),
+                ("stick [-]", [("joystick.surge", "surge", 1.0), ("joystick.yaw", "yaw", 1.0)]),
+            ],
+            out_dir / "actuators.png",
+            title=f"{self.name} ({cfg.control.mode}), run 0",
+        )
         return [p1, p2]
 
 
@@ -293,17 +306,19 @@ def channel_metrics(df, cfg, pts) -> dict:
     per = []
     for _run, d in df.groupby("run"):
         t = d["t"].to_numpy()
-        per.append({
-            "error_index": error_index(d["ship.x"], d["ship.y"], route),
-            "rudder_index": actuator_index(t, d["ship.rudder"]),
-            "bow_thruster_index": actuator_index(t, d["ship.rpm_bow"] / 60.0),
-            "propeller_index": actuator_index(t, d["ship.rpm_prop"] / 60.0),
-            "margin": hull_corner_margin(d, cfg, pts),
-            "mean_speed": float(np.mean(d["ship.speed"])),
-            "max_speed": float(np.max(d["ship.speed"])),
-            "transit_time_s": float(t[-1] - t[0]),
-            "completed": float(d["pilot.s_remaining"].iloc[-1] < 5.0) if "pilot.s_remaining" in d else float("nan"),
-        })
+        per.append(
+            {
+                "error_index": error_index(d["ship.x"], d["ship.y"], route),
+                "rudder_index": actuator_index(t, d["ship.rudder"]),
+                "bow_thruster_index": actuator_index(t, d["ship.rpm_bow"] / 60.0),
+                "propeller_index": actuator_index(t, d["ship.rpm_prop"] / 60.0),
+                "margin": hull_corner_margin(d, cfg, pts),
+                "mean_speed": float(np.mean(d["ship.speed"])),
+                "max_speed": float(np.max(d["ship.speed"])),
+                "transit_time_s": float(t[-1] - t[0]),
+                "completed": float(d["pilot.s_remaining"].iloc[-1] < 5.0) if "pilot.s_remaining" in d else float("nan"),
+            }
+        )
     mean = {k: float(np.mean([p[k] for p in per])) for k in per[0]}
     out = {
         "error_index": mean["error_index"],
@@ -329,16 +344,22 @@ def dock_metrics(df, cfg) -> dict:
     per = []
     for _run, d in df.groupby("run"):
         last = d.iloc[-1]
-        per.append({"final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
-                    "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
-                    "final_heading_error_deg":
-                        abs(math.degrees(wrap(last["ship.psi"]))),
-                    "final_lateral_m": float(last["ship.y"]), "final_longitudinal_m": float(last["ship.x"]),
-                    "time_to_berth_s": float(last["t"])})
+        per.append(
+            {
+                "final_distance_m": math.hypot(last["ship.x"], last["ship.y"]),
+                "final_speed_mps": math.hypot(last["ship.u"], last["ship.v"]),
+                "final_heading_error_deg": abs(math.degrees(wrap(last["ship.psi"]))),
+                "final_lateral_m": float(last["ship.y"]),
+                "final_longitudinal_m": float(last["ship.x"]),
+                "time_to_berth_s": float(last["t"]),
+            }
+        )
     if len(per) == 1:
         return per[0]
-    out = {k: max(p[k] for p in per) for k in ("final_distance_m", "final_speed_mps", "final_heading_error_deg",
-                                                "time_to_berth_s")}
+    out = {
+        k: max(p[k] for p in per)
+        for k in ("final_distance_m", "final_speed_mps", "final_heading_error_deg", "time_to_berth_s")
+    }
     out["final_lateral_m"] = max((p["final_lateral_m"] for p in per), key=abs)
     out["final_longitudinal_m"] = max((p["final_longitudinal_m"] for p in per), key=abs)
     return out
@@ -353,9 +374,13 @@ _CH = {"sim": {"duration": 5000.0, "dt": 0.05, "log_rate": 1.0}, "runs": 5, "con
 _DOCK = {"sim": {"duration": 4000.0, "dt": 0.05, "log_rate": 1.0}, "pilot": {"stop_at_end": True}}
 
 SCENARIOS = [
-    BerthingScenario("berthing-channel",
-                     "S-175 container ship through a Z channel with 30 deg bends by joystick (001 figs 6-10)",
-                     _CH, "channel"),
-    BerthingScenario("berthing-dock", "S-175 container ship: joystick approach and stop alongside a berth (001)",
-                     _DOCK, "dock"),
+    BerthingScenario(
+        "berthing-channel",
+        "S-175 container ship through a Z channel with 30 deg bends by joystick (001 figs 6-10)",
+        _CH,
+        "channel",
+    ),
+    BerthingScenario(
+        "berthing-dock", "S-175 container ship: joystick approach and stop alongside a berth (001)", _DOCK, "dock"
+    ),
 ]

@@ -52,8 +52,9 @@ CONTROL_PERIOD = 0.01  # s, 100 Hz vehicle loops (the tow loops' default period)
 class CableSimConfig(SimConfig):
     """Clock settings; ``dt = 0`` chooses the step from the cable's stability limit."""
 
-    dt: float = Field(0.0, ge=0, le=0.1,
-                      description="physics (RK4) step, 0 = automatic from the cable's stability limit, s")
+    dt: float = Field(
+        0.0, ge=0, le=0.1, description="physics (RK4) step, 0 = automatic from the cable's stability limit, s"
+    )
     duration: float = Field(60.0, gt=0, le=1e6, description="simulated time, s")
 
 
@@ -81,8 +82,13 @@ def physics_step(cfg, plant: CombinedPlant) -> float:
 
 
 def _settled(w, cols, tol) -> bool:
-    floors = {"cable.top_tension": 0.01, "cable.bottom_tension": 0.01, "cable.angle_deg": 0.01,
-              "uuv.offset": 1e-3, "uuv.z": 1e-3}
+    floors = {
+        "cable.top_tension": 0.01,
+        "cable.bottom_tension": 0.01,
+        "cable.angle_deg": 0.01,
+        "uuv.offset": 1e-3,
+        "uuv.z": 1e-3,
+    }
     for c in cols:
         v = w[c].to_numpy()
         span = float(np.max(v) - np.min(v))
@@ -126,13 +132,18 @@ def cable_plots(df, cfg, out_dir: Path, name: str, n_shapes: int = 6) -> list[Pa
     p3 = out_dir / "cable_3d.png"
     fig.savefig(p3, dpi=110)
     plt.close(fig)
-    p1 = plot_signals(df, [
-        ("tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom (on UUV)", 1.0)]),
-        ("cable angle [deg]", [("cable.angle_deg", "from vertical", 1.0)]),
-        ("UUV depth [m]", [("uuv.z", "z", 1.0)]),
-        ("speed [m/s]", [("usv.speed", "USV", 1.0), ("uuv.u", "UUV u", 1.0)]),
-        ("UUV pitch [deg]", [("uuv.theta", "theta", 180 / math.pi)]),
-    ], out_dir / "tension_depth.png", title=f"{name}: tensions, angle, depth")
+    p1 = plot_signals(
+        df,
+        [
+            ("tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom (on UUV)", 1.0)]),
+            ("cable angle [deg]", [("cable.angle_deg", "from vertical", 1.0)]),
+            ("UUV depth [m]", [("uuv.z", "z", 1.0)]),
+            ("speed [m/s]", [("usv.speed", "USV", 1.0), ("uuv.u", "UUV u", 1.0)]),
+            ("UUV pitch [deg]", [("uuv.theta", "theta", 180 / math.pi)]),
+        ],
+        out_dir / "tension_depth.png",
+        title=f"{name}: tensions, angle, depth",
+    )
     return [p3, p1]
 
 
@@ -140,9 +151,11 @@ class CableCurrent(Scenario):
     name = "cable-current"
     summary = "Cable with fixed top, UUV hanging in a uniform current: equilibrium tension and angle (003 fig 2-10)"
     Config = CableCurrentConfig
-    defaults = {"sim": {"duration": 60.0, "log_rate": 10.0},
-                "environment": {"current": {"speed": 0.5, "direction_deg": 0.0}},
-                "uuv": {"psi0_deg": 180.0, "z0": 3.25}}
+    defaults = {
+        "sim": {"duration": 60.0, "log_rate": 10.0},
+        "environment": {"current": {"speed": 0.5, "direction_deg": 0.0}},
+        "uuv": {"psi0_deg": 180.0, "z0": 3.25},
+    }
 
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed")
@@ -181,9 +194,12 @@ class TowStraight(Scenario):
     def build(self, cfg, rng):
         plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
         dt = physics_step(cfg, plant)
-        blocks = [*environment_blocks(cfg.environment),
-                  TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
-                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
+        blocks = [
+            *environment_blocks(cfg.environment),
+            TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
+            USVThrusterBlock(cfg.usv, CONTROL_PERIOD),
+            UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD),
+        ]
         return Simulation([plant], blocks, dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -205,11 +221,24 @@ class TowStraight(Scenario):
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out = cable_plots(df, cfg, out_dir, self.name)
-        out.append(plot_signals(df, [
-            ("USV thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "stbd", 1 / KGF)]),
-            ("UUV thrust [kgf]", [("uuv.thrust_port", "port", 1 / KGF), ("uuv.thrust_stbd", "stbd", 1 / KGF),
-                                  ("uuv.thrust_bow", "bow", 1 / KGF)]),
-        ], Path(out_dir) / "thrusts.png", title=f"{self.name}: thrusts"))
+        out.append(
+            plot_signals(
+                df,
+                [
+                    ("USV thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "stbd", 1 / KGF)]),
+                    (
+                        "UUV thrust [kgf]",
+                        [
+                            ("uuv.thrust_port", "port", 1 / KGF),
+                            ("uuv.thrust_stbd", "stbd", 1 / KGF),
+                            ("uuv.thrust_bow", "bow", 1 / KGF),
+                        ],
+                    ),
+                ],
+                Path(out_dir) / "thrusts.png",
+                title=f"{self.name}: thrusts",
+            )
+        )
         return out
 
 

@@ -76,10 +76,12 @@ DEG = 180.0 / math.pi
 class GuidanceConfig(StrictModel):
     """Pure-pursuit guidance of the USV (003 ch. 3.1)."""
 
-    waypoints: list[tuple[float, float]] = Field([(0.0, 0.0), (10.0, 10.0), (20.0, 5.0)], min_length=2,
-                                                 description="waypoints (north, east), m")
-    look_ahead: float | None = Field(None, gt=0, le=1e3,
-                                     description="look-ahead l (default: 2 R_min from the models, eq. 3.6), m")
+    waypoints: list[tuple[float, float]] = Field(
+        [(0.0, 0.0), (10.0, 10.0), (20.0, 5.0)], min_length=2, description="waypoints (north, east), m"
+    )
+    look_ahead: float | None = Field(
+        None, gt=0, le=1e3, description="look-ahead l (default: 2 R_min from the models, eq. 3.6), m"
+    )
     acceptance: float = Field(2.0, gt=0, le=100, description="waypoint acceptance radius, m")
     rate: float = Field(10.0, gt=0, le=100, description="guidance rate, Hz")
 
@@ -123,12 +125,14 @@ class USVControllerChoice(BlockChoice):
 class ControlConfig(StrictModel):
     """Controllers and their rate."""
 
-    uuv: UUVControllerChoice = Field(UUVControllerChoice(kind="pid"),
-                                     description="UUV controller: kind = pid | backstepping | a registered kind")
+    uuv: UUVControllerChoice = Field(
+        UUVControllerChoice(kind="pid"), description="UUV controller: kind = pid | backstepping | a registered kind"
+    )
     surge_speed: float = Field(0.6, gt=0, le=5, description="USV surge speed target, m/s")
     rate: float = Field(20.0, gt=0, le=1000, description="control and thruster rate, Hz")
-    usv: USVControllerChoice = Field(USVControllerChoice(),
-                                     description="USV controller: kind = pid | a registered kind, and its gains")
+    usv: USVControllerChoice = Field(
+        USVControllerChoice(), description="USV controller: kind = pid | a registered kind, and its gains"
+    )
     uuv_pid: UUVPIDConfig = UUVPIDConfig()
     backstepping: BacksteppingConfig = BacksteppingConfig()
 
@@ -144,8 +148,12 @@ class SensorsConfig(StrictModel):
     """Sensors (003 ch. 6.1, appendix B); when enabled guidance and control use measured signals."""
 
     enabled: bool = False
-    extra: list[SensorChoice] = Field([], max_length=20, description="further sensor blocks by kind, fired "
-                                      "after the built-in sensors at the control rate (a user's, from --plugin)")
+    extra: list[SensorChoice] = Field(
+        [],
+        max_length=20,
+        description="further sensor blocks by kind, fired "
+        "after the built-in sensors at the control rate (a user's, from --plugin)",
+    )
     gps: GPSConfig = GPSConfig()
     usv_ahrs: AHRSConfig = AHRSConfig()
     uuv_ahrs: AHRSConfig = AHRSConfig()
@@ -188,10 +196,23 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks = [*environment_blocks(cfg.environment)]
     if sens:
         s = cfg.sensors
-        blocks += [GPS(s.gps, "usv"), AHRS(s.usv_ahrs, "usv"), AHRS(s.uuv_ahrs, "uuv"), USBL(s.usbl),
-                   DepthSensor(s.depth)]
-        blocks.append(DropoutHold("usbl_hold", h, "usbl.valid", {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
-                                  "nav.usbl", units={"dn": "m", "de": "m", "dz": "m"}))
+        blocks += [
+            GPS(s.gps, "usv"),
+            AHRS(s.usv_ahrs, "usv"),
+            AHRS(s.uuv_ahrs, "uuv"),
+            USBL(s.usbl),
+            DepthSensor(s.depth),
+        ]
+        blocks.append(
+            DropoutHold(
+                "usbl_hold",
+                h,
+                "usbl.valid",
+                {"dn": "usbl.dn", "de": "usbl.de", "dz": "usbl.dz"},
+                "nav.usbl",
+                units={"dn": "m", "de": "m", "dz": "m"},
+            )
+        )
 
         blocks.append(USBLNavigation(h))
         usv_pos = ("nav.usv_x", "nav.usv_y")
@@ -208,15 +229,31 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks.append(PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi))
     f = cfg.formation
     lam = math.radians(f.lambda_d_deg)
-    blocks.append(LeaderFollower(f.l_d, lam, f.R, 1.0 / g.rate, mode=f.mode, leader=(*usv_pos, usv_psi),
-                                 follower=(*uuv_pos, uuv_psi)))
+    blocks.append(
+        LeaderFollower(
+            f.l_d, lam, f.R, 1.0 / g.rate, mode=f.mode, leader=(*usv_pos, usv_psi), follower=(*uuv_pos, uuv_psi)
+        )
+    )
     c = cfg.control
-    signals = {"usv.x": usv_pos[0], "usv.y": usv_pos[1], "usv.psi": usv_psi, "usv.u": usv_u, "usv.r": usv_r,
-               "uuv.x": uuv_pos[0], "uuv.y": uuv_pos[1], "uuv.psi": uuv_psi, "uuv.r": uuv_r}
+    signals = {
+        "usv.x": usv_pos[0],
+        "usv.y": usv_pos[1],
+        "usv.psi": usv_psi,
+        "usv.u": usv_u,
+        "usv.r": usv_r,
+        "uuv.x": uuv_pos[0],
+        "uuv.y": uuv_pos[1],
+        "uuv.psi": uuv_psi,
+        "uuv.r": uuv_r,
+    }
     if sens:
         signals["usv.v"] = "_zero"  # no sway measurement on the USV: take v_l = 0
-    ctx = BlockContext(period=h, signals=signals, cfg=cfg,
-                       info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode, "surge_speed": c.surge_speed})
+    ctx = BlockContext(
+        period=h,
+        signals=signals,
+        cfg=cfg,
+        info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode, "surge_speed": c.surge_speed},
+    )
     blocks.append(build_block(c.usv, ctx, "control.usv"))
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
     blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
@@ -262,12 +299,12 @@ class CombinedScenario(Scenario):
         out = {
             "usv.waypoints_reached": int(df["guidance.wp_reached"].max()),
             "usv.waypoints_total": len(wp),
-            "usv.cross_track_rms_m": float(np.sqrt(np.mean(xt ** 2))),
+            "usv.cross_track_rms_m": float(np.sqrt(np.mean(xt**2))),
             "uuv.rel_distance_mean_m": float(rd.mean()),
             "uuv.rel_distance_max_m": float(rd.max()),
             "uuv.depth_final_m": float(df["uuv.z"].iloc[-1]),
-            "uuv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_uuv ** 2)))),
-            "usv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_usv ** 2)))),
+            "uuv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_uuv**2)))),
+            "usv.heading_error_rms_deg": float(np.degrees(np.sqrt(np.mean(e_usv**2)))),
             "t_end_s": float(df["t"].iloc[-1]),
             "cable.top_tension_max_n": float(df["cable.top_tension"].max()),
         }
@@ -283,31 +320,73 @@ class CombinedScenario(Scenario):
         df = df.copy()
         df["rel.distance"] = rel_distance(df)
         wp = cfg.guidance.waypoints
-        paths = [plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
-                 plot_track(df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv.kind})",
-                            waypoints=wp)]
-        paths.append(plot_signals(df, [
-            ("surge speed [m/s]", [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0),
-                                   ("uuv.u", "UUV u", 1.0)]),
-            ("sway speed [m/s]", [("usv.v", "USV v", 1.0), ("uuv.v", "UUV v", 1.0)]),
-            ("yaw rate [deg/s]", [("usv.r", "USV r", DEG), ("uuv.r", "UUV r", DEG)]),
-        ], out_dir / "speeds.png", title=f"{self.name}: speeds (cf. 003 fig 4-9)"))
-        paths.append(plot_signals(df, [
-            ("USV thrust [kgf]", [("usv.thrust_port", "port (L)", 1 / KGF), ("usv.thrust_stbd", "stbd (R)", 1 / KGF)]),
-            ("UUV thrust [N]", [("uuv.thrust_port", "port (L)", 1.0), ("uuv.thrust_stbd", "stbd (R)", 1.0),
-                                ("uuv.thrust_bow", "bow (F)", 1.0)]),
-        ], out_dir / "thrusts.png", title=f"{self.name}: thrusts (cf. 003 figs 4-10, 4-11)"))
+        paths = [
+            plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
+            plot_track(
+                df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv.kind})", waypoints=wp
+            ),
+        ]
+        paths.append(
+            plot_signals(
+                df,
+                [
+                    (
+                        "surge speed [m/s]",
+                        [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0), ("uuv.u", "UUV u", 1.0)],
+                    ),
+                    ("sway speed [m/s]", [("usv.v", "USV v", 1.0), ("uuv.v", "UUV v", 1.0)]),
+                    ("yaw rate [deg/s]", [("usv.r", "USV r", DEG), ("uuv.r", "UUV r", DEG)]),
+                ],
+                out_dir / "speeds.png",
+                title=f"{self.name}: speeds (cf. 003 fig 4-9)",
+            )
+        )
+        paths.append(
+            plot_signals(
+                df,
+                [
+                    (
+                        "USV thrust [kgf]",
+                        [("usv.thrust_port", "port (L)", 1 / KGF), ("usv.thrust_stbd", "stbd (R)", 1 / KGF)],
+                    ),
+                    (
+                        "UUV thrust [N]",
+                        [
+                            ("uuv.thrust_port", "port (L)", 1.0),
+                            ("uuv.thrust_stbd", "stbd (R)", 1.0),
+                            ("uuv.thrust_bow", "bow (F)", 1.0),
+                        ],
+                    ),
+                ],
+                out_dir / "thrusts.png",
+                title=f"{self.name}: thrusts (cf. 003 figs 4-10, 4-11)",
+            )
+        )
         for col in ("usv.psi", "guidance.psi_d", "uuv.psi", "uuv_ctrl.psi_d"):
             df[col + "_deg"] = np.degrees(np.unwrap(df[col].to_numpy()))
-        paths.append(plot_signals(df, [
-            ("USV heading [deg]", [("usv.psi_deg", "psi", 1.0), ("guidance.psi_d_deg", "target", 1.0)]),
-            ("UUV heading [deg]", [("uuv.psi_deg", "psi", 1.0), ("uuv_ctrl.psi_d_deg", "target", 1.0)]),
-        ], out_dir / "headings.png", title=f"{self.name}: headings (cf. 003 figs 4-12, 4-13)"))
-        paths.append(plot_signals(df, [
-            ("UUV depth [m]", [("uuv.z", "true", 1.0), ("depth.z", "depth sensor (filtered)", 1.0)]),
-            ("rel. distance [m]", [("rel.distance", "true horizontal", 1.0), ("lf.range", "as measured", 1.0)]),
-            ("cable tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom", 1.0)]),
-        ], out_dir / "depth_distance.png", title=f"{self.name}: depth and distance (cf. 003 figs 4-14, 4-15)"))
+        paths.append(
+            plot_signals(
+                df,
+                [
+                    ("USV heading [deg]", [("usv.psi_deg", "psi", 1.0), ("guidance.psi_d_deg", "target", 1.0)]),
+                    ("UUV heading [deg]", [("uuv.psi_deg", "psi", 1.0), ("uuv_ctrl.psi_d_deg", "target", 1.0)]),
+                ],
+                out_dir / "headings.png",
+                title=f"{self.name}: headings (cf. 003 figs 4-12, 4-13)",
+            )
+        )
+        paths.append(
+            plot_signals(
+                df,
+                [
+                    ("UUV depth [m]", [("uuv.z", "true", 1.0), ("depth.z", "depth sensor (filtered)", 1.0)]),
+                    ("rel. distance [m]", [("rel.distance", "true horizontal", 1.0), ("lf.range", "as measured", 1.0)]),
+                    ("cable tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom", 1.0)]),
+                ],
+                out_dir / "depth_distance.png",
+                title=f"{self.name}: depth and distance (cf. 003 figs 4-14, 4-15)",
+            )
+        )
         return paths
 
 
@@ -346,17 +425,25 @@ SCENARIOS = [
     CombinedScenario(
         "combined-survey",
         "USV-cable-UUV through (0,0) (10,10) (20,5) at 0.6 m/s; UUV by PID or backstepping (003 figs 4-7..4-15)",
-        {"sim": {**_SIM, "duration": 150.0}, "control": {"uuv": "backstepping"}}),
+        {"sim": {**_SIM, "duration": 150.0}, "control": {"uuv": "backstepping"}},
+    ),
     CombinedScenario(
         "waypoints-square",
         "combined vehicle round a 50 m square; UUV on relative angle (+ heading to USV) (003 fig 4-6)",
-        {"sim": {**_SIM, "duration": 400.0},
-         "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, 50.0), (0.0, 50.0)]},
-         "control": {"surge_speed": 0.6}}),
+        {
+            "sim": {**_SIM, "duration": 400.0},
+            "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, 50.0), (0.0, 50.0)]},
+            "control": {"surge_speed": 0.6},
+        },
+    ),
     CombinedScenario(
         "field-test",
         "sea trial of 003 ch. 6.2: (50,0) (50,-50) (0,-50) (0,0) at 1.3 m/s target, PID, sensors on",
-        {"sim": {**_SIM, "duration": 500.0},
-         "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, -50.0), (0.0, -50.0), (0.0, 0.0)]},
-         "control": {"surge_speed": 1.3, "uuv": "pid"}, "sensors": {"enabled": True}}),
+        {
+            "sim": {**_SIM, "duration": 500.0},
+            "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, -50.0), (0.0, -50.0), (0.0, 0.0)]},
+            "control": {"surge_speed": 1.3, "uuv": "pid"},
+            "sensors": {"enabled": True},
+        },
+    ),
 ]

@@ -60,26 +60,37 @@ class FilterTuning(StrictModel):
 
     estimate: list[str] = Field(list(COEFF_NAMES), min_length=1, description="coefficients to estimate")
     initial_guess: Literal["perturbed", "table4.1", "prior-draw", "true"] = Field(
-        "perturbed", description="initial guesses: true x (1 +/- initial_error) alternating, 002 table 4.1, "
-        "a draw from N(true, P0) with sim.seed, or the truth")
+        "perturbed",
+        description="initial guesses: true x (1 +/- initial_error) alternating, 002 table 4.1, "
+        "a draw from N(true, P0) with sim.seed, or the truth",
+    )
     initial_error: float = Field(0.2, ge=0, le=0.9, description="relative error of the perturbed/drawn guesses, -")
     p0_rel: float = Field(0.3, gt=0, le=10, description="initial 1-sigma of each coefficient relative to its guess, -")
     p0_state_scale: float = Field(2.0, gt=0, le=1e3, description="initial state 1-sigma in measurement sigmas, -")
-    r_scale: float | None = Field(None, gt=0, le=1e3, description="measurement sigma assumed by the filter, "
-                                  "in nominal sensor sigmas (default: noise, or 1e-3 if noise = 0), -")
+    r_scale: float | None = Field(
+        None,
+        gt=0,
+        le=1e3,
+        description="measurement sigma assumed by the filter, "
+        "in nominal sensor sigmas (default: noise, or 1e-3 if noise = 0), -",
+    )
     q_rel: float = Field(2.5e-5, ge=0, le=1, description="state process noise density in units of R per second, 1/s")
-    q_param_rel: float = Field(0.0, ge=0, le=1, description="coefficient process noise density in units of "
-                               "its P0 variance per second, 1/s")
+    q_param_rel: float = Field(
+        0.0, ge=0, le=1, description="coefficient process noise density in units of its P0 variance per second, 1/s"
+    )
     passes: int = Field(1, ge=1, le=10, description="passes over the record (each restarts from the last estimate)")
     substeps: int = Field(1, ge=1, le=100, description="RK4 steps per measurement interval")
     jacobian: Literal["analytic", "complex-step", "finite-difference"] = Field(
-        "analytic", description="how the filter's Jacobians are computed")
+        "analytic", description="how the filter's Jacobians are computed"
+    )
 
 
 class EKFZigzagConfig(ScenarioConfig):
     vehicle: SubmarineVerticalConfig = SubmarineVerticalConfig()
     maneuver: Literal["5-5", "10-5"] = Field("10-5", description="stern plane deg - pitch switch deg")
-    noise: float = Field(0.0, ge=0, le=100, description="measurement noise level in nominal sensor sigmas (0 = noise-free), -")
+    noise: float = Field(
+        0.0, ge=0, le=100, description="measurement noise level in nominal sensor sigmas (0 = noise-free), -"
+    )
     sensor: SensorNoise = SensorNoise()
     measurement_rate_hz: float = Field(100.0, gt=0, le=1000, description="measurement (and plane command) rate, Hz")
     t_start_s: float = Field(0.0, ge=0, le=1e4, description="straight run before the first deflection, s")
@@ -108,9 +119,18 @@ def identify(cfg: EKFZigzagConfig, rng: np.random.Generator):
     resolve_estimate(model, names)  # unknown names -> InputError
     sd = cfg.sensor.std()
     noise_sd = cfg.noise * sd
-    data = zigzag(cfg.vehicle.params(), cfg.vehicle.x0(), cfg.maneuver, duration=cfg.sim.duration,
-                  rate_hz=cfg.measurement_rate_hz, dt_truth=cfg.sim.dt, noise_std=noise_sd, rng=rng,
-                  t_start_s=cfg.t_start_s, plane_rate_degps=cfg.plane_rate_degps)
+    data = zigzag(
+        cfg.vehicle.params(),
+        cfg.vehicle.x0(),
+        cfg.maneuver,
+        duration=cfg.sim.duration,
+        rate_hz=cfg.measurement_rate_hz,
+        dt_truth=cfg.sim.dt,
+        noise_std=noise_sd,
+        rng=rng,
+        t_start_s=cfg.t_start_s,
+        plane_rate_degps=cfg.plane_rate_degps,
+    )
     f = cfg.filter
     a0 = initial_guesses(cfg, names, rng)
     r_scale = f.r_scale if f.r_scale is not None else (cfg.noise if cfg.noise > 0 else 1e-3)
@@ -124,8 +144,9 @@ def identify(cfg: EKFZigzagConfig, rng: np.random.Generator):
     a = a0
     res = None
     for _ in range(f.passes):
-        res = run_ekf(model, data.t, data.z_meas, U, names, data.z_meas[0], a, P0, Q, R,
-                      substeps=f.substeps, jacobian=f.jacobian)
+        res = run_ekf(
+            model, data.t, data.z_meas, U, names, data.z_meas[0], a, P0, Q, R, substeps=f.substeps, jacobian=f.jacobian
+        )
         a = res.X[-1, ns:]
     wall = time.perf_counter() - t0
     return data, res, a0, wall
@@ -157,9 +178,12 @@ class EKFZigzag(Scenario):
         ctx.info["t_end"] = float(t[-1])
         true = np.array([getattr(cfg.vehicle, k) for k in names])
         err = res.X[-1, ns:] - true
-        return {"nees": nees(err, res.P[ns:, ns:]), "filter_wall_time_s": wall,
-                "n_plane_reversals": data.n_reversals,
-                **{f"{k}.initial": float(v) for k, v in zip(names, a0)}}
+        return {
+            "nees": nees(err, res.P[ns:, ns:]),
+            "filter_wall_time_s": wall,
+            "n_plane_reversals": data.n_reversals,
+            **{f"{k}.initial": float(v) for k, v in zip(names, a0)},
+        }
 
     def summarize(self, df, cfg) -> dict:
         names = [k for k in cfg.filter.estimate if f"ekf.{k}" in df]
@@ -186,8 +210,10 @@ class EKFZigzag(Scenario):
         return out
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
-        return [plot_estimates(df, cfg, Path(out_dir) / "estimates.png"),
-                plot_measurements(df, Path(out_dir) / "measurements.png", title=f"{cfg.maneuver} zig-zag")]
+        return [
+            plot_estimates(df, cfg, Path(out_dir) / "estimates.png"),
+            plot_measurements(df, Path(out_dir) / "measurements.png", title=f"{cfg.maneuver} zig-zag"),
+        ]
 
 
 def plot_estimates(df, cfg, path: Path, title: str | None = None) -> Path:
@@ -212,12 +238,12 @@ def plot_estimates(df, cfg, path: Path, title: str | None = None) -> Path:
         if k in PUBLISHED_ESTIMATES:
             ax.axhline(PUBLISHED_ESTIMATES[k][pub_col], color="C3", ls=":", lw=1, label="002 estimate")
         span = max(abs(tru), 1e-12)
-        lo = min(tru - 0.6 * span, np.nanmin(est[len(est) // 20:]))
-        hi = max(tru + 0.6 * span, np.nanmax(est[len(est) // 20:]))
+        lo = min(tru - 0.6 * span, np.nanmin(est[len(est) // 20 :]))
+        hi = max(tru + 0.6 * span, np.nanmax(est[len(est) // 20 :]))
         ax.set_ylim(lo, hi)
         ax.set_ylabel(f"{k}'")
         ax.grid(True, alpha=0.3)
-    for ax in axes.ravel()[len(names):]:
+    for ax in axes.ravel()[len(names) :]:
         ax.set_visible(False)
     axes[0, 0].legend(fontsize=6, loc="best")
     for ax in axes[-1]:
@@ -231,12 +257,17 @@ def plot_measurements(df, path: Path, title: str = "") -> Path:
     from ..io.plots import plot_signals
 
     d = 180.0 / math.pi
-    return plot_signals(df, [
-        ("stern plane [deg]", [("sub.ds", "ds", d)]),
-        ("w [m/s]", [("sub.w", "measured", 1.0), ("sub.w_true", "true", 1.0), ("ekf.w", "EKF", 1.0)]),
-        ("theta [deg]", [("sub.theta", "measured", d), ("sub.theta_true", "true", d), ("ekf.theta", "EKF", d)]),
-        ("q [deg/s]", [("sub.q", "measured", d), ("sub.q_true", "true", d), ("ekf.q", "EKF", d)]),
-    ], path, title=f"{title}: measurements")
+    return plot_signals(
+        df,
+        [
+            ("stern plane [deg]", [("sub.ds", "ds", d)]),
+            ("w [m/s]", [("sub.w", "measured", 1.0), ("sub.w_true", "true", 1.0), ("ekf.w", "EKF", 1.0)]),
+            ("theta [deg]", [("sub.theta", "measured", d), ("sub.theta_true", "true", d), ("ekf.theta", "EKF", d)]),
+            ("q [deg/s]", [("sub.q", "measured", d), ("sub.q_true", "true", d), ("ekf.q", "EKF", d)]),
+        ],
+        path,
+        title=f"{title}: measurements",
+    )
 
 
 SCENARIOS = [EKFZigzag()]

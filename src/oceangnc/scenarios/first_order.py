@@ -35,6 +35,7 @@ from .base import Scenario
 
 # -- autopilots -------------------------------------------------------------------------------------------
 
+
 class HeadingCommand(StrictModel):
     heading_deg: float = Field(100.0, ge=-180, le=180, description="commanded heading after the step, deg")
     step_time_s: float = Field(1.0, ge=0, le=1e4, description="time of the heading step, s")
@@ -56,9 +57,13 @@ class AutopilotHeading(Scenario):
         usv = cfg.usv.model_copy(update={"u0": c.speed_mps})
         cfg_u = cfg.model_copy(update={"usv": usv})
         psi_c = math.radians(c.heading_deg)
-        cmd = FunctionBlock("command", 1.0 / cfg.control_rate,
-                            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0),
-                            inputs={}, outputs={"usv.psi_cmd": "rad"})
+        cmd = FunctionBlock(
+            "command",
+            1.0 / cfg.control_rate,
+            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0),
+            inputs={},
+            outputs={"usv.psi_cmd": "rad"},
+        )
         blocks = closed_loop_blocks(cfg_u, [cmd], rpm_open_loop=usv.trim_rpm(c.speed_mps))
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -73,19 +78,28 @@ class AutopilotHeading(Scenario):
         ts = _settling_time(t[after], psi[after], target, 0.02 * abs(step), c.step_time_s)
         dmax = math.radians(cfg.usv.rudder_limit_deg)
         sat = float(np.mean(np.abs(df["usv.delta_s"].to_numpy()[after]) >= dmax * (1 - 1e-9)))
-        return {"heading.overshoot_pct": 100.0 * max(over, 0.0),
-                "heading.predicted_overshoot_pct": 100.0 * predicted_overshoot(cfg.heading.zeta),
-                "heading.settling_time_s": ts,
-                "heading.final_error_deg": math.degrees(target - psi[-1]),
-                "heading.rudder_saturated_frac": sat}
+        return {
+            "heading.overshoot_pct": 100.0 * max(over, 0.0),
+            "heading.predicted_overshoot_pct": 100.0 * predicted_overshoot(cfg.heading.zeta),
+            "heading.settling_time_s": ts,
+            "heading.final_error_deg": math.degrees(target - psi[-1]),
+            "heading.rudder_saturated_frac": sat,
+        }
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out_dir = Path(out_dir)
-        return [plot_signals(df, [
-            ("heading [deg]", [("usv.psi_cmd", "command", RAD2DEG), ("usv.psi", "psi", RAD2DEG)]),
-            ("yaw rate [deg/s]", [("usv.r", "r", RAD2DEG)]),
-            ("rudder [deg]", [("usv.delta_s", "delta_S", RAD2DEG)]),
-        ], out_dir / "heading.png", title="autopilot-heading (000 fig. 17)")]
+        return [
+            plot_signals(
+                df,
+                [
+                    ("heading [deg]", [("usv.psi_cmd", "command", RAD2DEG), ("usv.psi", "psi", RAD2DEG)]),
+                    ("yaw rate [deg/s]", [("usv.r", "r", RAD2DEG)]),
+                    ("rudder [deg]", [("usv.delta_s", "delta_S", RAD2DEG)]),
+                ],
+                out_dir / "heading.png",
+                title="autopilot-heading (000 fig. 17)",
+            )
+        ]
 
 
 class SpeedCommand(StrictModel):
@@ -112,8 +126,18 @@ class AutopilotSpeed(Scenario):
             bus["usv.u_cmd"] = c.speed_mps if t >= c.step_time_s - 1e-9 else 0.0
             bus["usv.psi_cmd"] = 0.0
 
-        blocks = closed_loop_blocks(cfg, [FunctionBlock("command", 1.0 / cfg.control_rate, cmd, inputs={},
-                                                        outputs={"usv.u_cmd": "m/s", "usv.psi_cmd": "rad"})])
+        blocks = closed_loop_blocks(
+            cfg,
+            [
+                FunctionBlock(
+                    "command",
+                    1.0 / cfg.control_rate,
+                    cmd,
+                    inputs={},
+                    outputs={"usv.u_cmd": "m/s", "usv.psi_cmd": "rad"},
+                )
+            ],
+        )
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -128,19 +152,31 @@ class AutopilotSpeed(Scenario):
         rise = float(ta[i90[0]] - ta[i10[0]]) if i10.size and i90.size else float("nan")
         co = cfg.usv.coefficients(c.speed_mps)
         a = 2 * cfg.speed_control.zeta * cfg.speed_control.wn * co["T_v"]
-        return {"speed.steady_error_mps": c.speed_mps - fin, "speed.rise_time_s": rise,
-                "speed.final_mps": fin, "speed.predicted_steady_error_mps": c.speed_mps / a,
-                "speed.rpm_final": float(df["usv.rpm"].iloc[-1])}
+        return {
+            "speed.steady_error_mps": c.speed_mps - fin,
+            "speed.rise_time_s": rise,
+            "speed.final_mps": fin,
+            "speed.predicted_steady_error_mps": c.speed_mps / a,
+            "speed.rpm_final": float(df["usv.rpm"].iloc[-1]),
+        }
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out_dir = Path(out_dir)
-        return [plot_signals(df, [
-            ("speed [m/s]", [("usv.u_cmd", "command", 1.0), ("usv.u", "u", 1.0)]),
-            ("shaft speed [rpm]", [("usv.rpm", "delta_T", 1.0)]),
-        ], out_dir / "speed.png", title="autopilot-speed (000 fig. 18)")]
+        return [
+            plot_signals(
+                df,
+                [
+                    ("speed [m/s]", [("usv.u_cmd", "command", 1.0), ("usv.u", "u", 1.0)]),
+                    ("shaft speed [rpm]", [("usv.rpm", "delta_T", 1.0)]),
+                ],
+                out_dir / "speed.png",
+                title="autopilot-speed (000 fig. 18)",
+            )
+        ]
 
 
 # -- waypoints ------------------------------------------------------------------------------------------------
+
 
 class GuidanceConfig(StrictModel):
     """LOS / hybrid guidance (000 table 1)."""
@@ -164,12 +200,20 @@ class GuidanceConfig(StrictModel):
 def _guidance(g: GuidanceConfig, waypoints, speed=5.0, speeds=None, stop=True):
     from ..guidance.los import WaypointGuidance
 
-    return WaypointGuidance(waypoints, g.mode, g.R, g.R1, g.R2, g.accept_radius, speed, speeds, 1.0 / g.rate,
-                            stop_at_end=stop)
+    return WaypointGuidance(
+        waypoints, g.mode, g.R, g.R1, g.R2, g.accept_radius, speed, speeds, 1.0 / g.rate, stop_at_end=stop
+    )
 
 
-_WP7 = [[150.0, 400.0], [600.0, 400.0], [600.0, 900.0], [250.0, 1250.0], [250.0, 1700.0], [700.0, 2000.0],
-        [1000.0, 1700.0]]
+_WP7 = [
+    [150.0, 400.0],
+    [600.0, 400.0],
+    [600.0, 900.0],
+    [250.0, 1250.0],
+    [250.0, 1700.0],
+    [700.0, 2000.0],
+    [1000.0, 1700.0],
+]
 
 
 class Waypoints7Config(ClosedLoopConfig):
@@ -192,8 +236,9 @@ class USVWaypoints7(Scenario):
 
     def build(self, cfg, rng):
         g = _guidance(cfg.guidance, cfg.waypoints, cfg.speed_mps)
-        return Simulation([FirstOrderUSV(cfg.usv)], closed_loop_blocks(cfg, [g]), cfg.sim.dt,
-                          1.0 / cfg.sim.log_rate, rng)
+        return Simulation(
+            [FirstOrderUSV(cfg.usv)], closed_loop_blocks(cfg, [g]), cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng
+        )
 
     def summarize(self, df, cfg) -> dict:
         from ..guidance.los import distance_to_polyline
@@ -203,24 +248,41 @@ class USVWaypoints7(Scenario):
         # cross-track error once on the route (after first reaching within R of the first leg)
         d = distance_to_polyline(x, y, wp[:, 0], wp[:, 1])
         on = np.nonzero(d < cfg.guidance.R)[0]
-        dd = d[on[0]:] if on.size else d
+        dd = d[on[0] :] if on.size else d
         reached = [float(np.min(np.hypot(x - a, y - b))) for a, b in wp]
-        return {"usv.path_error_rms_m": float(np.sqrt(np.mean(dd ** 2))), "usv.path_error_max_m": float(np.max(dd)),
-                "usv.join_time_s": float(df["t"].iloc[on[0]]) if on.size else float("nan"),
-                "usv.waypoint_miss_max_m": max(reached), "usv.final_leg": float(df["guidance.leg"].iloc[-1])}
+        return {
+            "usv.path_error_rms_m": float(np.sqrt(np.mean(dd**2))),
+            "usv.path_error_max_m": float(np.max(dd)),
+            "usv.join_time_s": float(df["t"].iloc[on[0]]) if on.size else float("nan"),
+            "usv.waypoint_miss_max_m": max(reached),
+            "usv.final_leg": float(df["guidance.leg"].iloc[-1]),
+        }
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out_dir = Path(out_dir)
-        return [plot_track(df, ["usv"], out_dir / "track.png", waypoints=cfg.waypoints,
-                           title=f"usv-waypoints-7, {cfg.guidance.mode} (000 fig. 21)"),
-                plot_signals(df, [
+        return [
+            plot_track(
+                df,
+                ["usv"],
+                out_dir / "track.png",
+                waypoints=cfg.waypoints,
+                title=f"usv-waypoints-7, {cfg.guidance.mode} (000 fig. 21)",
+            ),
+            plot_signals(
+                df,
+                [
                     ("speed [m/s]", [("usv.u_cmd", "command", 1.0), ("usv.u", "u", 1.0)]),
                     ("heading [deg]", [("usv.psi_cmd", "command", RAD2DEG), ("usv.psi", "psi", RAD2DEG)]),
                     ("d [m]", [("guidance.d", "perpendicular distance", 1.0)]),
-                ], out_dir / "states.png", title="usv-waypoints-7 (000 figs. 19-20)")]
+                ],
+                out_dir / "states.png",
+                title="usv-waypoints-7 (000 figs. 19-20)",
+            ),
+        ]
 
 
 # -- UUV-based planning -----------------------------------------------------------------------------------------
+
 
 class ProfileConfig(StrictModel):
     """The UUV plan of 000 table 3."""
@@ -233,15 +295,17 @@ class ProfileConfig(StrictModel):
 
 class TowConfig(StrictModel):
     cable_length_m: float = Field(30.0, gt=0, le=1e4, description="cable length L, m")
-    waypoint_spacing_s: float = Field(5.0, gt=0, le=1e3,
-                                      description="time between USV waypoints sampled from the plan, s")
+    waypoint_spacing_s: float = Field(
+        5.0, gt=0, le=1e3, description="time between USV waypoints sampled from the plan, s"
+    )
 
 
 class StartPose(StrictModel):
     """Where the USV (and the UUV, aligned a cable length behind it) start, relative to the UUV plan's start."""
 
-    behind_m: float = Field(150.0, ge=-1e4, le=1e4,
-                            description="distance behind the plan's start along its first leg, m")
+    behind_m: float = Field(
+        150.0, ge=-1e4, le=1e4, description="distance behind the plan's start along its first leg, m"
+    )
     port_m: float = Field(80.0, ge=-1e4, le=1e4, description="distance to port (left) of the first leg's line, m")
     heading_deg: float = Field(90.0, ge=-360, le=360, description="initial heading of USV and UUV, deg")
     speed_mps: float = Field(0.0, ge=0, le=16, description="initial USV speed, m/s")
@@ -279,8 +343,9 @@ class UUVProfilePlan(Scenario):
         # start pose: behind the USV plan's start along the first leg and to port, UUV aligned behind the USV
         x0 = plan.x[0] - st.behind_m * math.cos(a) + st.port_m * math.sin(a)
         y0 = plan.y[0] - st.behind_m * math.sin(a) - st.port_m * math.cos(a)
-        usv = cfg.usv.model_copy(update={"x0": float(x0), "y0": float(y0), "psi0_deg": st.heading_deg,
-                                         "u0": st.speed_mps})
+        usv = cfg.usv.model_copy(
+            update={"x0": float(x0), "y0": float(y0), "psi0_deg": st.heading_deg, "u0": st.speed_mps}
+        )
         cfg_u = cfg.model_copy(update={"usv": usv})
         g = _guidance(cfg.guidance, wp, speeds=sp)
         plants = [FirstOrderUSV(usv), TowedTrailer(cfg.tow.cable_length_m, math.radians(st.heading_deg))]
@@ -304,11 +369,17 @@ class UUVProfilePlan(Scenario):
         sx, sy, ts = joined("usv", plan.x[0], plan.y[0])
         eu = distance_to_polyline(ux, uy, prof.x, prof.y)
         es = distance_to_polyline(sx, sy, plan.x, plan.y)
-        return {"uuv.join_time_s": tu, "usv.join_time_s": ts,
-                "uuv.path_error_rms_m": float(np.sqrt(np.mean(eu ** 2))), "uuv.path_error_max_m": float(np.max(eu)),
-                "usv.path_error_rms_m": float(np.sqrt(np.mean(es ** 2))), "usv.path_error_max_m": float(np.max(es)),
-                "plan.waypoints": float(len(wp)), "plan.phi_max_deg": float(np.max(np.abs(plan.phi)) * RAD2DEG),
-                "plan.usv_speed_max_mps": float(np.max(plan.u))}
+        return {
+            "uuv.join_time_s": tu,
+            "usv.join_time_s": ts,
+            "uuv.path_error_rms_m": float(np.sqrt(np.mean(eu**2))),
+            "uuv.path_error_max_m": float(np.max(eu)),
+            "usv.path_error_rms_m": float(np.sqrt(np.mean(es**2))),
+            "usv.path_error_max_m": float(np.max(es)),
+            "plan.waypoints": float(len(wp)),
+            "plan.phi_max_deg": float(np.max(np.abs(plan.phi)) * RAD2DEG),
+            "plan.usv_speed_max_mps": float(np.max(plan.u)),
+        }
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         import matplotlib.pyplot as plt
@@ -339,8 +410,16 @@ class UUVProfilePlan(Scenario):
 
         mode = cfg.guidance.mode
         fig_no = "25" if mode == "los" else "26"
-        paths.append(plot_track(df, ["usv", "uuv"], out_dir / "paths.png", waypoints=None, extra=extra,
-                                title=f"uuv-profile-plan, {mode} guidance (000 figs. 24, {fig_no})"))
+        paths.append(
+            plot_track(
+                df,
+                ["usv", "uuv"],
+                out_dir / "paths.png",
+                waypoints=None,
+                extra=extra,
+                title=f"uuv-profile-plan, {mode} guidance (000 figs. 24, {fig_no})",
+            )
+        )
         return paths
 
 

@@ -59,14 +59,17 @@ class TowSimConfig(SimConfig):
 
 
 class TowAnalysis(StrictModel):
-    settle_s: float = Field(150.0, ge=0, le=1e5, description="tow-survey-depth: time after which the altitude "
-                                                             "error is scored, s")
+    settle_s: float = Field(
+        150.0, ge=0, le=1e5, description="tow-survey-depth: time after which the altitude error is scored, s"
+    )
 
 
 class TowGuidance(StrictModel):
     waypoints: list[tuple[float, float]] = Field(
-        [(0.0, 0.0), (300.0, 0.0), (300.0, 60.0), (0.0, 60.0), (0.0, 120.0), (300.0, 120.0)], min_length=2,
-        description="lawnmower waypoints (north, east), m")
+        [(0.0, 0.0), (300.0, 0.0), (300.0, 60.0), (0.0, 60.0), (0.0, 120.0), (300.0, 120.0)],
+        min_length=2,
+        description="lawnmower waypoints (north, east), m",
+    )
     speed: float = Field(1.0, gt=0, le=3, description="USV tow speed, m/s")
     look_ahead: float = Field(20.0, gt=0, le=1e3, description="pure-pursuit look-ahead, m")
     acceptance: float = Field(5.0, gt=0, le=100, description="waypoint acceptance radius, m")
@@ -110,8 +113,9 @@ def _common_summary(df, cfg) -> dict:
         "winch.tension_limit_exceeded": int(np.sum(T > cfg.winch.tension_max)),
         "winch.cmd_saturated_rows": int(df["winch.cmd_saturated"].sum()),
         "winch.at_capacity_rows": int(df["winch.at_capacity"].sum()),
-        "winch.energy_hauling_kJ": float(np.sum(np.maximum(df["winch.power"].to_numpy(), 0.0))
-                                         / cfg.sim.log_rate / 1e3),
+        "winch.energy_hauling_kJ": float(
+            np.sum(np.maximum(df["winch.power"].to_numpy(), 0.0)) / cfg.sim.log_rate / 1e3
+        ),
     }
 
 
@@ -119,32 +123,49 @@ class TowDeploy(Scenario):
     name = "tow-deploy"
     summary = "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"
     Config = TowDeployConfig
-    defaults = {"sim": {"duration": 360.0},
-                "uuv": {"z0": 1.16},
-                "cable": {"length": 1.0, "segment_length": 1.0, "integrator": "imex"},
-                "winch": {"enabled": True, "capacity": 40.0, "tension_max": 1000.0, "speed_max": 0.5},
-                "winch_control": {"mode": "depth", "target": 1.3,
-                                  "profile": [(0.0, 1.3), (10.0, 1.3), (150.0, 30.0), (190.0, 30.0), (330.0, 1.3)]}}
+    defaults = {
+        "sim": {"duration": 360.0},
+        "uuv": {"z0": 1.16},
+        "cable": {"length": 1.0, "segment_length": 1.0, "integrator": "imex"},
+        "winch": {"enabled": True, "capacity": 40.0, "tension_max": 1000.0, "speed_max": 0.5},
+        "winch_control": {
+            "mode": "depth",
+            "target": 1.3,
+            "profile": [(0.0, 1.3), (10.0, 1.3), (150.0, 30.0), (190.0, 30.0), (330.0, 1.3)],
+        },
+    }
 
     def build(self, cfg, rng):
         plant = _plant(cfg, top="usv")
-        blocks = [*environment_blocks(cfg.environment),
-                  ThrustersOff(["usv.thrust_port_cmd", "usv.thrust_stbd_cmd", "uuv.thrust_port_cmd",
-                                "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd"]),
-                  WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
+        blocks = [
+            *environment_blocks(cfg.environment),
+            ThrustersOff(
+                [
+                    "usv.thrust_port_cmd",
+                    "usv.thrust_stbd_cmd",
+                    "uuv.thrust_port_cmd",
+                    "uuv.thrust_stbd_cmd",
+                    "uuv.thrust_bow_cmd",
+                ]
+            ),
+            WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
+            USVThrusterBlock(cfg.usv, CONTROL_PERIOD),
+            UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD),
+        ]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
         out = _common_summary(df, cfg)
         ref = df["winch.target"].to_numpy()
         err = df["uuv.z"].to_numpy() - ref
-        out.update({
-            "uuv.depth_max_m": float(df["uuv.z"].max()),
-            "uuv.depth_final_m": float(df["uuv.z"].iloc[-1]),
-            "uuv.depth_error_rms_m": float(np.sqrt(np.mean(err ** 2))),
-            "uuv.depth_error_max_m": float(np.max(np.abs(err))),
-        })
+        out.update(
+            {
+                "uuv.depth_max_m": float(df["uuv.z"].max()),
+                "uuv.depth_final_m": float(df["uuv.z"].iloc[-1]),
+                "uuv.depth_error_rms_m": float(np.sqrt(np.mean(err**2))),
+                "uuv.depth_error_max_m": float(np.max(np.abs(err))),
+            }
+        )
         return out
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
@@ -160,8 +181,9 @@ class TowDeploy(Scenario):
         axs[1].scatter(df["cable.length"], df["cable.top_tension"], c=df["t"], s=4, cmap="viridis")
         w = cfg.cable.weight_per_length
         Ls = np.linspace(float(df["cable.length"].min()), float(df["cable.length"].max()), 20)
-        axs[1].plot(Ls, w * Ls + cfg.uuv.weight_in_water_kgf * KGF, "k--", lw=1,
-                    label="submerged weight: cable paid out + UUV")
+        axs[1].plot(
+            Ls, w * Ls + cfg.uuv.weight_in_water_kgf * KGF, "k--", lw=1, label="submerged weight: cable paid out + UUV"
+        )
         axs[1].axhline(cfg.winch.tension_max, color="r", lw=1, label="tension limit")
         axs[1].set_xlabel("cable length paid out [m]")
         axs[1].set_ylabel("top tension [N]")
@@ -172,14 +194,19 @@ class TowDeploy(Scenario):
         p1 = out_dir / "length_depth_tension.png"
         fig.savefig(p1, dpi=110)
         plt.close(fig)
-        p2 = plot_signals(df, [
-            ("depth [m]", [("uuv.z", "UUV", 1.0), ("winch.target", "target", 1.0)]),
-            ("length [m]", [("cable.length", "paid out", 1.0)]),
-            ("line speed [m/s]", [("winch.speed", "drum", 1.0), ("winch.speed_cmd_sat", "command (sat.)", 1.0)]),
-            ("tension [N]", [("cable.top_tension", "top", 1.0)]),
-            ("power [W]", [("winch.power", "winch", 1.0)]),
-            ("nodes [-]", [("cable.nodes", "nodes", 1.0)]),
-        ], out_dir / "deploy_timeseries.png", title=f"{self.name}: depth, length, speed, tension")
+        p2 = plot_signals(
+            df,
+            [
+                ("depth [m]", [("uuv.z", "UUV", 1.0), ("winch.target", "target", 1.0)]),
+                ("length [m]", [("cable.length", "paid out", 1.0)]),
+                ("line speed [m/s]", [("winch.speed", "drum", 1.0), ("winch.speed_cmd_sat", "command (sat.)", 1.0)]),
+                ("tension [N]", [("cable.top_tension", "top", 1.0)]),
+                ("power [W]", [("winch.power", "winch", 1.0)]),
+                ("nodes [-]", [("cable.nodes", "nodes", 1.0)]),
+            ],
+            out_dir / "deploy_timeseries.png",
+            title=f"{self.name}: depth, length, speed, tension",
+        )
         return [p1, p2]
 
 
@@ -187,23 +214,28 @@ class TowSurveyDepth(Scenario):
     name = "tow-survey-depth"
     summary = "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"
     Config = TowSurveyConfig
-    defaults = {"sim": {"duration": 1200.0},
-                "uuv": {"z0": 15.3},
-                "cable": {"length": 15.0, "segment_length": 1.5, "integrator": "imex"},
-                "winch": {"enabled": True, "capacity": 150.0, "tension_max": 4000.0, "speed_max": 0.5},
-                "winch_control": {"mode": "altitude", "target": 5.0, "kp": 0.08, "ki": 0.002, "kd": 1.5},
-                "uuv_follow": {"speed": 0.5},
-                "environment": {"seabed": {"depth": 20.0, "slope_deg": 3.0}}}
+    defaults = {
+        "sim": {"duration": 1200.0},
+        "uuv": {"z0": 15.3},
+        "cable": {"length": 15.0, "segment_length": 1.5, "integrator": "imex"},
+        "winch": {"enabled": True, "capacity": 150.0, "tension_max": 4000.0, "speed_max": 0.5},
+        "winch_control": {"mode": "altitude", "target": 5.0, "kp": 0.08, "ki": 0.002, "kd": 1.5},
+        "uuv_follow": {"speed": 0.5},
+        "environment": {"seabed": {"depth": 20.0, "slope_deg": 3.0}},
+    }
 
     def build(self, cfg, rng):
         plant = _plant(cfg, top="usv")
         g = cfg.guidance
-        blocks = [*environment_blocks(cfg.environment),
-                  PurePursuit(g.waypoints, g.look_ahead, g.acceptance, 0.1),
-                  USVController(cfg.usv_control, cfg.usv, g.speed, CONTROL_PERIOD),
-                  UUVFollow(cfg.uuv_follow, cfg.uuv),
-                  WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
-                  USVThrusterBlock(cfg.usv, CONTROL_PERIOD), UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD)]
+        blocks = [
+            *environment_blocks(cfg.environment),
+            PurePursuit(g.waypoints, g.look_ahead, g.acceptance, 0.1),
+            USVController(cfg.usv_control, cfg.usv, g.speed, CONTROL_PERIOD),
+            UUVFollow(cfg.uuv_follow, cfg.uuv),
+            WinchDepthController(cfg.winch_control, cfg.winch.tension_max),
+            USVThrusterBlock(cfg.usv, CONTROL_PERIOD),
+            UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD),
+        ]
         return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
@@ -211,16 +243,18 @@ class TowSurveyDepth(Scenario):
         a = df["uuv.altitude"].to_numpy()
         after = df["t"].to_numpy() >= cfg.analysis.settle_s
         err = a[after] - cfg.winch_control.target if np.any(after) else np.array([np.nan])
-        out.update({
-            "uuv.altitude_rms_error_m": float(np.sqrt(np.mean(err ** 2))),
-            "uuv.altitude_max_error_m": float(np.max(np.abs(err))),
-            "uuv.altitude_min_m": float(np.min(a)),
-            "uuv.depth_min_m": float(df["uuv.z"].min()),
-            "uuv.depth_max_m": float(df["uuv.z"].max()),
-            "usv.waypoints_reached": int(df["guidance.wp_reached"].max()) if "guidance.wp_reached" in df else 0,
-            "usv.waypoints_total": len(cfg.guidance.waypoints),
-            "t_end_s": float(df["t"].iloc[-1]),
-        })
+        out.update(
+            {
+                "uuv.altitude_rms_error_m": float(np.sqrt(np.mean(err**2))),
+                "uuv.altitude_max_error_m": float(np.max(np.abs(err))),
+                "uuv.altitude_min_m": float(np.min(a)),
+                "uuv.depth_min_m": float(df["uuv.z"].min()),
+                "uuv.depth_max_m": float(df["uuv.z"].max()),
+                "usv.waypoints_reached": int(df["guidance.wp_reached"].max()) if "guidance.wp_reached" in df else 0,
+                "usv.waypoints_total": len(cfg.guidance.waypoints),
+                "t_end_s": float(df["t"].iloc[-1]),
+            }
+        )
         return out
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
@@ -252,13 +286,18 @@ class TowSurveyDepth(Scenario):
         p1 = out_dir / "survey_track.png"
         fig.savefig(p1, dpi=110)
         plt.close(fig)
-        p2 = plot_signals(df, [
-            ("altitude [m]", [("uuv.altitude", "UUV", 1.0)]),
-            ("length [m]", [("cable.length", "paid out", 1.0)]),
-            ("line speed [m/s]", [("winch.speed", "drum", 1.0)]),
-            ("tension [N]", [("cable.top_tension", "top", 1.0)]),
-            ("speed [m/s]", [("usv.speed", "USV", 1.0), ("uuv.u", "UUV u", 1.0)]),
-        ], out_dir / "survey_timeseries.png", title=f"{self.name}: altitude, length, tension")
+        p2 = plot_signals(
+            df,
+            [
+                ("altitude [m]", [("uuv.altitude", "UUV", 1.0)]),
+                ("length [m]", [("cable.length", "paid out", 1.0)]),
+                ("line speed [m/s]", [("winch.speed", "drum", 1.0)]),
+                ("tension [N]", [("cable.top_tension", "top", 1.0)]),
+                ("speed [m/s]", [("usv.speed", "USV", 1.0), ("uuv.u", "UUV u", 1.0)]),
+            ],
+            out_dir / "survey_timeseries.png",
+            title=f"{self.name}: altitude, length, tension",
+        )
         return [p1, p2]
 
 

@@ -30,13 +30,18 @@ from .base import Scenario
 
 # -- trials -------------------------------------------------------------------------------------------------------
 
+
 class TrialsSection(StrictModel):
     """Which trials to run (speeds for usv-first-order in m/s; the 3-DOF USV uses ``*_3dof`` ones)."""
 
-    straight_speeds_mps: list[float] = Field([5.0, 6.4, 7.8, 9.2, 10.6, 12.0, 13.4, 14.8, 16.0], min_length=1,
-                                             description="final speeds of the straight runs (from rest), m/s")
-    turn_speeds_mps: list[float] = Field([4.2, 5.1, 6.0, 6.9, 7.8, 8.6], min_length=1,
-                                         description="approach speeds of the turning trials, m/s")
+    straight_speeds_mps: list[float] = Field(
+        [5.0, 6.4, 7.8, 9.2, 10.6, 12.0, 13.4, 14.8, 16.0],
+        min_length=1,
+        description="final speeds of the straight runs (from rest), m/s",
+    )
+    turn_speeds_mps: list[float] = Field(
+        [4.2, 5.1, 6.0, 6.9, 7.8, 8.6], min_length=1, description="approach speeds of the turning trials, m/s"
+    )
     steer_deg: float = Field(10.0, gt=0, le=35, description="rudder step of the turning trials, deg")
     zigzag_deg: list[float] = Field([10.0, 20.0], description="ITTC zig-zag amplitudes (10 -> 10/10), deg")
     zigzag_speed_mps: float = Field(6.0, gt=0, le=20, description="approach speed of the zig-zags, m/s")
@@ -44,12 +49,15 @@ class TrialsSection(StrictModel):
     turn_duration_s: float = Field(40.0, gt=5, le=1e4, description="length of a turning trial, s")
     zigzag_duration_s: float = Field(120.0, gt=5, le=1e4, description="length of a zig-zag, s")
     step_time_s: float = Field(5.0, ge=0.5, le=100, description="time of the input step in each trial, s")
-    straight_speeds_3dof_mps: list[float] = Field([0.3, 0.45, 0.6, 0.75, 0.9], min_length=1,
-                                                  description="straight-run speeds of the 3-DOF USV, m/s")
-    turn_speeds_3dof_mps: list[float] = Field([0.4, 0.6, 0.8], min_length=1,
-                                              description="turning-trial speeds of the 3-DOF USV, m/s")
-    steer_3dof_kgf: float = Field(2.0, gt=0, le=15,
-                                  description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf")
+    straight_speeds_3dof_mps: list[float] = Field(
+        [0.3, 0.45, 0.6, 0.75, 0.9], min_length=1, description="straight-run speeds of the 3-DOF USV, m/s"
+    )
+    turn_speeds_3dof_mps: list[float] = Field(
+        [0.4, 0.6, 0.8], min_length=1, description="turning-trial speeds of the 3-DOF USV, m/s"
+    )
+    steer_3dof_kgf: float = Field(
+        2.0, gt=0, le=15, description="differential thrust step (port +, starboard -) of the 3-DOF USV, kgf"
+    )
 
 
 class TrialsConfig(ScenarioConfig):
@@ -117,30 +125,55 @@ class Trials(Scenario):
             usv = m.model_copy(update={"u0": 0.0 if kind == "straight" else U, "psi0_deg": 0.0})
             plant = FirstOrderUSV(usv)
             d = math.radians(tr.steer_deg)
-            blocks = [FunctionBlock("operating_speed", h, lambda t, bus: bus.__setitem__("usv.u_op", U),
-                                    inputs={}, outputs={"usv.u_op": "m/s"})]
+            blocks = [
+                FunctionBlock(
+                    "operating_speed",
+                    h,
+                    lambda t, bus: bus.__setitem__("usv.u_op", U),
+                    inputs={},
+                    outputs={"usv.u_op": "m/s"},
+                )
+            ]
             rudder_engine = {"usv.rpm_cmd": "rpm", "usv.delta_s_cmd": "rad"}
             if kind == "straight":
+
                 def cmd(t, bus):
                     bus["usv.rpm_cmd"] = n if t >= ts - 1e-9 else 0.0
                     bus["usv.delta_s_cmd"] = 0.0
+
                 blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
                 truth = (co["K_v"], co["T_v"])
             elif kind == "turn":
+
                 def cmd(t, bus):
                     bus["usv.rpm_cmd"] = n
                     bus["usv.delta_s_cmd"] = d if t >= ts - 1e-9 else 0.0
+
                 blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
                 truth = (co["K_r"], co["T_r"])
             else:
                 a = math.radians(val)
-                blocks += [FunctionBlock("command", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
-                                         inputs={}, outputs={"usv.rpm_cmd": "rpm"}),
-                           ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad")]
+                blocks += [
+                    FunctionBlock(
+                        "command",
+                        h,
+                        lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
+                        inputs={},
+                        outputs={"usv.rpm_cmd": "rpm"},
+                    ),
+                    ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad"),
+                ]
                 truth = (co["K_r"], co["T_r"])
             blocks.append(RudderEngineBlock(usv, h))
-            blocks.append(TrialSensors(cfg.noise, h, lambda bus: bus["usv.delta_s"], lambda bus: bus["usv.rpm"],
-                                        inputs={"usv.delta_s": "rad", "usv.rpm": "rpm"}))
+            blocks.append(
+                TrialSensors(
+                    cfg.noise,
+                    h,
+                    lambda bus: bus["usv.delta_s"],
+                    lambda bus: bus["usv.rpm"],
+                    inputs={"usv.delta_s": "rad", "usv.rpm": "rpm"},
+                )
+            )
         else:
             from ..models.usv import USVPlant
 
@@ -157,23 +190,50 @@ class Trials(Scenario):
 
             thrusts = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
             if kind == "straight":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0),
-                                        inputs={}, outputs=thrusts)]
+                blocks = [
+                    FunctionBlock(
+                        "command",
+                        h,
+                        lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0),
+                        inputs={},
+                        outputs=thrusts,
+                    )
+                ]
                 truth = (2.0 / c.d11, c.m11 / c.d11)
             elif kind == "turn":
-                blocks = [FunctionBlock("command", h, lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0),
-                                        inputs={}, outputs=thrusts)]
+                blocks = [
+                    FunctionBlock(
+                        "command",
+                        h,
+                        lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0),
+                        inputs={},
+                        outputs=thrusts,
+                    )
+                ]
                 truth = _nomoto_3dof(c, U)
             else:
                 zz = ZigZag(s, math.radians(val), ts, h, "_steer", unit="N")
-                blocks = [zz, FunctionBlock("command", h, lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)),
-                                            inputs={"_steer": "N"}, outputs=thrusts)]
+                blocks = [
+                    zz,
+                    FunctionBlock(
+                        "command",
+                        h,
+                        lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)),
+                        inputs={"_steer": "N"},
+                        outputs=thrusts,
+                    ),
+                ]
                 truth = _nomoto_3dof(c, U)
             blocks.append(USVThrusterBlock(c0, h))
-            blocks.append(TrialSensors(cfg.noise, h,
-                                        lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
-                                        lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"]),
-                                        inputs={"usv.thrust_port": "N", "usv.thrust_stbd": "N"}))
+            blocks.append(
+                TrialSensors(
+                    cfg.noise,
+                    h,
+                    lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
+                    lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"]),
+                    inputs={"usv.thrust_port": "N", "usv.thrust_stbd": "N"},
+                )
+            )
         sim = Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
         dur = {"straight": tr.straight_duration_s, "turn": tr.turn_duration_s, "zigzag": tr.zigzag_duration_s}[kind]
         return sim, dur, truth
@@ -188,8 +248,16 @@ class Trials(Scenario):
             warnings.simplefilter("ignore", RuntimeWarning)  # trials from rest leave the table-2 range on purpose
             for i, ((kind, val), g) in enumerate(zip(self._trial_list(cfg), rngs)):
                 sim, dur, truth = self._build_one(cfg, kind, val, g)
-                log = _OffsetLog(ctx.log, t0, {"trial.id": float(i), "trial.kind": codes[kind],
-                                               "trial.true_k": truth[0], "trial.true_t": truth[1]})
+                log = _OffsetLog(
+                    ctx.log,
+                    t0,
+                    {
+                        "trial.id": float(i),
+                        "trial.kind": codes[kind],
+                        "trial.true_k": truth[0],
+                        "trial.true_t": truth[1],
+                    },
+                )
                 sim.run(dur, log=log)
                 t0 += dur + 10.0
         ctx.info["t_end"] = t0

@@ -61,13 +61,23 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
     c = cfg.command
     h = 1.0 / cfg.control_rate
 
-    command = ConstantBlock("command", h, {"usv.thrust_port_cmd": c.thrust_port_kgf * KGF,
-                                           "usv.thrust_stbd_cmd": c.thrust_stbd_kgf * KGF,
-                                           "usv.volt_port_cmd": c.volt_port, "usv.volt_stbd_cmd": c.volt_stbd},
-                            units={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N",
-                                   "usv.volt_port_cmd": "V", "usv.volt_stbd_cmd": "V"})
-    blocks = [*environment_blocks(cfg.environment), command,
-              USVThrusterBlock(cfg.usv, h, mode=c.mode)]
+    command = ConstantBlock(
+        "command",
+        h,
+        {
+            "usv.thrust_port_cmd": c.thrust_port_kgf * KGF,
+            "usv.thrust_stbd_cmd": c.thrust_stbd_kgf * KGF,
+            "usv.volt_port_cmd": c.volt_port,
+            "usv.volt_stbd_cmd": c.volt_stbd,
+        },
+        units={
+            "usv.thrust_port_cmd": "N",
+            "usv.thrust_stbd_cmd": "N",
+            "usv.volt_port_cmd": "V",
+            "usv.volt_stbd_cmd": "V",
+        },
+    )
+    blocks = [*environment_blocks(cfg.environment), command, USVThrusterBlock(cfg.usv, h, mode=c.mode)]
     return Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 
@@ -88,36 +98,67 @@ class USVOpenLoop(Scenario):
         out = {"usv.steady_speed_mps": float(w["usv.speed"].mean())}
         if self.turning:
             rad, vd, dd, res = circle_fit_drifting(w["t"], w["usv.x"], w["usv.y"], w["usv.psi"])
-            out.update({"usv.turn_radius_m": rad, "usv.yaw_rate_degps": math.degrees(float(w["usv.r"].mean())),
-                        "usv.drift_speed_mps": vd, "usv.drift_direction_deg": dd,
-                        "usv.circle_fit_rms_m": res})
+            out.update(
+                {
+                    "usv.turn_radius_m": rad,
+                    "usv.yaw_rate_degps": math.degrees(float(w["usv.r"].mean())),
+                    "usv.drift_speed_mps": vd,
+                    "usv.drift_direction_deg": dd,
+                    "usv.circle_fit_rms_m": res,
+                }
+            )
         return out
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out_dir = Path(out_dir)
         return [
             plot_track(df, ["usv"], out_dir / "trajectory.png", title=self.name),
-            plot_signals(df, [
-                ("speed [m/s]", [("usv.u", "u", 1.0), ("usv.v", "v", 1.0), ("usv.speed", "|V|", 1.0)]),
-                ("yaw rate [deg/s]", [("usv.r", "r", 180 / math.pi)]),
-                ("heading [deg]", [("usv.psi", "psi", 180 / math.pi)]),
-            ], out_dir / "states.png", title=f"{self.name}: states"),
-            plot_signals(df, [
-                ("thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "starboard", 1 / KGF)]),
-                ("current / wind [m/s]", [("env.current_speed", "current", 1.0), ("env.wind_speed", "wind", 1.0)]),
-            ], out_dir / "actuators.png", title=f"{self.name}: actuators and environment"),
+            plot_signals(
+                df,
+                [
+                    ("speed [m/s]", [("usv.u", "u", 1.0), ("usv.v", "v", 1.0), ("usv.speed", "|V|", 1.0)]),
+                    ("yaw rate [deg/s]", [("usv.r", "r", 180 / math.pi)]),
+                    ("heading [deg]", [("usv.psi", "psi", 180 / math.pi)]),
+                ],
+                out_dir / "states.png",
+                title=f"{self.name}: states",
+            ),
+            plot_signals(
+                df,
+                [
+                    ("thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "starboard", 1 / KGF)]),
+                    ("current / wind [m/s]", [("env.current_speed", "current", 1.0), ("env.wind_speed", "wind", 1.0)]),
+                ],
+                out_dir / "actuators.png",
+                title=f"{self.name}: actuators and environment",
+            ),
         ]
 
 
 _TURN = {"command": {"thrust_port_kgf": 30.0, "thrust_stbd_kgf": 15.0}, "sim": {"duration": 90.0}}
 
 SCENARIOS = [
-    USVOpenLoop("usv-straight", "USV, 30 kgf on both thrusters: steady speed (003 fig 2-7, ~0.8 m/s)",
-                {"command": {"thrust_port_kgf": 30.0, "thrust_stbd_kgf": 30.0}, "sim": {"duration": 30.0},
-                 "analysis": {"window_s": 10.0}}, turning=False),
+    USVOpenLoop(
+        "usv-straight",
+        "USV, 30 kgf on both thrusters: steady speed (003 fig 2-7, ~0.8 m/s)",
+        {
+            "command": {"thrust_port_kgf": 30.0, "thrust_stbd_kgf": 30.0},
+            "sim": {"duration": 30.0},
+            "analysis": {"window_s": 10.0},
+        },
+        turning=False,
+    ),
     USVOpenLoop("usv-turn", "USV, 30/15 kgf: turning circle (003 fig 2-8, R ~1.75 m, ~16 deg/s)", _TURN, True),
-    USVOpenLoop("usv-turn-wind", "USV turning in 1 m/s wind, direction settable (003 fig 2-9)",
-                {**_TURN, "environment": {"wind": {"speed": 1.0, "direction_deg": 0.0}}}, True),
-    USVOpenLoop("usv-turn-current", "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10)",
-                {**_TURN, "environment": {"current": {"speed": 0.1, "direction_deg": 45.0}}}, True),
+    USVOpenLoop(
+        "usv-turn-wind",
+        "USV turning in 1 m/s wind, direction settable (003 fig 2-9)",
+        {**_TURN, "environment": {"wind": {"speed": 1.0, "direction_deg": 0.0}}},
+        True,
+    ),
+    USVOpenLoop(
+        "usv-turn-current",
+        "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10)",
+        {**_TURN, "environment": {"current": {"speed": 0.1, "direction_deg": 45.0}}},
+        True,
+    ),
 ]

@@ -68,16 +68,32 @@ class USVRemoteConfig(ScenarioConfig):
 def build_simulation(cfg: USVRemoteConfig, rng) -> Simulation:
     """Environment, GPS, route pilot, inner loops, thrusters and the USV plant."""
     h = 1.0 / cfg.control.rate
-    blocks = [*environment_blocks(cfg.environment), GPS(cfg.gps, "usv"),
-              RoutePilot(cfg.guidance, cfg.remote, h, mode=cfg.pilot.mode),
-              USVRateController(cfg.control, cfg.usv, cfg.remote, mode=cfg.pilot.mode, loop=cfg.pilot.loop),
-              USVThrusterBlock(cfg.usv, h)]
-    sim = Simulation([USVPlant(cfg.usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng,
-                     external={"console.mode": "str", "console.loop": "str", "console.waypoints": "str",
-                               "joystick.surge": "1", "joystick.yaw": "1", "_estop": "bool"})
+    blocks = [
+        *environment_blocks(cfg.environment),
+        GPS(cfg.gps, "usv"),
+        RoutePilot(cfg.guidance, cfg.remote, h, mode=cfg.pilot.mode),
+        USVRateController(cfg.control, cfg.usv, cfg.remote, mode=cfg.pilot.mode, loop=cfg.pilot.loop),
+        USVThrusterBlock(cfg.usv, h),
+    ]
+    sim = Simulation(
+        [USVPlant(cfg.usv)],
+        blocks,
+        cfg.sim.dt,
+        1.0 / cfg.sim.log_rate,
+        rng,
+        external={
+            "console.mode": "str",
+            "console.loop": "str",
+            "console.waypoints": "str",
+            "joystick.surge": "1",
+            "joystick.yaw": "1",
+            "_estop": "bool",
+        },
+    )
     # initial console state, so that these columns are in the log from its first row
-    sim.inject({"console.mode": cfg.pilot.mode, "console.loop": cfg.pilot.loop,
-                "joystick.surge": 0.0, "joystick.yaw": 0.0})
+    sim.inject(
+        {"console.mode": cfg.pilot.mode, "console.loop": cfg.pilot.loop, "joystick.surge": 0.0, "joystick.yaw": 0.0}
+    )
     return sim
 
 
@@ -102,14 +118,27 @@ class USVRemote(Scenario):
         """What the operator console draws: bodies, route, gauges and read-outs (see oceangnc.console)."""
         t_max = cfg.usv.max_thrust_kgf * KGF
         return {
-            "bodies": [{"name": "usv", "label": "USV", "length": cfg.usv.length_oa, "beam": cfg.usv.beam,
-                        "shape": "boat"}],
+            "bodies": [
+                {"name": "usv", "label": "USV", "length": cfg.usv.length_oa, "beam": cfg.usv.beam, "shape": "boat"}
+            ],
             "route": [list(w) for w in cfg.guidance.waypoints],
             "gauges": [
-                {"key": "usv.thrust_port", "label": "port thruster", "unit": "kgf", "scale": 1 / KGF,
-                 "min": -cfg.usv.max_reverse_kgf, "max": t_max / KGF},
-                {"key": "usv.thrust_stbd", "label": "stbd thruster", "unit": "kgf", "scale": 1 / KGF,
-                 "min": -cfg.usv.max_reverse_kgf, "max": t_max / KGF},
+                {
+                    "key": "usv.thrust_port",
+                    "label": "port thruster",
+                    "unit": "kgf",
+                    "scale": 1 / KGF,
+                    "min": -cfg.usv.max_reverse_kgf,
+                    "max": t_max / KGF,
+                },
+                {
+                    "key": "usv.thrust_stbd",
+                    "label": "stbd thruster",
+                    "unit": "kgf",
+                    "scale": 1 / KGF,
+                    "min": -cfg.usv.max_reverse_kgf,
+                    "max": t_max / KGF,
+                },
             ],
             "readouts": [
                 {"key": "usv.speed", "label": "speed", "unit": "m/s", "scale": 1.0},
@@ -129,19 +158,26 @@ class USVRemote(Scenario):
             "usv.mean_speed_mps": float(df["usv.speed"].mean()),
             "guidance.waypoints_reached": min(reached, n_wp),
             "guidance.cross_track_rms_m": float(np.sqrt(np.mean(moving["guidance.cross_track"] ** 2)))
-            if len(moving) else 0.0,
+            if len(moving)
+            else 0.0,
         }
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
         out_dir = Path(out_dir)
         return [
-            plot_track(df, ["usv"], out_dir / "trajectory.png", title=self.name,
-                       waypoints=np.array(cfg.guidance.waypoints)),
-            plot_signals(df, [
-                ("speed [m/s]", [("usv.u", "u", 1.0), ("usv.u_d", "u_d", 1.0)]),
-                ("yaw rate [deg/s]", [("usv.r", "r", 180 / math.pi), ("usv.r_d", "r_d", 180 / math.pi)]),
-                ("thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "starboard", 1 / KGF)]),
-            ], out_dir / "control.png", title=f"{self.name}: control"),
+            plot_track(
+                df, ["usv"], out_dir / "trajectory.png", title=self.name, waypoints=np.array(cfg.guidance.waypoints)
+            ),
+            plot_signals(
+                df,
+                [
+                    ("speed [m/s]", [("usv.u", "u", 1.0), ("usv.u_d", "u_d", 1.0)]),
+                    ("yaw rate [deg/s]", [("usv.r", "r", 180 / math.pi), ("usv.r_d", "r_d", 180 / math.pi)]),
+                    ("thrust [kgf]", [("usv.thrust_port", "port", 1 / KGF), ("usv.thrust_stbd", "starboard", 1 / KGF)]),
+                ],
+                out_dir / "control.png",
+                title=f"{self.name}: control",
+            ),
         ]
 
 

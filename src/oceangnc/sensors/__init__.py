@@ -9,5 +9,16 @@ from .filters import AngleLowPass, DropoutHold, LowPass
 from .gps import GPS, GPSConfig
 from .usbl import USBL, USBLConfig
 
-__all__ = ["AHRS", "AHRSConfig", "DepthSensor", "DepthSensorConfig", "AngleLowPass", "DropoutHold",
-           "LowPass", "GPS", "GPSConfig", "USBL", "USBLConfig"]
+__all__ = [
+    "AHRS",
+    "AHRSConfig",
+    "DepthSensor",
+    "DepthSensorConfig",
+    "AngleLowPass",
+    "DropoutHold",
+    "LowPass",
+    "GPS",
+    "GPSConfig",
+    "USBL",
+    "USBLConfig",
+]

@@ -56,8 +56,12 @@ class AHRS(Block):
         self.inputs = {f"{body}.psi": "rad", f"{body}.r": "rad/s"}
         # a surface vessel has no roll/pitch states: level (0) when nobody publishes them
         self.optional_inputs = {f"{body}.phi": "rad", f"{body}.theta": "rad"}
-        self.outputs = {f"{self.name}.psi": "rad", f"{self.name}.r": "rad/s", f"{self.name}.phi": "rad",
-                        f"{self.name}.theta": "rad"}
+        self.outputs = {
+            f"{self.name}.psi": "rad",
+            f"{self.name}.r": "rad/s",
+            f"{self.name}.phi": "rad",
+            f"{self.name}.theta": "rad",
+        }
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -76,9 +80,18 @@ class AHRS(Block):
         from ._compiled import ahrs_step
 
         c, b, o = self.cfg, self.body, self.name
-        pa = np.array([self.period, c.lag, c.mag_time_constant, math.radians(c.mag_sigma_deg),
-                       math.radians(c.yaw_noise_deg), self.gyro_bias, math.radians(c.gyro_noise_degps),
-                       math.radians(c.attitude_noise_deg)])
+        pa = np.array(
+            [
+                self.period,
+                c.lag,
+                c.mag_time_constant,
+                math.radians(c.mag_sigma_deg),
+                math.radians(c.yaw_noise_deg),
+                self.gyro_bias,
+                math.radians(c.gyro_noise_degps),
+                math.radians(c.attitude_noise_deg),
+            ]
+        )
         sig = [f"{b}.psi", f"{b}.r", f"?{b}.phi", f"?{b}.theta", f"{o}.psi", f"{o}.r", f"{o}.phi", f"{o}.theta"]
         return CompiledBlock(ahrs_step, sig, np.array([self.psi_f, self.mag]), pa, rng=self.rng)
 

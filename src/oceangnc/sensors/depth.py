@@ -33,8 +33,11 @@ class DepthSensorConfig(StrictModel):
     noise_v: float = Field(0.005, ge=0, le=1, description="white voltage noise, V")
     accuracy_fs: float = Field(0.0025, ge=0, le=0.1, description="offset/gain error bound, fraction of full scale")
     cutoff_hz: float = Field(0.5, gt=0, le=100, description="low-pass cut-off frequency, Hz")
-    calibration_depths: list[float] = Field([0.66, 1.06, 1.46, 1.86, 2.26, 2.46], min_length=2,
-                                            description="depths of the calibration points (003: 0.66-2.46), m")
+    calibration_depths: list[float] = Field(
+        [0.66, 1.06, 1.46, 1.86, 2.26, 2.46],
+        min_length=2,
+        description="depths of the calibration points (003: 0.66-2.46), m",
+    )
     calibration_samples: int = Field(200, ge=1, le=100000, description="readings averaged per calibration point")
 
 
@@ -80,11 +83,25 @@ class DepthSensor(Block):
 
         c = self.cfg
         y = self.lp.y
-        pa = np.array([self.offset, self.gain, c.noise_v, self.c1, self.c0, self.lp.a, FULL_SCALE_V, ADC_LSB,
-                       RHO_WATER, G, FULL_SCALE_PA])
+        pa = np.array(
+            [
+                self.offset,
+                self.gain,
+                c.noise_v,
+                self.c1,
+                self.c0,
+                self.lp.a,
+                FULL_SCALE_V,
+                ADC_LSB,
+                RHO_WATER,
+                G,
+                FULL_SCALE_PA,
+            ]
+        )
         st = np.array([y if y is not None else 0.0, 0.0 if y is None else 1.0])
-        return CompiledBlock(depth_step, [f"{self.body}.z", "depth.volt", "depth.z_raw", "depth.z"], st, pa,
-                             rng=self.rng)
+        return CompiledBlock(
+            depth_step, [f"{self.body}.z", "depth.volt", "depth.z_raw", "depth.z"], st, pa, rng=self.rng
+        )
 
     def step(self, t: float, bus: dict) -> None:
         v = self.read_voltage(bus[f"{self.body}.z"])

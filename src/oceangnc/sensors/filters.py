@@ -89,8 +89,9 @@ class DropoutHold(Block):
 
     role = "sensor"
 
-    def __init__(self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str,
-                 units: dict | None = None):
+    def __init__(
+        self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str, units: dict | None = None
+    ):
         self.name = name
         self.period = float(period)
         self.valid_key = valid_key
@@ -98,8 +99,12 @@ class DropoutHold(Block):
         self.out = out_prefix
         units = units or {}
         self.inputs = {valid_key: "bool", **{k: units.get(o, "1") for o, k in self.signals.items()}}
-        self.outputs = {**{f"{out_prefix}.{o}": units.get(o, "1") for o in self.signals},
-                        f"{out_prefix}.ok": "bool", f"{out_prefix}.age": "s", f"{out_prefix}.dropouts": "count"}
+        self.outputs = {
+            **{f"{out_prefix}.{o}": units.get(o, "1") for o in self.signals},
+            f"{out_prefix}.ok": "bool",
+            f"{out_prefix}.age": "s",
+            f"{out_prefix}.dropouts": "count",
+        }
         self.reset(None)
 
     def reset(self, rng) -> None:
@@ -117,8 +122,14 @@ class DropoutHold(Block):
 
         outs = list(self.signals)
         st = np.array([*(self.held[o] for o in outs), self.t_fix, self.dropouts, 1.0 if self._ok else 0.0], float)
-        sig = [self.valid_key, *(self.signals[o] for o in outs), *(f"{self.out}.{o}" for o in outs),
-               f"{self.out}.ok", f"{self.out}.age", f"{self.out}.dropouts"]
+        sig = [
+            self.valid_key,
+            *(self.signals[o] for o in outs),
+            *(f"{self.out}.{o}" for o in outs),
+            f"{self.out}.ok",
+            f"{self.out}.age",
+            f"{self.out}.dropouts",
+        ]
         return CompiledBlock(dropout_hold_step, sig, st, np.array([float(len(outs))]))
 
     def step(self, t: float, bus: dict) -> None:

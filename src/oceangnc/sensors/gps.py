@@ -46,7 +46,8 @@ class GPSConfig(StrictModel):
     track_window: float = Field(1.0, gt=0, le=60, description="time span of the track used for course and speed, s")
     min_track: float = Field(0.2, ge=0, le=100, description="least distance moved for a valid course, m")
     error_model: Literal["gauss-markov", "white"] = Field(
-        "gauss-markov", description="position error: Gauss-Markov bias + jitter, or white noise of std sigma")
+        "gauss-markov", description="position error: Gauss-Markov bias + jitter, or white noise of std sigma"
+    )
     sigma: float = Field(0.05, ge=0, le=50, description="white model: position noise standard deviation, m")
     outages: list[tuple[float, float]] = Field([], max_length=100, description="(start, end) windows without a fix, s")
 
@@ -63,8 +64,15 @@ class GPS(Block):
         self.name = name
         self.period = 1.0 / cfg.rate
         self.inputs = {f"{body}.x": "m", f"{body}.y": "m", f"{body}.psi": "rad"}
-        self.outputs = {f"{name}.x": "m", f"{name}.y": "m", f"{name}.sog": "m/s", f"{name}.cog": "rad",
-                        f"{name}.cog_valid": "bool", f"{name}.valid": "bool", f"{name}.hdop": "1"}
+        self.outputs = {
+            f"{name}.x": "m",
+            f"{name}.y": "m",
+            f"{name}.sog": "m/s",
+            f"{name}.cog": "rad",
+            f"{name}.cog_valid": "bool",
+            f"{name}.valid": "bool",
+            f"{name}.hdop": "1",
+        }
 
     def reset(self, rng) -> None:
         c = self.cfg
@@ -105,12 +113,21 @@ class GPS(Block):
         n = self.hist.maxlen
         ring = np.zeros(3 * n)
         for j, row in enumerate(self.hist):
-            ring[3 * j:3 * j + 3] = row
+            ring[3 * j : 3 * j + 3] = row
         st = np.concatenate([[self.bias[0], self.bias[1], self.cog, len(self.hist), 0.0], ring])
         pa = np.array([self.period, c.bias_time_constant, self.sigma_b, c.jitter, c.min_track, c.hdop, n], float)
         b, o = self.body, self.name
-        sig = [f"{b}.x", f"{b}.y", f"{o}.x", f"{o}.y", f"{o}.sog", f"{o}.cog", f"{o}.cog_valid", f"{o}.valid",
-               f"{o}.hdop"]
+        sig = [
+            f"{b}.x",
+            f"{b}.y",
+            f"{o}.x",
+            f"{o}.y",
+            f"{o}.sog",
+            f"{o}.cog",
+            f"{o}.cog_valid",
+            f"{o}.valid",
+            f"{o}.hdop",
+        ]
         return CompiledBlock(gps_step, sig, st, pa, rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:

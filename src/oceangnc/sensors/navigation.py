@@ -34,8 +34,21 @@ class USBLNavigation(Block):
         from ._compiled import nav_step
 
         g, u = self.gps, self.usbl
-        return CompiledBlock(nav_step, [f"{g}.x", f"{g}.y", f"?{u}.dn", f"?{u}.de", f"{g}.sog",
-                                        "nav.usv_x", "nav.usv_y", "nav.uuv_x", "nav.uuv_y", "nav.usv_u"])
+        return CompiledBlock(
+            nav_step,
+            [
+                f"{g}.x",
+                f"{g}.y",
+                f"?{u}.dn",
+                f"?{u}.de",
+                f"{g}.sog",
+                "nav.usv_x",
+                "nav.usv_y",
+                "nav.uuv_x",
+                "nav.uuv_y",
+                "nav.usv_u",
+            ],
+        )
 
     def step(self, t: float, bus: dict) -> None:
         g, u = self.gps, self.usbl

@@ -38,8 +38,9 @@ class USBLConfig(StrictModel):
     rate: float = Field(2.0, gt=0, le=40, description="ping (update) rate, Hz")
     range_resolution: float = Field(0.05, ge=0, le=10, description="range error bound (table C-3: 50 mm), m")
     angle_resolution_deg: float = Field(1.0, ge=0, le=30, description="angle error bound (table C-3: 1 deg), deg")
-    q_max: float = Field(5.0, gt=0, le=1e3,
-                         description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)")
+    q_max: float = Field(
+        5.0, gt=0, le=1e3, description="horizontal range / relative depth beyond which fixes degrade (003: 4 m / 0.8 m)"
+    )
     p_drop: float = Field(0.5, ge=0, le=1, description="probability of losing a ping beyond q_max")
     degraded_gain: float = Field(5.0, ge=1, le=100, description="error scale of fixes beyond q_max")
     dropout_start: float = Field(-1.0, ge=-1, le=1e6, description="start of a forced dropout window (-1: none), s")
@@ -61,8 +62,16 @@ class USBL(Block):
         self.bottom = bottom
         self.inputs = {f"{top}.x": "m", f"{top}.y": "m", f"{bottom}.x": "m", f"{bottom}.y": "m", f"{bottom}.z": "m"}
         self.optional_inputs = {f"{top}.z": "m"}  # a surface vessel: z = 0
-        self.outputs = {"usbl.dn": "m", "usbl.de": "m", "usbl.dz": "m", "usbl.range": "m", "usbl.hrange": "m",
-                        "usbl.bearing": "rad", "usbl.valid": "bool", "usbl.pings_lost": "count"}
+        self.outputs = {
+            "usbl.dn": "m",
+            "usbl.de": "m",
+            "usbl.dz": "m",
+            "usbl.range": "m",
+            "usbl.hrange": "m",
+            "usbl.bearing": "rad",
+            "usbl.valid": "bool",
+            "usbl.pings_lost": "count",
+        }
 
     def reset(self, rng) -> None:
         self.rng = rng
@@ -84,11 +93,28 @@ class USBL(Block):
 
         c, a, b = self.cfg, self.top, self.bottom
         st = np.array([self.lost, 1.0, *self.last], float)
-        pa = np.array([c.q_max, c.p_drop, c.dropout_start, c.dropout_duration, c.degraded_gain, c.range_resolution,
-                       math.radians(c.angle_resolution_deg)])
-        sig = [f"{b}.x", f"{a}.x", f"{b}.y", f"{a}.y", f"?{b}.z", f"?{a}.z",
-               *(f"usbl.{k}" for k in ("dn", "de", "dz", "range", "hrange", "bearing")), "usbl.valid",
-               "usbl.pings_lost"]
+        pa = np.array(
+            [
+                c.q_max,
+                c.p_drop,
+                c.dropout_start,
+                c.dropout_duration,
+                c.degraded_gain,
+                c.range_resolution,
+                math.radians(c.angle_resolution_deg),
+            ]
+        )
+        sig = [
+            f"{b}.x",
+            f"{a}.x",
+            f"{b}.y",
+            f"{a}.y",
+            f"?{b}.z",
+            f"?{a}.z",
+            *(f"usbl.{k}" for k in ("dn", "de", "dz", "range", "hrange", "bearing")),
+            "usbl.valid",
+            "usbl.pings_lost",
+        ]
         return CompiledBlock(usbl_step, sig, st, pa, rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:
@@ -112,8 +138,7 @@ class USBL(Block):
             gam = math.atan2(dz, h) + ea * u[2]
             rho = max(rho, 0.0)
             hm = rho * math.cos(gam)
-            self.last = (hm * math.cos(beta), hm * math.sin(beta), rho * math.sin(gam), rho, hm,
-                         beta)
+            self.last = (hm * math.cos(beta), hm * math.sin(beta), rho * math.sin(gam), rho, hm, beta)
         else:
             self.lost += 1
         if self.last is not None:

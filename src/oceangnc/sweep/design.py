@@ -287,8 +287,10 @@ class Design:
         grid_pts = [dict(zip(self.grid, combo)) for combo in itertools.product(*self.grid.values())] or [{}]
         if not self.random:
             return grid_pts
-        draws = {k: d.draw(np.random.default_rng([self.design_seed, _key_seed(k)]), self.samples)
-                 for k, d in self.random.items()}
+        draws = {
+            k: d.draw(np.random.default_rng([self.design_seed, _key_seed(k)]), self.samples)
+            for k, d in self.random.items()
+        }
         rand_pts = [{k: draws[k][i] for k in self.random} for i in range(self.samples)]
         return [{**g, **r} for g in grid_pts for r in rand_pts]
 
@@ -304,21 +306,35 @@ class Design:
             point_id = stable_hash({**ident, "params": params})
             for k in range(self.seeds):
                 seed = self.base_seed + k
-                out.append(RunSpec(len(out), p, params, seed,
-                                   stable_hash({**ident, "params": params, "seed": seed}), point_id))
+                out.append(
+                    RunSpec(len(out), p, params, seed, stable_hash({**ident, "params": params, "seed": seed}), point_id)
+                )
         return out
 
     def to_json(self) -> dict:
         """JSON-able description (stored as ``sweep.json`` in the sweep folder)."""
-        return {"scenario": self.scenario, "grid": self.grid,
-                "random": {k: d.text() for k, d in self.random.items()}, "samples": self.samples,
-                "seeds": self.seeds, "base_seed": self.base_seed, "design_seed": self.design_seed,
-                "fixed": self.fixed, "config": self.config}
+        return {
+            "scenario": self.scenario,
+            "grid": self.grid,
+            "random": {k: d.text() for k, d in self.random.items()},
+            "samples": self.samples,
+            "seeds": self.seeds,
+            "base_seed": self.base_seed,
+            "design_seed": self.design_seed,
+            "fixed": self.fixed,
+            "config": self.config,
+        }
 
     @classmethod
     def from_json(cls, d: dict) -> "Design":
-        return cls(scenario=d["scenario"], grid=parse_grid(d.get("grid") or {}),
-                   random=parse_random(d.get("random") or {}), samples=int(d.get("samples", 0)),
-                   seeds=int(d.get("seeds", 1)), base_seed=int(d.get("base_seed", 0)),
-                   design_seed=int(d.get("design_seed", 0)), fixed=dict(d.get("fixed") or {}),
-                   config=d.get("config"))
+        return cls(
+            scenario=d["scenario"],
+            grid=parse_grid(d.get("grid") or {}),
+            random=parse_random(d.get("random") or {}),
+            samples=int(d.get("samples", 0)),
+            seeds=int(d.get("seeds", 1)),
+            base_seed=int(d.get("base_seed", 0)),
+            design_seed=int(d.get("design_seed", 0)),
+            fixed=dict(d.get("fixed") or {}),
+            config=d.get("config"),
+        )

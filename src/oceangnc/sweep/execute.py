@@ -56,8 +56,14 @@ def run_one(task: dict) -> dict:
     out_dir = Path(task["out_dir"])
     status, error, summary = "ok", "", {}
     try:
-        res = api.run(task["scenario"], overrides=task["overrides"], config=task["config"], out=out_dir,
-                      plots=task["plots"], progress=False)
+        res = api.run(
+            task["scenario"],
+            overrides=task["overrides"],
+            config=task["config"],
+            out=out_dir,
+            plots=task["plots"],
+            progress=False,
+        )
         summary = res.summary
     except DivergenceError as e:
         status, error = "diverged", _one_line(e)
@@ -77,11 +83,17 @@ def run_one(task: dict) -> dict:
         import shutil
 
         shutil.rmtree(out_dir, ignore_errors=True)
-    row.update({"status": status, "error": error, "wall_time_s": time.perf_counter() - t0,
-                "cpu_time_s": time.process_time() - c0,
-                "worker": f"{socket.gethostname()}:{os.getpid()}",
-                "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
-                "out_dir": str(out_dir) if task.get("keep", True) else ""})
+    row.update(
+        {
+            "status": status,
+            "error": error,
+            "wall_time_s": time.perf_counter() - t0,
+            "cpu_time_s": time.process_time() - c0,
+            "worker": f"{socket.gethostname()}:{os.getpid()}",
+            "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+            "out_dir": str(out_dir) if task.get("keep", True) else "",
+        }
+    )
     return row
 
 
@@ -95,8 +107,12 @@ def run_many(tasks: list[dict]) -> list[dict]:
         return []
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        summaries = run_batch(tasks[0]["scenario"], [t["overrides"] for t in tasks], config=tasks[0]["config"],
-                              out_dirs=[t["out_dir"] for t in tasks])
+        summaries = run_batch(
+            tasks[0]["scenario"],
+            [t["overrides"] for t in tasks],
+            config=tasks[0]["config"],
+            out_dirs=[t["out_dir"] for t in tasks],
+        )
     except Exception:  # noqa: BLE001 - fall back to one by one, which records each failure
         return [run_one(t) for t in tasks]
     wall, cpu = (time.perf_counter() - t0) / len(tasks), (time.process_time() - c0) / len(tasks)
@@ -120,10 +136,17 @@ def run_many(tasks: list[dict]) -> list[dict]:
             import shutil
 
             shutil.rmtree(out_dir, ignore_errors=True)
-        row.update({"status": status, "error": error, "wall_time_s": wall, "cpu_time_s": cpu,
-                    "worker": f"{socket.gethostname()}:{os.getpid()}",
-                    "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
-                    "out_dir": str(out_dir) if task.get("keep", True) else ""})
+        row.update(
+            {
+                "status": status,
+                "error": error,
+                "wall_time_s": wall,
+                "cpu_time_s": cpu,
+                "worker": f"{socket.gethostname()}:{os.getpid()}",
+                "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+                "out_dir": str(out_dir) if task.get("keep", True) else "",
+            }
+        )
         rows.append(row)
     return rows
 
@@ -195,8 +218,10 @@ def _prepare_dir(out: Path, design: Design, resume: bool) -> None:
         except (OSError, ValueError):
             stored = None
         if stored is not None and Design.from_json(stored).identity() != design.identity():
-            raise InputError(f"{out} holds a sweep of another scenario/config/fixed overrides; "
-                             "--resume needs the same command (choose another --out)")
+            raise InputError(
+                f"{out} holds a sweep of another scenario/config/fixed overrides; "
+                "--resume needs the same command (choose another --out)"
+            )
     out.mkdir(parents=True, exist_ok=True)
     tmp = spec.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(design.to_json(), indent=2, default=str))
@@ -217,16 +242,31 @@ def _start_client(workers: int, scheduler: str | None):
     import logging
 
     # no dashboard; the scheduler's small HTTP server on a free port (not 8787, which may be taken)
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=logging.ERROR,
-                           scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
-                           env={"NUMBA_NUM_THREADS": os.environ.get("NUMBA_NUM_THREADS", "1")})
+    cluster = LocalCluster(
+        n_workers=workers,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+        scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+        env={"NUMBA_NUM_THREADS": os.environ.get("NUMBA_NUM_THREADS", "1")},
+    )
     return Client(cluster), cluster
 
 
-def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str | None = None,
-              resume: bool = False, retry_failed: bool = False, plots: bool = False, keep: bool = True,
-              progress: bool = True, batch: int = 1) -> SweepResult:
+def run_sweep(
+    design: Design,
+    out: str | Path,
+    workers: int = 2,
+    scheduler: str | None = None,
+    resume: bool = False,
+    retry_failed: bool = False,
+    plots: bool = False,
+    keep: bool = True,
+    progress: bool = True,
+    batch: int = 1,
+) -> SweepResult:
     """Validate, then run every run of ``design`` not yet in ``out``'s table; see the module docstring.
 
     Parameters
@@ -257,16 +297,27 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
     out = Path(out)
     _prepare_dir(out, design, resume)
     table = ResultsTable(out)
-    todo = [r for r in runs if r.run_id not in table
-            or (retry_failed and table.status(r.run_id) != "ok")]
+    todo = [r for r in runs if r.run_id not in table or (retry_failed and table.status(r.run_id) != "ok")]
     skipped = len(runs) - len(todo)
 
     def task(r: RunSpec) -> dict:
-        row = {"run_id": r.run_id, "point_id": r.point_id, "index": r.index, "point": r.point,
-               "seed": r.seed, **{PARAM + k: v for k, v in r.params.items()}}
-        return {"scenario": design.scenario, "config": design.config, "overrides": r.overrides(design.fixed),
-                "out_dir": str((out / "runs" / r.run_id).resolve()), "plots": plots, "keep": keep,
-                "row": row}
+        row = {
+            "run_id": r.run_id,
+            "point_id": r.point_id,
+            "index": r.index,
+            "point": r.point,
+            "seed": r.seed,
+            **{PARAM + k: v for k, v in r.params.items()},
+        }
+        return {
+            "scenario": design.scenario,
+            "config": design.config,
+            "overrides": r.overrides(design.fixed),
+            "out_dir": str((out / "runs" / r.run_id).resolve()),
+            "plots": plots,
+            "keep": keep,
+            "row": row,
+        }
 
     executed: list[str] = []
     bar = None
@@ -289,7 +340,7 @@ def run_sweep(design: Design, out: str | Path, workers: int = 2, scheduler: str 
 
     try:
         if batch > 1:
-            groups = [todo[i:i + batch] for i in range(0, len(todo), batch)]
+            groups = [todo[i : i + batch] for i in range(0, len(todo), batch)]
             if groups and scheduler is None and workers == 0:
                 for g in groups:
                     record(run_many([task(r) for r in g]))
@@ -329,10 +380,17 @@ def _run_dask_batches(groups, task, record, workers, scheduler) -> None:
                     rows = []
                     for r in by_key[fut.key]:
                         row = task(r)["row"]
-                        row.update({"status": "failed", "error": _one_line(f"{type(e).__name__}: {e}"),
-                                    "wall_time_s": float("nan"), "cpu_time_s": float("nan"), "worker": "",
-                                    "out_dir": "", "finished_at": _dt.datetime.now(_dt.timezone.utc)
-                                    .isoformat(timespec="milliseconds")})
+                        row.update(
+                            {
+                                "status": "failed",
+                                "error": _one_line(f"{type(e).__name__}: {e}"),
+                                "wall_time_s": float("nan"),
+                                "cpu_time_s": float("nan"),
+                                "worker": "",
+                                "out_dir": "",
+                                "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+                            }
+                        )
                         rows.append(row)
                 fut.release()
                 record(rows)
@@ -365,9 +423,17 @@ def _run_dask(todo, task, record, workers, scheduler) -> None:
                     rows.append(fut.result())
                 except Exception as e:  # noqa: BLE001 - worker lost, task cancelled: record it
                     row = task(by_key[fut.key])["row"]
-                    row.update({"status": "failed", "error": _one_line(f"{type(e).__name__}: {e}"),
-                                "wall_time_s": float("nan"), "cpu_time_s": float("nan"), "worker": "", "out_dir": "",
-                                "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds")})
+                    row.update(
+                        {
+                            "status": "failed",
+                            "error": _one_line(f"{type(e).__name__}: {e}"),
+                            "wall_time_s": float("nan"),
+                            "cpu_time_s": float("nan"),
+                            "worker": "",
+                            "out_dir": "",
+                            "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+                        }
+                    )
                     rows.append(row)
                 fut.release()
             record(rows)

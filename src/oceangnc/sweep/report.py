@@ -57,9 +57,13 @@ def point_stats(df: pd.DataFrame, metrics: list[str]) -> pd.DataFrame:
     rows = []
     for _, g in df.groupby("point_id", sort=False):
         first = g.iloc[0]
-        row = {"point": int(first["point"]) if "point" in g else None, **{p: first[p] for p in params},
-               "runs": len(g), "ok": int((g["status"] == "ok").sum()),
-               "failed": int((g["status"] != "ok").sum())}
+        row = {
+            "point": int(first["point"]) if "point" in g else None,
+            **{p: first[p] for p in params},
+            "runs": len(g),
+            "ok": int((g["status"] == "ok").sum()),
+            "failed": int((g["status"] != "ok").sum()),
+        }
         ok = g[g["status"] == "ok"]
         for m in metrics:
             v = ok[m].astype(float).dropna() if m in ok else pd.Series(dtype=float)
@@ -82,9 +86,15 @@ def _fmt(v) -> str:
 
 def _markdown(points: pd.DataFrame, metrics: list[str], keys: list[str], df: pd.DataFrame, title: str) -> str:
     head = [*(k for k in keys), "ok/runs", *(f"{m} mean ± std" for m in metrics)]
-    lines = [f"# {title}", "", f"{len(df)} runs, {int((df['status'] == 'ok').sum())} ok, "
-             f"{int((df['status'] != 'ok').sum())} failed or diverged; statistics over seeds of the ok runs.", "",
-             "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines = [
+        f"# {title}",
+        "",
+        f"{len(df)} runs, {int((df['status'] == 'ok').sum())} ok, "
+        f"{int((df['status'] != 'ok').sum())} failed or diverged; statistics over seeds of the ok runs.",
+        "",
+        "| " + " | ".join(head) + " |",
+        "|" + "---|" * len(head),
+    ]
     for _, r in points.iterrows():
         cells = [_fmt(r[PARAM + k]) for k in keys] + [f"{int(r['ok'])}/{int(r['runs'])}"]
         for m in metrics:
@@ -132,8 +142,7 @@ def _panel(ax, ok: pd.DataFrame, key: str, others: list[str], metric: str) -> No
             else:
                 label = "mean ± std over seeds" if not ocols else "mean ± std (pooled)"
             xs = pos(pd.Series(st.index))
-            ax.errorbar(xs, st["mean"], yerr=st["std"].fillna(0.0), marker="o", ms=4, capsize=3, lw=1.2,
-                        label=label)
+            ax.errorbar(xs, st["mean"], yerr=st["std"].fillna(0.0), marker="o", ms=4, capsize=3, lw=1.2, label=label)
     else:
         xv = x.astype(float).to_numpy()
         yv = ok[metric].astype(float).to_numpy()
@@ -188,7 +197,7 @@ def make_report(sweep_dir: str | Path, metrics: list[str] | None = None, plots: 
         spec = json.loads((d / "sweep.json").read_text())
     except (OSError, ValueError):
         spec = {}
-    params = [c[len(PARAM):] for c in df.columns if c.startswith(PARAM)]
+    params = [c[len(PARAM) :] for c in df.columns if c.startswith(PARAM)]
     order = [*(spec.get("grid") or {}), *(spec.get("random") or {})]
     keys = [k for k in order if k in params] + [k for k in params if k not in order]
     available = metric_columns(df)

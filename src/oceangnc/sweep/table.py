@@ -27,8 +27,20 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 PARAM = "param."
-FIXED_COLUMNS = ("run_id", "point_id", "index", "point", "seed", "status", "error", "wall_time_s",
-                 "cpu_time_s", "worker", "finished_at", "out_dir")
+FIXED_COLUMNS = (
+    "run_id",
+    "point_id",
+    "index",
+    "point",
+    "seed",
+    "status",
+    "error",
+    "wall_time_s",
+    "cpu_time_s",
+    "worker",
+    "finished_at",
+    "out_dir",
+)
 RESULTS = "results.parquet"
 
 

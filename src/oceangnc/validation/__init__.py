@@ -128,9 +128,16 @@ class Outcome:
 
     def row(self) -> dict:
         m = self.measured
-        return {"id": self.case.id, "status": self.status, "value": None if m is None else m.value,
-                "published": self.published, "lo": self.lo, "hi": self.hi, "wall_s": self.wall_s,
-                "error": self.error}
+        return {
+            "id": self.case.id,
+            "status": self.status,
+            "value": None if m is None else m.value,
+            "published": self.published,
+            "lo": self.lo,
+            "hi": self.hi,
+            "wall_s": self.wall_s,
+            "error": self.error,
+        }
 
 
 def evaluate(case: Case, m: Measured) -> tuple[bool, float | None, float, float]:
@@ -215,8 +222,17 @@ def run_case(case: Case, runner: Runner) -> Outcome:
     except (ConfigError, InputError):
         raise
     except Exception as e:  # a case that crashes is reported, not hidden
-        return Outcome(case, None, case.published, math.nan, math.nan, False, "error", time.perf_counter() - t0,
-                       f"{type(e).__name__}: {e}")
+        return Outcome(
+            case,
+            None,
+            case.published,
+            math.nan,
+            math.nan,
+            False,
+            "error",
+            time.perf_counter() - t0,
+            f"{type(e).__name__}: {e}",
+        )
     ok, pub, lo, hi = evaluate(case, m)
     if ok:
         status = "pass"
@@ -225,8 +241,9 @@ def run_case(case: Case, runner: Runner) -> Outcome:
     return Outcome(case, m, pub, lo, hi, ok, status, time.perf_counter() - t0)
 
 
-def run_cases(cases: Sequence[Case], runner: Runner | None = None, progress: Callable[[int, int, Outcome], None]
-              | None = None) -> list[Outcome]:
+def run_cases(
+    cases: Sequence[Case], runner: Runner | None = None, progress: Callable[[int, int, Outcome], None] | None = None
+) -> list[Outcome]:
     """Run the cases in order (runs shared through ``runner``); ``progress(i, n, outcome)`` after each."""
     own = runner is None
     runner = runner or Runner()

@@ -44,8 +44,11 @@ class CheckReport:
         if self.dt is None:
             return "\n".join(out + [f"  {self.note}"])
         out.append(f"  physics step dt = {self.dt:.6g} s")
-        out.append("  stability limits (largest stable step" + (f"; linearised at t = {self.horizon:g} s" if
-                                                                  self.horizon else "") + "):")
+        out.append(
+            "  stability limits (largest stable step"
+            + (f"; linearised at t = {self.horizon:g} s" if self.horizon else "")
+            + "):"
+        )
         for plant, integ, lim, used in self.limits:
             mark = " <- in use" if used else ""
             ratio = f"  (dt = {self.dt / lim:.2f} x limit)" if used and math.isfinite(lim) else ""
@@ -114,8 +117,10 @@ def _linear_rows(pl) -> list:
 
     lam = linearised_eigenvalues(pl)
     name = getattr(pl, "name", type(pl).__name__)
-    return [(name, "rk4 (linearised)", _explicit_limit(lam, _rk4_amplification), False),
-            (name, "euler (linearised)", _explicit_limit(lam, lambda z: np.abs(1 + z)), False)]
+    return [
+        (name, "rk4 (linearised)", _explicit_limit(lam, _rk4_amplification), False),
+        (name, "euler (linearised)", _explicit_limit(lam, lambda z: np.abs(1 + z)), False),
+    ]
 
 
 def _plant_limits(sim, cfg) -> list:
@@ -133,7 +138,9 @@ def _plant_limits(sim, cfg) -> list:
                 uuv = getattr(cfg, "uuv", None)
                 if uuv is not None:
                     p = uuv.params()
-                    end_mass = float(p[P_MRB:P_MRB + 36].reshape(6, 6)[0, 0] + p[P_MA:P_MA + 36].reshape(6, 6)[0, 0])
+                    end_mass = float(
+                        p[P_MRB : P_MRB + 36].reshape(6, 6)[0, 0] + p[P_MA : P_MA + 36].reshape(6, 6)[0, 0]
+                    )
             except Exception:
                 end_mass = None
             for integ in ("rk4", "rk4-split"):
@@ -181,8 +188,12 @@ def check(scenario: str, overrides: dict | None = None, horizon: float = 5.0) ->
 
     sc, cfg = resolve_config(scenario, overrides=overrides)
     if type(sc).build is Scenario.build:
-        return CheckReport(sc.name, None, note="this scenario has no single clocked simulation (its run is custom); "
-                                               "its models choose their own steps")
+        return CheckReport(
+            sc.name,
+            None,
+            note="this scenario has no single clocked simulation (its run is custom); "
+            "its models choose their own steps",
+        )
     try:
         sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
     except ConfigError as e:
@@ -191,8 +202,7 @@ def check(scenario: str, overrides: dict | None = None, horizon: float = 5.0) ->
         # build once more with a tiny step to read the limits, then refuse with advice
         _, cfg_small = resolve_config(scenario, overrides={**(overrides or {}), "sim.dt": 1e-5})
         sim = sc.build(cfg_small, np.random.default_rng(0))
-        rep = CheckReport(sc.name, float(cfg.sim.dt), _plant_limits(sim, cfg),
-                          [(b.name, b.period) for b in sim.blocks])
+        rep = CheckReport(sc.name, float(cfg.sim.dt), _plant_limits(sim, cfg), [(b.name, b.period) for b in sim.blocks])
         rep.refused = _advice(rep, str(e))
         return rep
     dt = float(sim.dt)
@@ -218,10 +228,10 @@ def check(scenario: str, overrides: dict | None = None, horizon: float = 5.0) ->
     for pa, pb in zip(sim.plants, sim2.plants):
         for key, (idx, unit) in _groups(pa).items():
             d = float(np.max(np.abs(pa.x[idx] - pb.x[idx]))) if idx else 0.0
-            rep.accuracy.append((key, d, d * 2 ** p / (2 ** p - 1), unit))
-    rep.note = ("error at dt ~ 2^p/(2^p - 1) x the dt vs dt/2 difference, p = "
-                + ("1 (the split integrator's backward-Euler damping is first order; RK4 elsewhere)" if split
-                   else "4 (RK4)"))
+            rep.accuracy.append((key, d, d * 2**p / (2**p - 1), unit))
+    rep.note = "error at dt ~ 2^p/(2^p - 1) x the dt vs dt/2 difference, p = " + (
+        "1 (the split integrator's backward-Euler damping is first order; RK4 elsewhere)" if split else "4 (RK4)"
+    )
     return rep
 
 
@@ -237,6 +247,8 @@ def _advice(rep: CheckReport, msg: str) -> str:
     if best:
         b = max(best, key=lambda r: r[2])
         alt = f"; or switch {b[0]} to integrator '{b[1]}' (limit {b[2]:.4g} s)"
-    return (f"dt = {rep.dt:g} s is above the stability limit {lim:.4g} s; use sim.dt <= "
-            f"{stable_step(lim, base, 0.9):.6g} s (90 % of the limit, dividing the {base:g} s loop period){alt}"
-            + (f" [{msg}]" if msg else ""))
+    return (
+        f"dt = {rep.dt:g} s is above the stability limit {lim:.4g} s; use sim.dt <= "
+        f"{stable_step(lim, base, 0.9):.6g} s (90 % of the limit, dividing the {base:g} s loop period){alt}"
+        + (f" [{msg}]" if msg else "")
+    )

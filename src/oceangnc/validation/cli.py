@@ -30,8 +30,9 @@ field-test pitch cases (and the 25-30 s distance growth) are documented deviatio
 
 def _progress(i, n, o):
     val = "–" if o.measured is None else f"{o.measured.value:.4g}"
-    print(f"[{i:>2}/{n}] {o.status.upper():<9} {o.case.id:<40} {val:>10}  ({o.wall_s:.1f} s)", file=sys.stderr,
-          flush=True)
+    print(
+        f"[{i:>2}/{n}] {o.status.upper():<9} {o.case.id:<40} {val:>10}  ({o.wall_s:.1f} s)", file=sys.stderr, flush=True
+    )
 
 
 def cmd_validate(args) -> int:
@@ -60,20 +61,28 @@ def cmd_validate(args) -> int:
         print(f"warning: --set {', '.join(sorted(unused))} reached no case", file=sys.stderr)
     flag = FLAGSHIP_MD if any(o.case.group == "003 combined" for o in outcomes) else ""
     if flag and not (out / "flagship_sweep.png").exists():
-        flag = flag.replace("\n\n![flagship sweep](flagship_sweep.png)", "\n\n(The sweep figure is made by "
-                            "`python -m oceangnc.validation.flagship DIR`; the committed copy is in docs/validation/.)")
-    md, html = write_report(outcomes, out, overrides, flagship_md=flag, plots=not args.no_plots,
-                            wall_s=time.perf_counter() - t0)
+        flag = flag.replace(
+            "\n\n![flagship sweep](flagship_sweep.png)",
+            "\n\n(The sweep figure is made by "
+            "`python -m oceangnc.validation.flagship DIR`; the committed copy is in docs/validation/.)",
+        )
+    md, html = write_report(
+        outcomes, out, overrides, flagship_md=flag, plots=not args.no_plots, wall_s=time.perf_counter() - t0
+    )
     c = summary_counts(outcomes)
-    print(f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
-          f"{c['error']} error(s); wrote {md} and {html}")
+    print(
+        f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
+        f"{c['error']} error(s); wrote {md} and {html}"
+    )
     for o in outcomes:
         if o.status in ("fail", "error"):
             m = o.measured
             got = "–" if m is None else f"{m.value:.4g}"
-            print(f"  {o.status.upper()} {o.case.id}: {o.case.quantity} = {got} {o.case.unit}, accepted "
-                  f"{o.lo:.4g} … {o.hi:.4g} (published {o.case.published_text}; {o.case.source})"
-                  + (f" [{o.error}]" if o.error else ""))
+            print(
+                f"  {o.status.upper()} {o.case.id}: {o.case.quantity} = {got} {o.case.unit}, accepted "
+                f"{o.lo:.4g} … {o.hi:.4g} (published {o.case.published_text}; {o.case.source})"
+                + (f" [{o.error}]" if o.error else "")
+            )
     return 1 if (c["fail"] or c["error"]) else 0
 
 
@@ -90,27 +99,37 @@ def cmd_check(args) -> int:
 def register(subparsers) -> None:
     """Add ``validate`` and ``check`` to the ``oceangnc`` command line."""
     p = subparsers.add_parser(
-        "validate", help="run the validation cases (published figures and physical checks) and write a report",
+        "validate",
+        help="run the validation cases (published figures and physical checks) and write a report",
         description="Run every validation case: each published figure of the seed documents the project "
         "reproduces and the physical checks, with its tolerance. Writes DIR/report.md and DIR/report.html "
-        "(one plot per case). Exit 1 if a case fails.", formatter_class=argparse.RawDescriptionHelpFormatter,
+        "(one plot per case). Exit 1 if a case fails.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n  oceangnc validate --out runs/validation\n  oceangnc validate --only 003-fig2\n"
-        "  oceangnc validate --only 'physics-*' --set usv.d11=120")
-    p.add_argument("--only", metavar="PATTERN", help="glob or substring of case ids / sources / groups "
-                   "(comma-separated)")
+        "  oceangnc validate --only 'physics-*' --set usv.d11=120",
+    )
+    p.add_argument(
+        "--only", metavar="PATTERN", help="glob or substring of case ids / sources / groups (comma-separated)"
+    )
     p.add_argument("--out", default="validation", metavar="DIR", help="output folder (default: validation)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="override a config key in every scenario and model that has it (repeatable)")
+    p.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a config key in every scenario and model that has it (repeatable)",
+    )
     p.add_argument("--list", action="store_true", help="list the selected cases and exit")
     p.add_argument("--no-plots", action="store_true", help="skip the per-case PNGs")
     p.add_argument("--quiet", action="store_true", help="no per-case progress lines")
     p.set_defaults(func=cmd_validate)
 
     q = subparsers.add_parser(
-        "check", help="time-step advisor: stability limits, the step in use, its accuracy, loop rates",
+        "check",
+        help="time-step advisor: stability limits, the step in use, its accuracy, loop rates",
         description="For a scenario: each plant's stability limit for each integrator, the physics step the "
         "scenario will use, its expected accuracy from a step-halving run, and the loop rate of every block. "
-        "A step above a limit is refused (exit 2) with the step to use.")
+        "A step above a limit is refused (exit 2) with the step to use.",
+    )
     q.add_argument("scenario", help="scenario name (see 'oceangnc list')")
     q.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config key (repeatable)")
     q.add_argument("--horizon", type=float, default=5.0, help="simulated time of the step-halving run, s (default 5)")

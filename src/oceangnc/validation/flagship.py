@@ -56,8 +56,13 @@ GRID = {
 #: extra points: other gains (backstepping 2.5x stiffer; the PID's first tuning with an integral heading term;
 #: a stiffer PID position loop), and a draggier UUV
 EXTRA = [
-    {"control.uuv": "backstepping", "control.backstepping.k1": 1.0, "control.backstepping.k2": 1.0,
-     "control.backstepping.k6": 3.0, "control.backstepping.k7": 4.0},
+    {
+        "control.uuv": "backstepping",
+        "control.backstepping.k1": 1.0,
+        "control.backstepping.k2": 1.0,
+        "control.backstepping.k6": 3.0,
+        "control.backstepping.k7": 4.0,
+    },
     {"control.uuv": "pid", "control.uuv_pid.angle_ki": 2.0},
     {"control.uuv": "pid", "control.uuv_pid.range_kp": 120.0, "control.uuv_pid.range_kd": 60.0},
     # all quadratic drag and lift x5 / x15 (not one physical parameter: it also scales the Munk moment folded
@@ -95,11 +100,14 @@ def survey_metrics(summary: dict, df) -> dict:
     late = t > t[-1] - 10.0
     turn = (t >= 25.0) & (t <= 30.0)
     return {
-        "rel_mean_m": summary["uuv.rel_distance_mean_m"], "rel_max_m": summary["uuv.rel_distance_max_m"],
+        "rel_mean_m": summary["uuv.rel_distance_mean_m"],
+        "rel_max_m": summary["uuv.rel_distance_max_m"],
         "rel_growth_25_30_m": float(rd[turn].max() - rd[turn].min()) if turn.any() else float("nan"),
-        "depth_final_m": summary["uuv.depth_final_m"], "depth_start_m": float(df["uuv.z"].iloc[0]),
+        "depth_final_m": summary["uuv.depth_final_m"],
+        "depth_start_m": float(df["uuv.z"].iloc[0]),
         "pitch_late_deg": float(np.degrees(df["uuv.theta"].to_numpy()[late].mean())),
-        "heading_err_rms_deg": summary["uuv.heading_error_rms_deg"], "t_end_s": summary["t_end_s"],
+        "heading_err_rms_deg": summary["uuv.heading_error_rms_deg"],
+        "t_end_s": summary["t_end_s"],
     }
 
 
@@ -146,8 +154,9 @@ def run_uncontrolled(over: dict | None = None) -> dict:
     return survey_metrics(sc.summarize(df, cfg), df)
 
 
-def sweep(grid: dict | None = None, extra: list | None = None, passive: bool = True,
-          progress: bool = True) -> list[dict]:
+def sweep(
+    grid: dict | None = None, extra: list | None = None, passive: bool = True, progress: bool = True
+) -> list[dict]:
     """Full factorial over ``grid`` (dotted keys -> values), then the ``extra`` points, then (``passive``)
     the UUV with its thrusters at zero at each attachment point; one row per run (``kind`` says which)."""
     import itertools
@@ -170,9 +179,12 @@ def sweep(grid: dict | None = None, extra: list | None = None, passive: bool = T
         except Exception as e:  # a diverged point is a result too
             rows.append({"kind": kind, **over, "error": f"{type(e).__name__}: {e}"})
         if progress:
-            print(f"[{i + 1}/{len(points)}] {kind} {over} -> "
-                  f"{ {k: round(v, 3) for k, v in rows[-1].items() if isinstance(v, float) and k not in over} }",
-                  file=sys.stderr, flush=True)
+            print(
+                f"[{i + 1}/{len(points)}] {kind} {over} -> "
+                f"{ {k: round(v, 3) for k, v in rows[-1].items() if isinstance(v, float) and k not in over} }",
+                file=sys.stderr,
+                flush=True,
+            )
     return rows
 
 
@@ -199,12 +211,20 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
             if not ss:
                 continue
             lab = {"grid": "grid", "extra": "other gains", "passive": "thrusters off"}[kind]
-            sc = ax.scatter([r["rel_mean_m"] for r in ss], [min(max(r["depth_final_m"], -0.5), 4.0) for r in ss],
-                            c=[min(abs(r["pitch_late_deg"]), 60) for r in ss], cmap="viridis_r", vmin=0, vmax=60,
-                            marker="x" if kind == "passive" else mk[ctrl], s=40 if kind != "extra" else 90,
-                            edgecolors="k" if kind == "extra" else None,
-                            label=f"{lab}: {'PID' if ctrl == 'pid' else 'backstepping'}" if kind != "passive"
-                            else "thrusters off (towed)")
+            sc = ax.scatter(
+                [r["rel_mean_m"] for r in ss],
+                [min(max(r["depth_final_m"], -0.5), 4.0) for r in ss],
+                c=[min(abs(r["pitch_late_deg"]), 60) for r in ss],
+                cmap="viridis_r",
+                vmin=0,
+                vmax=60,
+                marker="x" if kind == "passive" else mk[ctrl],
+                s=40 if kind != "extra" else 90,
+                edgecolors="k" if kind == "extra" else None,
+                label=f"{lab}: {'PID' if ctrl == 'pid' else 'backstepping'}"
+                if kind != "passive"
+                else "thrusters off (towed)",
+            )
     ax.add_patch(Rectangle((0.3, 2.72), 0.2, 0.10, fill=False, ec="C3", lw=2, label="003: ≈0.4 m, ≈2.77 m"))
     fig.colorbar(sc, ax=ax, label="|UUV pitch|, last 10 s [deg] (003: 2-4)")
     ax.set_xlabel("mean USV-UUV horizontal distance [m]")
@@ -214,15 +234,33 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
     ax.grid(alpha=0.3)
     ax.set_title("(a) every run: no point in 003's box with small pitch", fontsize=9)
     ax = axs[1]
-    for w, col in zip(sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
-                      ("C0", "C1", "C2")):
+    for w, col in zip(
+        sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
+        ("C0", "C1", "C2"),
+    ):
         for ld, ls in ((0.5, "-"), (1.3, ":")):
             for ctrl, m in mk.items():
-                ss = sorted([r for r in ok if r["kind"] == "grid" and r["uuv.weight_in_water_kgf"] == w
-                             and r["formation.l_d"] == ld and r["control.uuv"] == ctrl], key=lambda r: r["cable.top_x"])
+                ss = sorted(
+                    [
+                        r
+                        for r in ok
+                        if r["kind"] == "grid"
+                        and r["uuv.weight_in_water_kgf"] == w
+                        and r["formation.l_d"] == ld
+                        and r["control.uuv"] == ctrl
+                    ],
+                    key=lambda r: r["cable.top_x"],
+                )
                 if ss:
-                    ax.plot([r["cable.top_x"] for r in ss], [r["pitch_late_deg"] for r in ss], ls, marker=m, color=col,
-                            ms=4, label=f"{w:g} kgf, l^d {ld:g}, {'PID' if ctrl == 'pid' else 'BS'}")
+                    ax.plot(
+                        [r["cable.top_x"] for r in ss],
+                        [r["pitch_late_deg"] for r in ss],
+                        ls,
+                        marker=m,
+                        color=col,
+                        ms=4,
+                        label=f"{w:g} kgf, l^d {ld:g}, {'PID' if ctrl == 'pid' else 'BS'}",
+                    )
     pas = sorted([r for r in ok if r["kind"] == "passive"], key=lambda r: r["cable.top_x"])
     if pas:
         ax.plot([r["cable.top_x"] for r in pas], [r["pitch_late_deg"] for r in pas], "kx--", label="thrusters off")
@@ -234,13 +272,21 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
     ax.legend(fontsize=6, ncol=2)
     ax.set_title("(b) pitch: only the towed (thrusters off) UUV stays near 003's", fontsize=9)
     ax = axs[2]
-    for w, col in zip(sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
-                      ("C0", "C1", "C2")):
+    for w, col in zip(
+        sorted({r.get("uuv.weight_in_water_kgf", 12.0) for r in ok if r["kind"] == "grid"}, reverse=True),
+        ("C0", "C1", "C2"),
+    ):
         for ld, ls in ((0.5, "-"), (1.3, ":")):
             xs, ds = [], []
             for x in sorted({r["cable.top_x"] for r in ok if r["kind"] == "grid"}):
-                pair = {r["control.uuv"]: r for r in ok if r["kind"] == "grid" and r["cable.top_x"] == x
-                        and r["uuv.weight_in_water_kgf"] == w and r["formation.l_d"] == ld}
+                pair = {
+                    r["control.uuv"]: r
+                    for r in ok
+                    if r["kind"] == "grid"
+                    and r["cable.top_x"] == x
+                    and r["uuv.weight_in_water_kgf"] == w
+                    and r["formation.l_d"] == ld
+                }
                 if len(pair) == 2:
                     xs.append(x)
                     ds.append(pair["pid"]["rel_mean_m"] - pair["backstepping"]["rel_mean_m"])
@@ -252,8 +298,11 @@ def plot_sweep(rows: list[dict], path: Path) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     ax.set_title("(c) > 0: backstepping nearer the USV (x > 0: pulled under the bow)", fontsize=9)
-    fig.suptitle("combined-survey sensitivity (003 ch. 4): attachment point, UUV submerged weight, formation "
-                 "offset l^d, controller and gains", fontsize=10)
+    fig.suptitle(
+        "combined-survey sensitivity (003 ch. 4): attachment point, UUV submerged weight, formation "
+        "offset l^d, controller and gains",
+        fontsize=10,
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)

@@ -21,8 +21,9 @@ import numpy as np
 from ..units import G
 
 
-def quasi_static_hang(current: float, theta_hint: float, uuv_over: dict | None = None,
-                      cable_over: dict | None = None) -> dict:
+def quasi_static_hang(
+    current: float, theta_hint: float, uuv_over: dict | None = None, cable_over: dict | None = None
+) -> dict:
     """Continuous quasi-static equilibrium of the UUV (heading into the current, at rest) on the cable.
 
     1. The UUV feels its steady hydrodynamic force at pitch theta (drag, lift and the Munk moment
@@ -67,8 +68,11 @@ def quasi_static_hang(current: float, theta_hint: float, uuv_over: dict | None =
 
     grid = np.radians(np.linspace(-85, 85, 341))
     res = [loads(t)[0] for t in grid]
-    roots = [brentq(lambda t: loads(t)[0], a, b) for a, b, fa, fb in
-             zip(grid[:-1], grid[1:], res[:-1], res[1:]) if fa * fb < 0]
+    roots = [
+        brentq(lambda t: loads(t)[0], a, b)
+        for a, b, fa, fb in zip(grid[:-1], grid[1:], res[:-1], res[1:])
+        if fa * fb < 0
+    ]
     theta = min(roots, key=lambda t: abs(t - theta_hint))
     _, T0 = loads(theta)
     w = cc.weight_per_length
@@ -90,8 +94,12 @@ def quasi_static_hang(current: float, theta_hint: float, uuv_over: dict | None =
 
     sol = solve_ivp(f, (0.0, cc.length), np.concatenate([T0, np.zeros(3)]), rtol=1e-10, atol=1e-10)
     d = sol.y[3:, -1]
-    return {"top_tension_N": float(np.linalg.norm(sol.y[:3, -1])), "bottom_tension_N": float(np.linalg.norm(T0)),
-            "angle_deg": math.degrees(math.atan2(math.hypot(d[0], d[1]), -d[2])), "pitch_deg": math.degrees(theta)}
+    return {
+        "top_tension_N": float(np.linalg.norm(sol.y[:3, -1])),
+        "bottom_tension_N": float(np.linalg.norm(T0)),
+        "angle_deg": math.degrees(math.atan2(math.hypot(d[0], d[1]), -d[2])),
+        "pitch_deg": math.degrees(theta),
+    }
 
 
 def rk4_order(dts=(0.04, 0.02, 0.01)) -> tuple[list[float], list[float]]:
@@ -186,8 +194,14 @@ def uuv_steady_speed(force: float, t_end: float = 120.0, uuv_over: dict | None =
 
 
 def _leader(t):
-    return (0.6 + 0.1 * math.sin(0.2 * t), 0.02 * math.sin(0.3 * t), 0.1 * math.sin(0.1 * t),
-            0.02 * math.cos(0.2 * t), 0.006 * math.cos(0.3 * t), 0.01 * math.cos(0.1 * t))
+    return (
+        0.6 + 0.1 * math.sin(0.2 * t),
+        0.02 * math.sin(0.3 * t),
+        0.1 * math.sin(0.1 * t),
+        0.02 * math.cos(0.2 * t),
+        0.006 * math.cos(0.3 * t),
+        0.01 * math.cos(0.1 * t),
+    )
 
 
 def backstepping_lyapunov(s0=(0, 0, 0, -2.0, 1.5, 0.5, 0, 0, 0), t_end=60.0, uuv_over=None, bs_over=None) -> dict:

@@ -70,8 +70,14 @@ def summary_counts(outcomes: Sequence[Outcome]) -> dict:
     return out
 
 
-def write_report(outcomes: Sequence[Outcome], out_dir: Path, overrides: dict | None = None,
-                 flagship_md: str = "", plots: bool = True, wall_s: float | None = None) -> tuple[Path, Path]:
+def write_report(
+    outcomes: Sequence[Outcome],
+    out_dir: Path,
+    overrides: dict | None = None,
+    flagship_md: str = "",
+    plots: bool = True,
+    wall_s: float | None = None,
+) -> tuple[Path, Path]:
     """Write ``report.md``, ``report.html`` and ``img/<case>.png`` into ``out_dir``."""
     out_dir = Path(out_dir)
     (out_dir / "img").mkdir(parents=True, exist_ok=True)
@@ -83,33 +89,50 @@ def write_report(outcomes: Sequence[Outcome], out_dir: Path, overrides: dict | N
                 imgs[o.case.id] = f"img/{p.name}"
     c = summary_counts(outcomes)
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
-    head = (f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
-            f"{c['error']} error(s)")
+    head = (
+        f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
+        f"{c['error']} error(s)"
+    )
     over = ", ".join(f"`{k}={v}`" for k, v in (overrides or {}).items()) or "none (the scenarios' defaults)"
 
-    md = ["# oceangnc validation report", "",
-          f"Generated {stamp} by `oceangnc validate`" + (f" in {wall_s:.0f} s" if wall_s else "") + ".",
-          f"Overrides: {over}.", "", f"**{head}.**", "",
-          "A case passes when the project's value lies within the tolerance of the published (or analytic) value. "
-          "DEVIATION marks a documented disagreement with the source that the physics does not remove; it does not "
-          "fail the run. Sources are the seed documents by file name and figure/table/equation.", "",
-          "| case | source | quantity | published | tolerance | oceangnc | status |", "|---|---|---|---|---|---|---|"]
+    md = [
+        "# oceangnc validation report",
+        "",
+        f"Generated {stamp} by `oceangnc validate`" + (f" in {wall_s:.0f} s" if wall_s else "") + ".",
+        f"Overrides: {over}.",
+        "",
+        f"**{head}.**",
+        "",
+        "A case passes when the project's value lies within the tolerance of the published (or analytic) value. "
+        "DEVIATION marks a documented disagreement with the source that the physics does not remove; it does not "
+        "fail the run. Sources are the seed documents by file name and figure/table/equation.",
+        "",
+        "| case | source | quantity | published | tolerance | oceangnc | status |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for o in outcomes:
         k = o.case
         val = "–" if o.measured is None else _fmt(o.measured.value)
         pub = _fmt(o.published) if o.published is not None else k.published_text
-        md.append(f"| [{k.id}](#{k.id}) | {k.source} | {k.quantity} ({k.unit}) | {pub} | {k.tolerance_text()} | "
-                  f"{val} | {STATUS_MARK[o.status]} |")
+        md.append(
+            f"| [{k.id}](#{k.id}) | {k.source} | {k.quantity} ({k.unit}) | {pub} | {k.tolerance_text()} | "
+            f"{val} | {STATUS_MARK[o.status]} |"
+        )
     if flagship_md:
         md += ["", flagship_md]
     md += ["", "## Cases", ""]
     for o in outcomes:
         k = o.case
-        md += [f"### {k.id}", "", f"**{k.title}.** Source: {k.source}. Quantity: {k.quantity} ({k.unit}).", "",
-               f"- published: {k.published_text}" + (f" = {_fmt(o.published)}" if o.published is not None else ""),
-               f"- tolerance: {k.tolerance_text()} (accepted range {_fmt(o.lo)} … {_fmt(o.hi)}); why: {k.why}",
-               f"- oceangnc: {'–' if o.measured is None else _fmt(o.measured.value)} → **{STATUS_MARK[o.status]}** "
-               f"({o.wall_s:.1f} s)"]
+        md += [
+            f"### {k.id}",
+            "",
+            f"**{k.title}.** Source: {k.source}. Quantity: {k.quantity} ({k.unit}).",
+            "",
+            f"- published: {k.published_text}" + (f" = {_fmt(o.published)}" if o.published is not None else ""),
+            f"- tolerance: {k.tolerance_text()} (accepted range {_fmt(o.lo)} … {_fmt(o.hi)}); why: {k.why}",
+            f"- oceangnc: {'–' if o.measured is None else _fmt(o.measured.value)} → **{STATUS_MARK[o.status]}** "
+            f"({o.wall_s:.1f} s)",
+        ]
         if o.measured is not None and o.measured.note:
             md.append(f"- {o.measured.note}")
         if o.error:
@@ -129,19 +152,24 @@ def write_report(outcomes: Sequence[Outcome], out_dir: Path, overrides: dict | N
         k = o.case
         val = "–" if o.measured is None else _fmt(o.measured.value)
         pub = _fmt(o.published) if o.published is not None else k.published_text
-        rows.append(f"<tr><td><a href='#{k.id}'>{html.escape(k.id)}</a></td><td>{html.escape(k.source)}</td>"
-                    f"<td>{html.escape(k.quantity)} ({html.escape(k.unit)})</td><td>{html.escape(pub)}</td>"
-                    f"<td>{html.escape(k.tolerance_text())}</td><td>{html.escape(val)}</td>"
-                    f"<td class='st' style='color:{colors[o.status]}'>{STATUS_MARK[o.status]}</td></tr>")
+        rows.append(
+            f"<tr><td><a href='#{k.id}'>{html.escape(k.id)}</a></td><td>{html.escape(k.source)}</td>"
+            f"<td>{html.escape(k.quantity)} ({html.escape(k.unit)})</td><td>{html.escape(pub)}</td>"
+            f"<td>{html.escape(k.tolerance_text())}</td><td>{html.escape(val)}</td>"
+            f"<td class='st' style='color:{colors[o.status]}'>{STATUS_MARK[o.status]}</td></tr>"
+        )
     sections = []
     for o in outcomes:
         k = o.case
-        items = [f"<li>published: {html.escape(k.published_text)}"
-                 + (f" = {html.escape(_fmt(o.published))}" if o.published is not None else "") + "</li>",
-                 f"<li>tolerance: {html.escape(k.tolerance_text())} (accepted {html.escape(_fmt(o.lo))} … "
-                 f"{html.escape(_fmt(o.hi))}); why: {html.escape(k.why)}</li>",
-                 f"<li>oceangnc: {html.escape('–' if o.measured is None else _fmt(o.measured.value))} → "
-                 f"<b style='color:{colors[o.status]}'>{STATUS_MARK[o.status]}</b> ({o.wall_s:.1f} s)</li>"]
+        items = [
+            f"<li>published: {html.escape(k.published_text)}"
+            + (f" = {html.escape(_fmt(o.published))}" if o.published is not None else "")
+            + "</li>",
+            f"<li>tolerance: {html.escape(k.tolerance_text())} (accepted {html.escape(_fmt(o.lo))} … "
+            f"{html.escape(_fmt(o.hi))}); why: {html.escape(k.why)}</li>",
+            f"<li>oceangnc: {html.escape('–' if o.measured is None else _fmt(o.measured.value))} → "
+            f"<b style='color:{colors[o.status]}'>{STATUS_MARK[o.status]}</b> ({o.wall_s:.1f} s)</li>",
+        ]
         if o.measured is not None and o.measured.note:
             items.append(f"<li>{html.escape(o.measured.note)}</li>")
         if o.error:
@@ -149,14 +177,24 @@ def write_report(outcomes: Sequence[Outcome], out_dir: Path, overrides: dict | N
         if k.deviation:
             items.append(f"<li>documented deviation: {html.escape(k.deviation)}</li>")
         img = f"<img src='{imgs[k.id]}' alt='{k.id}'>" if k.id in imgs else ""
-        sections.append(f"<section id='{k.id}'><h3>{html.escape(k.id)}</h3><p><b>{html.escape(k.title)}.</b> "
-                        f"Source: {html.escape(k.source)}.</p><ul>{''.join(items)}</ul>{img}</section>")
+        sections.append(
+            f"<section id='{k.id}'><h3>{html.escape(k.id)}</h3><p><b>{html.escape(k.title)}.</b> "
+            f"Source: {html.escape(k.source)}.</p><ul>{''.join(items)}</ul>{img}</section>"
+        )
     flag_html = ""
     if flagship_md:
-        flag_html = "<div class='flag'>" + "".join(
-            f"<p>{html.escape(p)}</p>" for p in flagship_md.split("\n\n") if p.strip() and not p.startswith("![")) + \
-            ("<img src='flagship_sweep.png' alt='flagship sweep'>" if (out_dir / "flagship_sweep.png").exists() else "") + \
-            "</div>"
+        flag_html = (
+            "<div class='flag'>"
+            + "".join(
+                f"<p>{html.escape(p)}</p>" for p in flagship_md.split("\n\n") if p.strip() and not p.startswith("![")
+            )
+            + (
+                "<img src='flagship_sweep.png' alt='flagship sweep'>"
+                if (out_dir / "flagship_sweep.png").exists()
+                else ""
+            )
+            + "</div>"
+        )
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>oceangnc validation report</title>
 <style>
@@ -166,16 +204,16 @@ th{{background:#f6f8fa}}.st{{font-weight:bold;white-space:nowrap}}section{{borde
 img{{max-width:560px}}.flag{{background:#fff8c5;padding:0.5em 1em;border-radius:6px}}.flag img{{max-width:100%}}
 </style></head><body>
 <h1>oceangnc validation report</h1>
-<p>Generated {stamp} by <code>oceangnc validate</code>{f' in {wall_s:.0f} s' if wall_s else ''}. Overrides:
+<p>Generated {stamp} by <code>oceangnc validate</code>{f" in {wall_s:.0f} s" if wall_s else ""}. Overrides:
 {html.escape(over)}.</p>
 <p id="summary"><b>{html.escape(head)}.</b></p>
 <table id="cases"><tr><th>case</th><th>source</th><th>quantity</th><th>published</th><th>tolerance</th>
 <th>oceangnc</th><th>status</th></tr>
-{''.join(rows)}
+{"".join(rows)}
 </table>
 {flag_html}
 <h2>Cases</h2>
-{''.join(sections)}
+{"".join(sections)}
 </body></html>
 """
     html_path = out_dir / "report.html"

@@ -7,21 +7,46 @@ def add_source_options(p) -> None:
     """Options shared by ``oceangnc import`` and the ``identify`` commands for reading field logs."""
     g = p.add_argument_group("field logs (.bin .tlog .ulg ROS 2 bag, CSV with a column map)")
     g.add_argument("--rate", type=float, default=10.0, help="resampling rate of a field log, Hz (default 10)")
-    g.add_argument("--format", dest="log_format", choices=["dataflash", "tlog", "ulog", "rosbag2", "csv"],
-                   help="log format (default: from the file name)")
-    g.add_argument("--map", action="append", metavar="SIGNAL=COLUMN[:UNIT]",
-                   help="CSV column map, e.g. t=time:ms,usv.psi=heading:deg,lat=lat,lon=lon (repeatable)")
-    g.add_argument("--topic", action="append", metavar="ROLE=TOPIC",
-                   help="ROS 2 topic of a role (odometry, imu, navsat, actuators), e.g. odometry=/boat/odom")
-    g.add_argument("--servos", choices=["skid", "rudder"], default="skid",
-                   help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
-                        "thrusters (default), rudder = steering / throttle")
+    g.add_argument(
+        "--format",
+        dest="log_format",
+        choices=["dataflash", "tlog", "ulog", "rosbag2", "csv"],
+        help="log format (default: from the file name)",
+    )
+    g.add_argument(
+        "--map",
+        action="append",
+        metavar="SIGNAL=COLUMN[:UNIT]",
+        help="CSV column map, e.g. t=time:ms,usv.psi=heading:deg,lat=lat,lon=lon (repeatable)",
+    )
+    g.add_argument(
+        "--topic",
+        action="append",
+        metavar="ROLE=TOPIC",
+        help="ROS 2 topic of a role (odometry, imu, navsat, actuators), e.g. odometry=/boat/odom",
+    )
+    g.add_argument(
+        "--servos",
+        choices=["skid", "rudder"],
+        default="skid",
+        help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
+        "thrusters (default), rudder = steering / throttle",
+    )
     g.add_argument("--body", default="usv", help="prefix of the vehicle's signals (default usv; uuv for a UUV)")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
-    g.add_argument("--origin", nargs=2, type=float, metavar=("LAT", "LON"),
-                   help="origin of the local NED frame, deg (default: the first fix)")
-    g.add_argument("--gap", type=float, help="longest interval without a sample that is interpolated, s "
-                                             "(default max(1, 5/rate)); longer ones are gaps (NaN rows)")
+    g.add_argument(
+        "--origin",
+        nargs=2,
+        type=float,
+        metavar=("LAT", "LON"),
+        help="origin of the local NED frame, deg (default: the first fix)",
+    )
+    g.add_argument(
+        "--gap",
+        type=float,
+        help="longest interval without a sample that is interpolated, s "
+        "(default max(1, 5/rate)); longer ones are gaps (NaN rows)",
+    )
     g.add_argument("--allow-truncated", action="store_true", help="import the complete records of a truncated log")
 
 
@@ -34,8 +59,14 @@ def source_options(args) -> dict:
             raise InputError(f"--topic {it!r}: expected ROLE=TOPIC, e.g. odometry=/odom")
         k, v = it.split("=", 1)
         topics[k.strip()] = v.strip()
-    opts = {"rate": args.rate, "fmt": args.log_format, "gap_s": args.gap, "allow_truncated": args.allow_truncated,
-            "servos": args.servos, "body": args.body}
+    opts = {
+        "rate": args.rate,
+        "fmt": args.log_format,
+        "gap_s": args.gap,
+        "allow_truncated": args.allow_truncated,
+        "servos": args.servos,
+        "body": args.body,
+    }
     if args.map:
         opts["column_map"] = args.map
     if topics:
@@ -48,11 +79,13 @@ def source_options(args) -> dict:
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("import", help="field log (.bin .tlog .ulg ROS 2 bag CSV) -> run folder with "
-                                             "log.parquet (standard signals, SI)",
-                              description="Convert an ArduPilot DataFlash .bin or telemetry .tlog, a PX4 .ulg, "
-                                          "a ROS 2 bag or a CSV with a column map into the project's Parquet "
-                                          "log; see docs/mavlink-and-logs.md for the signal mapping.")
+    p = subparsers.add_parser(
+        "import",
+        help="field log (.bin .tlog .ulg ROS 2 bag CSV) -> run folder with log.parquet (standard signals, SI)",
+        description="Convert an ArduPilot DataFlash .bin or telemetry .tlog, a PX4 .ulg, "
+        "a ROS 2 bag or a CSV with a column map into the project's Parquet "
+        "log; see docs/mavlink-and-logs.md for the signal mapping.",
+    )
     p.add_argument("log", help="log file (or ROS 2 bag folder)")
     p.add_argument("--out", required=True, help="run folder to write (log.parquet, import.json)")
     add_source_options(p)

@@ -13,8 +13,15 @@ import numpy as np
 from ...errors import InputError
 
 #: suffix -> format name
-FORMATS = {".bin": "dataflash", ".log": "dataflash", ".tlog": "tlog", ".ulg": "ulog", ".csv": "csv",
-           ".db3": "rosbag2", ".mcap": "rosbag2"}
+FORMATS = {
+    ".bin": "dataflash",
+    ".log": "dataflash",
+    ".tlog": "tlog",
+    ".ulg": "ulog",
+    ".csv": "csv",
+    ".db3": "rosbag2",
+    ".mcap": "rosbag2",
+}
 #: signals held (zero-order) between samples instead of interpolated: commands
 HELD = ("act.",)
 ANGLES = ("usv.psi", "usv.phi", "usv.theta")
@@ -32,9 +39,11 @@ class ImportResult:
 
     def summary_line(self) -> str:
         r = self.report
-        return (f"{self.source}: {self.format}, {len(self.df)} rows at {self.rate:g} Hz over "
-                f"{r.get('duration_s', 0):.1f} s, {len(r.get('gaps', []))} gap(s), "
-                f"{r.get('time_jumps', 0)} time jump(s)")
+        return (
+            f"{self.source}: {self.format}, {len(self.df)} rows at {self.rate:g} Hz over "
+            f"{r.get('duration_s', 0):.1f} s, {len(r.get('gaps', []))} gap(s), "
+            f"{r.get('time_jumps', 0)} time jump(s)"
+        )
 
 
 def detect_format(path: Path, fmt: str | None = None) -> str:
@@ -53,8 +62,9 @@ def detect_format(path: Path, fmt: str | None = None) -> str:
     if suf == ".parquet":
         return "parquet"
     if suf not in FORMATS:
-        raise InputError(f"{path}: unknown log format '{suf}'; known: .bin .tlog .ulg .db3 .mcap (ROS 2 bag) "
-                         f".csv .parquet")
+        raise InputError(
+            f"{path}: unknown log format '{suf}'; known: .bin .tlog .ulg .db3 .mcap (ROS 2 bag) .csv .parquet"
+        )
     return FORMATS[suf]
 
 
@@ -101,8 +111,12 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
             report["dropped_samples"][k] = dropped
         for j in jumps:
             report["jumps"].append({"signal": k, **j})
-        report["signals"][k] = {"samples": int(t.size), "start_s": float(t[0]), "end_s": float(t[-1]),
-                                "mean_rate_hz": float((t.size - 1) / (t[-1] - t[0])) if t[-1] > t[0] else 0.0}
+        report["signals"][k] = {
+            "samples": int(t.size),
+            "start_s": float(t[0]),
+            "end_s": float(t[-1]),
+            "mean_rate_hz": float((t.size - 1) / (t[-1] - t[0])) if t[-1] > t[0] else 0.0,
+        }
     if not clean:
         raise InputError(f"{source}: no signal with at least 2 samples")
     t0 = max(t[0] for t, _ in clean.values())
@@ -127,8 +141,14 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
             g[hole] = np.nan
             edges = np.flatnonzero(np.diff(np.concatenate([[0], hole.astype(int), [0]])))
             for a, b in zip(edges[::2], edges[1::2]):
-                report["gaps"].append({"signal": k, "from_s": float(grid[a] - t0), "to_s": float(grid[b - 1] - t0),
-                                       "rows_left_nan": int(b - a)})
+                report["gaps"].append(
+                    {
+                        "signal": k,
+                        "from_s": float(grid[a] - t0),
+                        "to_s": float(grid[b - 1] - t0),
+                        "rows_left_nan": int(b - a),
+                    }
+                )
         if k in ANGLES:
             g = (g + np.pi) % (2 * np.pi) - np.pi
         out[k] = g
@@ -172,8 +192,15 @@ def _to_df(cols: dict):
     return pd.DataFrame({k: np.asarray(cols[k], float) for k in order})
 
 
-def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | None = None,
-               allow_truncated: bool = False, body: str = "usv", **opts) -> ImportResult:
+def import_log(
+    path,
+    rate: float = 10.0,
+    fmt: str | None = None,
+    gap_s: float | None = None,
+    allow_truncated: bool = False,
+    body: str = "usv",
+    **opts,
+) -> ImportResult:
     """Read a field log (any of :data:`FORMATS`) into a resampled DataFrame with standard signals.
 
     ``body`` names the vehicle's signals (``usv.*`` by default, ``uuv`` for a UUV's log). ``opts`` go
@@ -193,8 +220,10 @@ def import_log(path, rate: float = 10.0, fmt: str | None = None, gap_s: float | 
     try:
         series, meta = reader(p, allow_truncated=allow_truncated, **opts)
     except ModuleNotFoundError as e:
-        raise InputError(f"{p}: reading a {kind} log needs the optional package '{e.name}'; install with "
-                         f"pip install 'oceangnc[field]'") from None
+        raise InputError(
+            f"{p}: reading a {kind} log needs the optional package '{e.name}'; install with "
+            f"pip install 'oceangnc[field]'"
+        ) from None
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))
@@ -241,7 +270,24 @@ def write_run(res: ImportResult, out_dir) -> Path:
     return d / "log.parquet"
 
 
-_UNITS = {"t": "s", "usv.x": "m", "usv.y": "m", "usv.z": "m", "usv.psi": "rad", "usv.phi": "rad",
-          "usv.theta": "rad", "usv.r": "rad/s", "usv.vn": "m/s", "usv.ve": "m/s", "usv.speed": "m/s", "usv.u": "m/s",
-          "usv.v": "m/s", "act.left": "1", "act.right": "1", "act.throttle": "1", "act.steer": "1",
-          "cable.top_tension": "N", "uuv.z": "m"}
+_UNITS = {
+    "t": "s",
+    "usv.x": "m",
+    "usv.y": "m",
+    "usv.z": "m",
+    "usv.psi": "rad",
+    "usv.phi": "rad",
+    "usv.theta": "rad",
+    "usv.r": "rad/s",
+    "usv.vn": "m/s",
+    "usv.ve": "m/s",
+    "usv.speed": "m/s",
+    "usv.u": "m/s",
+    "usv.v": "m/s",
+    "act.left": "1",
+    "act.right": "1",
+    "act.throttle": "1",
+    "act.steer": "1",
+    "cable.top_tension": "N",
+    "uuv.z": "m",
+}

@@ -71,8 +71,10 @@ def _truncated(path: Path, what: str, allow: bool, meta: dict) -> None:
 
 # -- MAVLink telemetry log (.tlog) ------------------------------------------------------------------------
 
-def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = None, origin=None,
-              servos: str = "skid", **_):
+
+def read_tlog(
+    path: Path, allow_truncated: bool = False, system: int | None = None, origin=None, servos: str = "skid", **_
+):
     """MAVLink telemetry log: records of an 8-byte big-endian UNIX time (us) and one MAVLink frame.
 
     Time base: the vehicle's clock (``time_boot_ms`` / ``time_usec``) where a message has one, else the
@@ -89,7 +91,7 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
     recs: dict[str, list] = {}
     meta: dict = {}
     while pos + 8 < len(data):
-        stamp = struct.unpack(">Q", data[pos:pos + 8])[0] * 1e-6
+        stamp = struct.unpack(">Q", data[pos : pos + 8])[0] * 1e-6
         b = data[pos + 8]
         if b == 0xFD and pos + 10 < len(data):
             n = data[pos + 9] + 12 + (13 if data[pos + 10] & 1 else 0)
@@ -99,17 +101,19 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
             n_bad += 1
             pos += 1
             if n_bad > 1000 and n_bad > n_ok:
-                raise InputError(f"{path}: corrupt telemetry log: no MAVLink frame at byte {pos} "
-                                 f"({n_bad} bad bytes, {n_ok} frames)")
+                raise InputError(
+                    f"{path}: corrupt telemetry log: no MAVLink frame at byte {pos} ({n_bad} bad bytes, {n_ok} frames)"
+                )
             continue
         if pos + 8 + n > len(data):
-            _truncated(path, f"last record at byte {pos} needs {n} bytes, {len(data) - pos - 8} left", allow_truncated,
-                       meta)
+            _truncated(
+                path, f"last record at byte {pos} needs {n} bytes, {len(data) - pos - 8} left", allow_truncated, meta
+            )
             break
         parser.buf = bytearray()
         parser.buf_index = 0
         parser.expected_length = M.HEADER_LEN_V1 + 2
-        msgs = parser.parse_buffer(data[pos + 8:pos + 8 + n]) or []
+        msgs = parser.parse_buffer(data[pos + 8 : pos + 8 + n]) or []
         pos += 8 + n
         for m in msgs:
             kind = m.get_type()
@@ -126,11 +130,14 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
         raise InputError(f"{path}: corrupt telemetry log: no valid MAVLink message")
     if n_bad > 0.2 * (n_ok + n_bad):
         raise InputError(f"{path}: corrupt telemetry log: {n_bad} bad frames of {n_ok + n_bad}")
-    systems = sorted({int(k.split(":")[0]) for k in recs if k.endswith(":HEARTBEAT")} or
-                     {int(k.split(":")[0]) for k in recs})
+    systems = sorted(
+        {int(k.split(":")[0]) for k in recs if k.endswith(":HEARTBEAT")} or {int(k.split(":")[0]) for k in recs}
+    )
     sysid = system if system is not None else (systems[0] if systems else 1)
+
     def get(kind):
         return recs.get(f"{sysid}:{kind}", [])
+
     # clock offset: record stamp - vehicle time
     offs = [s - m.time_boot_ms * 1e-3 for s, m in get("GLOBAL_POSITION_INT") + get("ATTITUDE")]
     off = float(np.median(offs)) if offs else 0.0
@@ -173,15 +180,25 @@ def read_tlog(path: Path, allow_truncated: bool = False, system: int | None = No
     for name, sig in (("cable_T", "cable.top_tension"), ("uuv_depth", "uuv.z")):
         rows = [(s, m) for s, m in nv if m.name.rstrip("\x00") == name]
         put(sig, rows, lambda m: m.value)
-    meta.update({"system": sysid, "systems": systems, "frames": n_ok, "bad_frames": n_bad,
-                 "messages": sorted({k.split(":")[1] for k in recs if k.startswith(f"{sysid}:")})})
+    meta.update(
+        {
+            "system": sysid,
+            "systems": systems,
+            "frames": n_ok,
+            "bad_frames": n_bad,
+            "messages": sorted({k.split(":")[1] for k in recs if k.startswith(f"{sysid}:")}),
+        }
+    )
     if "usv.x" not in out and "usv.psi" not in out:
-        raise InputError(f"{path}: system {sysid} has no GLOBAL_POSITION_INT or ATTITUDE messages "
-                         f"(it has: {', '.join(meta['messages'][:12]) or 'none'})")
+        raise InputError(
+            f"{path}: system {sysid} has no GLOBAL_POSITION_INT or ATTITUDE messages "
+            f"(it has: {', '.join(meta['messages'][:12]) or 'none'})"
+        )
     return out, meta
 
 
 # -- ArduPilot DataFlash (.bin) --------------------------------------------------------------------------
+
 
 def _scan_dataflash(path: Path, data: bytes, allow: bool, meta: dict) -> None:
     """Walk the records with the FMT lengths: corrupt (no header where one must be) or truncated tail."""
@@ -266,12 +283,14 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
             out[sig] = (c[0], _pwm(c[1]))
     meta["messages"] = sorted(rows)
     if "usv.x" not in out and "usv.psi" not in out:
-        raise InputError(f"{path}: DataFlash log has no GPS or ATT records (it has: "
-                         f"{', '.join(sorted(log.name_to_id)[:15])})")
+        raise InputError(
+            f"{path}: DataFlash log has no GPS or ATT records (it has: {', '.join(sorted(log.name_to_id)[:15])})"
+        )
     return out, meta
 
 
 # -- PX4 ULog ------------------------------------------------------------------------------------------------
+
 
 def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
     """PX4 ULog via ``pyulog``: vehicle_local_position (x, y, z, vx, vy m, m/s NED), vehicle_attitude (q),
@@ -285,10 +304,11 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
         raise InputError(f"{path}: not a ULog file (no 'ULog' header)")
     pos, n = 16, 0  # walk the messages (uint16 size, uint8 type, body): a tail cut mid-message is truncation
     while pos + 3 <= len(data):
-        size = int.from_bytes(data[pos:pos + 2], "little")
+        size = int.from_bytes(data[pos : pos + 2], "little")
         if pos + 3 + size > len(data):
-            _truncated(path, f"message {n} at byte {pos} needs {size + 3} bytes, {len(data) - pos} left",
-                       allow_truncated, meta)
+            _truncated(
+                path, f"message {n} at byte {pos} needs {size + 3} bytes, {len(data) - pos} left", allow_truncated, meta
+            )
             break
         pos += 3 + size
         n += 1
@@ -334,8 +354,10 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
         out["act.left"] = (ts(am), am.data["control[0]"].astype(float))
         out["act.right"] = (ts(am), am.data["control[1]"].astype(float))
     if "usv.x" not in out and "usv.psi" not in out:
-        raise InputError(f"{path}: ULog has no vehicle_local_position, vehicle_gps_position or vehicle_attitude "
-                         f"topic (it has: {', '.join(meta['topics'][:15]) or 'none'})")
+        raise InputError(
+            f"{path}: ULog has no vehicle_local_position, vehicle_gps_position or vehicle_attitude "
+            f"topic (it has: {', '.join(meta['topics'][:15]) or 'none'})"
+        )
     return out, meta
 
 
@@ -367,8 +389,10 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
                     raise InputError(f"{path}: no topic {topic} ({role}); the bag has: {', '.join(sorted(have))}")
             conns = {role: have[t] for role, t in want.items() if t in have}
             if not conns:
-                raise InputError(f"{path}: none of the topics {', '.join(want.values())}; the bag has: "
-                                 f"{', '.join(sorted(have))}; name them with --topic odometry=/my/odom")
+                raise InputError(
+                    f"{path}: none of the topics {', '.join(want.values())}; the bag has: "
+                    f"{', '.join(sorted(have))}; name them with --topic odometry=/my/odom"
+                )
             rows: dict[str, list] = {r: [] for r in conns}
             by_id = {c.id: r for r, c in conns.items()}
             for c, t_ns, raw in reader.messages(connections=list(conns.values())):
@@ -388,8 +412,17 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
         od = rows["odometry"]
         t = np.array([stamp(a, m) for a, m in od])
         P = np.array([[m.pose.pose.position.x, m.pose.pose.position.y, m.pose.pose.position.z] for _, m in od])
-        Q = np.array([[m.pose.pose.orientation.w, m.pose.pose.orientation.x, m.pose.pose.orientation.y,
-                       m.pose.pose.orientation.z] for _, m in od])
+        Q = np.array(
+            [
+                [
+                    m.pose.pose.orientation.w,
+                    m.pose.pose.orientation.x,
+                    m.pose.pose.orientation.y,
+                    m.pose.pose.orientation.z,
+                ]
+                for _, m in od
+            ]
+        )
         V = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.angular.z] for _, m in od])
         roll, pitch, yaw = _quat_euler(*Q.T)
         psi = np.pi / 2 - yaw
@@ -424,16 +457,38 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
         out["act.left"] = (t, np.array([x[0] for x in d]))
         out["act.right"] = (t, np.array([x[1] for x in d]))
     if "usv.x" not in out and "usv.psi" not in out:
-        raise InputError(f"{path}: no odometry, IMU or NavSatFix messages on {', '.join(conns[r].topic for r in conns)}")
+        raise InputError(
+            f"{path}: no odometry, IMU or NavSatFix messages on {', '.join(conns[r].topic for r in conns)}"
+        )
     return out, meta
 
 
 # -- CSV with a column map ------------------------------------------------------------------------------------
 
-UNIT_SCALE = {"": 1.0, "si": 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "m": 1.0, "cm": 0.01, "mm": 1e-3,
-              "rad": 1.0, "deg": math.pi / 180, "cdeg": math.pi / 18000, "m/s": 1.0, "cm/s": 0.01,
-              "kn": 1852.0 / 3600.0, "km/h": 1 / 3.6, "rad/s": 1.0, "deg/s": math.pi / 180, "1": 1.0,
-              "pwm": None, "n": 1.0, "kgf": 9.80665}
+UNIT_SCALE = {
+    "": 1.0,
+    "si": 1.0,
+    "s": 1.0,
+    "ms": 1e-3,
+    "us": 1e-6,
+    "ns": 1e-9,
+    "m": 1.0,
+    "cm": 0.01,
+    "mm": 1e-3,
+    "rad": 1.0,
+    "deg": math.pi / 180,
+    "cdeg": math.pi / 18000,
+    "m/s": 1.0,
+    "cm/s": 0.01,
+    "kn": 1852.0 / 3600.0,
+    "km/h": 1 / 3.6,
+    "rad/s": 1.0,
+    "deg/s": math.pi / 180,
+    "1": 1.0,
+    "pwm": None,
+    "n": 1.0,
+    "kgf": 9.80665,
+}
 
 
 def parse_column_map(items) -> dict:
@@ -441,7 +496,7 @@ def parse_column_map(items) -> dict:
     if isinstance(items, dict):
         return {k: (v if isinstance(v, tuple) else tuple((str(v).split(":", 1) + [""])[:2])) for k, v in items.items()}
     out = {}
-    for it in (items if isinstance(items, (list, tuple)) else [items]):
+    for it in items if isinstance(items, (list, tuple)) else [items]:
         for part in str(it).split(","):
             part = part.strip()
             if not part:
@@ -451,7 +506,9 @@ def parse_column_map(items) -> dict:
             sig, rhs = part.split("=", 1)
             col, _, unit = rhs.partition(":")
             if unit.lower() not in UNIT_SCALE:
-                raise InputError(f"--map {part!r}: unknown unit {unit!r}; known: {', '.join(k for k in UNIT_SCALE if k)}")
+                raise InputError(
+                    f"--map {part!r}: unknown unit {unit!r}; known: {', '.join(k for k in UNIT_SCALE if k)}"
+                )
             out[sig.strip()] = (col.strip(), unit.lower())
     return out
 
