@@ -17,6 +17,8 @@ from oceangnc.io.logs import LogWriter, read_log
 FUSED = [
     ("combined-survey", {"control.uuv": "backstepping"}, 6.0),
     ("combined-survey", {"control.uuv": "pid"}, 6.0),
+    # the implicit cable at the 10 ms control period (issue 19: the physics step set by accuracy)
+    ("combined-survey", {"control.uuv": "backstepping", "cable.integrator": "imex", "sim.dt": 0.01}, 6.0),
     ("waypoints-square", {"formation.mode": "relative-angle"}, 4.0),
     ("cable-current", {"environment.current.speed": 0.3}, 3.0),
     ("field-test", {"sensors.usbl.dropout_start": 2.0, "sensors.usbl.dropout_duration": 3.0}, 8.0),

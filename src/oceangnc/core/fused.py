@@ -91,13 +91,19 @@ def plant_form(plant, slot_of) -> PlantForm | None:
     args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
     read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
     cls = type(plant).__name__
-    if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split"):
+    if (
+        cls == "CombinedPlant"
+        and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex")
+        and not getattr(plant, "_var", False)  # winch / seabed plants have a variable node count
+    ):
         out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
         args.update(
             {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
         )
         if plant.integrator == "rk4-split":
             imports = ["from oceangnc.models.combined import split_advance as {adv}"]
+        elif plant.integrator == "imex":
+            imports = ["from oceangnc.models.combined import imex_advance as {adv}"]
         else:
             rhs_mod, rhs_name = _kernel_ref(plant.rhs)
             imports = [
