@@ -17,6 +17,9 @@ from oceangnc.api import resolve_config
 
 CASES = [("combined-survey", {"control.uuv": "pid"}), ("combined-survey", {"control.uuv": "backstepping"}),
          ("combined-survey", {"control.uuv": "pid", "sim.dt": 0.0025}),
+         ("combined-survey", {"control.uuv": "pid", "cable.integrator": "imex", "sim.dt": 0.01}),
+         ("combined-survey", {"control.uuv": "backstepping", "cable.integrator": "imex", "sim.dt": 0.01}),
+         ("field-test", {"cable.integrator": "imex", "sim.dt": 0.01}),
          ("waypoints-square", {}), ("field-test", {}), ("cable-current", {}),
          ("usv-turn", {"sim.duration": 300.0}), ("berthing-channel", {})]
 

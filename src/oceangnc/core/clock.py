@@ -191,6 +191,9 @@ class Simulation:
             fz.buf = np.empty((2000, len(fz.log_slots) + 1))
         # chunk so that a progress bar or a wall-clock limit is honoured (about 0.2 s of work per call)
         max_ticks = 2000 if (bar is not None or wall_limit is not None) else 1 << 62
+        flush = getattr(log, "flush_period", None) if log_on else None
+        if flush:  # crash safety: hand the log its rows at least once per flush period of simulated time
+            max_ticks = min(max_ticks, max(1, int(flush / (self.tick * self.dt) + 1e-9)))
         args = [fz.args[a] for a in fz.arg_names]
         while True:
             k, done_k, rows, status, info, t_new = fz.drive(

@@ -21,6 +21,13 @@ from .csmath import ccos, csin
 
 
 @njit(cache=True)
+def hypot(a, b):
+    """sqrt(a^2 + b^2), the same bits in Python and in compiled code (libm's and numba's ``hypot`` differ
+    in the last bit, which would keep the fused and the Python clock from giving identical logs)."""
+    return math.sqrt(a * a + b * b)
+
+
+@njit(cache=True)
 def wrap(a):
     """Wrap one angle (rad) to (-pi, pi]: the one home of the angle wrap (compiled; callable from
     Python blocks and from numba right-hand sides). :func:`wrap_array` is the same for arrays."""

@@ -6,6 +6,8 @@ import math
 
 from numba import njit
 
+from ..core.rotations import hypot
+
 
 @njit(cache=True)
 def _wrap_pi(a):
@@ -17,7 +19,7 @@ def _wrap_pi(a):
 def _closest_s(p0, p1, a0, a1, b0, b1):
     t0 = b0 - a0
     t1 = b1 - a1
-    L = math.hypot(t0, t1)
+    L = hypot(t0, t1)
     t0 = t0 / L
     t1 = t1 / L
     w0 = p0 - a0
@@ -44,15 +46,15 @@ def pure_pursuit_step(t, sig, sl, st, pa):
     done = st[2] != 0.0
     if st[3] == 0.0:
         st[3] = 1.0
-        if math.hypot(p0 - pa[4], p1 - pa[5]) <= pa[1]:
+        if hypot(p0 - pa[4], p1 - pa[5]) <= pa[1]:
             reached = 1.0
     while not done:
         a0, a1 = pa[4 + 2 * leg], pa[5 + 2 * leg]
         b0, b1 = pa[6 + 2 * leg], pa[7 + 2 * leg]
         s, e = _closest_s(p0, p1, a0, a1, b0, b1)
-        L = math.hypot(b0 - a0, b1 - a1)
+        L = hypot(b0 - a0, b1 - a1)
         last = leg + 1 == n - 1
-        near = math.hypot(p0 - b0, p1 - b1) <= pa[1]
+        near = hypot(p0 - b0, p1 - b1) <= pa[1]
         if near or (not last and s >= L):
             reached += 1.0
             if last:
@@ -66,7 +68,7 @@ def pure_pursuit_step(t, sig, sl, st, pa):
     last = leg + 1 == n - 1
     # look_ahead_point
     s, e = _closest_s(p0, p1, a0, a1, b0, b1)
-    L = math.hypot(b0 - a0, b1 - a1)
+    L = hypot(b0 - a0, b1 - a1)
     t0 = (b0 - a0) / L
     t1 = (b1 - a1) / L
     lk = pa[0]
@@ -80,7 +82,7 @@ def pure_pursuit_step(t, sig, sl, st, pa):
     dn = g0 - p0
     de = g1 - p1
     psi_d = math.atan2(de, dn)
-    ll = math.hypot(dn, de)
+    ll = hypot(dn, de)
     d = -math.sin(psi) * dn + math.cos(psi) * de
     R = math.inf if d == 0.0 else ll * ll / (2.0 * d)
     if done:
@@ -119,7 +121,7 @@ def leader_follower_step(t, sig, sl, st, pa):
     s = math.sin(psil)
     lx = -dx * c - dy * s
     ly = dx * s - dy * c
-    rng = math.hypot(lx, ly)
+    rng = hypot(lx, ly)
     lam = math.atan2(ly, lx) % (2.0 * math.pi)
     lx_d = pa[0]
     ly_d = pa[1]

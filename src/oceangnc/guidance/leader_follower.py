@@ -31,7 +31,7 @@ import math
 
 from ..core.blocks import Block
 from ..core.registry import register_block
-from ..core.rotations import wrap
+from ..core.rotations import hypot, wrap
 
 
 def relative_position(x_l, y_l, psi_l, x_f, y_f):
@@ -45,7 +45,7 @@ def relative_position(x_l, y_l, psi_l, x_f, y_f):
 
 def range_bearing(lx, ly):
     """Relative range l (m) and bearing lambda from the leader's bow (rad, in [0, 2 pi))."""
-    return math.hypot(lx, ly), math.atan2(ly, lx) % (2.0 * math.pi)
+    return hypot(lx, ly), math.atan2(ly, lx) % (2.0 * math.pi)
 
 
 def target_offset(l_d, lambda_d):

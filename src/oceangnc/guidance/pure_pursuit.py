@@ -38,6 +38,7 @@ import numpy as np
 
 from ..core.blocks import Block
 from ..core.registry import register_block
+from ..core.rotations import hypot
 from ..errors import ConfigError
 
 
@@ -67,7 +68,7 @@ def usv_min_turning_radius(cfg) -> float:
     from ..units import KGF
 
     u, v, r = steady_turn(cfg, cfg.max_thrust_kgf * KGF, 0.0)
-    return math.hypot(u, v) / abs(r)
+    return hypot(u, v) / abs(r)
 
 
 def uuv_turning_radius_at(cfg, speed: float) -> float:
@@ -88,7 +89,7 @@ def uuv_turning_radius_at(cfg, speed: float) -> float:
         raise ConfigError(f"UUV turning radius: the UUV cannot reach {speed} m/s")
     t0 = bracket_root(lambda T: uuv_steady_planar(cfg, T, T, 0.0)[0] - speed, 1e-6, hi, xtol=1e-10)
     u, v, r = uuv_steady_planar(cfg, t0, t0, hi)
-    return math.hypot(u, v) / abs(r)
+    return hypot(u, v) / abs(r)
 
 
 def closest_point(p, a, b):
@@ -99,7 +100,7 @@ def closest_point(p, a, b):
     b = np.asarray(b, float)
     p = np.asarray(p, float)
     t = b - a
-    L = math.hypot(t[0], t[1])
+    L = hypot(t[0], t[1])
     if L == 0.0:
         raise ConfigError(f"waypoints: consecutive waypoints {tuple(a)} and {tuple(b)} coincide")
     t = t / L
@@ -118,7 +119,7 @@ def look_ahead_point(p, a, b, l: float, clamp_end: bool = False):
     F, s, e = closest_point(p, a, b)
     a = np.asarray(a, float)
     b = np.asarray(b, float)
-    L = math.hypot(*(b - a))
+    L = hypot(*(b - a))
     t = (b - a) / L
     ds = math.sqrt(l * l - e * e) if abs(e) < l else 0.0
     sg = s + ds
@@ -136,7 +137,7 @@ def pursuit_command(p, psi: float, g):
     dn = float(g[0] - p[0])
     de = float(g[1] - p[1])
     psi_d = math.atan2(de, dn)
-    l = math.hypot(dn, de)
+    l = hypot(dn, de)
     d = -math.sin(psi) * dn + math.cos(psi) * de
     return psi_d, l, d, pursuit_radius(l, d)
 
@@ -230,16 +231,16 @@ class PurePursuit(Block):
         psi = bus[self.psi_key]
         if not self._started:
             self._started = True
-            if math.hypot(*(p - self.wp[0])) <= self.acceptance:
+            if hypot(*(p - self.wp[0])) <= self.acceptance:
                 self.reached = 1
         n = len(self.wp)
         # waypoint switching: reach the end of the leg -> next leg
         while not self.done:
             a, b = self.wp[self.leg], self.wp[self.leg + 1]
             _, s, _ = closest_point(p, a, b)
-            L = math.hypot(*(b - a))
+            L = hypot(*(b - a))
             last = self.leg + 1 == n - 1
-            near = math.hypot(*(p - b)) <= self.acceptance
+            near = hypot(*(p - b)) <= self.acceptance
             if near or (not last and s >= L):
                 self.reached += 1
                 if last:

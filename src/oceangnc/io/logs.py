@@ -169,25 +169,35 @@ class LogWriter:
         m = len(t)
         if m == 0:
             return
-        if self.columns is None:
-            raise ValueError("append_rows needs a first append() to fix the columns")
+        if self.columns is None:  # e.g. a resumed log: the columns are the names, as append() would fix them
+            self.columns = ["t", *self.extra.keys(), *[k for k in names if k not in self.extra]]
+            self._buf = {c: [] for c in self.columns}
         idx = {c: j for j, c in enumerate(names)}
-        ts = np.asarray(t, dtype=float).tolist()
-        if self._t0 is None:
-            self._t0 = ts[0]
-            self._t_flush = (math.floor(ts[0] / self.flush_period + 1e-9) + 1) * self.flush_period
-        self._buf["t"].extend(ts)
-        vals = np.asarray(values, dtype=float)
-        for c in self.columns[1:]:
-            if c in self.extra:
-                self._buf[c].extend([float(self.extra[c])] * m)
-            elif c in idx:
-                self._buf[c].extend(vals[:, idx[c]].tolist())
-            else:
-                self._buf[c].extend([np.nan] * m)
-        self.rows += m
-        if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
-            self.flush()
+        ts_all = np.asarray(t, dtype=float)
+        vals_all = np.asarray(values, dtype=float)
+        i0 = 0
+        while i0 < m:
+            # the same parts as row-by-row append(): a part closes with the first row at or past the flush time
+            if self._t0 is None:
+                self._t0 = float(ts_all[i0])
+                self._t_flush = (math.floor(self._t0 / self.flush_period + 1e-9) + 1) * self.flush_period
+            room = self.flush_rows - len(self._buf["t"])
+            past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0]
+            i1 = min(m, i0 + max(1, room), i0 + int(past[0]) + 1 if past.size else m)
+            ts = ts_all[i0:i1].tolist()
+            n = len(ts)
+            self._buf["t"].extend(ts)
+            for c in self.columns[1:]:
+                if c in self.extra:
+                    self._buf[c].extend([float(self.extra[c])] * n)
+                elif c in idx:
+                    self._buf[c].extend(vals_all[i0:i1, idx[c]].tolist())
+                else:
+                    self._buf[c].extend([np.nan] * n)
+            self.rows += n
+            if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
+                self.flush()
+            i0 = i1
 
     def _table(self) -> pa.Table:
         return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})

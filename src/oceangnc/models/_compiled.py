@@ -65,7 +65,7 @@ def usv_publish(x, sig, slots):
     for i in range(6):
         sig[slots[i]] = x[i]
     sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
-    sig[slots[6]] = math.hypot(x[3], x[4])
+    sig[slots[6]] = math.sqrt(x[3] * x[3] + x[4] * x[4])  # not hypot: libm and numba differ in the last bit
 
 
 @njit(cache=True)

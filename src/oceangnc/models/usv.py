@@ -202,7 +202,7 @@ class USVPlant(Plant):
         super().publish(bus)
         x = self.x
         bus[f"{self.name}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
-        bus[f"{self.name}.speed"] = float(math.hypot(x[3], x[4]))
+        bus[f"{self.name}.speed"] = float(math.sqrt(x[3] * x[3] + x[4] * x[4]))  # as the fused kernel
 
 
 class USVThrusters(Block):

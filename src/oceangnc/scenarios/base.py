@@ -55,7 +55,9 @@ class RunContext:
         (with checkpoints, or from a restored checkpoint, when the run asks for them)."""
         if self.checkpointer is not None and self.checkpointer.attach(sim):
             duration = duration - sim.t  # restored: run the rest
-        sim.use_fused = self.fused  # the clock keeps the Python path under a checkpoint hook
+        # the clock keeps the Python path under a checkpoint hook; a resumed run stays on the path of the
+        # run that saved the checkpoint (the Python one), so its log is bit-identical
+        sim.use_fused = self.fused and self.checkpointer is None
         if self.verbose:
             sim.verbose = True
         t = sim.run(duration, log=self.log, progress=self.progress)
