@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from . import postproc
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_log, read_table
@@ -236,6 +237,8 @@ def run(
     )
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
+    # summary and plots in forked helpers that import pandas/matplotlib while this process simulates
+    post = postproc.start(sc, cfg, out_dir, plots)
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
 
@@ -245,6 +248,7 @@ def run(
     try:
         metrics = sc.run(cfg, ctx)
     except DivergenceError as e:
+        postproc.cancel(post)
         log.close()
         summary.update(
             {"status": "diverged", "error": str(e), "duration_s": e.t, "wall_time_s": time.perf_counter() - t0}
@@ -252,30 +256,43 @@ def run(
         write_summary()
         raise
     except KeyboardInterrupt:
+        postproc.cancel(post)
         log.close()
         summary.update({"status": "interrupted", "rows": log.rows_written, "wall_time_s": time.perf_counter() - t0})
         write_summary()
         raise
     except BaseException:
+        postproc.cancel(post)
         log.close()
         raise
     log.close()
     if state is not None and ctx.checkpointer.attached == 0:
+        postproc.cancel(post)
         raise InputError(f"scenario {sc.name} runs without a single simulation; it cannot be resumed")
     table = read_table(out_dir / "log.parquet")
-    df = table.to_pandas()
-    metrics = dict(metrics or {})
-    metrics.update(sc.summarize(df, cfg))
-    summary.update({k: _jsonable(v) for k, v in metrics.items()})
-    summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
-    summary["status"] = "ok"
-    summary["wall_time_s"] = time.perf_counter() - t0
-    if ctx.checkpointer is not None:
-        summary["checkpoints"] = ctx.checkpointer.saved
-        if state is not None:
-            summary["resumed_from_t"] = float(state["t"])
-    write_summary()
-    plot_paths = sc.plot(df, cfg, out_dir) if plots else []
+    df = None
+    if post is not None:
+        post.go()
+    try:
+        found = post.summary() if post is not None else None
+        if found is None:  # no helper, or it failed: here (an error surfaces as it would without helpers)
+            df = table.to_pandas()
+            found = sc.summarize(df, cfg)
+        metrics = {**(metrics or {}), **found}
+        summary.update({k: _jsonable(v) for k, v in metrics.items()})
+        summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
+        summary["status"] = "ok"
+        summary["wall_time_s"] = time.perf_counter() - t0
+        if ctx.checkpointer is not None:
+            summary["checkpoints"] = ctx.checkpointer.saved
+            if state is not None:
+                summary["resumed_from_t"] = float(state["t"])
+        write_summary()
+        plot_paths = (post.plots() if post is not None else None) if plots else []
+        if plot_paths is None:
+            plot_paths = sc.plot(table.to_pandas() if df is None else df, cfg, out_dir)
+    finally:
+        postproc.cancel(post, done=True)
     return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
 
 

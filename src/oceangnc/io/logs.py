@@ -91,6 +91,13 @@ def list_parts(folder: str | Path) -> list[Path]:
     return [p for _, p in sorted(parts)]
 
 
+def _f64(a: np.ndarray) -> pa.Array:
+    """A float64 Arrow array sharing a contiguous numpy row's memory (``pa.array`` would import pandas
+    to check its argument, about 0.5 s of a run's start-up)."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return pa.Array.from_buffers(pa.float64(), len(a), [None, pa.py_buffer(a)])
+
+
 class LogWriter:
     """Append rows of named float signals to a crash-safe Parquet dataset folder (module docstring).
 
@@ -132,7 +139,11 @@ class LogWriter:
         self._mem: list[pa.Table] | None = [] if start_part == 0 else None
         self._mem_cells = 0
         self.columns: list[str] | None = None
+        # rows appended one by one (lists per column) and blocks from append_rows (arrays of shape
+        # (columns, rows)), kept in order in _chunks; _nbuf counts the buffered rows of both
         self._buf: dict[str, list] = {}
+        self._chunks: list[np.ndarray] = []
+        self._nbuf = 0
         self._t0: float | None = None
         self.rows = int(start_row)  # rows appended (including those of a resumed run)
         self.rows_written = int(start_row)  # rows in visible parts
@@ -157,7 +168,8 @@ class LogWriter:
             else:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
-        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or len(self._buf["t"]) >= self.flush_rows:
+        self._nbuf += 1
+        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or self._nbuf >= self.flush_rows:
             self.flush()
 
     def append_rows(self, t, names: list[str], values) -> None:
@@ -175,32 +187,51 @@ class LogWriter:
         idx = {c: j for j, c in enumerate(names)}
         ts_all = np.asarray(t, dtype=float)
         vals_all = np.asarray(values, dtype=float)
+        # where each column comes from: a column of values, a constant extra, or NaN (absent)
+        pos = {c: j for j, c in enumerate(self.columns)}
+        src = [c for c in self.columns[1:] if c in idx and c not in self.extra]
+        dst_rows = np.array([pos[c] for c in src], dtype=np.intp)
+        src_cols = np.array([idx[c] for c in src], dtype=np.intp)
+        fill = [
+            (j, float(self.extra[c]) if c in self.extra else np.nan)
+            for j, c in enumerate(self.columns)
+            if j > 0 and (c in self.extra or c not in idx)
+        ]
         i0 = 0
         while i0 < m:
             # the same parts as row-by-row append(): a part closes with the first row at or past the flush time
             if self._t0 is None:
                 self._t0 = float(ts_all[i0])
                 self._t_flush = (math.floor(self._t0 / self.flush_period + 1e-9) + 1) * self.flush_period
-            room = self.flush_rows - len(self._buf["t"])
+            room = self.flush_rows - self._nbuf
             past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0]
             i1 = min(m, i0 + max(1, room), i0 + int(past[0]) + 1 if past.size else m)
-            ts = ts_all[i0:i1].tolist()
-            n = len(ts)
-            self._buf["t"].extend(ts)
-            for c in self.columns[1:]:
-                if c in self.extra:
-                    self._buf[c].extend([float(self.extra[c])] * n)
-                elif c in idx:
-                    self._buf[c].extend(vals_all[i0:i1, idx[c]].tolist())
-                else:
-                    self._buf[c].extend([np.nan] * n)
+            n = i1 - i0
+            self._seal_rows()
+            block = np.empty((len(self.columns), n))
+            block[0] = ts_all[i0:i1]
+            block[dst_rows] = vals_all[i0:i1, src_cols].T
+            for j, v in fill:
+                block[j] = v
+            self._chunks.append(block)
+            self._nbuf += n
             self.rows += n
-            if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
+            if ts_all[i1 - 1] >= self._t_flush - 1e-9 * self.flush_period or self._nbuf >= self.flush_rows:
                 self.flush()
             i0 = i1
 
+    def _seal_rows(self) -> None:
+        """Move the rows appended one by one into an array block (keeps the row order with append_rows)."""
+        if self.columns and self._buf["t"]:
+            rows = np.array([self._buf[c] for c in self.columns], dtype=float)
+            self._chunks.append(rows.reshape(len(self.columns), -1))
+            for c in self.columns:
+                self._buf[c].clear()
+
     def _table(self) -> pa.Table:
-        return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
+        self._seal_rows()
+        data = self._chunks[0] if len(self._chunks) == 1 else np.concatenate(self._chunks, axis=1)
+        return pa.table({c: _f64(data[j]) for j, c in enumerate(self.columns)})
 
     def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
         meta = dict(table.schema.metadata or {})
@@ -245,7 +276,7 @@ class LogWriter:
 
     def flush(self) -> None:
         """Write the buffered rows as one new part file (atomically)."""
-        if not self.columns or not self._buf["t"]:
+        if not self.columns or not self._nbuf:
             return
         self.path.mkdir(parents=True, exist_ok=True)
         table = self._table()
@@ -259,8 +290,8 @@ class LogWriter:
             self.sync()
         self.parts += 1
         self.rows_written += table.num_rows
-        for c in self.columns:
-            self._buf[c].clear()
+        self._chunks.clear()
+        self._nbuf = 0
         self._t0 = None
 
     def close(self) -> None:
@@ -270,8 +301,9 @@ class LogWriter:
         self.closed = True
         self.flush()
         self.path.mkdir(parents=True, exist_ok=True)
-        self.sync()
         parts = list_parts(self.path)
+        if not (self.compact and len(parts) > 1 and self._mem is not None and len(self._mem) == len(parts)):
+            self.sync()  # (compacted from memory: the parts are replaced by a synced file, no need to force them)
         if not parts:
             # no row at all: still leave a valid, empty log behind
             cols = self.columns or ["t"]
@@ -387,12 +419,19 @@ def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
         keep, _ = _live_parts(p)
         if not keep:
             raise InputError(f"log {p} holds no readable part (try: oceangnc log repair {p.parent})")
-        tables = [pq.read_table(q, columns=columns) for q in keep]
+        tables = [_read_file(q, columns) for q in keep]
         schema = tables[0].schema
         return pa.concat_tables([t.replace_schema_metadata(None) for t in tables]).replace_schema_metadata(
             {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None
         )
-    return pq.read_table(p, columns=columns)
+    return _read_file(p, columns)
+
+
+def _read_file(p: Path, columns: list[str] | None = None) -> pa.Table:
+    """One Parquet file as a Table (``ParquetFile``: ``pq.read_table`` goes through pyarrow.dataset,
+    which imports pandas, about 0.5 s of a run's start-up)."""
+    with pq.ParquetFile(p) as f:
+        return f.read(columns=columns)
 
 
 def read_log(path: str | Path, columns: list[str] | None = None):

@@ -49,6 +49,26 @@ def save(fig, path: Path, dpi: int = 100) -> Path:
 _save = save
 
 
+def warm_up() -> None:
+    """Import the drawing machinery and draw one small figure in memory (fonts, ticks, text layout,
+    the 3-D projection): the one-off cost of a process's first plot, paid ahead of time by
+    :mod:`oceangnc.postproc`'s helper while the simulation runs."""
+    import io
+
+    import mpl_toolkits.mplot3d  # noqa: F401
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = figure((2, 2))
+    ax = fig.add_subplot()
+    ax.plot([0.0, 1.0], [0.0, 1.0], label="x")
+    ax.set_xlabel("t [s]")
+    ax.set_title("warm-up")
+    ax.legend(fontsize=7)
+    FigureCanvasAgg(fig)
+    fig.savefig(io.BytesIO(), format="png", dpi=20)
+    fig.clear()
+
+
 def plot_track(df, bodies: list[str], path: Path, title: str = "", waypoints=None, extra=None) -> Path:
     """Plan view of the bodies' tracks (east right, north up), with optional waypoints (N, E)."""
     fig = figure((6.5, 6), margins=(0.8, 0.6, 0.2, 0.4))
