@@ -231,7 +231,7 @@ class LogWriter:
     def _table(self) -> pa.Table:
         self._seal_rows()
         data = self._chunks[0] if len(self._chunks) == 1 else np.concatenate(self._chunks, axis=1)
-        return pa.table({c: _f64(data[j]) for j, c in enumerate(self.columns)})
+        return pa.table({c: _f64(data[j]) for j, c in enumerate(self.columns or [])})
 
     def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
         meta = dict(table.schema.metadata or {})
