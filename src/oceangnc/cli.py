@@ -39,6 +39,13 @@ def _cmd_list(args) -> int:
 
 
 def _cmd_run(args) -> int:
+    from .jitcache import lean_loads
+
+    with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.jitcache)
+        return _run(args)
+
+
+def _run(args) -> int:
     from .api import run
     from .core.registry import load_plugin
     from .errors import InputError
