@@ -48,6 +48,7 @@ from ..guidance.pure_pursuit import (
     usv_min_turning_radius,
     uuv_turning_radius_at,
 )
+from ..derived import cached
 from ..io.config import ScenarioConfig, StrictModel
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
@@ -179,9 +180,16 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
     the speed it must hold, the surge target capped at the USV's top speed
     (:func:`oceangnc.guidance.pure_pursuit.uuv_turning_radius_at`).
     """
-    r_usv = usv_min_turning_radius(cfg.usv)
     top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
-    r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
+    speed = min(cfg.control.surge_speed, top)
+    # trimming the models once per machine and inputs (oceangnc.derived: no model code loaded at start-up)
+    key = [cfg.usv.model_dump(mode="json"), cfg.uuv.model_dump(mode="json"), speed]
+    r_usv, r_uuv = cached(
+        "turning-radii",
+        key,
+        lambda: [usv_min_turning_radius(cfg.usv), uuv_turning_radius_at(cfg.uuv, speed)],
+        ("models", "guidance", "core"),
+    )
     if cfg.guidance.look_ahead is not None:
         return cfg.guidance.look_ahead, r_usv, r_uuv
     return look_ahead_distance(r_usv, r_uuv), r_usv, r_uuv
