@@ -40,6 +40,7 @@ from ..control.uuv_control import UUVPIDConfig
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
+from ..derived import cached
 from ..environment import EnvironmentConfig
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
@@ -48,7 +49,6 @@ from ..guidance.pure_pursuit import (
     usv_min_turning_radius,
     uuv_turning_radius_at,
 )
-from ..derived import cached
 from ..io.config import ScenarioConfig, StrictModel
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
