@@ -1,0 +1,86 @@
+"""Summary and plots in forked helpers (oceangnc.postproc): the same files and summary as in-process,
+no pandas/matplotlib in the parent, and a failing helper falls back to in-process work."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from oceangnc import postproc
+from oceangnc.io.logs import LogWriter, read_log
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PLOTS = {"trajectory3d.png", "track.png", "speeds.png", "thrusts.png", "headings.png", "depth_distance.png"}
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the helpers fork (Linux only)")
+
+
+def _run(out: Path, mode: str) -> list:
+    code = (
+        "import sys, json, oceangnc\n"
+        f"r = oceangnc.run('combined-survey', duration=2, out={str(out)!r}, plots=True)\n"
+        "print(json.dumps([r.summary, [str(p) for p in r.plots],\n"
+        "                  [m in sys.modules for m in ('pandas', 'matplotlib')]]))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(SRC), OCEANGNC_POSTPROC=mode)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def test_forked_summary_and_plots_equal_the_in_process_ones(tmp_path):
+    s_fork, p_fork, heavy_fork = _run(tmp_path / "fork", "fork")
+    s_inl, p_inl, heavy_inl = _run(tmp_path / "inline", "inline")
+    drop = ("wall_time_s",)
+    assert {k: v for k, v in s_fork.items() if k not in drop} == {k: v for k, v in s_inl.items() if k not in drop}
+    assert [Path(p).name for p in p_fork] == [Path(p).name for p in p_inl]  # same files, same order
+    assert set(Path(p).name for p in p_fork) == PLOTS
+    for p in p_fork:
+        assert Path(p).stat().st_size > 10_000  # a drawn PNG, not an empty file
+    assert heavy_fork == [False, False]  # the parent never imported pandas or matplotlib
+    assert heavy_inl == [True, True]
+
+
+def test_a_failing_helper_falls_back_to_in_process_work(tmp_path, monkeypatch):
+    import oceangnc
+    from oceangnc.scenarios.base import get_scenario
+
+    sc = get_scenario("combined-survey")
+    parent = os.getpid()
+    real = type(sc).plot_jobs
+
+    def jobs(self, df, cfg, out_dir):  # breaks in the helpers only
+        if os.getpid() != parent:
+            raise RuntimeError("helper failure")
+        return real(self, df, cfg, out_dir)
+
+    monkeypatch.setattr(type(sc), "plot_jobs", jobs)
+    if not postproc.can_fork():
+        pytest.skip("more than one thread in this test process: no helpers")
+    r = oceangnc.run("combined-survey", duration=1, out=tmp_path, plots=True)
+    assert {p.name for p in r.plots} == PLOTS and all(p.exists() for p in r.plots)
+    assert r.summary["status"] == "ok"
+
+
+def test_log_blocks_and_rows_mix_in_order(tmp_path):
+    """append_rows (the fused clock's blocks) and append (the Python clock's rows) in one log."""
+    names = ["a", "b"]
+    w = LogWriter(tmp_path / "log.parquet", flush_period=0.5)
+    w.append(0.0, {"a": 1.0, "b": 2.0})
+    t = np.arange(1, 9) * 0.1
+    w.append_rows(t, ["b", "a"], np.column_stack([t * 10.0, t]))
+    w.append(0.9, {"a": 5.0})  # b missing: NaN
+    w.close()
+    df = read_log(tmp_path / "log.parquet")
+    assert list(df.columns) == ["t", *names]
+    np.testing.assert_array_equal(df["t"], np.r_[0.0, t, 0.9])
+    np.testing.assert_array_equal(df["a"], np.r_[1.0, t, 5.0])
+    np.testing.assert_array_equal(df["b"].to_numpy()[:-1], np.r_[2.0, t * 10.0])
+    assert np.isnan(df["b"].iloc[-1])
+    assert w.parts == 2  # flushed at t >= 0.5 and at close, as row-by-row appends would
