@@ -5,7 +5,8 @@ Conventions: tracks are drawn with east (y) to the right and north (x) up, as on
 Cost: a run's plots used to take longer than its simulation. The helpers here build a bare
 :class:`matplotlib.figure.Figure` (no pyplot, no figure manager), place the axes with fixed margins
 instead of ``tight_layout`` (which lays every tick label out twice, ~0.1 s per figure) and save at
-100 dpi; :func:`figure` gives scenario modules the same cheap figure.
+100 dpi with fast PNG compression; :func:`figure` gives scenario modules the same cheap figure. A run's
+figures are drawn in two forked processes while the simulation runs (:mod:`oceangnc.postproc`).
 """
 
 from __future__ import annotations
@@ -37,11 +38,15 @@ def figure(figsize, margins: tuple[float, float, float, float] = (0.95, 0.45, 0.
 
 
 def save(fig, path: Path, dpi: int = 100) -> Path:
-    """Write ``fig`` as PNG (Agg canvas) and free it."""
+    """Write ``fig`` as PNG (Agg canvas) and free it.
+
+    zlib level 1 instead of PIL's 6: the same pixels (PNG is lossless), files ~15 % larger, and the
+    encoding about 3x faster (it was a third of a simple figure's time).
+    """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
-    fig.savefig(path, dpi=dpi)
+    fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": 1})
     fig.clear()
     return path
 
