@@ -103,6 +103,15 @@ def resolve_config(
     return sc, cfg
 
 
+def resolve_run_config(scenario=None, config=None, overrides=None, duration=None, model=None):
+    """:func:`resolve_config` with an identified model file's parameters under ``overrides`` (as :func:`run`)."""
+    if model is not None:
+        from .identification.model_file import load_model_overrides
+
+        overrides = {**load_model_overrides(model), **dict(overrides or {})}
+    return resolve_config(scenario, config, overrides, duration)
+
+
 def new_run_dir(root: str | Path = "runs", name: str = "run") -> Path:
     """A new, unique folder ``runs/<name>-<timestamp>``."""
     stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
@@ -138,6 +147,7 @@ def run(
     checkpoint_every: float | None = None,
     resume: str | Path | None = None,
     model: str | Path | None = None,
+    _post: postproc.PostProcess | None = None,
 ) -> RunResult:
     """Run a scenario and write its outputs.
 
@@ -168,6 +178,8 @@ def run(
     model : path, optional
         An identified model file (``identified.toml`` from ``oceangnc identify``): its
         ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
+    _post : internal
+        A summary/plot helper already forked by the command line (:mod:`oceangnc.postproc`).
 
     Raises
     ------
@@ -214,11 +226,7 @@ def run(
         )
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
-        if model is not None:
-            from .identification.model_file import load_model_overrides
-
-            overrides = {**load_model_overrides(model), **dict(overrides or {})}
-        sc, cfg = resolve_config(scenario, config, overrides, duration)
+        sc, cfg = resolve_run_config(scenario, config, overrides, duration, model)
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
         out_dir.mkdir(parents=True, exist_ok=True)
         for stale in ("summary.json", ckpt.FILE):
@@ -238,7 +246,7 @@ def run(
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
     # summary and plots in forked helpers that import pandas/matplotlib while this process simulates
-    post = postproc.start(sc, cfg, out_dir, plots)
+    post = _post if _post is not None else postproc.start(lambda: (sc, cfg), plots)
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
 
@@ -272,7 +280,7 @@ def run(
     table = read_table(out_dir / "log.parquet")
     df = None
     if post is not None:
-        post.go()
+        post.go(out_dir)
     try:
         found = post.summary() if post is not None else None
         if found is None:  # no helper, or it failed: here (an error surfaces as it would without helpers)

@@ -47,7 +47,10 @@ def _cmd_run(args) -> int:
 
 
 def _run(args) -> int:
-    from .api import run
+    import functools
+
+    from . import postproc
+    from .api import resolve_run_config, run
     from .core.registry import load_plugin
     from .errors import InputError
     from .io.config import flatten, parse_sets
@@ -75,18 +78,28 @@ def _run(args) -> int:
         )
     else:
         overrides = flatten(parse_sets(args.set))
-        res = run(
-            args.scenario,
-            overrides=overrides,
-            duration=args.duration,
-            config=args.config,
-            out=args.out,
+        # fork the summary/plot helper first, so that its imports overlap this process's (oceangnc.postproc)
+        post = postproc.start(
+            functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
             plots=not args.no_plots,
-            progress=not args.quiet,
-            verbose=args.verbose,
-            checkpoint_every=args.checkpoint_every,
-            model=args.model,
         )
+        try:
+            res = run(
+                args.scenario,
+                overrides=overrides,
+                duration=args.duration,
+                config=args.config,
+                out=args.out,
+                plots=not args.no_plots,
+                progress=not args.quiet,
+                verbose=args.verbose,
+                checkpoint_every=args.checkpoint_every,
+                model=args.model,
+                _post=post,
+            )
+        except BaseException:
+            postproc.cancel(post)
+            raise
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)

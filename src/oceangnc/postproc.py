@@ -76,10 +76,10 @@ class PostProcess:
         self.pid, self._go, self._res_a, self._res_b, self.want_plots = pid, go, res_a, res_b, plots
         self._closed = False
 
-    def go(self) -> None:
-        """The log is closed: start the summary and the plots."""
+    def go(self, out_dir: Path) -> None:
+        """The log in ``out_dir`` is closed: start the summary and the plots."""
         try:
-            _send(self._go, "go")
+            _send(self._go, str(out_dir))
         except OSError:
             pass
 
@@ -120,8 +120,13 @@ class PostProcess:
             pass
 
 
-def start(sc, cfg, out_dir: Path, plots: bool) -> PostProcess | None:
-    """Fork the helper for a run of scenario ``sc`` writing to ``out_dir``; None where unsafe or useless."""
+def start(resolve, plots: bool) -> PostProcess | None:
+    """Fork the helper of a run; None where unsafe or useless.
+
+    ``resolve()`` gives the run's ``(scenario, config)``: the helper calls it after its imports, so the
+    command line can fork before its own :func:`~oceangnc.api.resolve_config` (both resolve the same
+    arguments, deterministically); :func:`oceangnc.api.run` passes the pair it resolved.
+    """
     if not can_fork() or (not plots and "pandas" in sys.modules):
         return None
     go_r, go_w = os.pipe()
@@ -135,7 +140,7 @@ def start(sc, cfg, out_dir: Path, plots: bool) -> PostProcess | None:
         try:
             for fd in (go_w, a_r, b_r):
                 os.close(fd)
-            _helper(go_r, a_w, b_w, sc, cfg, Path(out_dir), plots)
+            _helper(go_r, a_w, b_w, resolve, plots)
         except BaseException:
             code = 1
         finally:
@@ -145,7 +150,7 @@ def start(sc, cfg, out_dir: Path, plots: bool) -> PostProcess | None:
     return PostProcess(pid, go_w, a_r, b_r, plots)
 
 
-def _helper(go: int, res_a: int, res_b: int, sc, cfg, out_dir: Path, plots: bool) -> None:
+def _helper(go: int, res_a: int, res_b: int, resolve, plots: bool) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     import pandas  # noqa: F401  (the point: imported while the parent simulates)
 
@@ -153,8 +158,11 @@ def _helper(go: int, res_a: int, res_b: int, sc, cfg, out_dir: Path, plots: bool
         from .io.plots import warm_up
 
         warm_up()
-    if _recv(go) is None:  # the run failed or was interrupted
+    sc, cfg = resolve()
+    msg = _recv(go)
+    if msg is None:  # the run failed or was interrupted
         return
+    out_dir = Path(msg)
     second = 0
     if plots:
         second = os.fork()

@@ -38,16 +38,17 @@ def figure(figsize, margins: tuple[float, float, float, float] = (0.95, 0.45, 0.
 
 
 def save(fig, path: Path, dpi: int = 100) -> Path:
-    """Write ``fig`` as PNG (Agg canvas) and free it.
+    """Write ``fig`` as PNG (Agg canvas).
 
     zlib level 1 instead of PIL's 6: the same pixels (PNG is lossless), files ~15 % larger, and the
-    encoding about 3x faster (it was a third of a simple figure's time).
+    encoding about 3x faster (it was a third of a simple figure's time). The figure is not cleared:
+    ``Figure.clear`` re-initialises every axes before dropping it (~20 ms each); without pyplot
+    nothing else holds the figure, so it is freed with its last reference.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
     fig.savefig(path, dpi=dpi, pil_kwargs={"compress_level": 1})
-    fig.clear()
     return path
 
 
@@ -71,7 +72,6 @@ def warm_up() -> None:
     ax.legend(fontsize=7)
     FigureCanvasAgg(fig)
     fig.savefig(io.BytesIO(), format="png", dpi=20)
-    fig.clear()
 
 
 def plot_track(df, bodies: list[str], path: Path, title: str = "", waypoints=None, extra=None) -> Path:
