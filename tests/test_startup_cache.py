@@ -113,3 +113,28 @@ def test_derived_value_is_computed_once_and_again_after_an_edit(tmp_path, monkey
     monkeypatch.setattr(derived, "sources_digest", lambda subs: "edited")
     derived.cached("x", {"speed": 0.6}, compute, ("guidance",))
     assert len(calls) == 3  # other source: computed
+
+
+def test_fast_exit_keeps_every_output(tmp_path):
+    """``oceangnc run`` ends without the interpreter's teardown: its output (a pipe here) is flushed,
+    the exit code kept, and an atexit handler of the process still runs."""
+    code = (
+        "import atexit, sys\n"
+        f"atexit.register(lambda: open({str(tmp_path / 'atexit')!r}, 'w').write('ran'))\n"
+        "from oceangnc.cli import main\n"
+        "sys.exit(main())\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    args = ["run", "usv-turn", "--duration", "1", "--quiet", "--no-plots", "--json", "--out", str(tmp_path / "r")]
+    r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout.strip().splitlines()[-1])["status"] == "ok"
+    assert (tmp_path / "atexit").read_text() == "ran"
+    bad = subprocess.run(
+        [sys.executable, "-c", code, "run", "usv-turn", "--set", "sim.dt=-1", "--out", str(tmp_path / "b")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
+    assert bad.returncode == 2 and bad.stderr.startswith("error: ") and "sim.dt" in bad.stderr
