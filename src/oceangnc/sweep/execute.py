@@ -112,6 +112,7 @@ def run_many(tasks: list[dict]) -> list[dict]:
             [t["overrides"] for t in tasks],
             config=tasks[0]["config"],
             out_dirs=[t["out_dir"] for t in tasks],
+            workers=1,  # a Dask task is already one of the sweep's processes
         )
     except Exception:  # noqa: BLE001 - fall back to one by one, which records each failure
         return [run_one(t) for t in tasks]
