@@ -12,7 +12,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from oceangnc import postproc
 from oceangnc.io.logs import LogWriter, read_log
 
 SRC = Path(__file__).resolve().parents[1] / "src"
@@ -47,25 +46,24 @@ def test_forked_summary_and_plots_equal_the_in_process_ones(tmp_path):
     assert heavy_inl == [True, True]
 
 
-def test_a_failing_helper_falls_back_to_in_process_work(tmp_path, monkeypatch):
-    import oceangnc
-    from oceangnc.scenarios.base import get_scenario
-
-    sc = get_scenario("combined-survey")
-    parent = os.getpid()
-    real = type(sc).plot_jobs
-
-    def jobs(self, df, cfg, out_dir):  # breaks in the helpers only
-        if os.getpid() != parent:
-            raise RuntimeError("helper failure")
-        return real(self, df, cfg, out_dir)
-
-    monkeypatch.setattr(type(sc), "plot_jobs", jobs)
-    if not postproc.can_fork():
-        pytest.skip("more than one thread in this test process: no helpers")
-    r = oceangnc.run("combined-survey", duration=1, out=tmp_path, plots=True)
-    assert {p.name for p in r.plots} == PLOTS and all(p.exists() for p in r.plots)
-    assert r.summary["status"] == "ok"
+def test_a_failing_helper_falls_back_to_in_process_work(tmp_path):
+    code = (
+        "import json, os, oceangnc\n"
+        "from oceangnc import postproc\n"
+        "from oceangnc.scenarios.base import get_scenario\n"
+        "sc = get_scenario('combined-survey'); parent = os.getpid(); real = type(sc).plot_jobs\n"
+        "def jobs(self, df, cfg, out_dir):  # breaks in the helpers only\n"
+        "    if os.getpid() != parent: raise RuntimeError('helper failure')\n"
+        "    return real(self, df, cfg, out_dir)\n"
+        "type(sc).plot_jobs = jobs\n"
+        f"r = oceangnc.run('combined-survey', duration=1, out={str(tmp_path)!r}, plots=True)\n"
+        "print(json.dumps([postproc.can_fork(), r.summary['status'], [p.name for p in r.plots if p.exists()]]))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(SRC), OCEANGNC_POSTPROC="fork")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    forked, status, plots = json.loads(r.stdout.strip().splitlines()[-1])
+    assert forked and status == "ok" and set(plots) == PLOTS
 
 
 def test_log_blocks_and_rows_mix_in_order(tmp_path):

@@ -299,15 +299,15 @@ class LogWriter:
         if self.closed:
             return
         self.closed = True
-        if self.parts == 0 and self._mem == [] and self.columns and self._buf["t"]:
+        if self.parts == 0 and self._mem == [] and self.columns and self._nbuf:
             # everything still in memory (a short run, or a batch run): one compressed, synced file
             self.path.mkdir(parents=True, exist_ok=True)
             table = self._table()
             self._write_part(table, 0, 0)
             self._mem = [table]
             self.parts, self.rows_written = 1, table.num_rows
-            for c in self.columns:
-                self._buf[c].clear()
+            self._chunks.clear()
+            self._nbuf = 0
             return
         self.flush()
         self.path.mkdir(parents=True, exist_ok=True)
@@ -337,7 +337,7 @@ class LogWriter:
         without reading the log back."""
         if self._mem is None:
             return None
-        if self.columns and self._buf.get("t"):
+        if self.columns and self._nbuf:
             return pa.concat_tables([*self._mem, self._table()])
         return pa.concat_tables(self._mem) if self._mem else None
 
