@@ -10,9 +10,9 @@ steppers and fused drivers, the derived values).
 
 ``--cold`` adds the compile-once table for ``combined-survey``: a copy of the package is "installed"
 into a temporary folder (a fresh copy of ``src/oceangnc``: new mtimes, no numba cache files, its
-bytecode compiled, as a non-editable ``pip install`` leaves it) with an empty cache folder; then the first run (everything
-compiled), the second run, and the run after a *reinstall* (the copy replaced by a new one, the cache
-folder kept), without and with plots.
+bytecode compiled, as a non-editable ``pip install`` leaves it) with an empty cache folder; then
+the first run (everything compiled), the second run, and the run after a *reinstall* (the copy
+replaced by a new one, the cache folder kept), without and with plots.
 """
 
 import os
