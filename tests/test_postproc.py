@@ -20,50 +20,47 @@ PLOTS = {"trajectory3d.png", "track.png", "speeds.png", "thrusts.png", "headings
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the helpers fork (Linux only)")
 
 
-def _run(out: Path, mode: str) -> list:
+def _cli(out: Path, mode: str, prelude: str = "") -> list:
+    """``oceangnc run combined-survey`` through ``cli.main`` in a new process: (summary, files, heavy
+    modules imported by the parent)."""
     code = (
-        "import sys, json, oceangnc\n"
-        f"r = oceangnc.run('combined-survey', duration=2, out={str(out)!r}, plots=True)\n"
-        "print(json.dumps([r.summary, [str(p) for p in r.plots],\n"
-        "                  [m in sys.modules for m in ('pandas', 'matplotlib')]]))\n"
+        "import sys, json\n" + prelude + "from oceangnc.cli import main\n"
+        f"rc = main(['run', 'combined-survey', '--duration', '2', '--quiet', '--out', {str(out)!r}])\n"
+        "print(json.dumps([rc, [m in sys.modules for m in ('pandas', 'matplotlib')]]))\n"
     )
     env = dict(os.environ, PYTHONPATH=str(SRC), OCEANGNC_POSTPROC=mode)
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
     assert r.returncode == 0, r.stderr
-    return json.loads(r.stdout.strip().splitlines()[-1])
+    rc, heavy = json.loads(r.stdout.strip().splitlines()[-1])
+    assert rc == 0
+    summary = json.loads((out / "summary.json").read_text())
+    summary.pop("wall_time_s")
+    return summary, {p.name: p.stat().st_size for p in out.glob("*.png")}, heavy
 
 
 def test_forked_summary_and_plots_equal_the_in_process_ones(tmp_path):
-    s_fork, p_fork, heavy_fork = _run(tmp_path / "fork", "fork")
-    s_inl, p_inl, heavy_inl = _run(tmp_path / "inline", "inline")
-    drop = ("wall_time_s",)
-    assert {k: v for k, v in s_fork.items() if k not in drop} == {k: v for k, v in s_inl.items() if k not in drop}
-    assert [Path(p).name for p in p_fork] == [Path(p).name for p in p_inl]  # same files, same order
-    assert set(Path(p).name for p in p_fork) == PLOTS
-    for p in p_fork:
-        assert Path(p).stat().st_size > 10_000  # a drawn PNG, not an empty file
+    s_fork, png_fork, heavy_fork = _cli(tmp_path / "fork", "fork")
+    s_inl, png_inl, heavy_inl = _cli(tmp_path / "inline", "inline")
+    assert s_fork == s_inl and s_fork["status"] == "ok"
+    assert set(png_fork) == set(png_inl) == PLOTS
+    assert all(size > 10_000 for size in png_fork.values())  # drawn PNGs, not empty files
     assert heavy_fork == [False, False]  # the parent never imported pandas or matplotlib
     assert heavy_inl == [True, True]
 
 
 def test_a_failing_helper_falls_back_to_in_process_work(tmp_path):
-    code = (
-        "import json, os, oceangnc\n"
-        "from oceangnc import postproc\n"
+    prelude = (
+        "import os\n"
         "from oceangnc.scenarios.base import get_scenario\n"
         "sc = get_scenario('combined-survey'); parent = os.getpid(); real = type(sc).plot_jobs\n"
         "def jobs(self, df, cfg, out_dir):  # breaks in the helpers only\n"
         "    if os.getpid() != parent: raise RuntimeError('helper failure')\n"
         "    return real(self, df, cfg, out_dir)\n"
         "type(sc).plot_jobs = jobs\n"
-        f"r = oceangnc.run('combined-survey', duration=1, out={str(tmp_path)!r}, plots=True)\n"
-        "print(json.dumps([postproc.can_fork(), r.summary['status'], [p.name for p in r.plots if p.exists()]]))\n"
     )
-    env = dict(os.environ, PYTHONPATH=str(SRC), OCEANGNC_POSTPROC="fork")
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
-    assert r.returncode == 0, r.stderr
-    forked, status, plots = json.loads(r.stdout.strip().splitlines()[-1])
-    assert forked and status == "ok" and set(plots) == PLOTS
+    summary, pngs, heavy = _cli(tmp_path, "fork", prelude)
+    assert summary["status"] == "ok" and set(pngs) == PLOTS
+    assert heavy == [True, True]  # the parent drew them itself
 
 
 def test_log_blocks_and_rows_mix_in_order(tmp_path):

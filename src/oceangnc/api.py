@@ -179,7 +179,8 @@ def run(
         An identified model file (``identified.toml`` from ``oceangnc identify``): its
         ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
     _post : internal
-        A summary/plot helper already forked by the command line (:mod:`oceangnc.postproc`).
+        The summary/plot helper forked by the command line (:mod:`oceangnc.postproc`); without it
+        the summary and plots are made in this process.
 
     Raises
     ------
@@ -245,8 +246,9 @@ def run(
     )
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
-    # summary and plots in forked helpers that import pandas/matplotlib while this process simulates
-    post = _post if _post is not None else postproc.start(lambda: (sc, cfg), plots)
+    # summary and plots in forked helpers that imported pandas/matplotlib while this process simulated
+    # (the command line forks them; a Python caller's later runs reuse its own imports)
+    post = _post
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
 

@@ -2,14 +2,15 @@
 
 What a user of ``oceangnc run`` waits for is mostly not the simulation (issue 19): importing pandas
 (for the scenario's ``summarize``) and matplotlib, and drawing the figures, cost more than a cached
-simulation of the flagship. On Linux :func:`start` forks a helper as soon as the scenario is
-known; while the parent builds and runs the simulation, the helper imports pandas (and matplotlib,
-drawing one small figure so the fonts are loaded). When the log is closed the parent says "go":
-the helper forks a second drawer, both read the log, the first computes the summary metrics and
-sends them back, and the scenario's :meth:`~oceangnc.scenarios.base.Scenario.plot_jobs` are
-shared between the two (jobs 0, 2, 4, ... in the second drawer, 1, 3, 5, ... in the first). The
-files written, the summary and the returned paths are those of the in-process path; if a helper
-fails for any reason the parent recomputes what is missing in-process, so errors surface as before.
+simulation of the flagship. On Linux ``oceangnc run`` calls :func:`start` to fork a helper right
+after its first imports; while the parent resolves the config, builds and runs the simulation, the
+helper imports pandas (and matplotlib, drawing one small figure so the fonts are loaded) and
+resolves the same config. When the log is closed the parent says "go" with the run folder: the
+helper forks a second drawer, both read the log, the first computes the summary metrics and sends
+them back, and the scenario's :meth:`~oceangnc.scenarios.base.Scenario.plot_jobs` are shared
+between the two (jobs 0, 2, 4, ... in the second drawer, 1, 3, 5, ... in the first). The files
+written, the summary and the returned paths are those of the in-process path; if a helper fails for
+any reason the parent recomputes what is missing in-process, so errors surface as before.
 
 The helpers are only used where ``fork`` is safe: Linux, a single Python thread in the parent, and
 not disabled with ``OCEANGNC_POSTPROC=inline``. They ignore SIGINT (the parent handles Ctrl-C and
@@ -125,7 +126,8 @@ def start(resolve, plots: bool) -> PostProcess | None:
 
     ``resolve()`` gives the run's ``(scenario, config)``: the helper calls it after its imports, so the
     command line can fork before its own :func:`~oceangnc.api.resolve_config` (both resolve the same
-    arguments, deterministically); :func:`oceangnc.api.run` passes the pair it resolved.
+    arguments, deterministically). Only the command line forks helpers (one run per process): a
+    Python program making many runs pays the imports once and is better served in-process.
     """
     if not can_fork() or (not plots and "pandas" in sys.modules):
         return None
