@@ -18,20 +18,15 @@ import os
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from .cachedir import versioned
+
 
 def _package_dir() -> Path:
     return Path(__file__).resolve().parent
 
 
 def _cache_dir() -> Path:
-    from . import __version__
-
-    root = os.environ.get("OCEANGNC_CACHE_DIR")
-    if not root:
-        root = os.path.join(
-            os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "oceangnc"
-        )
-    return Path(root) / f"derived-{__version__}"
+    return versioned("derived")
 
 
 def sources_digest(subpackages: Iterable[str]) -> str:

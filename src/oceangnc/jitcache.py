@@ -25,20 +25,11 @@ compiled still goes through numba's compiler, which refreshes the context itself
 from __future__ import annotations
 
 import contextlib
-import os
 from pathlib import Path
 
 from numba.core import caching, config
 
-
-def cache_root() -> Path:
-    """``$OCEANGNC_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/oceangnc`` (default ``~/.cache/oceangnc``)."""
-    root = os.environ.get("OCEANGNC_CACHE_DIR")
-    if not root:
-        root = os.path.join(
-            os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "oceangnc"
-        )
-    return Path(root)
+from .cachedir import versioned
 
 
 def package_dir() -> Path:
@@ -48,9 +39,7 @@ def package_dir() -> Path:
 
 def package_cache_dir() -> Path:
     """Where the package's own compiled functions are cached: ``<cache_root>/numba-<version>``."""
-    from . import __version__
-
-    return cache_root() / f"numba-{__version__}"
+    return versioned("numba")
 
 
 class PackageCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):  # type: ignore[name-defined]
