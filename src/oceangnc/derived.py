@@ -12,6 +12,7 @@ is bit-identical to one that computes it.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -29,8 +30,12 @@ def _cache_dir() -> Path:
     return versioned("derived")
 
 
-def sources_digest(subpackages: Iterable[str]) -> str:
-    """SHA-256 of the ``.py`` files under the given subpackages of oceangnc (names relative to it)."""
+@functools.lru_cache(maxsize=8)
+def sources_digest(subpackages: tuple[str, ...]) -> str:
+    """SHA-256 of the ``.py`` files under the given subpackages of oceangnc (names relative to it).
+
+    Once per process (a batch builds many runs; ~3 ms per call otherwise): an edit is seen by the
+    next process, as numba's caches see it."""
     h = hashlib.sha256()
     base = _package_dir()
     for sub in subpackages:
@@ -46,7 +51,7 @@ def cached(name: str, key, compute: Callable[[], list], sources: Iterable[str]) 
     ``key`` is any JSON-serialisable description of the inputs; ``sources`` the subpackages whose
     code the value depends on. An unreadable or unwritable cache just computes the value.
     """
-    blob = json.dumps([key, sources_digest(sources)], sort_keys=True, default=str)
+    blob = json.dumps([key, sources_digest(tuple(sources))], sort_keys=True, default=str)
     path = _cache_dir() / f"{name}-{hashlib.sha256(blob.encode()).hexdigest()[:20]}.json"
     try:
         return list(json.loads(path.read_text()))
