@@ -1,0 +1,58 @@
+"""Open-loop command blocks: a step of set points at a given time (with a compiled form, so a
+scenario commanded by them runs fused, issue 19).
+
+``command.step`` (:class:`StepCommand`): each output is ``before`` until ``t_step`` and ``after``
+from then on (000 figs. 17-18: the heading and speed steps of the autopilot tests).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.blocks import Block
+from ..core.registry import register_block
+
+
+@register_block("command.step")
+class StepCommand(Block):
+    """Step set points: ``{signal: (before, after)}``, switching at ``t_step`` (s).
+
+    The switch uses ``t >= t_step - 1e-9`` (the clock's time is ``k dt``), the law of
+    :func:`oceangnc.control._compiled_first_order.step_value`. ``units`` gives each output's unit.
+    """
+
+    role = "guidance"
+
+    def __init__(
+        self,
+        name: str,
+        period: float,
+        t_step: float,
+        values: dict[str, tuple[float, float]],
+        units: dict[str, str],
+    ):
+        self.name = name
+        self.period = float(period)
+        self.t_step = float(t_step)
+        self.values = {k: (float(a), float(b)) for k, (a, b) in values.items()}
+        missing = [k for k in self.values if k not in units]
+        if missing:
+            raise ValueError(f"command '{name}': no unit for {missing}")
+        self.inputs = {}
+        self.outputs = {k: units[k] for k in self.values}
+
+    def step(self, t: float, bus: dict) -> None:
+        from ._compiled_first_order import step_value
+
+        for k, (a, b) in self.values.items():
+            bus[k] = step_value(float(t), self.t_step, a, b)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_first_order.step_command_step`."""
+        from ..core.fused import CompiledBlock
+        from ._compiled_first_order import step_command_step
+
+        pa = [self.t_step]
+        for a, b in self.values.values():
+            pa += [a, b]
+        return CompiledBlock(step_command_step, list(self.values), params=np.array(pa, dtype=np.float64))
