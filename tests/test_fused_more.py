@@ -16,6 +16,10 @@ from oceangnc.io.logs import LogWriter, read_log
 FUSED_MORE = [
     ("autopilot-heading", {}, 6.0),
     ("autopilot-speed", {}, 6.0),
+    ("usv-waypoints-7", {}, 20.0),
+    ("usv-waypoints-7", {"guidance.mode": "los"}, 20.0),
+    ("uuv-profile-plan", {}, 70.0),  # through several leg switches
+    ("uuv-profile-plan", {"guidance.mode": "los"}, 10.0),
 ]
 
 
@@ -46,4 +50,14 @@ def test_fused_log_equals_python_log(name, over, dur, tmp_path):
     assert sp.path == "python" and sf.path == "fused"
     assert tp == tf
     assert len(a) == int(round(tp * cfg.sim.log_rate)) + 1
+    _same_log(a, b)
+
+
+def test_fused_waypoint_guidance_switches_legs_and_stops_like_python(tmp_path):
+    over = {"waypoints": [[0.0, 40.0], [0.0, 120.0], [60.0, 170.0]]}
+    sp, tp, a, _ = _run("usv-waypoints-7", over, 120.0, False, tmp_path)
+    sf, tf, b, _ = _run("usv-waypoints-7", over, 120.0, True, tmp_path)
+    assert sf.path == "fused"
+    assert tp < 120.0 and tf == tp  # the last waypoint stops both runs at the same tick
+    assert set(b["guidance.leg"]) == {1.0, 2.0}
     _same_log(a, b)
