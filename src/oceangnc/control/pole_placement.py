@@ -25,6 +25,7 @@ same blocks serve a fixed identified model or the speed-scheduled model of 000 t
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from ..core.blocks import Block
 from ..core.registry import register_block
@@ -87,6 +88,10 @@ class HeadingAutopilot(Block):
     role = "controller"
 
     name = "heading_autopilot"
+    coefficients: Callable[[float], tuple[float, float]]
+    zeta: float
+    wn: float
+    body: str
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
@@ -125,6 +130,10 @@ class SpeedAutopilot(Block):
     role = "controller"
 
     name = "speed_autopilot"
+    coefficients: Callable[[float], tuple[float, float]]
+    zeta: float
+    wn: float
+    body: str
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
