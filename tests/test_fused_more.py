@@ -20,6 +20,11 @@ FUSED_MORE = [
     ("usv-waypoints-7", {"guidance.mode": "los"}, 20.0),
     ("uuv-profile-plan", {}, 70.0),  # through several leg switches
     ("uuv-profile-plan", {"guidance.mode": "los"}, 10.0),
+    # the console's USV offline: GPS white noise, pure-pursuit route pilot, speed / yaw-rate PIDs
+    ("usv-remote", {}, 30.0),
+    ("usv-remote", {"guidance.waypoints": [[8.0, 0.0], [8.0, 6.0]], "gps.outages": [[2.0, 4.0]]}, 30.0),
+    ("usv-remote", {"pilot.mode": "remote"}, 4.0),
+    ("usv-remote", {"pilot.mode": "remote", "pilot.loop": "open"}, 4.0),
 ]
 
 
@@ -61,3 +66,49 @@ def test_fused_waypoint_guidance_switches_legs_and_stops_like_python(tmp_path):
     assert tp < 120.0 and tf == tp  # the last waypoint stops both runs at the same tick
     assert set(b["guidance.leg"]) == {1.0, 2.0}
     _same_log(a, b)
+
+
+def _console_session(fused, tmp_path):
+    """usv-remote driven from outside the loop between runs: stick, mode, loop and e-stop changes."""
+    sc, cfg = resolve_config("usv-remote", overrides={"pilot.mode": "remote"}, duration=9.0)
+    sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+    sim.use_fused = fused
+    path = tmp_path / f"session-{int(fused)}.parquet"
+    script = [
+        {"joystick.surge": 0.8, "joystick.yaw": 0.0},
+        {"joystick.surge": 0.5, "joystick.yaw": -0.6},
+        {"console.loop": "open", "joystick.surge": 0.7, "joystick.yaw": 0.4},
+        {"_estop": True},
+        {"_estop": False, "console.loop": "closed", "console.mode": "auto"},
+        {"joystick.surge": -0.5},
+    ]
+    with LogWriter(path) as log:
+        for cmd in script:
+            sim.inject(cmd)
+            sim.run(1.5, log=log)
+    return sim, read_log(path)
+
+
+def test_fused_reads_the_console_signals_between_runs(tmp_path):
+    sp, a = _console_session(False, tmp_path)
+    sf, b = _console_session(True, tmp_path)
+    assert sf.path == "fused"
+    _same_log(a, b)
+    assert sf.bus["console.mode"] == "auto" and sf.bus["console.loop"] == "closed"  # strings stay strings
+    # the stick moved the boat, the e-stop zeroed the thrust, the route pilot took over
+    t = b["t"].to_numpy()
+    assert b["usv.u"].max() > 0.3
+    stop = (t > 4.6) & (t < 6.0)
+    assert np.all(b["usv.thrust_port"].to_numpy()[stop] == 0.0)
+    assert b["usv.u_d"].to_numpy()[(t > 6.1) & (t < 7.5)].max() > 0.0
+
+
+def test_a_console_route_keeps_the_python_path(tmp_path):
+    from oceangnc.core.fused import build_fused
+
+    sc, cfg = resolve_config("usv-remote", duration=1.0)
+    sim = sc.build(cfg, np.random.default_rng(0))
+    sim.inject({"console.waypoints": ((5.0, 5.0), (10.0, 0.0))})
+    sim.run(0.1)
+    loop, why = build_fused(sim)
+    assert loop is None and why.startswith("signal 'console.waypoints'") and "block 'usv_route'" in why

@@ -96,11 +96,11 @@ def speed_p_step(t, sig, sl, st, pa):
 def rudder_engine_step(t, sig, sl, st, pa):
     """:class:`~oceangnc.control.actuators.RudderEngineBlock`.
 
-    slots: delta_s_cmd, rpm_cmd, ?_estop | delta_s, rpm, delta_s_deg. params: dmax, nmin, nmax.
+    slots: delta_s_cmd, rpm_cmd, _estop | delta_s, rpm, delta_s_deg. params: dmax, nmin, nmax.
     """
     d = sig[sl[0]]
     n = sig[sl[1]]
-    estop = sl[2] >= 0 and sig[sl[2]] != 0.0
+    estop = sig[sl[2]] != 0.0
     d, n, deg = saturate_rudder_engine(d, n, estop, pa[0], pa[1], pa[2])
     sig[sl[3]] = d
     sig[sl[4]] = n

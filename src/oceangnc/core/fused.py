@@ -245,7 +245,7 @@ class FusedLoop:
 
     def __init__(self, sim, forms: list[CompiledBlock]):
         bus = sim.bus
-        names = sorted(k for k, v in bus.items() if _numeric(v))
+        names = sorted(k for k, v in bus.items() if _numeric(v) or k in ENUMS)
         for f in forms:
             for s in f.signals:
                 if not s.startswith("?") and s not in names:
@@ -255,14 +255,14 @@ class FusedLoop:
                 names.append(s)
         self.names = names
         self.slot = {k: i for i, k in enumerate(names)}
-        self.sig = np.array([float(bus.get(k, 0.0)) if _numeric(bus.get(k, 0.0)) else 0.0 for k in names])
+        self.sig = np.array([_code(k, bus.get(k)) for k in names])
         self.had = {k for k in names if k in bus}
 
         def slot_of(name: str) -> int:
             if name not in self.slot:
                 self.slot[name] = len(self.names)
                 self.names.append(name)
-                self.sig = np.append(self.sig, float(bus.get(name, 0.0)))
+                self.sig = np.append(self.sig, _code(name, bus.get(name)))
             return self.slot[name]
 
         slot_of.names = self.slot  # type: ignore[attr-defined]
@@ -361,6 +361,8 @@ class FusedLoop:
         """Copy the signal array back onto the bus (after each fused call)."""
         vals = self.sig.tolist()
         for k, v in zip(self.names, vals):
+            if k in ENUMS:
+                continue  # a string signal read as its code: the kernels never write it
             if k in ("_stop", "_estop"):
                 if v != 0.0 or k in self.had:
                     bus[k] = bool(v)
@@ -371,8 +373,8 @@ class FusedLoop:
         """Copy numeric bus values into the signal array (values injected between runs)."""
         for k, v in bus.items():
             i = self.slot.get(k)
-            if i is not None and _numeric(v):
-                self.sig[i] = float(v)
+            if i is not None and (_numeric(v) or k in ENUMS):
+                self.sig[i] = _code(k, v)
 
 
 class _NoFused(Exception):
@@ -381,6 +383,33 @@ class _NoFused(Exception):
 
 def _numeric(v) -> bool:
     return isinstance(v, (int, float, bool, np.floating, np.integer, np.bool_))
+
+
+#: string signals of the console protocol that kernels read as a code, the value's index here
+#: (a kernel lists the signal among its ``signals`` to say it reads the code)
+ENUMS = {"console.mode": ("remote", "auto"), "console.loop": ("closed", "open")}
+
+
+def _code(k: str, v) -> float:
+    """A bus value as a float of the signal array: numbers as they are (absent: 0), an :data:`ENUMS`
+    string its index (absent or unknown: -1, the reading block's default)."""
+    if k in ENUMS:
+        return float(ENUMS[k].index(v)) if isinstance(v, str) and v in ENUMS[k] else -1.0
+    return float(v) if _numeric(v) else 0.0
+
+
+def _strings_ok(sim, forms) -> str | None:
+    """None when every console string signal on the bus is read only by kernels that take its code, else why not."""
+    for k, v in sim.bus.items():
+        if _numeric(v) or not k.startswith("console."):
+            continue
+        if k in ENUMS and v not in ENUMS[k]:
+            return f"signal '{k}' = {v!r} (no code for it in the fused loop)"
+        for b, f in zip(sim.blocks, forms):
+            reads = {**(getattr(b, "inputs", None) or {}), **(getattr(b, "optional_inputs", None) or {})}
+            if k in reads and (k not in ENUMS or not ({k, "?" + k} & set(f.signals))):
+                return f"signal '{k}' = {v!r} is read by block '{b.name}' on the Python path only"
+    return None
 
 
 def build_fused(sim):
@@ -392,9 +421,9 @@ def build_fused(sim):
         if f is None:
             return None, f"block '{b.name}' ({type(b).__name__}) has no compiled form"
         forms.append(f)
-    for k, v in sim.bus.items():
-        if not _numeric(v) and k in ("console.mode",):
-            return None, f"signal '{k}' = {v!r} (console modes run on the Python path)"
+    why = _strings_ok(sim, forms)
+    if why is not None:
+        return None, why
     try:
         return FusedLoop(sim, forms), None
     except _NoFused as e:

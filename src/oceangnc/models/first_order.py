@@ -303,5 +303,5 @@ class FirstOrderActuators(Block):
         from ..core.fused import CompiledBlock
 
         b = self.body
-        sigs = [f"{b}.delta_s_cmd", f"{b}.rpm_cmd", "?_estop", f"{b}.delta_s", f"{b}.rpm", f"{b}.delta_s_deg"]
+        sigs = [f"{b}.delta_s_cmd", f"{b}.rpm_cmd", "_estop", f"{b}.delta_s", f"{b}.rpm", f"{b}.delta_s_deg"]
         return CompiledBlock(rudder_engine_step, sigs, params=np.array([self.dmax, self.nmin, self.nmax]))
