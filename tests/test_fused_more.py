@@ -112,3 +112,15 @@ def test_a_console_route_keeps_the_python_path(tmp_path):
     sim.run(0.1)
     loop, why = build_fused(sim)
     assert loop is None and why.startswith("signal 'console.waypoints'") and "block 'usv_route'" in why
+
+
+@pytest.mark.parametrize("mode", ["open", "pid"])
+def test_fused_berthing_modes(mode, tmp_path):
+    over = {"control.mode": mode}
+    sp, tp, a, cfg = _run("berthing-dock", over, 60.0, False, tmp_path)
+    sf, tf, b, _ = _run("berthing-dock", over, 60.0, True, tmp_path)
+    assert sp.path == "python" and sf.path == "fused"
+    assert tp == tf
+    _same_log(a, b)
+    # the controller acted: a propeller command, and the rudder or the thrusters moved
+    assert np.abs(b["ship.n_prop_cmd"]).max() > 0.0
