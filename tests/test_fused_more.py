@@ -124,3 +124,31 @@ def test_fused_berthing_modes(mode, tmp_path):
     _same_log(a, b)
     # the controller acted: a propeller command, and the rudder or the thrusters moved
     assert np.abs(b["ship.n_prop_cmd"]).max() > 0.0
+
+
+@pytest.mark.parametrize("vehicle", ["usv-first-order", "usv-3dof"])
+def test_fused_trials_inner_runs(vehicle, tmp_path):
+    """Each straight / turning / zig-zag run of ``trials`` (several simulations, one log) fuses, with
+    the Python path's log, noise included (the sensors draw from the same generators)."""
+    over = {"vehicle": vehicle, "noise.speed_mps": 0.05, "noise.heading_deg": 0.5, "noise.yaw_rate_degps": 0.2}
+    sc, cfg = resolve_config("trials", overrides=over)
+    kinds = set()
+    for i, (kind, val) in enumerate(sc._trial_list(cfg)):
+        logs, sims = [], []
+        for fused in (False, True):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                sim, dur, _ = sc._build_one(cfg, kind, val, np.random.default_rng(100 + i))
+                sim.use_fused = fused
+                path = tmp_path / f"{i}-{int(fused)}.parquet"
+                with LogWriter(path) as log:
+                    sim.run(min(dur, 12.0), log=log)
+            logs.append(read_log(path))
+            sims.append(sim)
+        assert sims[1].path == "fused", (kind, val)
+        _same_log(*logs)
+        kinds.add(kind)
+    assert kinds == {"straight", "turn", "zigzag"}
+    # the zig-zag's command switched sign within the horizon (the manoeuvre ran, not just the step)
+    steer = logs[1]["trial.steer"].to_numpy()
+    assert steer.max() > 0.0 and steer.min() < 0.0

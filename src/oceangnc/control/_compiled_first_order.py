@@ -113,3 +113,11 @@ def step_command_step(t, sig, sl, st, pa):
     params t_step, then (before, after) per output."""
     for i in range(sl.size):
         sig[sl[i]] = step_value(t, pa[0], pa[1 + 2 * i], pa[2 + 2 * i])
+
+
+@njit(cache=True)
+def differential_step(t, sig, sl, st, pa):
+    """:class:`~oceangnc.control.commands.DifferentialThrust`: slots ?steer | port, stbd; params: mean (N)."""
+    steer = sig[sl[0]] if sl[0] >= 0 else 0.0
+    sig[sl[1]] = pa[0] + steer
+    sig[sl[2]] = pa[0] - steer

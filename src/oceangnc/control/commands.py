@@ -56,3 +56,34 @@ class StepCommand(Block):
         for a, b in self.values.values():
             pa += [a, b]
         return CompiledBlock(step_command_step, list(self.values), params=np.array(pa, dtype=np.float64))
+
+
+@register_block("command.differential")
+class DifferentialThrust(Block):
+    """Mean thrust plus and minus a steering signal: ``port = mean + steer``, ``stbd = mean - steer`` (N).
+
+    Reads ``steer_key`` (N, e.g. a :class:`~oceangnc.identification.trials.ZigZag` on differential
+    thrust; 0 when absent); writes ``port_key`` and ``stbd_key``.
+    """
+
+    role = "guidance"
+
+    def __init__(self, name: str, period: float, mean: float, steer_key: str, port_key: str, stbd_key: str):
+        self.name = name
+        self.period = float(period)
+        self.mean = float(mean)
+        self.keys = (steer_key, port_key, stbd_key)
+        self.inputs = {steer_key: "N"}
+        self.outputs = {port_key: "N", stbd_key: "N"}
+
+    def step(self, t: float, bus: dict) -> None:
+        steer = bus.get(self.keys[0], 0.0)
+        bus[self.keys[1]] = self.mean + steer
+        bus[self.keys[2]] = self.mean - steer
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_first_order.differential_step`."""
+        from ..core.fused import CompiledBlock
+        from ._compiled_first_order import differential_step
+
+        return CompiledBlock(differential_step, ["?" + self.keys[0], *self.keys[1:]], params=np.array([self.mean]))
