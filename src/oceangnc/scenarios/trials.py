@@ -208,6 +208,7 @@ class Trials(Scenario):
                     },
                 )
                 sim.use_fused = ctx.fused
+                sim.verbose = ctx.verbose
                 sim.run(dur, log=log)
                 t0 += dur + 10.0
         ctx.info["t_end"] = t0
