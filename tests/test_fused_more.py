@@ -43,7 +43,11 @@ def _run(name, over, dur, fused, tmp_path):
 def _same_log(a, b):
     assert list(a.columns) == list(b.columns)
     assert len(a) == len(b)
-    np.testing.assert_allclose(b.to_numpy(), a.to_numpy(), rtol=1e-9, atol=1e-12)
+    x, y = a.to_numpy(), b.to_numpy()
+    np.testing.assert_allclose(y, x, rtol=1e-9, atol=1e-12)
+    # the kernels share the Python blocks' compiled laws: nearly every column is bit-identical
+    # (an ulp of libm's hypot against numba's is the only difference seen)
+    assert ((x == y) | (np.isnan(x) & np.isnan(y))).all(axis=0).mean() > 0.9
 
 
 @pytest.mark.parametrize(
@@ -114,11 +118,13 @@ def test_a_console_route_keeps_the_python_path(tmp_path):
     assert loop is None and why.startswith("signal 'console.waypoints'") and "block 'usv_route'" in why
 
 
-@pytest.mark.parametrize("mode", ["open", "pid"])
-def test_fused_berthing_modes(mode, tmp_path):
+@pytest.mark.parametrize(
+    "name,mode", [("berthing-dock", "open"), ("berthing-dock", "pid"), ("berthing-channel", "pid")]
+)
+def test_fused_berthing_modes(name, mode, tmp_path):
     over = {"control.mode": mode}
-    sp, tp, a, cfg = _run("berthing-dock", over, 60.0, False, tmp_path)
-    sf, tf, b, _ = _run("berthing-dock", over, 60.0, True, tmp_path)
+    sp, tp, a, cfg = _run(name, over, 60.0, False, tmp_path)
+    sf, tf, b, _ = _run(name, over, 60.0, True, tmp_path)
     assert sp.path == "python" and sf.path == "fused"
     assert tp == tf
     _same_log(a, b)
