@@ -72,12 +72,15 @@ def test_fused_waypoint_guidance_switches_legs_and_stops_like_python(tmp_path):
     _same_log(a, b)
 
 
-def _console_session(fused, tmp_path):
-    """usv-remote driven from outside the loop between runs: stick, mode, loop and e-stop changes."""
+def _console_session(fused, tmp_path, absent=False):
+    """usv-remote driven from outside the loop between runs: stick, mode, loop and e-stop changes
+    (``absent``: no console mode or loop on the bus until the console sends one)."""
     sc, cfg = resolve_config("usv-remote", overrides={"pilot.mode": "remote"}, duration=9.0)
     sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
+    if absent:
+        del sim.bus["console.mode"], sim.bus["console.loop"]
     sim.use_fused = fused
-    path = tmp_path / f"session-{int(fused)}.parquet"
+    path = tmp_path / f"session-{int(fused)}-{int(absent)}.parquet"
     script = [
         {"joystick.surge": 0.8, "joystick.yaw": 0.0},
         {"joystick.surge": 0.5, "joystick.yaw": -0.6},
@@ -93,9 +96,10 @@ def _console_session(fused, tmp_path):
     return sim, read_log(path)
 
 
-def test_fused_reads_the_console_signals_between_runs(tmp_path):
-    sp, a = _console_session(False, tmp_path)
-    sf, b = _console_session(True, tmp_path)
+@pytest.mark.parametrize("absent", [False, True], ids=["injected", "absent-at-start"])
+def test_fused_reads_the_console_signals_between_runs(absent, tmp_path):
+    sp, a = _console_session(False, tmp_path, absent)
+    sf, b = _console_session(True, tmp_path, absent)
     assert sf.path == "fused"
     _same_log(a, b)
     assert sf.bus["console.mode"] == "auto" and sf.bus["console.loop"] == "closed"  # strings stay strings
