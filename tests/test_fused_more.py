@@ -162,3 +162,16 @@ def test_fused_trials_inner_runs(vehicle, tmp_path):
     # the zig-zag's command switched sign within the horizon (the manoeuvre ran, not just the step)
     steer = logs[1]["trial.steer"].to_numpy()
     assert steer.max() > 0.0 and steer.min() < 0.0
+
+
+def test_a_console_route_sent_to_a_running_fused_loop_is_refused(tmp_path):
+    from oceangnc.errors import ConfigError
+
+    sc, cfg = resolve_config("usv-remote", duration=1.0)
+    sim = sc.build(cfg, np.random.default_rng(0))
+    sim.use_fused = True
+    sim.run(0.5)
+    assert sim.path == "fused"
+    sim.inject({"console.waypoints": ((5.0, 5.0), (10.0, 0.0))})
+    with pytest.raises(ConfigError, match="console.waypoints.*use_fused = False"):
+        sim.run(0.5)

@@ -245,6 +245,7 @@ class FusedLoop:
 
     def __init__(self, sim, forms: list[CompiledBlock]):
         bus = sim.bus
+        self._readers = list(zip(sim.blocks, forms))
         names = sorted(k for k, v in bus.items() if _numeric(v) or k in ENUMS)
         for f in forms:
             for s in f.signals:
@@ -370,7 +371,13 @@ class FusedLoop:
                 bus[k] = v
 
     def from_bus(self, bus: dict) -> None:
-        """Copy numeric bus values into the signal array (values injected between runs)."""
+        """Copy numeric bus values into the signal array (values injected between runs); a console
+        string the kernels cannot read (a route sent by the console) is refused with a ConfigError."""
+        why = _strings_ok(bus, self._readers)
+        if why is not None:
+            from ..errors import ConfigError
+
+            raise ConfigError(f"fused loop: {why}; run this simulation with use_fused = False")
         for k, v in bus.items():
             i = self.slot.get(k)
             if i is not None and (_numeric(v) or k in ENUMS):
@@ -398,14 +405,15 @@ def _code(k: str, v) -> float:
     return float(v) if _numeric(v) else 0.0
 
 
-def _strings_ok(sim, forms) -> str | None:
-    """None when every console string signal on the bus is read only by kernels that take its code, else why not."""
-    for k, v in sim.bus.items():
+def _strings_ok(bus, readers) -> str | None:
+    """None when every console string signal on the bus is read only by kernels that take its code, else why
+    not; ``readers``: (block, compiled form) pairs."""
+    for k, v in bus.items():
         if _numeric(v) or not k.startswith("console."):
             continue
         if k in ENUMS and v not in ENUMS[k]:
             return f"signal '{k}' = {v!r} (no code for it in the fused loop)"
-        for b, f in zip(sim.blocks, forms):
+        for b, f in readers:
             reads = {**(getattr(b, "inputs", None) or {}), **(getattr(b, "optional_inputs", None) or {})}
             if k in reads and (k not in ENUMS or not ({k, "?" + k} & set(f.signals))):
                 return f"signal '{k}' = {v!r} is read by block '{b.name}' on the Python path only"
@@ -421,7 +429,7 @@ def build_fused(sim):
         if f is None:
             return None, f"block '{b.name}' ({type(b).__name__}) has no compiled form"
         forms.append(f)
-    why = _strings_ok(sim, forms)
+    why = _strings_ok(sim.bus, list(zip(sim.blocks, forms)))
     if why is not None:
         return None, why
     try:
