@@ -175,3 +175,19 @@ def test_a_console_route_sent_to_a_running_fused_loop_is_refused(tmp_path):
     sim.inject({"console.waypoints": ((5.0, 5.0), (10.0, 0.0))})
     with pytest.raises(ConfigError, match="console.waypoints.*use_fused = False"):
         sim.run(0.5)
+
+
+@pytest.mark.parametrize("fused", [False, True], ids=["python", "fused"])
+def test_first_order_range_warning_on_both_paths(fused):
+    """Leaving the trial ranges of 000 table 2 during the run warns once, fused or not."""
+    over = {"usv.u0": 6.0, "speed_mps": 10.0}  # starts inside, accelerates past the turning range (8.74 m/s)
+    sc, cfg = resolve_config("usv-waypoints-7", overrides=over, duration=30.0)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        sim = sc.build(cfg, np.random.default_rng(0))
+        assert not rec  # in range at the start
+        sim.use_fused = fused
+        sim.run(30.0)
+    hits = [w for w in rec if "outside the trial ranges" in str(w.message)]
+    assert sim.path == ("fused" if fused else "python")
+    assert len(hits) == 1 and "speed 8.7" in str(hits[0].message)

@@ -246,6 +246,7 @@ class FusedLoop:
     def __init__(self, sim, forms: list[CompiledBlock]):
         bus = sim.bus
         self._readers = list(zip(sim.blocks, forms))
+        self._plants = list(sim.plants)
         names = sorted(k for k, v in bus.items() if _numeric(v) or k in ENUMS)
         for f in forms:
             for s in f.signals:
@@ -369,6 +370,10 @@ class FusedLoop:
                     bus[k] = bool(v)
             else:
                 bus[k] = v
+        for pl in self._plants:  # a plant's own follow-up of a fused call (e.g. a warning its publish gives)
+            hook = getattr(pl, "after_fused", None)
+            if hook is not None:
+                hook(bus)
 
     def from_bus(self, bus: dict) -> None:
         """Copy numeric bus values into the signal array (values injected between runs); a console

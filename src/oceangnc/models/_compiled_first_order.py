@@ -21,7 +21,8 @@ def first_order_publish(x, sig, slots, cp):
     """:meth:`oceangnc.models.first_order.FirstOrderUSV.publish`.
 
     slots: x, y, psi, u, r, speed, schedule_clamped, u_op (-1: absent). cp: straight lo/hi, turn
-    lo/hi (m/s), operating schedule (1/0).
+    lo/hi (m/s), operating schedule (1/0), then set here: left a range (1/0), the speed then (m/s),
+    for the plant's warning (:meth:`~oceangnc.models.first_order.FirstOrderUSV.after_fused`).
     """
     for i in range(5):
         sig[slots[i]] = x[i]
@@ -32,6 +33,9 @@ def first_order_publish(x, sig, slots, cp):
         u = sig[slots[7]]
     out = not (cp[0] <= u <= cp[1] and cp[2] <= u <= cp[3])
     sig[slots[6]] = 1.0 if out else 0.0
+    if out and cp[5] == 0.0:
+        cp[5] = 1.0
+        cp[6] = u
 
 
 @njit(cache=True)
@@ -92,7 +96,8 @@ def first_order_form(plant, slot_of):
     names = [f"{n}.{k}" for k in ("x", "y", "psi", "u", "r", "speed", "schedule_clamped")]
     args["oslots"] = np.array([slot_of(k) for k in names] + [slot_of(uop) if has_uop else -1], dtype=np.int64)
     oper = 1.0 if c.schedule == "operating" else 0.0
-    args["cp"] = np.array([c.straight_lo_mps, c.straight_hi_mps, c.turn_lo_mps, c.turn_hi_mps, oper])
+    args["cp"] = np.array([c.straight_lo_mps, c.straight_hi_mps, c.turn_lo_mps, c.turn_hi_mps, oper, 0.0, 0.0])
+    plant._fused_cp = args["cp"]
     imports = [
         *_stepper_imports(plant),
         "from oceangnc.models._compiled_first_order import first_order_publish as _pub_{adv}",

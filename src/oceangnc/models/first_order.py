@@ -257,15 +257,28 @@ class FirstOrderUSV(Plant):
             u = bus.get(f"{self.name}.u_op", u)
         out = not (c.straight_lo_mps <= u <= c.straight_hi_mps and c.turn_lo_mps <= u <= c.turn_hi_mps)
         bus[f"{self.name}.schedule_clamped"] = 1.0 if out else 0.0
-        if out and not self._warned:
-            self._warned = True
-            warnings.warn(
-                f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
-                f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
-                f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends",
-                RuntimeWarning,
-                stacklevel=2,
-            )
+        if out:
+            self._warn(u)
+
+    def _warn(self, u: float) -> None:
+        """Warn once per plant that the speed ``u`` (m/s) left the trial ranges."""
+        if self._warned:
+            return
+        self._warned = True
+        c = self.cfg
+        warnings.warn(
+            f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
+            f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
+            f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+    def after_fused(self, bus: dict) -> None:
+        """After a fused call: the warning :meth:`publish` gives, if the speed left the ranges in it."""
+        cp = getattr(self, "_fused_cp", None)
+        if cp is not None and cp[5] != 0.0:
+            self._warn(float(cp[6]))
 
 
 class FirstOrderActuators(Block):
