@@ -308,7 +308,8 @@ class USVRateController(Block):
 
     def compiled(self):
         """Compiled form: :func:`oceangnc.control._compiled_rate.rate_control_step` (PIDs without hold/ramp)."""
-        from ..core.fused import ENUMS, CompiledBlock
+        from ..core.fused import CompiledBlock
+        from ..core.fused_strings import ENUMS
         from ._compiled import arr, pid_params, pid_state
         from ._compiled_rate import rate_control_step
 

@@ -36,6 +36,10 @@ from typing import Any
 
 import numpy as np
 
+from .fused_strings import ENUMS
+from .fused_strings import code as _code
+from .fused_strings import strings_ok as _strings_ok
+
 
 @dataclass
 class CompiledBlock:
@@ -395,34 +399,6 @@ class _NoFused(Exception):
 
 def _numeric(v) -> bool:
     return isinstance(v, (int, float, bool, np.floating, np.integer, np.bool_))
-
-
-#: string signals of the console protocol that kernels read as a code, the value's index here
-#: (a kernel lists the signal among its ``signals`` to say it reads the code)
-ENUMS = {"console.mode": ("remote", "auto"), "console.loop": ("closed", "open")}
-
-
-def _code(k: str, v) -> float:
-    """A bus value as a float of the signal array: numbers as they are (absent: 0), an :data:`ENUMS`
-    string its index (absent or unknown: -1, the reading block's default)."""
-    if k in ENUMS:
-        return float(ENUMS[k].index(v)) if isinstance(v, str) and v in ENUMS[k] else -1.0
-    return float(v) if _numeric(v) else 0.0
-
-
-def _strings_ok(bus, readers) -> str | None:
-    """None when every console string signal on the bus is read only by kernels that take its code, else why
-    not; ``readers``: (block, compiled form) pairs."""
-    for k, v in bus.items():
-        if _numeric(v) or not k.startswith("console."):
-            continue
-        if k in ENUMS and v not in ENUMS[k]:
-            return f"signal '{k}' = {v!r} (no code for it in the fused loop)"
-        for b, f in readers:
-            reads = {**(getattr(b, "inputs", None) or {}), **(getattr(b, "optional_inputs", None) or {})}
-            if k in reads and (k not in ENUMS or not ({k, "?" + k} & set(f.signals))):
-                return f"signal '{k}' = {v!r} is read by block '{b.name}' on the Python path only"
-    return None
 
 
 def build_fused(sim):

@@ -192,7 +192,8 @@ class RoutePilot(Block):
         """Compiled form: :func:`oceangnc.guidance._compiled_route.route_pilot_step` (the route as it
         stands; a route sent by the console while running keeps the Python path, see
         :func:`oceangnc.core.fused.build_fused`)."""
-        from ..core.fused import ENUMS, CompiledBlock
+        from ..core.fused import CompiledBlock
+        from ..core.fused_strings import ENUMS
 
         route = np.array(self.route, dtype=np.float64).ravel()
         pa = np.concatenate(
