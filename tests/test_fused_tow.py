@@ -13,14 +13,26 @@ from test_fused import _run
 #: (scenario, overrides, horizon s): the commands start early so a short horizon exercises the loops
 TOW = [
     ("tow-straight", {"command.start_s": 1.0}, 5.0),
-    # the depth profile starts descending at 1 s: the drum pays out at its 0.5 m/s limit and the
-    # winch inserts nodes (the top segment passes 1.5 l0 = 1.5 m)
-    ("tow-deploy", {"winch_control.profile": [(0.0, 1.3), (1.0, 1.3), (20.0, 12.0)]}, 6.0),
+    # the depth target drops 6.7 m at once and comes back: the drum pays out at its 0.5 m/s limit, the
+    # winch inserts a node (top segment above 1.5 l0 = 1.5 m), then hauls in and removes it
+    ("tow-deploy", {"winch_control.profile": [(0.0, 1.3), (0.5, 8.0), (3.0, 8.0), (6.0, 1.3)]}, 12.0),
     ("tow-survey-depth", {}, 4.0),
+    # a seabed without a winch (variable-count plant form, fixed count), explicit RK4 cable
+    (
+        "tow-deploy",
+        {
+            "winch.enabled": False,
+            "environment.seabed.depth": 1.5,
+            "cable.integrator": "rk4",
+            "sim.dt": 0.002,
+            "winch_control.mode": "altitude",
+        },
+        3.0,
+    ),
 ]
 
 
-@pytest.mark.parametrize("name,over,dur", TOW, ids=[n for n, _, _ in TOW])
+@pytest.mark.parametrize("name,over,dur", TOW, ids=[n for n, _, _ in TOW[:3]] + ["seabed-rk4"])
 def test_tow_fused_log_equals_python_log(name, over, dur, tmp_path):
     sp, tp, a = _run(name, over, dur, False, tmp_path)
     sf, tf, b = _run(name, over, dur, True, tmp_path)
@@ -31,11 +43,11 @@ def test_tow_fused_log_equals_python_log(name, over, dur, tmp_path):
     x, y = a.to_numpy(), b.to_numpy()
     np.testing.assert_allclose(y, x, rtol=1e-9, atol=1e-12)
     # the loops did something: thrust or drum commands are not all zero
-    cmd = [c for c in a.columns if c.endswith("_cmd") or c == "winch.speed_cmd_sat"]
+    cmd = [c for c in a.columns if c.endswith("_cmd") or c in ("winch.speed_cmd_sat", "winch.error")]
     assert np.abs(a[cmd].to_numpy()).max() > 1.0e-3
-    if name == "tow-deploy":  # nodes inserted inside the fused calls, on both paths alike
+    if "winch.enabled" not in over and name == "tow-deploy":  # nodes inserted and removed in fused calls
         nodes = b["cable.nodes"].to_numpy()
-        assert nodes[-1] > nodes[0]
+        assert nodes.max() > nodes[0] and nodes[-1] < nodes.max()
         assert (a["cable.nodes"].to_numpy() == nodes).all()
         assert sf.plants[0].n == sp.plants[0].n == nodes[-1] - 1
     for k in ("uuv.z", "cable.length", "winch.speed", "usv.x", "cable.top_tension"):
