@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.fused import PlantForm, _kernel_ref
+from .combined import _fill_outputs_var, imex_advance, split_advance
 
 
 def var_plant_form(plant, slot_of) -> PlantForm | None:
@@ -48,10 +49,10 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
         "oidx": np.ascontiguousarray(plant._out_idx, dtype=np.int64),
         "oslots": oslots,
     }
-    if plant.integrator == "imex":
-        imports = ["from oceangnc.models.combined import imex_advance as {adv}"]
-    elif plant.integrator == "rk4-split":
-        imports = ["from oceangnc.models.combined import split_advance as {adv}"]
+    # import lines from where the kernels live (robust to their moving between modules)
+    if plant.integrator in ("imex", "rk4-split"):
+        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
+        imports = [f"from {mod} import {name} as {{adv}}"]
     else:
         rhs_mod, rhs_name = _kernel_ref(plant.rhs)
         imports = [
@@ -59,7 +60,8 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
             f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
             "{adv} = _rk4_stepper(_rhs_{adv})",
         ]
-    imports.append("from oceangnc.models.combined import _fill_outputs_var")
+    mod, name = _kernel_ref(_fill_outputs_var)
+    imports.append(f"from {mod} import {name} as _fill_outputs_var")
     code = [
         "for j in range({uin}.size):",
         "    {u}[j] = sig[{uin}[j]]",
