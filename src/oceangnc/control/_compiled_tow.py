@@ -11,7 +11,7 @@ parameters). The PIDs are :func:`oceangnc.control._compiled.pid_step` (state 5 f
 The scalar laws that are not a PID have one home here and the Python blocks call them too
 (issue 17): :func:`profile_reference` (the winch's moving depth target and its rate),
 :func:`tension_payout` (the tension override of the winch command) and :func:`bearing_to`
-(the UUV's heading toward the USV).
+(the UUV's heading toward the USV), :func:`drag_feedforward` (the UUV's surge feed-forward).
 """
 
 from __future__ import annotations
@@ -80,6 +80,13 @@ def bearing_to(n_to, e_to, n_from, e_from):
 
 
 @njit(cache=True)
+def drag_feedforward(x_uu, u_d):
+    """Surge thrust (N) that balances the UUV's axial quadratic drag at speed ``u_d`` (m/s):
+    -X_u|u| u_d |u_d|, ``x_uu`` = X_u|u| (kg/m, negative)."""
+    return -x_uu * u_d * abs(u_d)
+
+
+@njit(cache=True)
 def thrusters_off_step(t, sig, sl, st, pa):
     """:class:`oceangnc.control.actuators.ThrustersOff`: every listed command to 0 N."""
     for i in range(sl.size):
@@ -91,7 +98,7 @@ def _uuv_loops(sig, sl, i, o, st, so, pa, q, u_d, psi_d, h, x_uu):
     """:func:`oceangnc.control.tow.uuv_loops_step`. Reads ``sl[i:i+3]`` (uuv.u, uuv.psi, uuv.r), writes
     ``sl[o:o+3]`` (uuv.thrust_{port,stbd,bow}_cmd); speed PID at ``st[so]``/``pa[q]``, heading PID
     at ``st[so+5]``/``pa[q+6]``; ``x_uu`` the UUV's total axial quadratic drag X_u|u| (kg/m)."""
-    ff = -x_uu * u_d * abs(u_d)
+    ff = drag_feedforward(x_uu, u_d)
     tot = pid_step(st, so, pa, q, u_d - sig[sl[i]], h, 0.0, False, ff, pa[q + 3], pa[q + 4])
     sig[sl[o]] = 0.5 * tot
     sig[sl[o + 1]] = 0.5 * tot

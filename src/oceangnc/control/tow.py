@@ -19,7 +19,7 @@ from ..io.config import StrictModel
 from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
 from ..units import KGF
-from ._compiled_tow import bearing_to
+from ._compiled_tow import bearing_to, drag_feedforward
 from .pid import PID
 from .usv_control import mix
 
@@ -56,7 +56,7 @@ def uuv_loops_step(bus: dict, uuv: UUVConfig, speed: PID, head: PID, u_d: float,
     """One step of :func:`uuv_loops`: stern thrust PID(u_d - u) - X_u|u| u_d |u_d| (axial-drag
     feed-forward) shared by both stern thrusters; bow thrust PD(wrap(psi_d - psi), -r). Writes the
     ``uuv.thrust_*_cmd`` keys (N)."""
-    ff = -uuv.X_uu_total * u_d * abs(u_d)
+    ff = float(drag_feedforward(uuv.X_uu_total, u_d))
     tot = speed.step(u_d - bus["uuv.u"], h, feedforward=ff)
     bus["uuv.thrust_port_cmd"] = 0.5 * tot
     bus["uuv.thrust_stbd_cmd"] = 0.5 * tot
