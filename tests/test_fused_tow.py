@@ -75,3 +75,32 @@ def test_tow_divergence_names_time_block_and_state():
         assert e.block == "combined" and e.t == pytest.approx(0.51)
         assert "non-finite state" in str(e) and np.isnan(e.state["combined.uuv.z"])
     assert str(ef) == str(ep)
+
+
+def test_profile_reference_is_numpy_interp_and_the_segment_slope():
+    """The winch's moving target (one compiled home for the Python block and the kernel): equal to
+    numpy.interp bit for bit, at and between the breakpoints and outside them, and its rate is the
+    slope of the segment starting at or before t (0 outside the profile)."""
+    from oceangnc.control._compiled_tow import profile_reference
+
+    pt = np.array([0.0, 10.0, 150.0, 190.0, 330.0])
+    pz = np.array([1.3, 1.3, 30.0, 30.0, 1.3])
+    ts = np.concatenate([pt, pt + 1e-9, pt - 1e-9, np.linspace(-5.0, 340.0, 997)])
+    for t in ts:
+        z, rate = profile_reference(t, pt, pz)
+        assert z == np.interp(t, pt, pz)
+        i = int(np.searchsorted(pt, t, side="right"))
+        want = (pz[i] - pz[i - 1]) / (pt[i] - pt[i - 1]) if 0 < i < len(pt) else 0.0
+        assert rate == want
+    assert profile_reference(80.0, pt, pz)[1] == pytest.approx(28.7 / 140.0, rel=1e-15)
+
+
+def test_tension_payout_pays_out_above_the_margin_only():
+    """Above T_margin the drum command is raised to K_T (T - T_margin), capped at speed_max; below it
+    the loop's command passes unchanged (hauling in included)."""
+    from oceangnc.control._compiled_tow import tension_payout
+
+    assert tension_payout(-0.3, 700.0, 800.0, 0.005, 0.5) == -0.3
+    assert tension_payout(-0.3, 840.0, 800.0, 0.005, 0.5) == pytest.approx(0.2)
+    assert tension_payout(0.4, 840.0, 800.0, 0.005, 0.5) == 0.4
+    assert tension_payout(-0.3, 2000.0, 800.0, 0.005, 0.5) == 0.5
