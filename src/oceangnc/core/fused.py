@@ -91,15 +91,15 @@ def plant_form(plant, slot_of) -> PlantForm | None:
         return own(slot_of)
     from .blocks import Plant
 
+    if type(plant).__name__ == "CombinedPlant" and getattr(plant, "_var", False):  # winch / seabed
+        from ..models._combined_var_form import var_plant_form
+
+        return var_plant_form(plant, slot_of)
     uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
     args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
     read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
     cls = type(plant).__name__
-    if (
-        cls == "CombinedPlant"
-        and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex")
-        and not getattr(plant, "_var", False)  # winch / seabed plants have a variable node count
-    ):
+    if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex"):
         out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
         args.update(
             {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
