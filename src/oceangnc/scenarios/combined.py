@@ -49,7 +49,7 @@ from ..guidance.pure_pursuit import (
     uuv_turning_radius_at,
 )
 from ..io.config import ScenarioConfig, StrictModel
-from ..io.plots import plot_signals, plot_track
+from ..io.plots import plot_3d, plot_signals, plot_track
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
 from ..models.usv import USVConfig
@@ -388,35 +388,6 @@ class CombinedScenario(Scenario):
             )
         )
         return paths
-
-
-def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
-    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7)."""
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(7, 6))
-    ax = fig.add_subplot(projection="3d")
-    ax.plot(df["usv.y"], df["usv.x"], 0 * df["usv.x"], label="USV")
-    ax.plot(df["uuv.y"], df["uuv.x"], -df["uuv.z"], label="UUV")
-    n = 0
-    while f"cable.x{n}" in df:
-        n += 1
-    if n:
-        for k in np.linspace(0, len(df) - 1, n_snap).astype(int):
-            row = df.iloc[k]
-            xs = [row[f"cable.x{i}"] for i in range(n)]
-            ys = [row[f"cable.y{i}"] for i in range(n)]
-            zs = [-row[f"cable.z{i}"] for i in range(n)]
-            ax.plot(ys, xs, zs, "k.-", lw=0.8, ms=2)
-    ax.set_xlabel("east y [m]")
-    ax.set_ylabel("north x [m]")
-    ax.set_zlabel("-depth [m]")
-    ax.set_title(title)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
 
 
 #: the implicit cable (``cable.integrator = "imex"``) at the 10 ms control period: the physics step is set by
