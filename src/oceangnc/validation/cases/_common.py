@@ -7,6 +7,8 @@ Seed files: 000 = 000_709eacce50bfa23e.txt (first-order models, towed-UUV planni
 
 from __future__ import annotations
 
+import numpy as np
+
 from .. import Case, Measured
 
 D003, D000, D001, D002 = (
@@ -28,8 +30,10 @@ def track(df, body, label=None):
 
 
 def wrap_deg(a):
-    """Angle (deg) wrapped to [-180, 180)."""
-    return (a + 180.0) % 360.0 - 180.0
+    """Angle (deg) wrapped to (-180, 180] with the one angle wrap, :func:`oceangnc.core.rotations.wrap_array`."""
+    from ...core.rotations import wrap_array
+
+    return np.degrees(wrap_array(np.radians(a)))
 
 
 def history(value, series, ylabel, ref_points=(), **kw) -> Measured:

@@ -8,8 +8,9 @@ from functools import partial
 
 import numpy as np
 
+from ...core.rotations import wrap_array
 from .. import Case
-from ._common import D003, history, in_group, plan, track, ts, wrap_deg
+from ._common import D003, history, in_group, plan, track, ts
 
 
 def survey(r, ctrl):
@@ -159,7 +160,7 @@ def field_waypoints(r):
 
 def ahrs(r):
     s, df = r.run("field-test")
-    d = np.degrees(np.abs(wrap_deg(np.degrees(df["usv_ahrs.psi"] - df["gps.cog"])) * math.pi / 180))
+    d = np.degrees(np.abs(wrap_array(df["usv_ahrs.psi"] - df["gps.cog"])))
     return history(s["ahrs.gps_heading_diff_mean_deg"], [("|AHRS - GPS course|", df["t"].to_numpy(), d)], "deg")
 
 
