@@ -70,25 +70,24 @@ class CommandsMixin:
             self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
         elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
             self._ack(cmd, self._set_current(round(m.param1)))
-        elif cmd == M.MAV_CMD_REQUEST_MESSAGE:
-            mid = round(m.param1)
-            if mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
-                self._ack(cmd, M.MAV_RESULT_ACCEPTED)
-                self._send_autopilot_version()
-            elif mid == M.MAVLINK_MSG_ID_HOME_POSITION:
-                self._ack(cmd, M.MAV_RESULT_ACCEPTED)
-                self._send_home()
-            else:
-                self._ack(cmd, M.MAV_RESULT_UNSUPPORTED)
-        elif cmd == M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES:
-            self._ack(cmd, M.MAV_RESULT_ACCEPTED)
-            self._send_autopilot_version()
-        elif cmd == M.MAV_CMD_GET_HOME_POSITION:
-            self._ack(cmd, M.MAV_RESULT_ACCEPTED)
-            self._send_home()
+        elif cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, M.MAV_CMD_GET_HOME_POSITION):
+            send = self._requested(cmd, m.param1)
+            self._ack(cmd, M.MAV_RESULT_UNSUPPORTED if send is None else M.MAV_RESULT_ACCEPTED)
+            if send is not None:
+                send()
         else:
             self.counts["rx_ignored"] += 1
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED)
+
+    def _requested(self, cmd: int, param1: float):
+        """The sender of the message a request command asks for (REQUEST_MESSAGE names it in param1; the
+        legacy REQUEST_AUTOPILOT_CAPABILITIES and GET_HOME_POSITION imply it), or None if unsupported."""
+        mid = round(param1) if cmd == M.MAV_CMD_REQUEST_MESSAGE else None
+        if cmd == M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES or mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
+            return self._send_autopilot_version
+        if cmd == M.MAV_CMD_GET_HOME_POSITION or mid == M.MAVLINK_MSG_ID_HOME_POSITION:
+            return self._send_home
+        return None
 
     def _on_command_int(self, m) -> None:
         if m.command == M.MAV_CMD_DO_SET_MODE:
