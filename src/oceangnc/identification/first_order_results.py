@@ -85,41 +85,50 @@ class Report:
         }
 
     def table(self) -> str:
-        """Human-readable tables (trials, linear fits, zig-zags)."""
-        lines = []
-        if self.steps:
-            lines.append(
-                f"{'trial':>5} {'kind':<8} {'speed':>7} {'K':>11} {'+-K':>9} {'T [s]':>8} {'+-T':>7} "
-                f"{'t1':>7} {'t2':>7} {'t3':>7}"
-            )
-            for s in self.steps:
-                lines.append(
-                    f"{s.trial:>5d} {s.kind:<8} {s.speed:7.3f} {s.K:11.5g} {s.K_std:9.2g} {s.T:8.4f} "
-                    f"{s.T_std:7.2g} {s.t1:7.2f} {s.t2:7.2f} {s.t3:7.2f}"
-                )
-        if self.fits:
-            lines.append("")
-            lines.append(
-                f"{'coef':<5} {'slope a':>11} {'+-a':>9} {'intercept b':>12} {'+-b':>9} {'res rms':>9} {'n':>3}"
-                "   (coef = a u + b, u in m/s)"
-            )
-            for k, f in self.fits.items():
-                lines.append(
-                    f"{k:<5} {f.slope:11.5g} {f.slope_std:9.2g} {f.intercept:12.5g} {f.intercept_std:9.2g} "
-                    f"{f.residual_rms:9.2g} {f.n:3d}"
-                )
-        if self.zigzags:
-            lines.append("")
-            lines.append(
-                f"{'trial':>5} {'psi amp':>8} {'rudder':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} "
-                f"{'+-T':>8} {'rms psi':>8}"
-            )
-            for z in self.zigzags:
-                lines.append(
-                    f"{z.trial:>5d} {z.amplitude_deg:7.1f}d {z.rudder:8.4g} {z.speed:7.3f} {z.K:9.5g} "
-                    f"{z.K_std:8.2g} {z.T:8.4f} {z.T_std:8.2g} {z.heading_rms_deg:7.3f}d"
-                )
+        """Human-readable tables (trials, linear fits, zig-zags) and the units."""
+        sections = (
+            (self.steps, _STEP_HEADER, _step_row),
+            (list(self.fits.items()), _FIT_HEADER, _fit_row),
+            (self.zigzags, _ZIGZAG_HEADER, _zigzag_row),
+        )
+        lines: list[str] = []
+        for i, (items, header, row) in enumerate(sections):
+            if items:
+                lines += ([""] if i else []) + [header] + [row(x) for x in items]
         if self.units:
-            lines.append("")
-            lines.append("units: " + "; ".join(f"{k} in {v}" for k, v in self.units.items()))
+            lines += ["", "units: " + "; ".join(f"{k} in {v}" for k, v in self.units.items())]
         return "\n".join(lines)
+
+
+_STEP_HEADER = (
+    f"{'trial':>5} {'kind':<8} {'speed':>7} {'K':>11} {'+-K':>9} {'T [s]':>8} {'+-T':>7} {'t1':>7} {'t2':>7} {'t3':>7}"
+)
+_FIT_HEADER = (
+    f"{'coef':<5} {'slope a':>11} {'+-a':>9} {'intercept b':>12} {'+-b':>9} {'res rms':>9} {'n':>3}"
+    "   (coef = a u + b, u in m/s)"
+)
+_ZIGZAG_HEADER = (
+    f"{'trial':>5} {'psi amp':>8} {'rudder':>8} {'speed':>7} {'K_r':>9} {'+-K':>8} {'T_r':>8} {'+-T':>8} {'rms psi':>8}"
+)
+
+
+def _step_row(s: StepFit) -> str:
+    return (
+        f"{s.trial:>5d} {s.kind:<8} {s.speed:7.3f} {s.K:11.5g} {s.K_std:9.2g} {s.T:8.4f} "
+        f"{s.T_std:7.2g} {s.t1:7.2f} {s.t2:7.2f} {s.t3:7.2f}"
+    )
+
+
+def _fit_row(item: tuple[str, LinearFit]) -> str:
+    k, f = item
+    return (
+        f"{k:<5} {f.slope:11.5g} {f.slope_std:9.2g} {f.intercept:12.5g} {f.intercept_std:9.2g} "
+        f"{f.residual_rms:9.2g} {f.n:3d}"
+    )
+
+
+def _zigzag_row(z: ZigzagFit) -> str:
+    return (
+        f"{z.trial:>5d} {z.amplitude_deg:7.1f}d {z.rudder:8.4g} {z.speed:7.3f} {z.K:9.5g} "
+        f"{z.K_std:8.2g} {z.T:8.4f} {z.T_std:8.2g} {z.heading_rms_deg:7.3f}d"
+    )
