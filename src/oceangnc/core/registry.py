@@ -48,6 +48,7 @@ BUILTIN_MODULES = (
     "oceangnc.control.tow",
     "oceangnc.control.winch",
     "oceangnc.control.actuators",
+    "oceangnc.control.commands",
     "oceangnc.identification.trials",
 )
 
