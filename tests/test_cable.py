@@ -4,8 +4,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 import oceangnc
 from oceangnc.api import resolve_config
@@ -23,6 +21,7 @@ from oceangnc.models.combined import CombinedPlant
 from oceangnc.models.usv import USVConfig
 from oceangnc.models.uuv import UUVConfig
 from oceangnc.units import G
+from oceangnc.validation.physics import quasi_static_hang
 
 
 def _run(name, tmp_path, **over):
@@ -45,82 +44,12 @@ def test_hanging_top_tension_is_submerged_weight(tmp_path):
     assert s["uuv.offset_m"] < 0.02
 
 
-def _quasi_static(current: float, theta_hint: float, cc: CableConfig | None = None):
-    """Independent equilibrium of the UUV hanging in a current on the continuous cable (not lumped).
-
-    1. The UUV (facing the current, heading 180 deg, at rest) feels its own steady hydrodynamic force
-       at pitch theta (Prestero/Fossen terms re-written here from the config's coefficients: drag,
-       lift and the Munk moment (X_udot - Z_wdot) u_r w_r), its net weight, and the cable force at the
-       tow point. The pitch is found by shooting on the pitch-moment balance (brentq), the root nearest
-       the hint.
-    2. The cable force at the tow point starts the continuous catenary-with-drag equations in the
-       unstretched arc length s (from the bottom up): dT/ds = -(w z_hat + drag(T_hat)),
-       dr/ds = T_hat (1 + |T| / EA), drag from 003 eq. 2.24-2.25 per unit length; integrated with an
-       adaptive Runge-Kutta (solve_ivp) to s = L.
-    Returns top tension (N), bottom tension (N), angle of the top-to-bottom line from vertical (deg),
-    UUV pitch (deg).
-    """
-    uc = UUVConfig(psi0_deg=180.0)
-    cc = cc or CableConfig()
-    c = uc.coefficients()
-    lf = uc.lift_coefficients()
-    W, B = uc.weight, uc.buoyancy
-    rc = np.array(cc.tow_point)
-    vc = np.array([current, 0.0, 0.0])
-
-    def rot(theta):  # R_b^n for psi = pi, phi = 0
-        ct, st = math.cos(theta), math.sin(theta)
-        Ry = np.array([[ct, 0, st], [0, 1, 0], [-st, 0, ct]])
-        Rz = np.array([[-1.0, 0, 0], [0, -1.0, 0], [0, 0, 1]])
-        return Rz @ Ry
-
-    def loads(theta):
-        R = rot(theta)
-        ur, vr, wr = R.T @ (-vc)
-        au = abs(ur)
-        X = uc.X_u * ur + uc.X_uu_total * ur * au
-        Z = uc.Z_w * wr + c["Z_ww"] * wr * abs(wr) + lf["Z_uw"] * au * wr
-        M = lf["M_uw"] * au * wr + (c["X_udot"] - c["Z_wdot"]) * ur * wr - uc.zg * W * math.sin(theta)
-        f_hyd_n = R @ np.array([X, 0.0, Z]) + np.array([0.0, 0.0, W - B])
-        f_cable_n = -f_hyd_n  # the cable holds the UUV
-        fb = R.T @ f_cable_n
-        m_cable = rc[2] * fb[0] - rc[0] * fb[2]
-        return M + m_cable, f_cable_n
-
-    grid = np.radians(np.linspace(-85, 85, 341))
-    res = [loads(t)[0] for t in grid]
-    roots = [
-        brentq(lambda t: loads(t)[0], a, b)
-        for a, b, fa, fb in zip(grid[:-1], grid[1:], res[:-1], res[1:])
-        if fa * fb < 0
-    ]
-    theta = min(roots, key=lambda t: abs(t - theta_hint))
-    _, T0 = loads(theta)
-    w = cc.weight_per_length
-    k = 0.5 * cc.rho_water * cc.cd * cc.diameter
-    EA = cc.EA
-
-    def f(s, y):
-        T = y[:3]
-        tn = np.linalg.norm(T)
-        t = T / tn
-        V = -vc
-        vq = V @ t
-        Vp = V - vq * t
-        vp = np.linalg.norm(Vp)
-        v2 = V @ V
-        eta = math.atan2(vp, abs(vq))
-        fp, fq = loading_functions(eta)
-        drag = -k * v2 * (fp * (Vp / vp if vp > 0 else 0 * Vp) + fq * np.sign(vq) * t)
-        dT = -(np.array([0.0, 0.0, w]) + drag)
-        dr = t * (1 + tn / EA)
-        return np.concatenate([dT, dr])
-
-    sol = solve_ivp(f, (0.0, cc.length), np.concatenate([T0, np.zeros(3)]), rtol=1e-10, atol=1e-10)
-    T_top = sol.y[:3, -1]
-    d = sol.y[3:, -1]  # from the tow point to the top
-    angle = math.degrees(math.atan2(math.hypot(d[0], d[1]), -d[2]))
-    return float(np.linalg.norm(T_top)), float(np.linalg.norm(T0)), angle, math.degrees(theta)
+def _quasi_static(current: float, theta_hint: float, cable_over: dict | None = None):
+    """The independent continuous quasi-static solution of the validation registry (shooting on the UUV's
+    pitch balance + catenary-with-drag ODE, :func:`oceangnc.validation.physics.quasi_static_hang`):
+    top tension (N), bottom tension (N), angle of the top-to-bottom line from vertical (deg), UUV pitch (deg)."""
+    q = quasi_static_hang(current, theta_hint, cable_over=cable_over)
+    return q["top_tension_N"], q["bottom_tension_N"], q["angle_deg"], q["pitch_deg"]
 
 
 @pytest.mark.parametrize("current", [0.25, 0.5, 1.0])
@@ -455,7 +384,7 @@ def test_long_cable_statics_in_current(length, current):
         hist.append((bus["cable.top_tension"], bus["cable.angle_deg"]))
     h = np.array(hist[-5:])
     assert np.ptp(h[:, 0]) < 0.002 * h[-1, 0] and np.ptp(h[:, 1]) < 0.05  # settled
-    top, _, angle, _ = _quasi_static(current, bus["uuv.theta"], cc)
+    top, _, angle, _ = _quasi_static(current, bus["uuv.theta"], {"length": length})
     assert bus["cable.top_tension"] == pytest.approx(top, rel=0.02)
     assert bus["cable.angle_deg"] == pytest.approx(angle, abs=1.0)
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import ipaddress
 
+from ..cli_options import SET_HELP, add_live_options, needs_package, set_overrides
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
@@ -20,9 +22,7 @@ def register(subparsers) -> None:
         "any other address needs --token or --allow-remote)",
     )
     p.add_argument("--port", type=int, default=8050, help="TCP port (default 8050)")
-    p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall-clock second (default 1)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config key (repeatable)")
-    p.add_argument("--out", default="runs", help="folder for the runs' logs (default runs/)")
+    add_live_options(p, SET_HELP, "folder for the runs' logs (default runs/)")
     p.add_argument("--stream-hz", type=float, default=25.0, help="state messages per second (20-60, default 25)")
     p.add_argument(
         "--token", help="session token the page must present (default: a new random one, printed in the URL at start)"
@@ -36,7 +36,6 @@ def register(subparsers) -> None:
 
 def _cmd_console(args) -> int:
     from ..errors import InputError
-    from ..io.config import flatten, parse_sets
 
     if not (0 < args.port < 65536):
         raise InputError(f"--port {args.port}: allowed range 1 <= port <= 65535")
@@ -69,10 +68,8 @@ def _cmd_console(args) -> int:
         from .server import main_banner, new_token, serve
         from .session import Session
     except ModuleNotFoundError as e:
-        raise InputError(
-            f"the console needs the optional package '{e.name}'; install with pip install 'oceangnc[console]'"
-        ) from None
-    overrides = flatten(parse_sets(args.set))
+        raise InputError(needs_package("the console", e.name, "console")) from None
+    overrides = set_overrides(args)
     session = Session(args.scenario, overrides=overrides, speed=args.speed, out_root=args.out, start_on_connect=True)
     _check_port(args.host, args.port)
     if not args.no_warmup:

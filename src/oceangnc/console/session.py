@@ -32,13 +32,11 @@ which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet fil
 
 from __future__ import annotations
 
-import io
 import json
 import math
 import threading
 import time
 import traceback
-from array import array
 from collections import deque
 from pathlib import Path
 
@@ -46,86 +44,18 @@ import numpy as np
 
 from ..errors import DivergenceError, OceanGNCError
 from ..io.logs import LogWriter, atomic_write_text
-from .messages import Pause, Rejected, check_gains
+from ..mavlink.live import builds_live as _builds  # one home: live iff the scenario overrides build
+from .clients import ClientsMixin
+from .commands import NEUTRAL, CommandsMixin
+from .controls import collect_gains, gate_pilots, hold_controllers
+from .runlog import _TeeLog, parquet_bytes
+from .snapshots import SnapshotMixin, _finite
 from .view import infer_view
 
-NEUTRAL = 0.05  #: stick deflection below which the stick counts as centred (failsafe reset)
+__all__ = ["NEUTRAL", "Session", "collect_gains", "gate_pilots", "hold_controllers"]
 
 
-class _TeeLog:
-    """Log sink for ``sim.run``: forwards rows to a LogWriter and keeps them as column arrays."""
-
-    def __init__(self, writer: LogWriter | None):
-        self.writer = writer
-        self.columns: list[str] | None = None
-        self.t = array("d")
-        self.data: dict[str, array] = {}
-
-    def append(self, t: float, row: dict) -> None:
-        if self.writer is not None:
-            self.writer.append(t, row)
-        if self.columns is None:
-            self.columns = list(row)
-            self.data = {c: array("d") for c in self.columns}
-        self.t.append(float(t))
-        for c in self.columns:
-            self.data[c].append(float(row.get(c, math.nan)))
-
-    def __len__(self) -> int:
-        return len(self.t)
-
-
-def _finite(v):
-    v = float(v)
-    return v if math.isfinite(v) else None
-
-
-def collect_gains(sim) -> dict[str, dict]:
-    """Adjustable gains of a simulation's blocks: ``"<block>.<gain>" -> spec`` with a setter.
-
-    A block offering ``gain_specs()`` / ``set_gain(name, value)`` is asked; otherwise every
-    :class:`oceangnc.control.pid.PID` attribute of a block exposes its kp, ki, kd with the range
-    [0, max(10 |value|, 1)].
-    """
-    from ..control.pid import PID
-
-    out: dict[str, dict] = {}
-    for b in sim.blocks:
-        if hasattr(b, "gain_specs") and hasattr(b, "set_gain"):
-            for s in b.gain_specs():
-                name = f"{b.name}.{s['name']}"
-                spec = {k: s[k] for k in ("value", "min", "max") if k in s}
-                spec.update(
-                    {
-                        "unit": s.get("unit", ""),
-                        "description": s.get("description", ""),
-                        "setter": (lambda v, b=b, n=s["name"]: b.set_gain(n, v)),
-                        "getter": (
-                            lambda b=b, n=s["name"]: next(
-                                (x["value"] for x in b.gain_specs() if x["name"] == n), math.nan
-                            )
-                        ),
-                    }
-                )
-                out[name] = spec
-            continue
-        for attr, obj in vars(b).items():
-            if isinstance(obj, PID):
-                for g in ("kp", "ki", "kd"):
-                    v = getattr(obj, g)
-                    out[f"{b.name}.{attr}.{g}"] = {
-                        "value": v,
-                        "min": 0.0,
-                        "max": max(10 * abs(v), 1.0),
-                        "unit": "",
-                        "description": f"{attr} PID {g}",
-                        "setter": (lambda val, o=obj, g=g: setattr(o, g, float(val))),
-                        "getter": (lambda o=obj, g=g: getattr(o, g)),
-                    }
-    return out
-
-
-class Session:
+class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
     """One live console session (see the module docstring).
 
     Parameters
@@ -298,285 +228,6 @@ class Session:
             self.event("warning", f"summary not written: {e}")
         tee.writer = None
 
-    # -- events and snapshots --------------------------------------------------------------------------
-    def event(self, level: str, text: str) -> None:
-        """Record an event for the page's log (level info, warning, error, alarm)."""
-        with self._lock:
-            self._event_id += 1
-            t = float(self.sim.t) if self.sim is not None else 0.0
-            self.events.append({"id": self._event_id, "t": t, "level": level, "text": text, "wall": time.time()})
-
-    def events_since(self, last_id: int) -> list[dict]:
-        with self._lock:
-            return [e for e in self.events if e["id"] > last_id]
-
-    def _make_hello(self) -> None:
-        gains = {k: {kk: vv for kk, vv in v.items() if kk not in ("setter", "getter")} for k, v in self.gains.items()}
-        self.hello = {
-            "type": "hello",
-            "run": self.run_id,
-            "scenario": self.scenario.name,
-            "summary": self.scenario.summary,
-            "scenarios": self.live_scenarios(),
-            "view": self.view,
-            "gains": gains,
-            "speed": self.speed,
-            "stick_timeout": self.stick_timeout,
-            "tick_s": self.tick_s,
-            "log_dir": str(self.run_dir) if self.run_dir else None,
-            "tracks": {k: [list(p) for p in v] for k, v in self.tracks.items()},
-            "station_keep": self.station_keep,
-            "loop_switch": bool(getattr(self.scenario, "console_loop_switch", False)),
-            "route_edit": bool(getattr(self.scenario, "console_route_edit", False)),
-        }
-
-    def hello_message(self) -> dict:
-        with self._lock:
-            self.hello["tracks"] = {k: [list(p) for p in v] for k, v in self.tracks.items()}
-            for k, g in self.hello["gains"].items():
-                g["value"] = _finite(self.gains[k]["getter"]())
-            return dict(self.hello)
-
-    def _publish(self) -> None:
-        """Build the state message from the bus (simulation thread, under the lock)."""
-        sim = self.sim
-        bus = sim.bus
-        sig = {}
-        for k, v in bus.items():
-            if k.startswith("_") or isinstance(v, (str, bytes)):
-                continue
-            if isinstance(v, (bool, np.bool_)):
-                sig[k] = bool(v)
-            elif isinstance(v, (int, float, np.floating, np.integer)):
-                sig[k] = _finite(v)
-            elif isinstance(v, (list, tuple, np.ndarray)) and k.startswith("cable"):
-                try:
-                    sig[k] = [_finite(x) for x in np.asarray(v, float).ravel()[:400]]
-                except (TypeError, ValueError):
-                    pass
-        if sim.t - self._track_t >= 0.25:
-            self._track_t = sim.t
-            for b, tr in self.tracks.items():
-                x, y = bus.get(f"{b}.x"), bus.get(f"{b}.y")
-                if x is not None and y is not None and math.isfinite(x) and math.isfinite(y):
-                    tr.append((round(float(x), 3), round(float(y), 3)))
-        now = self.clock()
-        age = now - self.t_stick
-        self.snapshot = {
-            "type": "state",
-            "run": self.run_id,
-            "t": float(sim.t),
-            "mode": self.mode,
-            "loop": self.loop,
-            "estop": self.estop,
-            "failsafe": self.failsafe,
-            "failsafe_reason": self.failsafe_reason,
-            "paused": self.paused,
-            "ended": self.ended,
-            "error": self.error,
-            "speed": self.speed,
-            "rtf": self.rtf,
-            "clients": self.clients,
-            "operator": self.operator,
-            "stick": {
-                "surge": self.stick[0],
-                "yaw": self.stick[1],
-                "source": self.stick_source,
-                "age": age if math.isfinite(age) else None,
-            },
-            "waypoints": [list(p) for p in bus.get("console.waypoints", ())] or None,
-            "signals": sig,
-            "last_event": self._event_id,
-        }
-        self.snapshot_json = json.dumps(self.snapshot, separators=(",", ":"))
-
-    def state(self) -> dict:
-        with self._lock:
-            return json.loads(self.snapshot_json)
-
-    # -- commands (called from the web server's threads) ---------------------------------------------
-    def submit(self, msg) -> None:
-        """Queue a validated message for the simulation thread; semantic checks raise Rejected."""
-        kind = msg.type
-        if kind == "gains":
-            with self._lock:
-                check_gains(msg.gains, self.gains)
-        elif kind == "waypoints" and not getattr(self.scenario, "console_route_edit", False):
-            raise Rejected(
-                f"waypoints: scenario {self.scenario.name} flies a fixed route; "
-                f"start a scenario that takes a route from the console (usv-remote)"
-            )
-        elif kind == "new_run" and msg.scenario is not None and msg.scenario not in self.live_scenarios():
-            raise Rejected(
-                f"new_run: unknown or non-live scenario {msg.scenario!r}; live scenarios: "
-                f"{', '.join(self.live_scenarios())}"
-            )
-        if kind == "stick":  # timestamp on arrival, so the watchdog sees the link, not the queue
-            with self._lock:
-                self.t_stick = self.clock()
-        self._cmds.append(msg)
-
-    # -- clients and roles ---------------------------------------------------------------------------------
-    def attach(self, want_control: bool = True) -> tuple[int, str]:
-        """A page or script connected: returns ``(client id, role)``. It becomes the operator when it
-        asks for control and nobody holds it; otherwise a viewer (watches, cannot command)."""
-        with self._lock:
-            self._next_client += 1
-            cid = self._next_client
-            self.clients += 1
-            role = "viewer"
-            if want_control and self.operator is None:
-                self.operator = cid
-                role = "operator"
-            first = role == "operator" and self._await_operator
-            if first:
-                self._await_operator = False
-        self.event("info", f"client #{cid} connected as {role} ({self.clients} client(s))")
-        if first:
-            self._cmds.append(Pause(type="pause", paused=False))
-        return cid, role
-
-    def detach(self, cid: int) -> None:
-        """A client left; when it was the operator, nobody holds control (remote mode: failsafe)."""
-        with self._lock:
-            self.clients = max(0, self.clients - 1)
-            was_op = self.operator == cid
-            if was_op:
-                self.operator = None
-        if was_op:
-            self.event("warning", f"operator #{cid} disconnected ({self.clients} client(s) left); nobody holds control")
-        else:
-            self.event("info", f"viewer #{cid} disconnected ({self.clients} client(s) left)")
-
-    def take_control(self, cid: int, force: bool = False) -> None:
-        """Client ``cid`` asks for control; taking it from another operator needs ``force`` (an
-        explicit take-over, logged with both ids). Raises :class:`Rejected` otherwise."""
-        with self._lock:
-            cur = self.operator
-            if cur == cid:
-                return
-            if cur is not None and not force:
-                raise Rejected(f"control: operator #{cur} holds control; send force=true to take it over")
-            self.operator = cid
-            first = self._await_operator
-            self._await_operator = False
-        if cur is None:
-            self.event("info", f"client #{cid} took control (operator)")
-        else:
-            self.event("alarm", f"TAKE-OVER: client #{cid} took control from operator #{cur}")
-        if first:
-            self._cmds.append(Pause(type="pause", paused=False))
-
-    def release_control(self, cid: int) -> None:
-        with self._lock:
-            if self.operator != cid:
-                return
-            self.operator = None
-        self.event("info", f"operator #{cid} released control")
-
-    def role(self, cid: int) -> str:
-        return "operator" if self.operator == cid else "viewer"
-
-    def client_connected(self) -> int:
-        """Legacy helper (tests, scripts): attach as operator; returns the client id."""
-        cid, _ = self.attach(True)
-        if self.operator != cid:
-            self.take_control(cid, force=True)
-        return cid
-
-    def client_disconnected(self, cid: int | None = None) -> None:
-        """Legacy helper: detach ``cid`` (default: the operator)."""
-        self.detach(self.operator if cid is None else cid)
-
-    def _apply(self, msg) -> None:
-        kind = msg.type
-        if kind == "stick":
-            self.stick = (float(msg.surge), float(msg.yaw))
-            self.stick_source = msg.source
-        elif kind == "mode":
-            if msg.mode != self.mode:
-                self.mode = msg.mode
-                self.event("info", f"mode: {msg.mode}")
-                if msg.mode == "remote":
-                    self.t_stick = max(self.t_stick, self.clock())  # 1 s grace for the first stick message
-                    self.stick = (0.0, 0.0)
-                elif self.failsafe:
-                    self._clear_failsafe("autonomous mode selected")
-        elif kind == "loop":
-            if msg.loop != self.loop:
-                self.loop = msg.loop
-                self.event(
-                    "info",
-                    f"stick drives the {'actuators (open loop)' if msg.loop == 'open' else 'speed and yaw-rate loops (closed loop)'}",
-                )
-        elif kind == "estop":
-            if msg.engaged and not self.estop:
-                self.estop = True
-                self.event("alarm", "EMERGENCY STOP: all thrust zero (latched until reset)")
-            elif not msg.engaged and self.estop:
-                self.estop = False
-                self.stick = (0.0, 0.0)
-                self.event("info", "emergency stop reset")
-        elif kind == "gains":
-            for name, v in msg.gains.items():
-                self.gains[name]["setter"](v)
-                self.gains[name]["value"] = v
-                self.event("info", f"gain {name} = {v:g} {self.gains[name].get('unit', '')}".rstrip())
-        elif kind == "pause":
-            if msg.paused != self.paused:
-                self.paused = msg.paused
-                self._anchor = (self.clock(), self.sim.t)
-                self._rtf_ref = self._anchor
-                self.event("info", "paused" if msg.paused else "resumed")
-        elif kind == "waypoints":
-            self.sim.inject({"console.waypoints": tuple((float(a), float(b)) for a, b in msg.points)})
-            self.view["route"] = [[float(a), float(b)] for a, b in msg.points]
-            self.event("info", f"new route of {len(msg.points)} waypoint(s)")
-
-    def _trip_failsafe(self, reason: str) -> None:
-        self.failsafe = True
-        self.failsafe_reason = reason
-        self.stick = (0.0, 0.0)
-        what = "station-keeping" if self.station_keep else "thrust zero"
-        self.event("alarm", f"FAILSAFE ({reason}): {what}")
-
-    def _clear_failsafe(self, why: str) -> None:
-        self.failsafe = False
-        self.failsafe_reason = ""
-        self.event("info", f"failsafe cleared: {why}")
-
-    def _watchdog(self, now: float) -> None:
-        if self.mode != "remote" or self.paused or self.ended:
-            return
-        if self.operator is None:
-            reason = "operator link lost"
-        elif now - self.t_stick > self.stick_timeout:
-            reason = f"no stick input for {self.stick_timeout:g} s"
-        else:
-            reason = ""
-        if reason and not self.failsafe:
-            self._trip_failsafe(reason)
-        elif not reason and self.failsafe:
-            if abs(self.stick[0]) <= NEUTRAL and abs(self.stick[1]) <= NEUTRAL:
-                self._clear_failsafe("link restored and stick centred")
-
-    def _push_bus(self) -> None:
-        """Write the console's keys; the stick only in remote mode (in auto a scenario's own pilot may
-        write ``joystick.*``, as the scripted berthing pilot does)."""
-        estop_bus = self.estop or (self.failsafe and not self.station_keep)
-        vals = {
-            "console.mode": self.mode,
-            "console.loop": self.loop,
-            "_estop": estop_bus,
-            "console.failsafe": float(self.failsafe),
-            "console.estop": float(self.estop),
-        }
-        if self.mode == "remote":
-            surge, yaw = (0.0, 0.0) if (self.failsafe or self.estop) else self.stick
-            vals["joystick.surge"] = surge
-            vals["joystick.yaw"] = yaw
-        self.sim.inject(vals)
-
     # -- the loop ------------------------------------------------------------------------------------------
     def step_once(self) -> None:
         """One pass of the pacing loop: apply commands, watchdog, advance to the wall-clock target."""
@@ -683,21 +334,9 @@ class Session:
     def log_bytes(self) -> tuple[bytes, str]:
         """The current run's log as Parquet bytes (same format as ``oceangnc run``) and a file name."""
         with self._lock:
-            tee = self._tee
-            n = len(tee)
-            cols = list(tee.columns or [])
-            t = tee.t[:n]
-            data = {c: tee.data[c][:n] for c in cols}
+            t, data = self._tee.columns_copy()
             name = f"{self.scenario.name}-run{self.run_id}.parquet"
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
-        table = pa.table(
-            {"t": pa.array(t, type=pa.float64()), **{c: pa.array(data[c], type=pa.float64()) for c in cols}}
-        )
-        buf = io.BytesIO()
-        pq.write_table(table, buf, compression="zstd")
-        return buf.getvalue(), name
+        return parquet_bytes(t, data), name
 
     # -- warm-up ----------------------------------------------------------------------------------------------
     def warmup(self, seconds: float = 1.0) -> float:
@@ -722,72 +361,3 @@ class Session:
             self._anchor = (self.clock(), self.sim.t)
             self._rtf_ref = self._anchor
         return time.perf_counter() - t0
-
-
-def _pids(obj, depth=0, seen=None):
-    """PID objects inside a block (attributes, one level of nesting, gated pilots)."""
-    from ..control.pid import PID
-
-    seen = set() if seen is None else seen
-    if id(obj) in seen or depth > 2:
-        return
-    seen.add(id(obj))
-    for v in list(vars(obj).values()) if hasattr(obj, "__dict__") else []:
-        if isinstance(v, PID):
-            if id(v) not in seen:
-                seen.add(id(v))
-                yield v
-        elif hasattr(v, "__dict__") and not isinstance(v, type) and type(v).__module__.startswith("oceangnc."):
-            yield from _pids(v, depth + 1, seen)
-
-
-def hold_controllers(sim, on: bool, ramp_s: float = 2.0) -> int:
-    """Hold (``on``) or release every PID of the simulation's blocks (see
-    :meth:`oceangnc.control.pid.PID.hold`): integrators frozen while stopped, outputs ramped from zero
-    over ``ramp_s`` s on release (no thrust step at Reset). Returns how many PIDs."""
-    n = 0
-    seen: set = set()
-    for b in sim.blocks:
-        for pid in _pids(b, 0, seen):
-            pid.hold(on, ramp_s=ramp_s)
-            n += 1
-    return n
-
-
-class _RemoteGate:
-    """Wraps a scenario's own pilot block (one that writes ``joystick.*``): it is silent while
-    ``console.mode == "remote"``, so that the operator's stick, not the pilot's, reaches the vehicle."""
-
-    def __init__(self, block):
-        self.block = block
-        self.name = block.name
-        self.period = block.period
-
-    def reset(self, rng) -> None:
-        self.block.reset(rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        if bus.get("console.mode") != "remote":
-            self.block.step(t, bus)
-
-    def __getattr__(self, item):
-        return getattr(self.block, item)
-
-
-def gate_pilots(sim) -> int:
-    """Gate the pilot blocks of a built simulation (see :class:`_RemoteGate`); returns how many.
-
-    A pilot block is one flagged ``console_pilot = True`` or the scripted berthing pilot.
-    """
-    n = 0
-    for i, b in enumerate(sim.blocks):
-        if getattr(b, "console_pilot", False) or type(b).__name__ == "ScriptedPilot":
-            sim.blocks[i] = _RemoteGate(b)
-            n += 1
-    return n
-
-
-def _builds(sc) -> bool:
-    from ..scenarios.base import Scenario
-
-    return type(sc).build is not Scenario.build

@@ -21,16 +21,20 @@ import math
 from pathlib import Path
 
 from ..errors import InputError
+from .first_order_results import Columns
 
-_OPTS = {
-    "time": "--time",
-    "steer": "--steer",
-    "thrust": "--thrust",
-    "speed": "--speed",
-    "heading": "--heading",
-    "yaw_rate": "--yaw-rate",
-    "trial": "--trial",
+#: the log's column options (``--yaw-rate`` for ``Columns.yaw_rate``); their defaults are :class:`Columns`' own
+_COLUMN_HELP = {
+    "time": "time column, s (default t)",
+    "steer": "steer (rudder) column, rad unless --steer-deg",
+    "thrust": "thrust column (rpm for the first-order USV)",
+    "speed": "speed column, m/s",
+    "heading": "heading column, rad unless --heading-deg",
+    "yaw_rate": "yaw-rate column, rad/s unless --heading-deg",
+    "trial": "trial id column splitting the log (absent: one trial)",
+    "kind": "trial kind column, 0 straight 1 turn 2 zig-zag (absent: detected from the inputs)",
 }
+_OPTS = {k: "--" + k.replace("_", "-") for k in _COLUMN_HELP if k != "kind"}
 
 
 def _finite(v):
@@ -49,18 +53,8 @@ def register(methods) -> None:
         "first-order", help="first-order speed/Nomoto models by the integral method (000 eq. 8-21)", description=__doc__
     )
     p.add_argument("log", help="Parquet or CSV log (or a run folder holding log.parquet)")
-    p.add_argument("--time", default="t", help="time column, s (default t)")
-    p.add_argument("--steer", default="trial.steer", help="steer (rudder) column, rad unless --steer-deg")
-    p.add_argument("--thrust", default="trial.thrust", help="thrust column (rpm for the first-order USV)")
-    p.add_argument("--speed", default="trial.speed", help="speed column, m/s")
-    p.add_argument("--heading", default="trial.heading", help="heading column, rad unless --heading-deg")
-    p.add_argument("--yaw-rate", default="trial.yaw_rate", help="yaw-rate column, rad/s unless --heading-deg")
-    p.add_argument("--trial", default="trial.id", help="trial id column splitting the log (absent: one trial)")
-    p.add_argument(
-        "--kind",
-        default="trial.kind",
-        help="trial kind column, 0 straight 1 turn 2 zig-zag (absent: detected from the inputs)",
-    )
+    for name, text in _COLUMN_HELP.items():
+        p.add_argument("--" + name.replace("_", "-"), default=getattr(Columns, name), help=text)
     p.add_argument("--select-trial", type=int, metavar="ID", help="identify only the trial with this id")
     p.add_argument("--steer-deg", action="store_true", help="the steer column is in degrees")
     p.add_argument("--heading-deg", action="store_true", help="heading in deg and yaw rate in deg/s")
@@ -93,13 +87,7 @@ def register(methods) -> None:
 
 #: standard signals of an imported field log (oceangnc.io.importers) used when the trial columns are absent
 STANDARD = {"steer": "act.steer", "thrust": "act.throttle", "speed": "usv.u", "heading": "usv.psi", "yaw_rate": "usv.r"}
-_DEFAULTS = {
-    "steer": "trial.steer",
-    "thrust": "trial.thrust",
-    "speed": "trial.speed",
-    "heading": "trial.heading",
-    "yaw_rate": "trial.yaw_rate",
-}
+_DEFAULTS = {k: getattr(Columns, k) for k in STANDARD}
 
 
 def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
@@ -155,7 +143,7 @@ def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
 
 
 def _handler(args) -> int:
-    from .first_order import Columns, identify_log
+    from .first_order import identify_log
 
     if not (0 < args.settle_tol < 0.5):
         raise InputError(f"--settle-tol {args.settle_tol}: allowed range 0 < value < 0.5")
@@ -183,16 +171,7 @@ def _handler(args) -> int:
             )
     elif args.select_trial is not None:
         raise InputError(f"--select-trial needs the trial column '{args.trial}' (--trial)")
-    cols = Columns(
-        time=args.time,
-        steer=args.steer,
-        thrust=args.thrust,
-        speed=args.speed,
-        heading=args.heading,
-        yaw_rate=args.yaw_rate,
-        trial=args.trial,
-        kind=args.kind,
-    )
+    cols = Columns(**{k: getattr(args, k) for k in _COLUMN_HELP})
     try:
         rep = identify_log(
             df,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from ..cli_options import add_live_options, needs_package, set_overrides
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
@@ -28,21 +30,18 @@ def register(subparsers) -> None:
         metavar="udp:HOST:PORT",
         help="also send telemetry to this address from the start (a GCS listening, repeatable)",
     )
-    p.add_argument("--speed", type=float, default=1.0, help="simulated seconds per wall-clock second (default 1)")
-    p.add_argument("--duration", type=float, help="end after this much simulated time, s (default: until Ctrl-C)")
-    p.add_argument(
-        "--set",
-        action="append",
-        metavar="KEY=VALUE",
-        help="override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
+    add_live_options(
+        p,
+        "override a config key (repeatable); mavlink.* keys set the endpoint, e.g. "
         "mavlink.origin_lat_deg=59.9 mavlink.gcs_timeout_s=1.5",
+        "folder for the run's log (default runs/)",
     )
+    p.add_argument("--duration", type=float, help="end after this much simulated time, s (default: until Ctrl-C)")
     p.add_argument(
         "--model",
         help="identified model file (identified.toml from 'oceangnc identify'): the "
         "vehicle's parameters (--set still wins)",
     )
-    p.add_argument("--out", default="runs", help="folder for the run's log (default runs/)")
     p.add_argument(
         "--no-tlog",
         action="store_true",
@@ -54,18 +53,15 @@ def register(subparsers) -> None:
 
 def _cmd(args) -> int:
     from ..errors import InputError
-    from ..io.config import flatten, parse_sets
 
     try:
         from .vehicle import MavlinkVehicle
     except ModuleNotFoundError as e:
-        raise InputError(
-            f"oceangnc mavlink needs the optional package '{e.name}'; install with pip install 'oceangnc[field]'"
-        ) from None
+        raise InputError(needs_package("oceangnc mavlink", e.name, "field")) from None
 
     if args.duration is not None and not args.duration > 0:
         raise InputError(f"--duration {args.duration}: must be > 0 s")
-    sets = flatten(parse_sets(args.set))
+    sets = set_overrides(args)
     mav = {k[len("mavlink.") :]: v for k, v in sets.items() if k.startswith("mavlink.")}
     over = {k: v for k, v in sets.items() if not k.startswith("mavlink.")}
     if args.model:

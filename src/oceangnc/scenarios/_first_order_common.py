@@ -1,11 +1,13 @@
-"""Shared pieces of the first-order USV scenarios (000): the autopilot designs and the closed-loop blocks."""
+"""Shared pieces of the first-order USV scenarios (000): the autopilot designs, the closed-loop blocks and the
+LOS / hybrid waypoint guidance config (000 table 1)."""
 
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from ..control.actuators import RudderEngineBlock
 from ..control.pole_placement import (
@@ -97,3 +99,34 @@ def _settling_time(t, y, target, band, t0):
     if out[-1] == y.size - 1:
         return float("nan")
     return float(t[out[-1] + 1] - t0)
+
+
+# -- waypoint guidance ------------------------------------------------------------------------------------
+
+
+class GuidanceConfig(StrictModel):
+    """LOS / hybrid guidance (000 table 1)."""
+
+    mode: Literal["los", "hybrid"] = "hybrid"
+    R: float = Field(25.0, gt=0, le=1e4, description="LOS circle radius R (and band unit of table 1), m")
+    R1: float | None = Field(None, gt=0, le=1e4, description="circle radius in 0.5R < d <= R (> R; default 1.25 R), m")
+    R2: float | None = Field(None, gt=0, le=1e4, description="circle radius in R < d <= 2R (> 2R; default 2.5 R), m")
+    accept_radius: float | None = Field(None, gt=0, le=1e4, description="waypoint acceptance radius (default R), m")
+    rate: float = Field(10.0, gt=0, le=100, description="guidance update rate, Hz")
+
+    @model_validator(mode="after")
+    def _radii(self):
+        if self.R1 is not None and not self.R1 > self.R:
+            raise ValueError(f"R1 = {self.R1} must be > R = {self.R} (the circle must reach the leg)")
+        if self.R2 is not None and not self.R2 > 2 * self.R:
+            raise ValueError(f"R2 = {self.R2} must be > 2R = {2 * self.R}")
+        return self
+
+
+def waypoint_guidance(g: GuidanceConfig, waypoints, speed=5.0, speeds=None, stop=True):
+    """The LOS / hybrid waypoint guidance block of ``g`` (000 table 1) through ``waypoints`` [north, east] m."""
+    from ..guidance.los import WaypointGuidance
+
+    return WaypointGuidance(
+        waypoints, g.mode, g.R, g.R1, g.R2, g.accept_radius, speed, speeds, 1.0 / g.rate, stop_at_end=stop
+    )

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -28,8 +27,10 @@ from ..models.first_order import FirstOrderUSV
 from ._first_order_common import (
     RAD2DEG,
     ClosedLoopConfig,
+    GuidanceConfig,
     _settling_time,
     closed_loop_blocks,
+    waypoint_guidance,
 )
 from .base import Scenario
 
@@ -160,33 +161,6 @@ class AutopilotSpeed(Scenario):
 # -- waypoints ------------------------------------------------------------------------------------------------
 
 
-class GuidanceConfig(StrictModel):
-    """LOS / hybrid guidance (000 table 1)."""
-
-    mode: Literal["los", "hybrid"] = "hybrid"
-    R: float = Field(25.0, gt=0, le=1e4, description="LOS circle radius R (and band unit of table 1), m")
-    R1: float | None = Field(None, gt=0, le=1e4, description="circle radius in 0.5R < d <= R (> R; default 1.25 R), m")
-    R2: float | None = Field(None, gt=0, le=1e4, description="circle radius in R < d <= 2R (> 2R; default 2.5 R), m")
-    accept_radius: float | None = Field(None, gt=0, le=1e4, description="waypoint acceptance radius (default R), m")
-    rate: float = Field(10.0, gt=0, le=100, description="guidance update rate, Hz")
-
-    @model_validator(mode="after")
-    def _radii(self):
-        if self.R1 is not None and not self.R1 > self.R:
-            raise ValueError(f"R1 = {self.R1} must be > R = {self.R} (the circle must reach the leg)")
-        if self.R2 is not None and not self.R2 > 2 * self.R:
-            raise ValueError(f"R2 = {self.R2} must be > 2R = {2 * self.R}")
-        return self
-
-
-def _guidance(g: GuidanceConfig, waypoints, speed=5.0, speeds=None, stop=True):
-    from ..guidance.los import WaypointGuidance
-
-    return WaypointGuidance(
-        waypoints, g.mode, g.R, g.R1, g.R2, g.accept_radius, speed, speeds, 1.0 / g.rate, stop_at_end=stop
-    )
-
-
 _WP7 = [
     [150.0, 400.0],
     [600.0, 400.0],
@@ -217,7 +191,7 @@ class USVWaypoints7(Scenario):
     defaults = {"sim": {"duration": 900.0, "dt": 0.01, "log_rate": 5.0}, "usv": {"psi0_deg": 90.0, "u0": 0.0}}
 
     def build(self, cfg, rng):
-        g = _guidance(cfg.guidance, cfg.waypoints, cfg.speed_mps)
+        g = waypoint_guidance(cfg.guidance, cfg.waypoints, cfg.speed_mps)
         return Simulation(
             [FirstOrderUSV(cfg.usv)], closed_loop_blocks(cfg, [g]), cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng
         )
@@ -329,7 +303,7 @@ class UUVProfilePlan(Scenario):
             update={"x0": float(x0), "y0": float(y0), "psi0_deg": st.heading_deg, "u0": st.speed_mps}
         )
         cfg_u = cfg.model_copy(update={"usv": usv})
-        g = _guidance(cfg.guidance, wp, speeds=sp)
+        g = waypoint_guidance(cfg.guidance, wp, speeds=sp)
         plants = [FirstOrderUSV(usv), TowedTrailer(cfg.tow.cable_length_m, math.radians(st.heading_deg))]
         return Simulation(plants, closed_loop_blocks(cfg_u, [g]), cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 

@@ -5,11 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..cli_options import add_set
+
 
 def _cmd_sweep(args) -> int:
     from ..api import new_run_dir
     from ..errors import InputError
-    from ..io.config import flatten, parse_sets
+    from ..cli_options import set_overrides
     from . import build_design
     from .execute import run_sweep
 
@@ -25,7 +27,7 @@ def _cmd_sweep(args) -> int:
         seeds=args.seeds,
         base_seed=args.base_seed,
         design_seed=args.design_seed,
-        overrides=flatten(parse_sets(args.set)),
+        overrides=set_overrides(args),
         duration=args.duration,
         config=args.config,
     )
@@ -122,7 +124,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("--base-seed", type=int, metavar="S", help="base seed (default: the config's sim.seed)")
     p.add_argument("--design-seed", type=int, metavar="S", help="seed of the random draws (default: base seed)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="fixed override for every run (repeatable)")
+    add_set(p, "fixed override for every run (repeatable)")
     p.add_argument("--config", help="TOML config file merged over the scenario defaults")
     p.add_argument("--duration", type=float, help="simulated time of every run, s")
     where = p.add_mutually_exclusive_group()

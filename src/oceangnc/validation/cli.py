@@ -7,6 +7,8 @@ import sys
 import time
 from pathlib import Path
 
+from ..cli_options import add_set
+
 FLAGSHIP_MD = """## The flagship result (003 ch. 4): what reproduces and what does not
 
 Backstepping and PID give nearly the same distance in `combined-survey` (0.496 vs 0.506 m) because the cable,
@@ -36,7 +38,7 @@ def _progress(i, n, o):
 
 
 def cmd_validate(args) -> int:
-    from ..io.config import flatten, parse_sets
+    from ..cli_options import set_overrides
     from . import Runner, run_cases, select
     from .cases import CASES
     from .report import summary_counts, write_report
@@ -46,7 +48,7 @@ def cmd_validate(args) -> int:
         for c in cases:
             print(f"{c.id:<40} {c.source}")
         return 0
-    overrides = flatten(parse_sets(args.set)) if args.set else {}
+    overrides = set_overrides(args)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     runner = Runner(overrides)
@@ -87,10 +89,10 @@ def cmd_validate(args) -> int:
 
 
 def cmd_check(args) -> int:
-    from ..io.config import flatten, parse_sets
+    from ..cli_options import set_overrides
     from .check import check
 
-    overrides = flatten(parse_sets(args.set)) if args.set else {}
+    overrides = set_overrides(args)
     rep = check(args.scenario, overrides, horizon=args.horizon)
     print(rep.text())
     return 2 if rep.refused else 0
@@ -112,12 +114,7 @@ def register(subparsers) -> None:
         "--only", metavar="PATTERN", help="glob or substring of case ids / sources / groups (comma-separated)"
     )
     p.add_argument("--out", default="validation", metavar="DIR", help="output folder (default: validation)")
-    p.add_argument(
-        "--set",
-        action="append",
-        metavar="KEY=VALUE",
-        help="override a config key in every scenario and model that has it (repeatable)",
-    )
+    add_set(p, "override a config key in every scenario and model that has it (repeatable)")
     p.add_argument("--list", action="store_true", help="list the selected cases and exit")
     p.add_argument("--no-plots", action="store_true", help="skip the per-case PNGs")
     p.add_argument("--quiet", action="store_true", help="no per-case progress lines")
@@ -131,6 +128,6 @@ def register(subparsers) -> None:
         "A step above a limit is refused (exit 2) with the step to use.",
     )
     q.add_argument("scenario", help="scenario name (see 'oceangnc list')")
-    q.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a config key (repeatable)")
+    add_set(q)
     q.add_argument("--horizon", type=float, default=5.0, help="simulated time of the step-halving run, s (default 5)")
     q.set_defaults(func=cmd_check)

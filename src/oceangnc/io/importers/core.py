@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from ...cli_options import needs_package
 from ...errors import InputError
 
 #: suffix -> format name
@@ -220,10 +221,7 @@ def import_log(
     try:
         series, meta = reader(p, allow_truncated=allow_truncated, **opts)
     except ModuleNotFoundError as e:
-        raise InputError(
-            f"{p}: reading a {kind} log needs the optional package '{e.name}'; install with "
-            f"pip install 'oceangnc[field]'"
-        ) from None
+        raise InputError(needs_package(f"{p}: reading a {kind} log", e.name, "field")) from None
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))

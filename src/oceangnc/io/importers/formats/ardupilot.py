@@ -1,0 +1,232 @@
+"""ArduPilot logs: MAVLink telemetry (``.tlog``) and DataFlash (``.bin``), read with pymavlink."""
+
+from __future__ import annotations
+
+import math
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from ....errors import InputError
+from ._common import north_east, pwm, servo_names, truncated
+
+
+# -- MAVLink telemetry log (.tlog) ------------------------------------------------------------------------
+
+
+def read_tlog(
+    path: Path, allow_truncated: bool = False, system: int | None = None, origin=None, servos: str = "skid", **_
+):
+    """MAVLink telemetry log: records of an 8-byte big-endian UNIX time (us) and one MAVLink frame.
+
+    Time base: the vehicle's clock (``time_boot_ms`` / ``time_usec``) where a message has one, else the
+    record's time stamp shifted by the median offset between the two (so both share one axis).
+    """
+    from ....mavlink.protocol import mavlink as M
+
+    data = path.read_bytes()
+    if len(data) < 20:
+        raise InputError(f"{path}: {len(data)} bytes: not a telemetry log (no complete record)")
+    parser = M.MAVLink(None)
+    parser.robust_parsing = True
+    pos, n_bad, n_ok = 0, 0, 0
+    recs: dict[str, list] = {}
+    meta: dict = {}
+    while pos + 8 < len(data):
+        stamp = struct.unpack(">Q", data[pos : pos + 8])[0] * 1e-6
+        b = data[pos + 8]
+        if b == 0xFD and pos + 10 < len(data):
+            n = data[pos + 9] + 12 + (13 if data[pos + 10] & 1 else 0)
+        elif b == 0xFE and pos + 9 < len(data):
+            n = data[pos + 9] + 8
+        else:
+            n_bad += 1
+            pos += 1
+            if n_bad > 1000 and n_bad > n_ok:
+                raise InputError(
+                    f"{path}: corrupt telemetry log: no MAVLink frame at byte {pos} ({n_bad} bad bytes, {n_ok} frames)"
+                )
+            continue
+        if pos + 8 + n > len(data):
+            truncated(
+                path, f"last record at byte {pos} needs {n} bytes, {len(data) - pos - 8} left", allow_truncated, meta
+            )
+            break
+        parser.buf = bytearray()
+        parser.buf_index = 0
+        parser.expected_length = M.HEADER_LEN_V1 + 2
+        msgs = parser.parse_buffer(data[pos + 8 : pos + 8 + n]) or []
+        pos += 8 + n
+        for m in msgs:
+            kind = m.get_type()
+            if kind == "BAD_DATA" or kind.startswith("UNKNOWN"):
+                n_bad += 1
+                continue
+            n_ok += 1
+            if system is not None and m.get_srcSystem() != system:
+                continue
+            if system is None and kind in ("HEARTBEAT",) and m.type == M.MAV_TYPE_GCS:
+                continue
+            recs.setdefault(f"{m.get_srcSystem()}:{kind}", []).append((stamp, m))
+    if n_ok == 0:
+        raise InputError(f"{path}: corrupt telemetry log: no valid MAVLink message")
+    if n_bad > 0.2 * (n_ok + n_bad):
+        raise InputError(f"{path}: corrupt telemetry log: {n_bad} bad frames of {n_ok + n_bad}")
+    systems = sorted(
+        {int(k.split(":")[0]) for k in recs if k.endswith(":HEARTBEAT")} or {int(k.split(":")[0]) for k in recs}
+    )
+    sysid = system if system is not None else (systems[0] if systems else 1)
+
+    def get(kind):
+        return recs.get(f"{sysid}:{kind}", [])
+
+    # clock offset: record stamp - vehicle time
+    offs = [s - m.time_boot_ms * 1e-3 for s, m in get("GLOBAL_POSITION_INT") + get("ATTITUDE")]
+    off = float(np.median(offs)) if offs else 0.0
+
+    def t_of(s, m):
+        if hasattr(m, "time_boot_ms"):
+            return m.time_boot_ms * 1e-3
+        if hasattr(m, "time_usec") and m.get_type() not in ("GPS_RAW_INT",):
+            return m.time_usec * 1e-6
+        return s - off
+
+    out: dict = {}
+
+    def put(name, rows, fn):
+        if rows:
+            out[name] = (np.array([t_of(s, m) for s, m in rows]), np.array([fn(m) for _, m in rows], float))
+
+    gp = get("GLOBAL_POSITION_INT")
+    if gp:
+        x, y, o = north_east([m.lat * 1e-7 for _, m in gp], [m.lon * 1e-7 for _, m in gp], origin)
+        if x is not None:
+            t = np.array([t_of(s, m) for s, m in gp])
+            out["usv.x"], out["usv.y"] = (t, x), (t, y)
+            meta["origin_deg"] = list(o)
+        put("usv.vn", gp, lambda m: m.vx * 0.01)
+        put("usv.ve", gp, lambda m: m.vy * 0.01)
+        put("usv.z", gp, lambda m: -m.relative_alt * 1e-3)
+    att = get("ATTITUDE")
+    put("usv.psi", att, lambda m: m.yaw)
+    put("usv.phi", att, lambda m: m.roll)
+    put("usv.theta", att, lambda m: m.pitch)
+    put("usv.r", att, lambda m: m.yawspeed)
+    so = get("SERVO_OUTPUT_RAW")
+    if so:
+        t = np.array([t_of(s, m) for s, m in so])
+        s1, s3 = servo_names(servos)
+        out[s1] = (t, pwm([m.servo1_raw for _, m in so]))
+        out[s3] = (t, pwm([m.servo3_raw for _, m in so]))
+    nv = get("NAMED_VALUE_FLOAT")
+    for name, sig in (("cable_T", "cable.top_tension"), ("uuv_depth", "uuv.z")):
+        rows = [(s, m) for s, m in nv if m.name.rstrip("\x00") == name]
+        put(sig, rows, lambda m: m.value)
+    meta.update(
+        {
+            "system": sysid,
+            "systems": systems,
+            "frames": n_ok,
+            "bad_frames": n_bad,
+            "messages": sorted({k.split(":")[1] for k in recs if k.startswith(f"{sysid}:")}),
+        }
+    )
+    if "usv.x" not in out and "usv.psi" not in out:
+        raise InputError(
+            f"{path}: system {sysid} has no GLOBAL_POSITION_INT or ATTITUDE messages "
+            f"(it has: {', '.join(meta['messages'][:12]) or 'none'})"
+        )
+    return out, meta
+
+
+# -- ArduPilot DataFlash (.bin) --------------------------------------------------------------------------
+
+
+def _scan_dataflash(path: Path, data: bytes, allow: bool, meta: dict) -> None:
+    """Walk the records with the FMT lengths: corrupt (no header where one must be) or truncated tail."""
+    lengths = {0x80: 89}
+    pos, n = 0, 0
+    while pos < len(data):
+        if len(data) - pos < 3:
+            truncated(path, f"{len(data) - pos} stray byte(s) at the end", allow, meta)
+            return
+        if data[pos] != 0xA3 or data[pos + 1] != 0x95:
+            raise InputError(f"{path}: corrupt DataFlash log: no record header at byte {pos} (after {n} records)")
+        typ = data[pos + 2]
+        if typ not in lengths:
+            raise InputError(f"{path}: corrupt DataFlash log: record type {typ} at byte {pos} has no FMT")
+        ln = lengths[typ]
+        if pos + ln > len(data):
+            truncated(path, f"record {n} at byte {pos} needs {ln} bytes, {len(data) - pos} left", allow, meta)
+            return
+        if typ == 0x80:
+            lengths[data[pos + 3]] = data[pos + 4]
+        pos += ln
+        n += 1
+    meta["records"] = n
+
+
+def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servos: str = "skid", **_):
+    """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Lat, Lng deg, Spd m/s, GCrs deg), ATT
+    (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1 left, C3 right, PWM us); time TimeUS."""
+    from pymavlink import DFReader
+
+    data = path.read_bytes()
+    if len(data) < 3 or data[:2] != b"\xa3\x95":
+        raise InputError(f"{path}: not a DataFlash log (no 0xA3 0x95 record header at the start)")
+    meta: dict = {}
+    _scan_dataflash(path, data, allow_truncated, meta)
+    try:
+        log = DFReader.DFReader_binary(str(path), zero_time_base=True)
+    except Exception as e:  # noqa: BLE001
+        raise InputError(f"{path}: cannot read DataFlash log: {e}") from None
+    rows: dict[str, list] = {}
+    while True:
+        try:
+            m = log.recv_msg()
+        except Exception as e:  # noqa: BLE001
+            raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
+        if m is None:
+            break
+        kind = m.get_type()
+        if kind in ("GPS", "ATT", "IMU", "RCOU"):
+            d = m.to_dict()
+            if "TimeUS" in d:
+                rows.setdefault(kind, []).append(d)
+    out: dict = {}
+
+    def col(kind, f, scale=1.0):
+        r = rows.get(kind, [])
+        if r and f in r[0]:
+            return np.array([x["TimeUS"] * 1e-6 for x in r]), np.array([x[f] for x in r], float) * scale
+        return None
+
+    g = rows.get("GPS", [])
+    if g:
+        t = np.array([x["TimeUS"] * 1e-6 for x in g])
+        x, y, o = north_east([r["Lat"] for r in g], [r["Lng"] for r in g], origin)
+        if x is not None:
+            out["usv.x"], out["usv.y"] = (t, x), (t, y)
+            meta["origin_deg"] = list(o)
+        if "Spd" in g[0] and "GCrs" in g[0]:
+            spd = np.array([r["Spd"] for r in g], float)
+            crs = np.radians([r["GCrs"] for r in g])
+            out["usv.vn"], out["usv.ve"] = (t, spd * np.cos(crs)), (t, spd * np.sin(crs))
+    for f, sig in (("Yaw", "usv.psi"), ("Roll", "usv.phi"), ("Pitch", "usv.theta")):
+        c = col("ATT", f, math.pi / 180)
+        if c is not None:
+            out[sig] = c
+    c = col("IMU", "GyrZ")
+    if c is not None:
+        out["usv.r"] = c
+    for f, sig in zip(("C1", "C3"), servo_names(servos)):
+        c = col("RCOU", f)
+        if c is not None:
+            out[sig] = (c[0], pwm(c[1]))
+    meta["messages"] = sorted(rows)
+    if "usv.x" not in out and "usv.psi" not in out:
+        raise InputError(
+            f"{path}: DataFlash log has no GPS or ATT records (it has: {', '.join(sorted(log.name_to_id)[:15])})"
+        )
+    return out, meta

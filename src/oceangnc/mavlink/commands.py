@@ -1,0 +1,203 @@
+"""Commands, modes, sticks and parameters of :class:`oceangnc.mavlink.vehicle.MavlinkVehicle` (the message dispatch)."""
+
+from __future__ import annotations
+
+from .protocol import AUTO, ROVER_MODES, ROVER_OTHER, STICK_MODES, mavlink, mode_name
+
+M = mavlink
+INT16_MAX = 32767
+_GCS_TYPES = (M.MAV_TYPE_GCS,)
+
+
+class CommandsMixin:
+    """Message dispatch (``_handle`` -> ``_on_<message>``), arming, modes, the e-stop, the stick and the parameters."""
+
+    def _for_us(self, m) -> bool:
+        ts = getattr(m, "target_system", 0)
+        return ts in (0, self.cfg_mav.system_id)
+
+    def _link_alive(self, m) -> None:
+        self.t_gcs = self.clock()
+        if self.gcs_sysid is None:
+            self.gcs_sysid = m.get_srcSystem()
+        if self.failsafe:
+            self.failsafe = False
+            self.event("GCS link restored; failsafe cleared (mode stays HOLD)")
+
+    def _oor(self, what: str) -> None:
+        self.counts["rx_out_of_range"] += 1
+        if self.counts["rx_out_of_range"] in (1, 10, 100, 1000):
+            self.event(f"ignored out-of-range {what}", M.MAV_SEVERITY_WARNING)
+
+    def _handle(self, m) -> None:
+        kind = m.get_type()
+        if kind == "HEARTBEAT":
+            if m.type in _GCS_TYPES or m.get_srcSystem() not in (self.cfg_mav.system_id, self.cfg_mav.uuv_system_id):
+                self._link_alive(m)
+            return
+        if kind in ("RADIO_STATUS", "TIMESYNC", "SYSTEM_TIME", "REQUEST_DATA_STREAM", "MISSION_ACK", "GCS_HEARTBEAT"):
+            self._link_alive(m)
+            if kind == "MISSION_ACK":
+                pass
+            return
+        if not self._for_us(m):
+            if getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id and kind == "COMMAND_LONG":
+                self._send(self.mav_uuv.command_ack_encode(m.command, M.MAV_RESULT_UNSUPPORTED))
+            self.counts["rx_ignored"] += 1
+            return
+        self._link_alive(m)
+        h = getattr(self, "_on_" + kind.lower(), None)
+        if h is None:
+            self.counts["rx_ignored"] += 1
+            return
+        h(m)
+
+    def _ack(self, command: int, result: int) -> None:
+        self._send(self.mav.command_ack_encode(command, result))
+
+    def _on_command_long(self, m) -> None:
+        cmd = m.command
+        if cmd == M.MAV_CMD_COMPONENT_ARM_DISARM:
+            self._ack(cmd, self._arm(m.param1 > 0.5))
+        elif cmd == M.MAV_CMD_DO_SET_MODE:
+            self._ack(cmd, self._set_mode(round(m.param2), "DO_SET_MODE"))
+        elif cmd == M.MAV_CMD_DO_FLIGHTTERMINATION:
+            self._ack(cmd, self._estop(m.param1 > 0.5))
+        elif cmd == M.MAV_CMD_MISSION_START:  # ArduPilot: start the mission in AUTO from param1 (0: current)
+            first = round(m.param1)
+            if first >= 1:
+                self._set_current(first)
+            self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
+        elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
+            self._ack(cmd, self._set_current(round(m.param1)))
+        elif cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, M.MAV_CMD_GET_HOME_POSITION):
+            send = self._requested(cmd, m.param1)
+            self._ack(cmd, M.MAV_RESULT_UNSUPPORTED if send is None else M.MAV_RESULT_ACCEPTED)
+            if send is not None:
+                send()
+        else:
+            self.counts["rx_ignored"] += 1
+            self._ack(cmd, M.MAV_RESULT_UNSUPPORTED)
+
+    def _requested(self, cmd: int, param1: float):
+        """The sender of the message a request command asks for (REQUEST_MESSAGE names it in param1; the
+        legacy REQUEST_AUTOPILOT_CAPABILITIES and GET_HOME_POSITION imply it), or None if unsupported."""
+        mid = round(param1) if cmd == M.MAV_CMD_REQUEST_MESSAGE else None
+        if cmd == M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES or mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
+            return self._send_autopilot_version
+        if cmd == M.MAV_CMD_GET_HOME_POSITION or mid == M.MAVLINK_MSG_ID_HOME_POSITION:
+            return self._send_home
+        return None
+
+    def _on_command_int(self, m) -> None:
+        if m.command == M.MAV_CMD_DO_SET_MODE:
+            self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
+        else:
+            self.counts["rx_ignored"] += 1
+            self._ack(m.command, M.MAV_RESULT_UNSUPPORTED)
+
+    def _on_set_mode(self, m) -> None:
+        res = self._set_mode(int(m.custom_mode), "SET_MODE")
+        self._ack(M.MAVLINK_MSG_ID_SET_MODE, res)
+
+    def _arm(self, arm: bool) -> int:
+        if arm:
+            if self.estop:
+                self.event("Arm: refused, e-stop latched", M.MAV_SEVERITY_WARNING)
+                return M.MAV_RESULT_DENIED
+            if self.ended:
+                return M.MAV_RESULT_DENIED
+            if not self.armed:
+                self.armed = True
+                self.event("Throttle armed")
+        elif self.armed:
+            self.armed = False
+            self.event("Throttle disarmed")
+        return M.MAV_RESULT_ACCEPTED
+
+    def _set_mode(self, num: int, via: str) -> int:
+        if num not in ROVER_MODES:
+            self._oor(f"{via} mode {num} ({ROVER_OTHER.get(num, 'unknown')})")
+            return M.MAV_RESULT_DENIED
+        if num in STICK_MODES and not self.reads_stick:
+            self.event(f"{mode_name(num)} refused: {self.scenario.name} takes no stick", M.MAV_SEVERITY_WARNING)
+            return M.MAV_RESULT_DENIED
+        if num == AUTO and num != self.mode and self.route.available:
+            start = self.mission_current if self.mission_current < len(self.mission) else 1
+            if not self._nav_points(start)[0]:
+                self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
+                return M.MAV_RESULT_DENIED
+        if num != self.mode:
+            self.mode = num
+            self.stick = (0.0, 0.0)
+            if num in STICK_MODES:
+                self.t_gcs = max(self.t_gcs, self.clock())  # grace for the first stick message
+            if num == AUTO and self.route.available:
+                if self.mission_current >= len(self.mission):
+                    self.mission_current = 1
+                self._start_mission()
+            self.event(
+                f"Mode {mode_name(num)}"
+                + ("" if num != AUTO or self.route.available else ": the scenario's own guidance (no mission upload)")
+            )
+        return M.MAV_RESULT_ACCEPTED
+
+    def _estop(self, engage: bool) -> int:
+        if engage and not self.estop:
+            self.estop = True
+            self.armed = False
+            self.event("EMERGENCY STOP: thrust zero, disarmed (latched)", M.MAV_SEVERITY_EMERGENCY)
+        elif not engage and self.estop:
+            self.estop = False
+            self.stick = (0.0, 0.0)
+            self.event("e-stop reset (still disarmed)")
+        return M.MAV_RESULT_ACCEPTED
+
+    def _on_manual_control(self, m) -> None:
+        if m.target not in (0, self.cfg_mav.system_id):
+            return
+        x = 0 if m.x == INT16_MAX else m.x
+        r = 0 if m.r == INT16_MAX else m.r
+        if abs(x) > 1000 or abs(r) > 1000:
+            self._oor(f"MANUAL_CONTROL x={m.x} r={m.r}")
+            return
+        if self.mode in STICK_MODES:
+            self.stick = (x / 1000.0, r / 1000.0)
+
+    def _on_rc_channels_override(self, m) -> None:
+        def axis(pwm):
+            if pwm in (0, 65535):
+                return None
+            if not (800 <= pwm <= 2200):
+                raise ValueError(pwm)
+            return max(-1.0, min(1.0, (pwm - 1500) / 400.0))
+
+        try:
+            yaw = axis(m.chan1_raw)
+            surge = axis(m.chan3_raw)
+        except ValueError:
+            self._oor(f"RC_CHANNELS_OVERRIDE ch1={m.chan1_raw} ch3={m.chan3_raw}")
+            return
+        if self.mode in STICK_MODES:
+            self.stick = (self.stick[0] if surge is None else surge, self.stick[1] if yaw is None else yaw)
+
+    def _on_param_request_list(self, m) -> None:
+        params = self._params()
+        for i, (k, v) in enumerate(params.items()):
+            self._send(self.mav.param_value_encode(k.encode(), v, M.MAV_PARAM_TYPE_REAL32, len(params), i))
+
+    def _on_param_request_read(self, m) -> None:
+        params = self._params()
+        names = list(params)
+        pid = m.param_id.decode() if isinstance(m.param_id, bytes) else str(m.param_id)
+        idx = m.param_index if 0 <= m.param_index < len(names) else (names.index(pid) if pid in names else -1)
+        if idx >= 0:
+            k = names[idx]
+            self._send(self.mav.param_value_encode(k.encode(), params[k], M.MAV_PARAM_TYPE_REAL32, len(names), idx))
+
+    def _params(self) -> dict[str, float]:
+        return {
+            "FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s),
+            "SYSID_THISMAV": float(self.cfg_mav.system_id),
+            "SIM_SPEEDUP": float(self.speed),
+        }

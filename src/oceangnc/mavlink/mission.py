@@ -1,0 +1,229 @@
+"""The mission store and the MAVLink mission protocol of :class:`oceangnc.mavlink.vehicle.MavlinkVehicle`."""
+
+from __future__ import annotations
+
+from .geo import latlon_to_ned, ned_to_latlon
+from .protocol import AUTO, HOLD, mavlink
+
+M = mavlink
+
+
+class MissionMixin:
+    """Mission items (item 0 is home), upload / download / clear / set-current, and following the mission
+    through the scenario's :class:`oceangnc.mavlink.live.RouteHook`."""
+
+    def _item(self, seq: int, n: float, e: float, command: int = M.MAV_CMD_NAV_WAYPOINT, alt: float = 0.0) -> dict:
+        c = self.cfg_mav
+        lat, lon = ned_to_latlon(n, e, c.origin_lat_deg, c.origin_lon_deg)
+        return {
+            "seq": seq,
+            "frame": M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT,
+            "command": command,
+            "current": 0,
+            "autocontinue": 1,
+            "p1": 0.0,
+            "p2": 0.0,
+            "p3": 0.0,
+            "p4": 0.0,
+            "lat": lat,
+            "lon": lon,
+            "alt": alt,
+        }
+
+    def _set_initial_mission(self) -> None:
+        pts = self.route.initial_route(self.cfg) if self.route.available else []
+        self.mission = [self._item(0, 0.0, 0.0, alt=self.cfg_mav.origin_alt_m)]
+        self.mission += [self._item(i + 1, n, e) for i, (n, e) in enumerate(pts)]
+        self.mission_current = 1
+
+    def _nav_points(self, start: int) -> tuple[list[tuple[float, float]], list[int]]:
+        c = self.cfg_mav
+        pts, seqs = [], []
+        for it in self.mission[max(1, start) :]:
+            if it["command"] == M.MAV_CMD_NAV_WAYPOINT:
+                pts.append(latlon_to_ned(it["lat"], it["lon"], c.origin_lat_deg, c.origin_lon_deg))
+                seqs.append(it["seq"])
+        return pts, seqs
+
+    def _start_mission(self) -> None:
+        """Hand the mission from ``mission_current`` on to the guidance."""
+        pts, seqs = self._nav_points(self.mission_current)
+        self._route_seqs = seqs
+        self._progress = 0
+        if pts:
+            self.route.set_route(pts)
+            self._progress = self.route.progress(self.sim.bus) if self.route.kind == "pure_pursuit" else 0
+
+    def _mission_ack(self, result: int, mission_type: int = 0) -> None:
+        sysid = self.gcs_sysid or 255
+        self._send(self.mav.mission_ack_encode(sysid, 0, result, mission_type))
+
+    def _on_mission_count(self, m) -> None:
+        mt = getattr(m, "mission_type", 0)
+        if mt != M.MAV_MISSION_TYPE_MISSION or not self.route.available:
+            if mt == M.MAV_MISSION_TYPE_MISSION:
+                self.event(f"Mission refused: {self.scenario.name} flies its own route", M.MAV_SEVERITY_WARNING)
+            self._mission_ack(M.MAV_MISSION_UNSUPPORTED, mt)
+            return
+        if m.count > self.cfg_mav.max_mission_items:
+            self._oor(f"MISSION_COUNT {m.count}")
+            self._mission_ack(M.MAV_MISSION_NO_SPACE)
+            return
+        if m.count == 0:
+            self.mission = self.mission[:1]
+            self._mission_ack(M.MAV_MISSION_ACCEPTED)
+            self.event("Mission cleared")
+            return
+        self._upload = {
+            "count": int(m.count),
+            "items": [],
+            "t": self.clock(),
+            "tries": 0,
+            "sys": m.get_srcSystem(),
+            "comp": m.get_srcComponent(),
+        }
+        self._request_item()
+
+    def _request_item(self) -> None:
+        u = self._upload
+        if u is None:
+            return
+        seq = len(u["items"])
+        self._send(self.mav.mission_request_int_encode(u["sys"], u["comp"], seq, 0))
+
+    def _on_mission_item_int(self, m, scale: float = 1e-7) -> None:
+        u = self._upload
+        if u is None or getattr(m, "mission_type", 0) != 0:
+            self.counts["rx_ignored"] += 1
+            return
+        seq = len(u["items"])
+        if m.seq != seq:
+            self._request_item()  # ask again for the one we need
+            return
+        lat, lon = m.x * scale, m.y * scale
+        if m.command == M.MAV_CMD_NAV_WAYPOINT and m.seq > 0 and not (-90 <= lat <= 90 and -180 <= lon <= 180):
+            self._oor(f"MISSION_ITEM seq {m.seq} lat {lat} lon {lon}")
+            self._upload = None
+            self._mission_ack(M.MAV_MISSION_INVALID_PARAM5 if abs(lat) > 90 else M.MAV_MISSION_INVALID_PARAM6)
+            return
+        u["items"].append(
+            {
+                "seq": m.seq,
+                "frame": m.frame,
+                "command": m.command,
+                "current": m.current,
+                "autocontinue": m.autocontinue,
+                "p1": m.param1,
+                "p2": m.param2,
+                "p3": m.param3,
+                "p4": m.param4,
+                "lat": lat,
+                "lon": lon,
+                "alt": float(m.z),
+            }
+        )
+        u["t"] = self.clock()
+        u["tries"] = 0
+        if len(u["items"]) < u["count"]:
+            self._request_item()
+            return
+        self.mission = u["items"]
+        self._upload = None
+        self.mission_current = 1
+        self._mission_ack(M.MAV_MISSION_ACCEPTED)
+        n_nav = len(self._nav_points(1)[0])
+        self.event(f"Mission: {len(self.mission)} items, {n_nav} waypoints")
+        if self.mode == AUTO:
+            self._start_mission()
+
+    def _on_mission_item(self, m) -> None:
+        self._on_mission_item_int(m, scale=1.0)
+
+    def _on_mission_request_list(self, m) -> None:
+        if getattr(m, "mission_type", 0) != 0:
+            self._send(self.mav.mission_count_encode(m.get_srcSystem(), m.get_srcComponent(), 0, m.mission_type))
+            return
+        self._send(self.mav.mission_count_encode(m.get_srcSystem(), m.get_srcComponent(), len(self.mission), 0))
+
+    def _send_item(self, m, as_int: bool) -> None:
+        if getattr(m, "mission_type", 0) != 0 or not (0 <= m.seq < len(self.mission)):
+            self._oor(f"mission request seq {m.seq}")
+            self._mission_ack(M.MAV_MISSION_INVALID_SEQUENCE)
+            return
+        it = self.mission[m.seq]
+        cur = 1 if it["seq"] == self.mission_current else 0
+        args = (
+            m.get_srcSystem(),
+            m.get_srcComponent(),
+            it["seq"],
+            it["frame"],
+            it["command"],
+            cur,
+            it["autocontinue"],
+            it["p1"],
+            it["p2"],
+            it["p3"],
+            it["p4"],
+        )
+        if as_int:
+            self._send(
+                self.mav.mission_item_int_encode(*args, round(it["lat"] * 1e7), round(it["lon"] * 1e7), it["alt"], 0)
+            )
+        else:
+            self._send(self.mav.mission_item_encode(*args, it["lat"], it["lon"], it["alt"], 0))
+
+    def _on_mission_request_int(self, m) -> None:
+        self._send_item(m, True)
+
+    def _on_mission_request(self, m) -> None:
+        self._send_item(m, False)
+
+    def _on_mission_clear_all(self, m) -> None:
+        self.mission = self.mission[:1]
+        self.mission_current = 1
+        self._mission_ack(M.MAV_MISSION_ACCEPTED)
+        self.event("Mission cleared")
+
+    def _set_current(self, seq: int) -> int:
+        if not (1 <= seq < len(self.mission)):
+            self._oor(f"mission current {seq}")
+            return M.MAV_RESULT_DENIED
+        self.mission_current = seq
+        if self.mode == AUTO:
+            self._start_mission()
+        self._send(self.mav.mission_current_encode(seq))
+        return M.MAV_RESULT_ACCEPTED
+
+    def _on_mission_set_current(self, m) -> None:
+        self._set_current(int(m.seq))
+
+    def _upload_watchdog(self, now: float) -> None:
+        u = self._upload
+        if u is None or now - u["t"] < 1.0:
+            return
+        u["tries"] += 1
+        u["t"] = now
+        if u["tries"] * 1.0 > self.cfg_mav.mission_timeout_s:
+            self._upload = None
+            self._mission_ack(M.MAV_MISSION_OPERATION_CANCELLED)
+            self.event("Mission upload timed out", M.MAV_SEVERITY_WARNING)
+        else:
+            self._request_item()
+
+    def _follow_mission(self) -> None:
+        if self.mode != AUTO or not self._route_seqs:
+            return
+        k = min(self.route.progress(self.sim.bus), len(self._route_seqs))
+        while self._progress < k:
+            seq = self._route_seqs[self._progress]
+            self._progress += 1
+            self.reached.append(seq)
+            self._send(self.mav.mission_item_reached_encode(seq))
+            self.event(f"Reached waypoint #{seq}")
+            self.mission_current = self._route_seqs[self._progress] if self._progress < len(self._route_seqs) else seq
+            self._send(self.mav.mission_current_encode(self.mission_current))
+        if self._progress >= len(self._route_seqs):
+            self._route_seqs = []
+            self.mode = HOLD
+            self.mission_current = len(self.mission)  # past the end: AUTO restarts from item 1
+            self.event("Mission complete, changing mode to Hold")
