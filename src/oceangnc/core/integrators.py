@@ -37,7 +37,10 @@ def rk4_workspace(n_states: int) -> np.ndarray:
     return np.zeros((5, n_states))
 
 
-@njit(cache=False)  # no disk cache: its index would hold references to every rhs it met (see above)
+# no disk cache of its own: its index would hold references to every rhs it met (see above). Inlined
+# into its callers (numba IR inlining), so a cached caller that names its rhs statically -- the generated
+# steppers, the combined plant's split integrator -- stays cacheable: the one home of the RK4 step.
+@njit(cache=False, inline="always")
 def rk4_step(f, t, x, u, p, dt, work, bound):
     """One classical RK4 step of ``dt`` in place; False if a component became non-finite or above ``bound``."""
     k1 = work[0]
@@ -64,18 +67,23 @@ def rk4_step(f, t, x, u, p, dt, work, bound):
     return ok
 
 
-@njit(cache=False)
-def rk4_advance(f, t, x, u, p, dt, n, work):
-    """Advance ``x`` in place by ``n`` RK4 steps of ``dt`` seconds; returns the new time (s).
-
-    Stops early and returns ``-1 - k`` (k the step index) if the state becomes non-finite, so that the
-    caller can report where the simulation diverged without wasting the remaining steps.
-    """
+@njit(cache=False, inline="always")
+def rk4_steps(f, t, x, u, p, dt, n, work, bound):
+    """``n`` RK4 steps of ``dt`` in place from time ``t``; returns the new time (s), or ``-1 - k`` (k the
+    step index) as soon as a component becomes non-finite or exceeds ``bound`` in magnitude, so that the
+    caller can report where the simulation diverged without wasting the remaining steps."""
     for s in range(n):
-        if not rk4_step(f, t, x, u, p, dt, work, np.inf):
+        if not rk4_step(f, t, x, u, p, dt, work, bound):
             return -1.0 - s
         t += dt
     return t
+
+
+@njit(cache=False)
+def rk4_advance(f, t, x, u, p, dt, n, work):
+    """Advance ``x`` in place by ``n`` RK4 steps of ``dt`` seconds; returns the new time (s), or
+    ``-1 - k`` if step k made the state non-finite (:func:`rk4_steps` without a bound)."""
+    return rk4_steps(f, t, x, u, p, dt, n, work, np.inf)
 
 
 @njit(cache=False)
@@ -96,37 +104,13 @@ _STEPPER_TEMPLATE = """\
 # fingerprint: {fingerprint}
 from numba import njit
 
+from oceangnc.core.integrators import rk4_steps
 from {module} import {name} as rhs
 
 
 @njit(cache=True)
 def advance(t, x, u, p, dt, n, work, bound):
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    xt = work[4]
-    m = x.size
-    for s in range(n):
-        rhs(t, x, u, p, k1)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k1[i]
-        rhs(t + 0.5 * dt, xt, u, p, k2)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k2[i]
-        rhs(t + 0.5 * dt, xt, u, p, k3)
-        for i in range(m):
-            xt[i] = x[i] + dt * k3[i]
-        rhs(t + dt, xt, u, p, k4)
-        ok = True
-        for i in range(m):
-            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-            if not (abs(x[i]) <= bound):  # also catches NaN
-                ok = False
-        if not ok:
-            return -1.0 - s
-        t += dt
-    return t
+    return rk4_steps(rhs, t, x, u, p, dt, n, work, bound)
 """
 
 
@@ -150,6 +134,7 @@ def stepper_cache_dir() -> Path:
 def _fingerprint(mod) -> str:
     f = getattr(mod, "__file__", None)
     h = hashlib.sha1(_STEPPER_TEMPLATE.encode())
+    h.update(Path(__file__).read_bytes())  # the stepper inlines rk4_steps
     if f and os.path.exists(f):
         with open(f, "rb") as fh:
             h.update(fh.read())
@@ -218,10 +203,6 @@ def rk4_stepper(rhs):
 
     @njit(cache=False)
     def advance(t, x, u, p, dt, n, work, bound):
-        for s in range(n):
-            if not rk4_step(rhs, t, x, u, p, dt, work, bound):
-                return -1.0 - s
-            t += dt
-        return t
+        return rk4_steps(rhs, t, x, u, p, dt, n, work, bound)
 
     return advance

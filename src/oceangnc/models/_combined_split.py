@@ -10,6 +10,7 @@ import math
 
 from numba import njit
 
+from ..core.integrators import rk4_step
 from ._combined_layout import (
     H_N,
     H_L0,
@@ -158,36 +159,15 @@ def split_advance(t, x, u, p, dt, nsteps, work, bound):
     """Strang splitting: damping(dt/2, implicit) - RK4(dt, everything else) - damping(dt/2, implicit).
 
     The closing and opening half steps of consecutive steps are fused into one backward-Euler step of
-    dt (exact for the first-order damping flow up to O(dt^2), like the splitting itself). Second order; removes the overdamped axial mode (lambda ~ -C_v 4 / m_c) from the explicit
-    part, whose limit is then that of the axial springs alone. Returns the new time, or -1 - k if the
-    state became non-finite or exceeded ``bound`` in magnitude at step k.
+    dt (exact for the first-order damping flow up to O(dt^2), like the splitting itself). Second order;
+    removes the overdamped axial mode (lambda ~ -C_v 4 / m_c) from the explicit part, whose limit is
+    then that of the axial springs alone. Returns the new time, or -1 - k if the state became
+    non-finite or exceeded ``bound`` in magnitude at step k.
     """
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    xt = work[4]
-    m = x.size
     damping_substep(x, p, 0.5 * dt)
     for s in range(nsteps):
-        # RK4 written out (not core.integrators.rk4_step): passing combined_rhs as a value would stop
-        # numba from caching this function on disk
-        combined_rhs(t, x, u, p, k1)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k1[i]
-        combined_rhs(t + 0.5 * dt, xt, u, p, k2)
-        for i in range(m):
-            xt[i] = x[i] + 0.5 * dt * k2[i]
-        combined_rhs(t + 0.5 * dt, xt, u, p, k3)
-        for i in range(m):
-            xt[i] = x[i] + dt * k3[i]
-        combined_rhs(t + dt, xt, u, p, k4)
-        ok = True
-        for i in range(m):
-            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-            if not (abs(x[i]) <= bound):  # also catches NaN
-                ok = False
-        if not ok:
+        # the one RK4 step of core.integrators (inlined, so this function stays disk-cached)
+        if not rk4_step(combined_rhs, t, x, u, p, dt, work, bound):
             return -1.0 - s
         # the closing half step of this step and the opening half step of the next are fused
         damping_substep(x, p, dt if s < nsteps - 1 else 0.5 * dt)
