@@ -10,6 +10,8 @@ from numba import njit
 
 from ..core.rotations import rzyx_entries
 from ._combined_layout import (
+    cross_add,
+    rot_add,
     H_N,
     H_TOP,
     H_ATT,
@@ -28,6 +30,7 @@ from ._combined_layout import (
 )
 from ._combined_kernels import combined_rhs
 from ._combined_winch import remesh
+from .cable import segment
 from .uuv import P_RC
 
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -64,12 +67,7 @@ def _imex_factor(x, p, n, gh):
     for s in range(1, n + 1):
         l0 = lt if s == 1 else p[H_L0]
         ea_l0 = p[H_EA] / l0
-        a = 3 * (s - 1)
-        b = 3 * s
-        dx = pos[b] - pos[a]
-        dy = pos[b + 1] - pos[a + 1]
-        dz = pos[b + 2] - pos[a + 2]
-        ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx, dy, dz, ln = segment(pos, s)
         c = 6 * s
         if s == 1:  # winch: dF_1/dL and dF_1/ds (top segment taut), known-stage terms of the solve
             G = p[base + 30 * (n + 1) + 30 : base + 30 * (n + 1) + 36]
@@ -181,30 +179,16 @@ def _imex_end_increments(x, k, p, n, e):
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
     o = int(p[H_UO])
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
+    R = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
     cx = p[P_UUV + P_RC]
     cy = p[P_UUV + P_RC + 1]
     cz = p[P_UUV + P_RC + 2]
     # a_n = k_eta1 + R (Omega x r_c), Omega ~ the Euler-angle increments (small-angle rate map)
-    wx = k[o + 3]
-    wy = k[o + 4]
-    wz = k[o + 5]
-    bx = wy * cz - wz * cy
-    by = wz * cx - wx * cz
-    bz = wx * cy - wy * cx
-    e[6] = k[o] + r00 * bx + r01 * by + r02 * bz
-    e[7] = k[o + 1] + r10 * bx + r11 * by + r12 * bz
-    e[8] = k[o + 2] + r20 * bx + r21 * by + r22 * bz
+    bx, by, bz = cross_add(0.0, 0.0, 0.0, k[o + 3], k[o + 4], k[o + 5], cx, cy, cz)
+    e[6], e[7], e[8] = rot_add(R, k[o], k[o + 1], k[o + 2], bx, by, bz)
     # b_n = R (k_v + k_omega x r_c)
-    pq = k[o + 9]
-    q = k[o + 10]
-    r = k[o + 11]
-    bu = k[o + 6] + q * cz - r * cy
-    bv = k[o + 7] + r * cx - pq * cz
-    bw = k[o + 8] + pq * cy - q * cx
-    e[9] = r00 * bu + r01 * bv + r02 * bw
-    e[10] = r10 * bu + r11 * bv + r12 * bw
-    e[11] = r20 * bu + r21 * bv + r22 * bw
+    bu, bv, bw = cross_add(k[o + 6], k[o + 7], k[o + 8], k[o + 9], k[o + 10], k[o + 11], cx, cy, cz)
+    e[9], e[10], e[11] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
 
 
 @njit(cache=True)

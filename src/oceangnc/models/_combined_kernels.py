@@ -83,6 +83,15 @@ def _contact(p, x, y, z, vx, vy, vz, radius, mass):
 
 
 @njit(cache=True)
+def _loads(p, pos, vel, F, Mn, n, cv, vcn, vce, cv_last, l0_top, ldot_top):
+    """:func:`~oceangnc.models.cable.cable_loads` with the cable's parameters from the header of ``p``."""
+    cable_loads(
+        pos, vel, F, Mn, n, p[H_L0], p[H_EA], cv, p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], vcn, vce, cv_last,
+        int(p[H_LAW]), p[H_KDT], l0_top, ldot_top,
+    )  # fmt: skip
+
+
+@njit(cache=True)
 def combined_rhs(t, x, u, p, out):
     """dx/dt of the combined USV + cable + UUV (layout in the module docstring); allocates nothing."""
     n = int(p[H_N])
@@ -93,27 +102,7 @@ def combined_rhs(t, x, u, p, out):
     pos, vel, F, Mn = _gather(x, p, n)
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    cable_loads(
-        pos,
-        vel,
-        F,
-        Mn,
-        n,
-        p[H_L0],
-        p[H_EA],
-        p[H_CVE],
-        p[H_MC],
-        p[H_MA],
-        p[H_WSEG],
-        p[H_KDRAG],
-        u[2],
-        u[3],
-        p[H_CV],
-        int(p[H_LAW]),
-        p[H_KDT],
-        lt,
-        ldot,
-    )
+    _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
     po = int(p[H_PO])
     vo = int(p[H_VO])
     bed = p[H_BED] > 0.5
@@ -167,54 +156,13 @@ def cable_state(x, p, nodes, ends):
         nodes[k] = pos[k]
     # only the two end segments matter: run the segment loads on one-segment views
     lt = top_l0(x, p, n)
-    law = int(p[H_LAW])
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    cable_loads(
-        pos[0:6],
-        vel[0:6],
-        F[0:6],
-        Mn[0:12],
-        1,
-        p[H_L0],
-        p[H_EA],
-        p[H_CV],
-        p[H_MC],
-        p[H_MA],
-        p[H_WSEG],
-        p[H_KDRAG],
-        ends[6],
-        ends[7],
-        -1.0,
-        law,
-        p[H_KDT],
-        lt,
-        ldot,
-    )
+    _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
     for k in range(3):
         ends[k] = F[k]
     b = 3 * (n - 1)
     lb = lt if n == 1 else -1.0
     lbd = ldot if n == 1 else 0.0
-    cable_loads(
-        pos[b : b + 6],
-        vel[b : b + 6],
-        F[0:6],
-        Mn[0:12],
-        1,
-        p[H_L0],
-        p[H_EA],
-        p[H_CV],
-        p[H_MC],
-        p[H_MA],
-        p[H_WSEG],
-        p[H_KDRAG],
-        ends[6],
-        ends[7],
-        -1.0,
-        law,
-        p[H_KDT],
-        lb,
-        lbd,
-    )
+    _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
     for k in range(3):
         ends[3 + k] = F[3 + k]

@@ -88,26 +88,31 @@ def _ends(x, p, n, pos, vel):
         vel[2] = 0.0
     # bottom node (003 eq. 2.30-2.31)
     o = int(p[H_UO])
-    phi = x[o + 3]
-    th = x[o + 4]
-    psi = x[o + 5]
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
+    R = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
     cx = p[P_UUV + P_RC]
     cy = p[P_UUV + P_RC + 1]
     cz = p[P_UUV + P_RC + 2]
     b = 3 * n
-    pos[b] = x[o] + r00 * cx + r01 * cy + r02 * cz
-    pos[b + 1] = x[o + 1] + r10 * cx + r11 * cy + r12 * cz
-    pos[b + 2] = x[o + 2] + r20 * cx + r21 * cy + r22 * cz
-    pq = x[o + 9]
-    q = x[o + 10]
-    r = x[o + 11]
-    bu = x[o + 6] + q * cz - r * cy
-    bv = x[o + 7] + r * cx - pq * cz
-    bw = x[o + 8] + pq * cy - q * cx
-    vel[b] = r00 * bu + r01 * bv + r02 * bw
-    vel[b + 1] = r10 * bu + r11 * bv + r12 * bw
-    vel[b + 2] = r20 * bu + r21 * bv + r22 * bw
+    pos[b], pos[b + 1], pos[b + 2] = rot_add(R, x[o], x[o + 1], x[o + 2], cx, cy, cz)
+    bu, bv, bw = cross_add(x[o + 6], x[o + 7], x[o + 8], x[o + 9], x[o + 10], x[o + 11], cx, cy, cz)
+    vel[b], vel[b + 1], vel[b + 2] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
+
+
+@njit(cache=True)
+def rot_add(R, e0, e1, e2, a, b, c):
+    """e + R (a, b, c) for ``R`` the 9 row-major entries of a rotation matrix (summed left to right)."""
+    return (
+        e0 + R[0] * a + R[1] * b + R[2] * c,
+        e1 + R[3] * a + R[4] * b + R[5] * c,
+        e2 + R[6] * a + R[7] * b + R[8] * c,
+    )
+
+
+@njit(cache=True)
+def cross_add(u, v, w, p, q, r, cx, cy, cz):
+    """(u, v, w) + (p, q, r) x (cx, cy, cz): the body-frame velocity of the body point r_c of a body moving
+    at linear velocity (u, v, w) and angular velocity (p, q, r) (003 eq. 2.31)."""
+    return u + q * cz - r * cy, v + r * cx - p * cz, w + p * cy - q * cx
 
 
 @njit(cache=True)

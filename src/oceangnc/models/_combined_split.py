@@ -6,7 +6,6 @@ over the interior nodes), :func:`split_advance` the damping(dt/2) - RK4(dt) - da
 
 from __future__ import annotations
 
-import math
 
 from numba import njit
 
@@ -22,6 +21,7 @@ from ._combined_layout import (
     _inv3,
 )
 from ._combined_kernels import combined_rhs
+from .cable import segment
 
 
 @njit(cache=True)
@@ -48,12 +48,7 @@ def damping_substep(x, p, h):
     mt = 0.5 * (p[H_MC] + p[H_MA])
     ha = 0.5 * p[H_MA]
     for i in range(1, n + 1):
-        a = 3 * (i - 1)
-        b = 3 * i
-        dx = pos[b] - pos[a]
-        dy = pos[b + 1] - pos[a + 1]
-        dz = pos[b + 2] - pos[a + 2]
-        ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx, dy, dz, ln = segment(pos, i)
         k = 3 * (i - 1)
         if ln > l0 and i < n:  # the last segment's damper stays explicit (its reaction acts on the UUV)
             T[k] = dx / ln

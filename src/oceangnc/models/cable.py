@@ -220,6 +220,17 @@ def _loading(c, s, eta):
 
 
 @njit(cache=True)
+def segment(pos, i):
+    """Vector (m, NED) from node i - 1 to node i of the flat node positions ``pos``, and its length (m)."""
+    a = 3 * (i - 1)
+    b = 3 * i
+    dx = pos[b] - pos[a]
+    dy = pos[b + 1] - pos[a + 1]
+    dz = pos[b + 2] - pos[a + 2]
+    return dx, dy, dz, math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@njit(cache=True)
 def cable_loads(
     pos,
     vel,
@@ -269,10 +280,7 @@ def cable_loads(
         ha = 0.5 * m_a * sc
         a = 3 * (i - 1)
         b = 3 * i
-        dx = pos[b] - pos[a]
-        dy = pos[b + 1] - pos[a + 1]
-        dz = pos[b + 2] - pos[a + 2]
-        ln = math.sqrt(dx * dx + dy * dy + dz * dz)
+        dx, dy, dz, ln = segment(pos, i)
         if ln > 0.0:
             il = 1.0 / ln
             tx = dx * il
