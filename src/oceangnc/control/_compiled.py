@@ -13,11 +13,10 @@ u_min, u_max, kw (the anti-windup PID of 003 eq. 3.10, :class:`oceangnc.control.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
+from ..core.rotations import wrap
 from .backstepping import update
 
 PID_STATE = 5
@@ -51,11 +50,6 @@ def pid_step(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, u_min, u_max):
 
 
 @njit(cache=True)
-def _wrap(a):
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
-@njit(cache=True)
 def usv_control_step(t, sig, sl, st, pa):
     """:class:`oceangnc.control.usv_control.USVController` (autopilot mode).
 
@@ -69,7 +63,7 @@ def usv_control_step(t, sig, sl, st, pa):
     r = sig[sl[2]]
     u_d = sig[sl[3]] if sl[3] >= 0 else pa[13]
     psi_d = sig[sl[4]] if sl[4] >= 0 else psi
-    u_h = pid_step(st, 5, pa, 6, _wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
+    u_h = pid_step(st, 5, pa, 6, wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
     t_max = pa[14]
     t_min = pa[15]
     s_max = max(0.0, t_max - abs(u_h))
@@ -150,30 +144,3 @@ def backstepping_step(t, sig, sl, st, pa):
 
 def arr(values) -> np.ndarray:
     return np.array([float(v) for v in values], dtype=np.float64)
-
-
-@njit(cache=True)
-def tow_straight_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.scenarios.cable.TowStraightControl` (003 ch. 4 a).
-
-    slots: usv.u, usv.psi, usv.r, uuv.u, uuv.psi, uuv.r | usv.thrust_port_cmd, usv.thrust_stbd_cmd,
-    uuv.thrust_port_cmd, uuv.thrust_stbd_cmd, uuv.thrust_bow_cmd. state: 4 PIDs (USV speed, USV
-    heading, UUV speed, UUV heading). params: the 4 PIDs, h, psi_d, start_s, USV speed, UUV speed,
-    USV feed-forward, UUV feed-forward.
-    """
-    h = pa[24]
-    psi_d = pa[25]
-    if t < pa[26]:
-        for i in range(5):
-            sig[sl[6 + i]] = 0.0
-        return
-    tot = pid_step(st, 0, pa, 0, pa[27] - sig[sl[0]], h, 0.0, False, pa[29], pa[3], pa[4])
-    e = (psi_d - sig[sl[1]] + math.pi) % (2 * math.pi) - math.pi
-    dif = pid_step(st, 5, pa, 6, e, h, -sig[sl[2]], True, 0.0, pa[9], pa[10])
-    sig[sl[6]] = 0.5 * tot + 0.5 * dif
-    sig[sl[7]] = 0.5 * tot - 0.5 * dif
-    totu = pid_step(st, 10, pa, 12, pa[28] - sig[sl[3]], h, 0.0, False, pa[30], pa[15], pa[16])
-    sig[sl[8]] = 0.5 * totu
-    sig[sl[9]] = 0.5 * totu
-    eu = (psi_d - sig[sl[4]] + math.pi) % (2 * math.pi) - math.pi
-    sig[sl[10]] = pid_step(st, 15, pa, 18, eu, h, -sig[sl[5]], True, 0.0, pa[21], pa[22])

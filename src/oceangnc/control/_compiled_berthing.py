@@ -13,6 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.rotations import wrap
 from ..models.ship_lowspeed import hull_forces, rudder_forces
 from ..models.usv import wind_load
 from .allocation import allocate
@@ -149,7 +150,7 @@ def pilot_step(t, sig, sl, st, pa, rng):
     aim0, aim1 = _point_at(pa, s + look)
     psi_des = math.atan2(aim1 - e, aim0 - n)
     course = psi + math.atan2(v, u) if pa[9] != 0.0 and math.hypot(u, v) > 0.1 else psi
-    e_psi = (psi_des - course + math.pi) % (2 * math.pi) - math.pi
+    e_psi = wrap(psi_des - course)
     s_rem = length - s
     u_cruise = pa[10]
     if stop_at_end:

@@ -20,7 +20,7 @@ from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
 from ..units import KGF
 from .pid import PID
-from .usv_control import mix
+from .usv_control import mix, speed_loop
 
 
 class TowCommand(StrictModel):
@@ -118,8 +118,7 @@ class TowStraightControl(Block):
                 bus[k] = 0.0
             return
         # USV
-        ff = self.usv_cfg.d11 * c.usv_speed
-        tot = self.usv_speed.step(c.usv_speed - bus["usv.u"], h, feedforward=ff)
+        tot = speed_loop(self.usv_speed, c.usv_speed, bus["usv.u"], h, self.usv_cfg.d11, share=1.0)
         e = wrap(psi_d - bus["usv.psi"])
         dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(0.5 * tot, 0.5 * dif)

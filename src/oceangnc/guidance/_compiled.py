@@ -6,13 +6,7 @@ import math
 
 from numba import njit
 
-from ..core.rotations import hypot
-
-
-@njit(cache=True)
-def _wrap_pi(a):
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
+from ..core.rotations import hypot, wrap
 
 
 @njit(cache=True)
@@ -141,8 +135,8 @@ def leader_follower_step(t, sig, sl, st, pa):
     sig[sl[13]] = te
     sig[sl[14]] = cf * dn + sf * de
     sig[sl[15]] = -sf * dn + cf * de
-    sig[sl[16]] = _wrap_pi(psil - psif)
+    sig[sl[16]] = wrap(psil - psif)
     sig[sl[17]] = los
-    sig[sl[18]] = _wrap_pi(los - psif)
+    sig[sl[18]] = wrap(los - psif)
     sig[sl[19]] = 1.0 if outside else 0.0
     sig[sl[20]] = los if outside else psil

@@ -11,6 +11,8 @@ import math
 
 from numba import njit
 
+from ..core.rotations import wrap
+
 
 @njit(cache=True)
 def thrusters_step(t, sig, sl, st, pa):
@@ -64,7 +66,7 @@ def usv_publish(x, sig, slots):
     """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
     for i in range(6):
         sig[slots[i]] = x[i]
-    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[2]] = wrap(x[2])
     sig[slots[6]] = math.sqrt(x[3] * x[3] + x[4] * x[4])  # not hypot: libm and numba differ in the last bit
 
 
@@ -80,7 +82,7 @@ def ship_publish(x, sig, slots):
     """:meth:`oceangnc.models.ship_lowspeed.ShipPlant.publish`; slots 13, 14: the current (or -1)."""
     sig[slots[0]] = x[0]
     sig[slots[1]] = x[1]
-    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[2]] = wrap(x[2])
     sig[slots[3]] = x[3]
     sig[slots[4]] = x[4]
     sig[slots[5]] = x[5]

@@ -70,8 +70,9 @@ from ..core.blocks import Plant
 from ..core.signals import CALM
 from ..core.csmath import cabs, catan2, ccos, csin, csqrt
 from ..core.model import Model
+from ..core.rotations import wrap
 from .actuators import saturate
-from .usv import wind_load
+from ._hydro import relative_velocity, wind_load
 from ._ship_params import *  # noqa: F403  (re-exported: the old import paths keep working)
 from ._ship_params import INPUTS, INPUT_NAMES, LAYOUT, P, STATES, STATE_NAMES, ShipConfig, P_NAMES
 
@@ -222,10 +223,7 @@ def ship_rhs(t, x, u, p, out):
     ns = x[9]
     c = ccos(psi)
     s = csin(psi)
-    uc = c * u[4] + s * u[5]
-    vc = -s * u[4] + c * u[5]
-    ur = uu - uc
-    vr = vv - vc
+    ur, vr, uc, vc = relative_velocity(c, s, uu, vv, u[4], u[5])
     m = p[_M]
     xg = p[_XG]
     Xh, Yh, Nh = hull_forces(ur, vr, r, p)
@@ -327,7 +325,7 @@ class ShipPlant(Plant):
         b = self.name
         bus[f"{b}.x"] = float(x[0])
         bus[f"{b}.y"] = float(x[1])
-        bus[f"{b}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
+        bus[f"{b}.psi"] = float(wrap(x[2]))
         bus[f"{b}.u"] = float(x[3])
         bus[f"{b}.v"] = float(x[4])
         bus[f"{b}.r"] = float(x[5])

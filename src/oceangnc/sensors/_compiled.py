@@ -12,10 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-
-@njit(cache=True)
-def _wrap(a):
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
+from ..core.rotations import wrap
 
 
 @njit(cache=True)
@@ -84,7 +81,7 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     psi = sig[sl[0]]
     if pa[1] > 0:
         a = 1.0 - math.exp(-pa[0] / pa[1])
-        st[0] = _wrap(st[0] + a * _wrap(psi - st[0]))
+        st[0] = wrap(st[0] + a * wrap(psi - st[0]))
     else:
         st[0] = psi
     am = math.exp(-pa[0] / pa[2])
@@ -94,7 +91,7 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     w3 = rng.standard_normal()
     w4 = rng.standard_normal()
     st[1] = am * st[1] + pa[3] * math.sqrt(1 - am * am) * w0
-    sig[sl[4]] = _wrap(st[0] + st[1] + pa[4] * w1)
+    sig[sl[4]] = wrap(st[0] + st[1] + pa[4] * w1)
     sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
     sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
     sig[sl[7]] = _get(sig, sl[3], 0.0) + pa[7] * w4
