@@ -29,6 +29,13 @@ def _stack_get(x, p, u, j):
 
 
 @njit(cache=True)
+def _stack_step(x, p, u, j, rel):
+    """(y_j, h_j): element ``j`` of [x | p | u] and its differentiation step rel * max(|y_j|, 1e-3)."""
+    y = _stack_get(x, p, u, j)
+    return y, rel * max(abs(y), 1e-3)
+
+
+@njit(cache=True)
 def _stack_set(xw, pw, uw, j, v):
     """Set element ``j`` of the stacked work vector [xw | pw | uw] to ``v``."""
     ns = xw.size
@@ -155,8 +162,7 @@ def jacobian_functions(f, h, jac, mode: str):
             m = J.shape[0]
             for c in range(cols.size):
                 j = cols[c]
-                y = _stack_get(x, p, u, j)
-                hh = CS_STEP * max(abs(y), 1e-3)
+                y, hh = _stack_step(x, p, u, j, CS_STEP)
                 _stack_set(xc, pc, uc, j, y + 1j * hh)
                 g(t, xc, uc, pc, oc)
                 for i in range(m):
@@ -172,8 +178,7 @@ def jacobian_functions(f, h, jac, mode: str):
             m = J.shape[0]
             for c in range(cols.size):
                 j = cols[c]
-                y = _stack_get(x, p, u, j)
-                hh = FD_STEP * max(abs(y), 1e-3)
+                y, hh = _stack_step(x, p, u, j, FD_STEP)
                 _stack_set(xr, pr, ur, j, y + hh)
                 g(t, xr, ur, pr, o1)
                 _stack_set(xr, pr, ur, j, y - hh)

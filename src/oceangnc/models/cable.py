@@ -48,6 +48,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.integrators import stability_limit
+
 from ._cable_config import *  # noqa: F403  (re-exported: the old import paths keep working)
 from ._cable_config import CableConfig
 
@@ -222,20 +224,13 @@ def cable_loads(
         myy = mt - ha * ty * ty
         myz = -ha * ty * tz
         mzz = mt - ha * tz * tz
-        ca = 6 * (i - 1)
-        cb = 6 * i
-        Mn[ca] += mxx
-        Mn[ca + 1] += mxy
-        Mn[ca + 2] += mxz
-        Mn[ca + 3] += myy
-        Mn[ca + 4] += myz
-        Mn[ca + 5] += mzz
-        Mn[cb] += mxx
-        Mn[cb + 1] += mxy
-        Mn[cb + 2] += mxz
-        Mn[cb + 3] += myy
-        Mn[cb + 4] += myz
-        Mn[cb + 5] += mzz
+        for ce in (6 * (i - 1), 6 * i):
+            Mn[ce] += mxx
+            Mn[ce + 1] += mxy
+            Mn[ce + 2] += mxz
+            Mn[ce + 3] += myy
+            Mn[ce + 4] += myz
+            Mn[ce + 5] += mzz
 
 
 @njit(cache=True)
@@ -325,19 +320,7 @@ def axial_stability_limit(cfg: CableConfig, end_mass: float | None = None, last_
     if lam.size == 0:
         return math.inf
     rmax = float(np.max(np.abs(lam)))
-    ok = lambda h: bool(np.all(_rk4_amplification(h * lam) <= 1.0 + 1e-12))  # noqa: E731
-    h_lo = 1e-3 / rmax
-    h_hi = h_lo
-    while ok(h_hi) and h_hi < 10.0 / rmax:
-        h_lo = h_hi
-        h_hi *= 1.25
-    for _ in range(60):
-        mid = 0.5 * (h_lo + h_hi)
-        if ok(mid):
-            h_lo = mid
-        else:
-            h_hi = mid
-    return h_lo
+    return stability_limit(lam, _rk4_amplification, 1e-3 / rmax, 10.0 / rmax)
 
 
 def highest_axial_mode(cfg: CableConfig, end_mass: float | None = None) -> float:
