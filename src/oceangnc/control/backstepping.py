@@ -74,6 +74,7 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..core.rotations import wrap
+from ..guidance.leader_follower import target_point
 from ..io.config import StrictModel
 from ..units import KGF
 
@@ -148,9 +149,7 @@ def model_from_uuv(uuv_cfg) -> Model3DOF:
 @njit(cache=True)
 def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     """(eps1, eps2, e_psi): control-point error in the follower frame (m) and psi_l - psi_f (rad)."""
-    cl, sl = math.cos(psil), math.sin(psil)
-    tn = xl + cl * cx - sl * cy
-    te = yl + sl * cx + cl * cy
+    tn, te = target_point(xl, yl, psil, cx, cy)  # the target of the control point (003 eq. 3.8)
     cf, sf = math.cos(psif), math.sin(psif)
     hn = xf + h * cf
     he = yf + h * sf

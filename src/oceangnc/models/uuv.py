@@ -345,12 +345,8 @@ class UUVThrusters(Block):
         from ..core.fused import CompiledBlock
         from ._compiled import thrusters_step
 
-        b = self.body
-        sig = [
-            "_estop",
-            *(f"{b}.thrust_{s}_cmd" for s in ("port", "stbd", "bow")),
-            *(f"{b}.thrust_{s}" for s in ("port", "stbd", "bow")),
-        ]
+        b, sides = self.body, ("port", "stbd", "bow")
+        sig = ["_estop"] + [f"{b}.thrust_{s}_cmd" for s in sides] + [f"{b}.thrust_{s}" for s in sides]
         return CompiledBlock(thrusters_step, sig, params=np.array([3.0, self.hi, self.lo]))
 
     def step(self, t: float, bus: dict) -> None:
@@ -398,7 +394,6 @@ def uuv_min_turning_radius(cfg: UUVConfig) -> float:
     pitch-unstable (the Munk moment exceeds W z_G) and spirals down, which is no turning circle.
     Used by the pure-pursuit look-ahead l = 2 R_min (003 eq. 3.6).
     """
-    hi = cfg.max_thrust_kgf * KGF
-    lo = cfg.max_reverse_kgf * KGF
+    hi, lo = cfg.max_thrust_kgf * KGF, cfg.max_reverse_kgf * KGF
     u, v, r = uuv_steady_planar(cfg, hi, -lo, hi)
     return float(math.hypot(u, v) / abs(r))
