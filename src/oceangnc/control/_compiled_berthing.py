@@ -16,6 +16,7 @@ from numba import njit
 from ..core.rotations import wrap
 from ..models.ship_lowspeed import hull_forces, rudder_forces
 from ..models.usv import wind_load
+from ..sensors._compiled import ring_slot
 from .allocation import allocate
 from .berthing import rps_for_thrust
 
@@ -119,12 +120,7 @@ def pilot_step(t, sig, sl, st, pa, rng):
     head = int(st[7])
     cap = int(st[8])
     o = 9
-    if cnt < cap:
-        j = (head + cnt) % cap
-        cnt += 1
-    else:
-        j = head
-        head = (head + 1) % cap
+    j, cnt, head = ring_slot(cnt, head, cap)
     st[o + 7 * j] = t
     st[o + 7 * j + 1] = x
     st[o + 7 * j + 2] = y

@@ -16,6 +16,15 @@ from ..core.rotations import wrap
 
 
 @njit(cache=True)
+def ring_slot(count, head, cap):
+    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
+    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
+    if count < cap:
+        return (head + count) % cap, count + 1, head
+    return head, count, (head + 1) % cap
+
+
+@njit(cache=True)
 def _get(sig, s, default):
     return sig[s] if s >= 0 else default
 
@@ -41,12 +50,7 @@ def gps_step(t, sig, sl, st, pa, rng):
     n = int(pa[6])
     count = int(st[3])
     head = int(st[4])
-    if count < n:
-        j = (head + count) % n
-        count += 1
-    else:
-        j = head
-        head = (head + 1) % n
+    j, count, head = ring_slot(count, head, n)
     st[5 + 3 * j] = t
     st[6 + 3 * j] = x
     st[7 + 3 * j] = y
