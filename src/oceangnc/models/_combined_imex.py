@@ -8,8 +8,8 @@ import math
 
 from numba import njit
 
-from ..core.rotations import rzyx_entries
 from ._combined_layout import (
+    tow_frame,
     cross_add,
     rot_add,
     H_N,
@@ -20,10 +20,8 @@ from ._combined_layout import (
     H_CV,
     H_PO,
     H_VO,
-    H_UO,
     H_WIN,
     H_WO,
-    P_UUV,
     P_SCR,
     top_l0,
     _inv3,
@@ -31,7 +29,6 @@ from ._combined_layout import (
 from ._combined_kernels import combined_rhs
 from ._combined_winch import remesh
 from .cable import segment
-from .uuv import P_RC
 
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 
@@ -171,18 +168,12 @@ def _imex_end_increments(x, k, p, n, e):
         e[0] = k[0] + (-s * ax - c * ay) * kp
         e[1] = k[1] + (c * ax - s * ay) * kp
         e[2] = 0.0
-        ub = x[3] - x[5] * ay
-        vb = x[4] + x[5] * ax
-        kub = k[3] - k[5] * ay
-        kvb = k[4] + k[5] * ax
+        ub, vb = x[3] - x[5] * ay, x[4] + x[5] * ax  # as in _ends, and its stage increment
+        kub, kvb = k[3] - k[5] * ay, k[4] + k[5] * ax
         e[3] = c * kub - s * kvb + (-s * ub - c * vb) * kp
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
-    o = int(p[H_UO])
-    R = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
-    cx = p[P_UUV + P_RC]
-    cy = p[P_UUV + P_RC + 1]
-    cz = p[P_UUV + P_RC + 2]
+    o, R, cx, cy, cz = tow_frame(x, p)
     # a_n = k_eta1 + R (Omega x r_c), Omega ~ the Euler-angle increments (small-angle rate map)
     bx, by, bz = cross_add(0.0, 0.0, 0.0, k[o + 3], k[o + 4], k[o + 5], cx, cy, cz)
     e[6], e[7], e[8] = rot_add(R, k[o], k[o + 1], k[o + 2], bx, by, bz)

@@ -81,21 +81,23 @@ def _ends(x, p, n, pos, vel):
         pos[0] = x[0] + c * ax - s * ay
         pos[1] = x[1] + s * ax + c * ay
         pos[2] = p[H_ATT + 2]
-        ub = x[3] - x[5] * ay
-        vb = x[4] + x[5] * ax
+        ub, vb = x[3] - x[5] * ay, x[4] + x[5] * ax  # body velocity of the attachment point
         vel[0] = c * ub - s * vb
         vel[1] = s * ub + c * vb
         vel[2] = 0.0
     # bottom node (003 eq. 2.30-2.31)
-    o = int(p[H_UO])
-    R = rzyx_entries(x[o + 3], x[o + 4], x[o + 5])
-    cx = p[P_UUV + P_RC]
-    cy = p[P_UUV + P_RC + 1]
-    cz = p[P_UUV + P_RC + 2]
+    o, R, cx, cy, cz = tow_frame(x, p)
     b = 3 * n
     pos[b], pos[b + 1], pos[b + 2] = rot_add(R, x[o], x[o + 1], x[o + 2], cx, cy, cz)
     bu, bv, bw = cross_add(x[o + 6], x[o + 7], x[o + 8], x[o + 9], x[o + 10], x[o + 11], cx, cy, cz)
     vel[b], vel[b + 1], vel[b + 2] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
+
+
+@njit(cache=True)
+def tow_frame(x, p):
+    """(o, R, c_x, c_y, c_z): the UUV's state offset, the 9 entries of its R_b^n and its tow point r_c (m, body)."""
+    o = int(p[H_UO])
+    return o, rzyx_entries(x[o + 3], x[o + 4], x[o + 5]), p[P_UUV + P_RC], p[P_UUV + P_RC + 1], p[P_UUV + P_RC + 2]
 
 
 @njit(cache=True)

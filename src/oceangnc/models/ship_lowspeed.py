@@ -301,12 +301,7 @@ class ShipPlant(Plant):
                 **{
                     f"{name}.{k}": u
                     for k, u in (
-                        ("x", "m"),
-                        ("y", "m"),
-                        ("psi", "rad"),
-                        ("u", "m/s"),
-                        ("v", "m/s"),
-                        ("r", "rad/s"),
+                        *STATES[:6],  # x, y, psi, u, v, r
                         ("rudder", "rad"),
                         ("rpm_prop", "rpm"),
                         ("rpm_bow", "rpm"),
