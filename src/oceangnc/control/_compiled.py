@@ -18,6 +18,7 @@ from numba import njit
 
 from ..core.rotations import wrap
 from .backstepping import update
+from .usv_control import mix
 
 PID_STATE = 5
 PID_PARAMS = 6
@@ -70,12 +71,10 @@ def usv_control_step(t, sig, sl, st, pa):
     s_min = min(0.0, t_min + abs(u_h))
     ff = pa[16] * u_d
     u_s = pid_step(st, 0, pa, 0, u_d - u, h, 0.0, False, ff, s_min, s_max)
-    sig[sl[5]] = u_s + u_h
-    sig[sl[6]] = u_s - u_h
-    sig[sl[7]] = u_d
-    sig[sl[8]] = psi_d
-    sig[sl[9]] = u_s
-    sig[sl[10]] = u_h
+    sig[sl[5]], sig[sl[6]] = mix(u_s, u_h)
+    out = (u_d, psi_d, u_s, u_h)
+    for i in range(4):
+        sig[sl[7 + i]] = out[i]
 
 
 @njit(cache=True)
@@ -115,11 +114,9 @@ def uuv_pid_step(t, sig, sl, st, pa):
     else:
         ub = pid_step(st, 10, pa, 12, sig[sl[6]], h, -r_uuv, True, 0.0, pa[15], pa[16])
         psi_d = sig[sl[7]]
-    sig[sl[8]] = u1
-    sig[sl[9]] = u1
-    sig[sl[10]] = ub
-    sig[sl[11]] = psi_d
-    sig[sl[12]] = loop
+    out = (u1, u1, ub, psi_d, loop)
+    for i in range(5):
+        sig[sl[8 + i]] = out[i]
 
 
 @njit(cache=True)

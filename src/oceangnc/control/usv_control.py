@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -44,10 +45,12 @@ from ..units import KGF
 from .pid import PID
 
 
-def mix(u_speed: float, u_heading: float) -> tuple[float, float]:
+@njit(cache=True)
+def mix(u_speed, u_heading):
     """Thruster mixing of 003 eq. 3.11: ``(T_port, T_stbd) = (U_speed + U_heading, U_speed - U_heading)`` (N).
 
     A positive ``U_heading`` turns to starboard: N = (T_port - T_stbd) B / 2 = U_heading B (003 eq. 2.4).
+    Compiled, so the fused kernels call the same function.
     """
     return u_speed + u_heading, u_speed - u_heading
 

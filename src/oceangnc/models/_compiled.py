@@ -12,6 +12,7 @@ import math
 from numba import njit
 
 from ..core.rotations import wrap
+from .ship_lowspeed import ship_outputs
 
 
 @njit(cache=True)
@@ -80,19 +81,8 @@ def states_publish(x, sig, slots):
 @njit(cache=True)
 def ship_publish(x, sig, slots):
     """:meth:`oceangnc.models.ship_lowspeed.ShipPlant.publish`; slots 13, 14: the current (or -1)."""
-    sig[slots[0]] = x[0]
-    sig[slots[1]] = x[1]
-    sig[slots[2]] = wrap(x[2])
-    sig[slots[3]] = x[3]
-    sig[slots[4]] = x[4]
-    sig[slots[5]] = x[5]
-    sig[slots[6]] = x[6]
-    sig[slots[7]] = x[7] * 60.0
-    sig[slots[8]] = x[8] * 60.0
-    sig[slots[9]] = x[9] * 60.0
-    sig[slots[10]] = math.hypot(x[3], x[4])
-    c, s = math.cos(x[2]), math.sin(x[2])
     cn = sig[slots[13]] if slots[13] >= 0 else 0.0
     ce = sig[slots[14]] if slots[14] >= 0 else 0.0
-    sig[slots[11]] = x[3] - (c * cn + s * ce)
-    sig[slots[12]] = x[4] - (-s * cn + c * ce)
+    out = ship_outputs(x, cn, ce)
+    for i in range(13):
+        sig[slots[i]] = out[i]

@@ -314,25 +314,22 @@ class ShipPlant(Plant):
             },
         )
         self.cfg = cfg
+        self._out_keys = list(self.output_units)
 
     def publish(self, bus: dict) -> None:
         x = self.x
-        b = self.name
-        bus[f"{b}.x"] = float(x[0])
-        bus[f"{b}.y"] = float(x[1])
-        bus[f"{b}.psi"] = float(wrap(x[2]))
-        bus[f"{b}.u"] = float(x[3])
-        bus[f"{b}.v"] = float(x[4])
-        bus[f"{b}.r"] = float(x[5])
-        bus[f"{b}.rudder"] = float(x[6])
-        bus[f"{b}.rpm_prop"] = float(x[7] * 60.0)
-        bus[f"{b}.rpm_bow"] = float(x[8] * 60.0)
-        bus[f"{b}.rpm_stern"] = float(x[9] * 60.0)
-        bus[f"{b}.speed"] = float(math.hypot(x[3], x[4]))
-        c, s = math.cos(x[2]), math.sin(x[2])
-        cn, ce = bus.get("env.current_n", 0.0), bus.get("env.current_e", 0.0)
-        bus[f"{b}.u_r"] = float(x[3] - (c * cn + s * ce))
-        bus[f"{b}.v_r"] = float(x[4] - (-s * cn + c * ce))
+        out = ship_outputs(x, bus.get("env.current_n", 0.0), bus.get("env.current_e", 0.0))
+        bus.update(zip(self._out_keys, out))
+
+
+@njit(cache=True)
+def ship_outputs(x, cn, ce):
+    """The signals :class:`ShipPlant` publishes, in the order of its outputs: x, y, psi (wrapped), u, v, r,
+    rudder angle, shaft speeds (rpm), speed over ground and the velocity (u_r, v_r) relative to the
+    current (cn, ce) (NED, m/s)."""
+    ur, vr, _, _ = relative_velocity(math.cos(x[2]), math.sin(x[2]), x[3], x[4], cn, ce)
+    return (x[0], x[1], wrap(x[2]), x[3], x[4], x[5], x[6], x[7] * 60.0, x[8] * 60.0, x[9] * 60.0,
+            math.hypot(x[3], x[4]), ur, vr)  # fmt: skip
 
 
 def simulate_open(
