@@ -65,17 +65,15 @@ def scatter(out, sig, slots):
 @njit(cache=True)
 def usv_publish(x, sig, slots):
     """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
-    for i in range(6):
-        sig[slots[i]] = x[i]
+    scatter(x[:6], sig, slots[:6])
     sig[slots[2]] = wrap(x[2])
     sig[slots[6]] = math.sqrt(x[3] * x[3] + x[4] * x[4])  # not hypot: libm and numba differ in the last bit
 
 
 @njit(cache=True)
 def states_publish(x, sig, slots):
-    """:meth:`oceangnc.core.blocks.Plant.publish`: every state."""
-    for i in range(x.size):
-        sig[slots[i]] = x[i]
+    """:meth:`oceangnc.core.blocks.Plant.publish`: every state (one slot per state)."""
+    scatter(x, sig, slots)
 
 
 @njit(cache=True)
