@@ -76,6 +76,7 @@ from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..guidance.leader_follower import target_point
 from ..io.config import StrictModel
+from ..models._hydro import damping_coefficient
 from ..units import KGF
 
 
@@ -112,13 +113,13 @@ class Model3DOF:
     sway_from_bow: float = 1.0  # 1: the bow thrust also pushes sideways (Y = T_b); 0: as printed (Y = 0)
 
     def d11(self, u):
-        return -self.Xu - self.Xuu * abs(u)
+        return damping_coefficient(self.Xu, self.Xuu, u)
 
     def d22(self, v):
-        return -self.Yv - self.Yvv * abs(v)
+        return damping_coefficient(self.Yv, self.Yvv, v)
 
     def d33(self, r):
-        return -self.Nr - self.Nrr * abs(r)
+        return damping_coefficient(self.Nr, self.Nrr, r)
 
     def accel(self, u, v, r, tau_u, tau_r):
         """(u', v', r') of eq. 3.32 (with the bow side force if ``sway_from_bow``)."""
@@ -195,9 +196,9 @@ def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
     alpha_r = (-k2 * eps2 - b - v) / h
     u_e = u - alpha_u
     r_e = r - alpha_r
-    d11 = -pa[12] - pa[15] * abs(u)  # Model3DOF.d11 .. d33
-    d22 = -pa[13] - pa[16] * abs(v)
-    d33 = -pa[14] - pa[17] * abs(r)
+    d11 = damping_coefficient(pa[12], pa[15], u)  # as Model3DOF.d11 .. d33
+    d22 = damping_coefficient(pa[13], pa[16], v)
+    d33 = damping_coefficient(pa[14], pa[17], r)
     dalpha_u = -k1 * deps1 - da
     tau_u = m11 * (dalpha_u - k6 * u_e - eps1) - m22 * v * r + d11 * u
     dv0 = (-m11 * u * r - d22 * v) / m22  # v' without the bow side force

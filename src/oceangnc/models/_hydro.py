@@ -1,5 +1,6 @@
-"""Hydro- and aerodynamic load shapes shared by the surface-vessel models (USV, ship): the velocity
-relative to a moving fluid (current, wind) and the wind load of 003 eq. 2.6-2.9. Written with
+"""Hydro- and aerodynamic load shapes shared by the models and the model-based controllers: the
+velocity relative to a moving fluid (current, wind), the wind load of 003 eq. 2.6-2.9 and the
+linear-plus-quadratic damping coefficient. Written with
 :mod:`oceangnc.core.csmath`, so the models stay complex-step differentiable.
 """
 
@@ -7,7 +8,15 @@ from __future__ import annotations
 
 from numba import njit
 
-from ..core.csmath import catan2, ccos, csin
+from ..core.csmath import cabs, catan2, ccos, csin
+
+
+@njit(cache=True)
+def damping_coefficient(lin, quad, v):
+    """d(v) = -(lin + quad |v|): the velocity-dependent damping of one axis for the SNAME linear and
+    quadratic coefficients (lin = X_u, quad = X_u|u|, both <= 0), so that the damping force is -d(v) v
+    (003 under eq. 3.32: d11 = -X_u - X_u|u| |u|, ...)."""
+    return -lin - quad * cabs(v)
 
 
 @njit(cache=True)
