@@ -18,6 +18,7 @@ from numba import njit
 
 from ..core.rotations import wrap
 from .backstepping import update
+from .pid import pid_integral, pid_output
 from .usv_control import mix
 
 PID_STATE = 5
@@ -42,9 +43,9 @@ def pid_step(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, u_min, u_max):
         e_dot = 0.0 if st[o + 2] == 0.0 else (e - st[o + 1]) / dt
     st[o + 1] = e
     st[o + 2] = 1.0
-    v = pa[q] * e + st[o] + pa[q + 2] * e_dot + ff
+    v = pid_output(pa[q], pa[q + 2], st[o], e, e_dot, ff)
     u = min(u_max, max(u_min, v))
-    st[o] += dt * pa[q + 1] * (e + pa[q + 5] * (u - v))
+    st[o] = pid_integral(st[o], dt, pa[q + 1], pa[q + 5], e, u, v)
     st[o + 3] = v
     st[o + 4] = u
     return u
