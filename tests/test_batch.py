@@ -70,3 +70,22 @@ def test_sweep_with_batch_records_the_same_rows_as_without(tmp_path):
     assert metrics
     for c in metrics:
         np.testing.assert_array_equal(a[c].to_numpy(), b[c].to_numpy())
+
+
+@pytest.mark.slow
+def test_batch_shared_among_processes_equals_the_batch_in_one_process(tmp_path):
+    """workers=2 (spawned processes, issue 19's scaling with the cores) writes the same logs and summaries."""
+    over = [{"usv.x0": 0.3 * i, "environment.current.speed": 0.05 * i} for i in range(4)]
+    one = oceangnc.run_batch("combined-survey", over, seeds=[1, 2, 3, 4], duration=2.0, out=tmp_path / "w1", workers=1)
+    two = oceangnc.run_batch("combined-survey", over, seeds=[1, 2, 3, 4], duration=2.0, out=tmp_path / "w2", workers=2)
+    strip = [{k: v for k, v in s.items() if k != "wall_time_s"} for s in (*one, *two)]
+    assert strip[:4] == strip[4:] and all(s["status"] == "ok" for s in two)
+    for i in range(4):
+        a, b = read_log(tmp_path / "w1" / f"run-{i:05d}"), read_log(tmp_path / "w2" / f"run-{i:05d}")
+        np.testing.assert_array_equal(a.to_numpy(), b.to_numpy())
+    assert read_log(tmp_path / "w2" / "run-00003")["usv.x"].iloc[0] == pytest.approx(0.9)
+
+
+def test_batch_rejects_zero_workers(tmp_path):
+    with pytest.raises(ValueError, match="workers must be >= 1, got 0"):
+        oceangnc.run_batch("combined-survey", [{}], duration=1.0, out=tmp_path / "b", workers=0)

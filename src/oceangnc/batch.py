@@ -15,6 +15,7 @@ A Dask sweep composes with it: each task can be one batch (``oceangnc.sweep`` is
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 
@@ -51,6 +52,7 @@ def run_batch(
     chunk: int = 64,
     config: str | Path | dict | None = None,
     out_dirs: list[str | Path] | None = None,
+    workers: int | None = None,
 ) -> list[dict]:
     """Run K copies of ``scenario`` in compiled batches; returns the K summaries (as ``summary.json``).
 
@@ -72,6 +74,12 @@ def run_batch(
         A TOML file or dict merged over the defaults of every run (as in :func:`oceangnc.run`).
     out_dirs : list of path, optional
         Each run's own folder instead of ``out/run-<i>`` (the sweep's layout).
+    workers : int, optional
+        Processes sharing the runs (each runs its share in compiled batches, one numba thread each
+        unless ``threads`` says otherwise). Default: one per core for 64 runs or more, else 1. The
+        per-run work that is Python (config, build, first tick, log and summary files) runs in
+        parallel only across processes, so this is what scales a batch with the cores. Processes are
+        started with ``spawn``: call from under ``if __name__ == "__main__":`` in a script.
     """
     from .api import _jsonable, new_run_dir, resolve_config
     from .io.config import dump_toml
@@ -83,17 +91,27 @@ def run_batch(
     n = len(overrides_list) if overrides_list is not None else len(seeds)
     if seeds is not None and len(seeds) != n:
         raise ValueError(f"run_batch: {len(seeds)} seeds for {n} override sets")
-    if threads is not None:
-        import numba
-
-        numba.set_num_threads(int(threads))
     if out_dirs is not None and len(out_dirs) != n:
         raise ValueError(f"run_batch: {len(out_dirs)} out_dirs for {n} runs")
+    if workers is None:
+        workers = (os.cpu_count() or 1) if n >= 64 else 1
+    if int(workers) < 1:
+        raise ValueError(f"run_batch: workers must be >= 1, got {workers}")
+    workers = min(int(workers), n)
     out_dir = (
         Path(out) if out is not None else (None if out_dirs is not None else new_run_dir("runs", f"batch-{scenario}"))
     )
     if out_dir is not None:
         out_dir.mkdir(parents=True, exist_ok=True)
+    if workers > 1:
+        dirs = [Path(x) for x in out_dirs] if out_dirs is not None else [out_dir / f"run-{i:05d}" for i in range(n)]
+        return _run_in_processes(
+            scenario, overrides_list, seeds, duration, threads or 1, chunk, config, dirs, workers, n
+        )
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(int(threads))
     summaries: list[dict] = [{} for _ in range(n)]
     for c0 in range(0, n, chunk):
         idx = list(range(c0, min(n, c0 + chunk)))
@@ -106,7 +124,10 @@ def run_batch(
             d = Path(out_dirs[i]) if out_dirs is not None else out_dir / f"run-{i:05d}"
             d.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, d / "config.toml")
-            log = LogWriter(d / "log.parquet")
+            # the log stays in memory and is written once when the run ends (or diverges): a batch
+            # run is short and re-runnable, and one file per run instead of one part per flush
+            # period is most of the per-run cost saved (benchmarks/RESULTS.md)
+            log = LogWriter(d / "log.parquet", flush_period=cfg.sim.duration + 1.0)
             ctx = RunContext(out_dir=d, log=log, rng=np.random.default_rng(cfg.sim.seed))
             runs.append(
                 {
@@ -136,9 +157,12 @@ def run_batch(
                     }
                 )
             else:
-                import pyarrow.parquet as pq
+                table = r["log"].table()
+                if table is None:
+                    import pyarrow.parquet as pq
 
-                df = pq.read_table(d / "log.parquet").to_pandas()
+                    table = pq.read_table(d / "log.parquet")
+                df = table.to_pandas()
                 metrics = dict(r.get("metrics") or {})
                 metrics.update(sc.summarize(df, cfg))
                 summary.update({k: _jsonable(v) for k, v in metrics.items()})
@@ -147,6 +171,48 @@ def run_batch(
                 summary["wall_time_s"] = time.perf_counter() - r["t0"]
             (d / "summary.json").write_text(json.dumps(summary, indent=2))
             summaries[r["i"]] = summary
+    return summaries
+
+
+def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk, config, dirs, workers, n):
+    """Share the runs among this process and ``workers - 1`` spawned ones, in tasks of at most
+    ``chunk`` runs handed out as processes become free (this process starts at once, so the others'
+    start-up is hidden behind its work)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    size = max(1, min(chunk, -(-n // (4 * workers))))
+    tasks = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
+
+    def submit_args(idx):
+        return (
+            scenario,
+            [dict(overrides_list[i]) for i in idx] if overrides_list is not None else None,
+            [seeds[i] for i in idx] if seeds is not None else None,
+            duration,
+            None,
+            threads,
+            chunk,
+            config,
+            [dirs[i] for i in idx],
+            1,
+        )
+
+    summaries: list[dict] = [{} for _ in range(n)]
+    pending = list(reversed(tasks))
+    running = {}
+    with ProcessPoolExecutor(workers - 1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        while pending or running:
+            while pending and len(running) < 2 * (workers - 1):
+                idx = pending.pop()
+                running[pool.submit(run_batch, *submit_args(idx))] = idx
+            if pending:
+                idx = pending.pop()
+                for i, summary in zip(idx, run_batch(*submit_args(idx))):
+                    summaries[i] = summary
+            for fut in [f for f in running if f.done() or not pending]:
+                for i, summary in zip(running.pop(fut), fut.result()):
+                    summaries[i] = summary
     return summaries
 
 

@@ -268,6 +268,16 @@ class LogWriter:
         if self.closed:
             return
         self.closed = True
+        if self.parts == 0 and self._mem == [] and self.columns and self._buf["t"]:
+            # everything still in memory (a short run, or a batch run): one compressed, synced file
+            self.path.mkdir(parents=True, exist_ok=True)
+            table = self._table()
+            self._write_part(table, 0, 0)
+            self._mem = [table]
+            self.parts, self.rows_written = 1, table.num_rows
+            for c in self.columns:
+                self._buf[c].clear()
+            return
         self.flush()
         self.path.mkdir(parents=True, exist_ok=True)
         self.sync()
@@ -277,16 +287,27 @@ class LogWriter:
             cols = self.columns or ["t"]
             self._write_part(pa.table({c: pa.array([], type=pa.float64()) for c in cols}), 0, 0)
             return
+        in_mem = self._mem is not None and len(self._mem) == len(parts)
+        merged = pa.concat_tables(self._mem) if in_mem and self._mem else None
         if self.compact and len(parts) > 1:
-            if self._mem is not None and len(self._mem) == len(parts):
-                merged = pa.concat_tables(self._mem)
+            if merged is not None:
                 self._write_part(merged, 0, 0)  # atomic rename over part 0, then drop the others
                 for p in parts[1:]:
                     p.unlink(missing_ok=True)
                 _fsync_dir(self.path)
             else:
                 compact_log(self.path)
-        self._mem = None
+        self._mem = [merged] if merged is not None else None
+
+    def table(self) -> pa.Table | None:
+        """The rows written so far as one table, from memory (None when the writer no longer keeps
+        them: a resumed log, or more than the memory cap). Lets a caller summarise a finished run
+        without reading the log back."""
+        if self._mem is None:
+            return None
+        if self.columns and self._buf.get("t"):
+            return pa.concat_tables([*self._mem, self._table()])
+        return pa.concat_tables(self._mem) if self._mem else None
 
     def __enter__(self):
         return self

@@ -112,6 +112,7 @@ def run_many(tasks: list[dict]) -> list[dict]:
             [t["overrides"] for t in tasks],
             config=tasks[0]["config"],
             out_dirs=[t["out_dir"] for t in tasks],
+            workers=1,  # a Dask task is already one of the sweep's processes
         )
     except Exception:  # noqa: BLE001 - fall back to one by one, which records each failure
         return [run_one(t) for t in tasks]
@@ -345,12 +346,12 @@ def run_sweep(
                 for g in groups:
                     record(run_many([task(r) for r in g]))
             elif groups:
-                _run_dask_batches(groups, task, record, workers, scheduler)
+                _run_dask(groups, task, record, workers, scheduler, batched=True)
         elif todo and scheduler is None and workers == 0:
             for r in todo:
                 record([run_one(task(r))])
         elif todo:
-            _run_dask(todo, task, record, workers, scheduler)
+            _run_dask([[r] for r in todo], task, record, workers, scheduler, batched=False)
     finally:
         if bar is not None:
             bar.close()
@@ -359,51 +360,26 @@ def run_sweep(
     return SweepResult(out, table.frame(), executed, skipped, time.perf_counter() - t_start)
 
 
-def _run_dask_batches(groups, task, record, workers, scheduler) -> None:
-    """Like :func:`_run_dask`, one Dask task per group of runs (:func:`run_many`)."""
-    from distributed import as_completed
-
-    client, cluster = _start_client(workers, scheduler)
-    futures = []
-    try:
-        token = uuid.uuid4().hex[:8]
-        by_key = {}
-        for g in groups:
-            fut = client.submit(run_many, [task(r) for r in g], key=f"oceangnc-batch-{g[0].run_id}-{token}", pure=False)
-            by_key[fut.key] = g
-            futures.append(fut)
-        for done in as_completed(futures).batches():
-            for fut in done:
-                try:
-                    rows = fut.result()
-                except Exception as e:  # noqa: BLE001 - worker lost: record every run of the group
-                    rows = []
-                    for r in by_key[fut.key]:
-                        row = task(r)["row"]
-                        row.update(
-                            {
-                                "status": "failed",
-                                "error": _one_line(f"{type(e).__name__}: {e}"),
-                                "wall_time_s": float("nan"),
-                                "cpu_time_s": float("nan"),
-                                "worker": "",
-                                "out_dir": "",
-                                "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
-                            }
-                        )
-                        rows.append(row)
-                fut.release()
-                record(rows)
-    finally:
-        for f in futures:
-            if not f.done():
-                f.cancel()
-        client.close()
-        if cluster is not None:
-            cluster.close()
+def _lost_row(task_row: dict, e: BaseException) -> dict:
+    """The row of a run whose Dask task was lost (worker died, task cancelled)."""
+    row = dict(task_row)
+    row.update(
+        {
+            "status": "failed",
+            "error": _one_line(f"{type(e).__name__}: {e}"),
+            "wall_time_s": float("nan"),
+            "cpu_time_s": float("nan"),
+            "worker": "",
+            "out_dir": "",
+            "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
+        }
+    )
+    return row
 
 
-def _run_dask(todo, task, record, workers, scheduler) -> None:
+def _run_dask(groups, task, record, workers, scheduler, batched: bool) -> None:
+    """One Dask task per group of runs: :func:`run_many` when ``batched``, else :func:`run_one` (groups of
+    one). Rows are recorded as tasks complete; a lost task records a failed row for each of its runs."""
     from distributed import as_completed
 
     client, cluster = _start_client(workers, scheduler)
@@ -411,30 +387,23 @@ def _run_dask(todo, task, record, workers, scheduler) -> None:
     try:
         by_key = {}
         token = uuid.uuid4().hex[:8]  # task keys unique to this call, even on a shared cluster
-        for r in todo:
-            fut = client.submit(run_one, task(r), key=f"oceangnc-run-{r.run_id}-{token}", pure=False)
-            by_key[fut.key] = r
+        for g in groups:
+            if batched:
+                fut = client.submit(
+                    run_many, [task(r) for r in g], key=f"oceangnc-batch-{g[0].run_id}-{token}", pure=False
+                )
+            else:
+                fut = client.submit(run_one, task(g[0]), key=f"oceangnc-run-{g[0].run_id}-{token}", pure=False)
+            by_key[fut.key] = g
             futures.append(fut)
-        ac = as_completed(futures)
-        for batch in ac.batches():
+        for done in as_completed(futures).batches():
             rows = []
-            for fut in batch:
+            for fut in done:
                 try:
-                    rows.append(fut.result())
+                    result = fut.result()
+                    rows.extend(result if batched else [result])
                 except Exception as e:  # noqa: BLE001 - worker lost, task cancelled: record it
-                    row = task(by_key[fut.key])["row"]
-                    row.update(
-                        {
-                            "status": "failed",
-                            "error": _one_line(f"{type(e).__name__}: {e}"),
-                            "wall_time_s": float("nan"),
-                            "cpu_time_s": float("nan"),
-                            "worker": "",
-                            "out_dir": "",
-                            "finished_at": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="milliseconds"),
-                        }
-                    )
-                    rows.append(row)
+                    rows.extend(_lost_row(task(r)["row"], e) for r in by_key[fut.key])
                 fut.release()
             record(rows)
     finally:
