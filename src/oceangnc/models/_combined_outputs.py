@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.rotations import wrap
+from ..core.rotations import heading_speed
 from ._combined_layout import (
     VAR_KEYS,
     H_N,
@@ -34,12 +34,10 @@ def _fill_outputs(x, p, o_uuv, nodes, ends, out):
     cable_state(x, p, nodes, ends)
     for i in range(6):
         out[i] = x[i]
-    out[2] = wrap(x[2])
-    out[6] = math.hypot(x[3], x[4])
+    out[2], out[6] = heading_speed(x, 2, 3, 2)  # as USVPlant.publish
     for i in range(12):
         out[7 + i] = x[o_uuv + i]
-    out[7 + 5] = wrap(x[o_uuv + 5])
-    out[19] = math.sqrt(x[o_uuv + 6] ** 2 + x[o_uuv + 7] ** 2 + x[o_uuv + 8] ** 2)
+    out[12], out[19] = heading_speed(x, o_uuv + 5, o_uuv + 6, 3)  # as UUVPlant.publish
     out[20] = math.sqrt(ends[0] ** 2 + ends[1] ** 2 + ends[2] ** 2)
     out[21] = math.sqrt(ends[3] ** 2 + ends[4] ** 2 + ends[5] ** 2)
     m = nodes.size

@@ -11,7 +11,7 @@ import math
 
 from numba import njit
 
-from ..core.rotations import wrap
+from ..core.rotations import heading_speed
 from .ship_lowspeed import ship_outputs
 
 
@@ -66,8 +66,7 @@ def scatter(out, sig, slots):
 def usv_publish(x, sig, slots):
     """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
     scatter(x[:6], sig, slots[:6])
-    sig[slots[2]] = wrap(x[2])
-    sig[slots[6]] = math.sqrt(x[3] * x[3] + x[4] * x[4])  # not hypot: libm and numba differ in the last bit
+    sig[slots[2]], sig[slots[6]] = heading_speed(x, 2, 3, 2)
 
 
 @njit(cache=True)

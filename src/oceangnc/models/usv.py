@@ -46,7 +46,7 @@ from ..core.blocks import Block, Plant
 from ..core.signals import CALM
 from ..core.csmath import ccos, csin
 from ..core.model import Model, Param, ParamLayout
-from ..core.rotations import wrap
+from ..core.rotations import heading_speed
 from ..io.config import StrictModel
 from ._hydro import relative_velocity, wind_load
 from ..units import KGF, RHO_AIR
@@ -178,9 +178,9 @@ class USVPlant(Plant):
 
     def publish(self, bus: dict) -> None:
         super().publish(bus)
-        x = self.x
-        bus[f"{self.name}.psi"] = float(wrap(x[2]))
-        bus[f"{self.name}.speed"] = float(math.sqrt(x[3] * x[3] + x[4] * x[4]))  # as the fused kernel
+        psi, speed = heading_speed(self.x, 2, 3, 2)
+        bus[f"{self.name}.psi"] = psi
+        bus[f"{self.name}.speed"] = speed
 
 
 class USVThrusters(Block):

@@ -57,7 +57,7 @@ from numba import njit
 from ..core.blocks import Block, Plant
 from ..core.csmath import cabs, ccos, csin
 from ..core.model import Model
-from ..core.rotations import rzyx_entries, wrap
+from ..core.rotations import heading_speed, rzyx_entries
 from ..core.signals import CALM
 from ..errors import InputError
 from ..units import KGF
@@ -317,9 +317,9 @@ class UUVPlant(Plant):
 
     def publish(self, bus: dict) -> None:
         super().publish(bus)
-        x = self.x
-        bus[f"{self.name}.psi"] = float(wrap(x[5]))
-        bus[f"{self.name}.speed"] = float(math.sqrt(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
+        psi, speed = heading_speed(self.x, 5, 6, 3)
+        bus[f"{self.name}.psi"] = psi
+        bus[f"{self.name}.speed"] = speed
 
 
 class UUVThrusters(Block):
