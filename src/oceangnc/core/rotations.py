@@ -71,13 +71,8 @@ def rot2(psi):
 @njit(cache=True)
 def rot3(psi):
     """3-DOF rotation body -> NED for (x, y, psi) and (u, v, r) (Fossen 2011 eq. 2.39)."""
-    c = math.cos(psi)
-    s = math.sin(psi)
     R = np.zeros((3, 3))
-    R[0, 0] = c
-    R[0, 1] = -s
-    R[1, 0] = s
-    R[1, 1] = c
+    R[:2, :2] = rot2(psi)
     R[2, 2] = 1.0
     return R
 
