@@ -17,9 +17,10 @@ import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
+from ..sensors.filters import lowpass_step
 from .backstepping import update
 from .pid import pid_integral, pid_output
-from .usv_control import mix
+from .usv_control import mix, speed_range
 
 PID_STATE = 5
 PID_PARAMS = 6
@@ -68,8 +69,7 @@ def usv_control_step(t, sig, sl, st, pa):
     u_h = pid_step(st, 5, pa, 6, wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
     t_max = pa[14]
     t_min = pa[15]
-    s_max = max(0.0, t_max - abs(u_h))
-    s_min = min(0.0, t_min + abs(u_h))
+    s_min, s_max = speed_range(t_min, t_max, u_h)
     ff = pa[16] * u_d
     u_s = pid_step(st, 0, pa, 0, u_d - u, h, 0.0, False, ff, s_min, s_max)
     sig[sl[5]], sig[sl[6]] = mix(u_s, u_h)
@@ -96,7 +96,7 @@ def uuv_pid_step(t, sig, sl, st, pa):
         st[18] = d
         st[19] = 1.0
     else:
-        st[18] = st[18] + pa[19] * (d - st[18])
+        st[18] = lowpass_step(st[18], pa[19], d)
     u1 = pid_step(st, 0, pa, 0, e1, h, st[18], True, 0.0, pa[3], pa[4])
     r_uuv = sig[sl[1]]
     outside = sig[sl[2]] > 0.5 and pa[20] == 0.0

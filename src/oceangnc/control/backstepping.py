@@ -77,6 +77,7 @@ from ..core.rotations import wrap
 from ..guidance.leader_follower import target_point
 from ..io.config import StrictModel
 from ..models._hydro import damping_coefficient
+from ..sensors.filters import lowpass_step
 from ..units import KGF
 
 
@@ -221,7 +222,7 @@ def update(st, pa):
     lv = (ul, vl, rl)
     for i in range(3):
         if st[3] != 0.0:
-            st[4 + i] += pa[1] * ((lv[i] - st[i]) / pa[0] - st[4 + i])
+            st[4 + i] = lowpass_step(st[4 + i], pa[1], (lv[i] - st[i]) / pa[0])
         st[i] = lv[i]
     st[3] = 1.0
     eps1, eps2, e_psi = errors(xl, yl, psil, xf, yf, psif, pa[2], pa[3], pa[4])

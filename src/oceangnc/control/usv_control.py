@@ -55,6 +55,13 @@ def mix(u_speed, u_heading):
     return u_speed + u_heading, u_speed - u_heading
 
 
+@njit(cache=True)
+def speed_range(t_min, t_max, u_heading):
+    """Heading priority (003 eq. 3.11): the speed loop's output range (N) is what is left of each
+    thruster's range [t_min, t_max] after the heading command, [min(0, t_min + |U_h|), max(0, t_max - |U_h|)]."""
+    return min(0.0, t_min + abs(u_heading)), max(0.0, t_max - abs(u_heading))
+
+
 def speed_loop(pid: PID, u_d: float, u: float, h: float, d11: float, share: float = 0.5) -> float:
     """The USV surge-speed loop: ``PID(u_d - u)`` (003 eq. 3.10) plus the steady-state feed-forward
     ``share * d11 u_d`` of the linear surge model (003 eq. 2.3: d11 u = T_port + T_stbd), ``share`` =
@@ -199,8 +206,7 @@ class USVController(Block):
             psi_d = bus.get("guidance.psi_d", psi)
             u_h = self.heading.step(wrap(psi_d - psi), h, e_dot=-r)
         # heading priority: the speed loop gets what is left of each thruster's range
-        self.speed.u_max = max(0.0, self.t_max - abs(u_h))
-        self.speed.u_min = min(0.0, self.t_min + abs(u_h))
+        self.speed.u_min, self.speed.u_max = speed_range(self.t_min, self.t_max, u_h)
         u_s = speed_loop(self.speed, u_d, u, h, self.d11 if c.speed_ff else 0.0)
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_s, u_h)
         bus["usv_ctrl.u_d"] = u_d

@@ -40,6 +40,12 @@ def lowpass_array(x, a, y0):
     return y
 
 
+@njit(cache=True)
+def lowpass_step(y, a, x):
+    """One step of the first-order low-pass y <- y + a (x - y) (a from :func:`lowpass_coefficient`)."""
+    return y + a * (x - y)
+
+
 class LowPass:
     """Scalar first-order low-pass (state: the last output); the first sample initialises it."""
 
@@ -51,7 +57,7 @@ class LowPass:
         self.y = None
 
     def __call__(self, x: float) -> float:
-        self.y = x if self.y is None else self.y + self.a * (x - self.y)
+        self.y = x if self.y is None else float(lowpass_step(self.y, self.a, x))
         return self.y
 
 
