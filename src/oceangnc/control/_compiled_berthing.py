@@ -17,6 +17,7 @@ from ..core.rotations import wrap
 from ..models.ship_lowspeed import hull_forces, rudder_forces
 from ..models.usv import wind_load
 from ..sensors._compiled import ring_slot
+from ..sensors.filters import gauss_markov
 from .allocation import allocate
 from .berthing import rps_for_thrust
 
@@ -107,9 +108,8 @@ def pilot_step(t, sig, sl, st, pa, rng):
     params: see ``ScriptedPilot.compiled``; route from index 32 (points, lengths, directions, s0).
     """
     a = math.exp(-pa[0] / pa[1])
-    q = math.sqrt(1 - a * a)
     for i in range(3):
-        st[3 + i] = a * st[3 + i] + q * pa[2 + i] * rng.standard_normal()
+        st[3 + i] = gauss_markov(st[3 + i], a, pa[2 + i], rng.standard_normal())
     x = sig[sl[0]]
     y = sig[sl[1]]
     obs_psi = sig[sl[2]] + st[3]

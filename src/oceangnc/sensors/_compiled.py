@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
+from .filters import angle_lowpass_step, gauss_markov
 
 
 @njit(cache=True)
@@ -85,7 +86,7 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     psi = sig[sl[0]]
     if pa[1] > 0:
         a = 1.0 - math.exp(-pa[0] / pa[1])
-        st[0] = wrap(st[0] + a * wrap(psi - st[0]))
+        st[0] = angle_lowpass_step(st[0], a, psi)
     else:
         st[0] = psi
     am = math.exp(-pa[0] / pa[2])
@@ -94,7 +95,7 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     w2 = rng.standard_normal()
     w3 = rng.standard_normal()
     w4 = rng.standard_normal()
-    st[1] = am * st[1] + pa[3] * math.sqrt(1 - am * am) * w0
+    st[1] = gauss_markov(st[1], am, pa[3], w0)
     sig[sl[4]] = wrap(st[0] + st[1] + pa[4] * w1)
     sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
     sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
