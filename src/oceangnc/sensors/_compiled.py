@@ -14,6 +14,7 @@ from numba import njit
 
 from ..core.rotations import wrap
 from .filters import angle_lowpass_step, gauss_markov
+from .usbl import usbl_fix, usbl_geometry
 
 
 @njit(cache=True)
@@ -113,8 +114,7 @@ def usbl_step(t, sig, sl, st, pa, rng):
     dn = sig[sl[0]] - sig[sl[1]]
     de = sig[sl[2]] - sig[sl[3]]
     dz = _get(sig, sl[4], 0.0) - _get(sig, sl[5], 0.0)
-    h = math.hypot(dn, de)
-    q = h / max(abs(dz), 1e-6)
+    h, q = usbl_geometry(dn, de, dz)
     u0 = rng.uniform(-1.0, 1.0)
     u1 = rng.uniform(-1.0, 1.0)
     u2 = rng.uniform(-1.0, 1.0)
@@ -124,19 +124,9 @@ def usbl_step(t, sig, sl, st, pa, rng):
     if degraded and u3 * 0.5 + 0.5 < pa[1]:
         valid = False
     if valid:
-        g = pa[4] if degraded else 1.0
-        rho = math.sqrt(h * h + dz * dz) + g * pa[5] * u0
-        ea = pa[6] * g
-        beta = math.atan2(de, dn) + ea * u1
-        gam = math.atan2(dz, h) + ea * u2
-        rho = max(rho, 0.0)
-        hm = rho * math.cos(gam)
-        st[2] = hm * math.cos(beta)
-        st[3] = hm * math.sin(beta)
-        st[4] = rho * math.sin(gam)
-        st[5] = rho
-        st[6] = hm
-        st[7] = beta
+        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, pa[4] if degraded else 1.0, pa[5], pa[6])
+        for i in range(6):
+            st[2 + i] = fix[i]
         st[1] = 1.0
     else:
         st[0] += 1.0
