@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
-from .filters import angle_lowpass_step, gauss_markov
+from .depth import voltage
+from .filters import angle_lowpass_step, gauss_markov, lowpass_step
 from .usbl import usbl_fix, usbl_geometry
 
 
@@ -142,20 +142,17 @@ def depth_step(t, sig, sl, st, pa, rng):
     """:class:`oceangnc.sensors.depth.DepthSensor` (003 ch. 6.1.3): reading, calibration, low-pass.
 
     slots: body.z | depth.volt, depth.z_raw, depth.z. state: low-pass y, has_y. params: offset,
-    gain, noise (V), c1, c0, low-pass a, full scale (V), ADC LSB (V), rho g / full-scale Pa factor
-    pieces: full scale V, rho, g, full scale Pa.
+    gain, noise (V), c1, c0, low-pass a (then the converter's constants, unused: the reading is
+    :func:`oceangnc.sensors.depth.voltage`).
     """
     z_true = sig[sl[0]]
-    ideal = pa[6] * pa[8] * pa[9] * max(z_true, 0.0) / pa[10]
-    v = pa[0] + pa[1] * ideal + pa[2] * rng.standard_normal()
-    v = min(pa[6], max(0.0, v))
-    v = np.rint(v / pa[7]) * pa[7]
+    v = voltage(z_true, pa[0], pa[1], pa[2] * rng.standard_normal())
     z = pa[3] * v + pa[4]
     if st[1] == 0.0:
         st[0] = z
         st[1] = 1.0
     else:
-        st[0] = st[0] + pa[5] * (z - st[0])
+        st[0] = lowpass_step(st[0], pa[5], z)
     sig[sl[1]] = v
     sig[sl[2]] = z
     sig[sl[3]] = st[0]
