@@ -1,6 +1,8 @@
 """Real-time factor of the closed-loop scenarios, Python clock against the fused compiled loop.
 
-    NUMBA_NUM_THREADS=1 python benchmarks/bench_combined.py
+    NUMBA_NUM_THREADS=1 python benchmarks/bench_combined.py [NAME_PART ...]
+
+(with arguments: only the cases whose scenario name contains one of them, e.g. ``tow``).
 
 For each case: simulated time, wall and CPU time of the Python clock and of the fused loop
 (:mod:`oceangnc.core.fused`; numba compilation and the first tick excluded by a warm-up run and by
@@ -21,7 +23,9 @@ CASES = [("combined-survey", {"control.uuv": "pid"}), ("combined-survey", {"cont
          ("combined-survey", {"control.uuv": "backstepping", "cable.integrator": "imex", "sim.dt": 0.01}),
          ("field-test", {"cable.integrator": "imex", "sim.dt": 0.01}),
          ("waypoints-square", {}), ("field-test", {}), ("cable-current", {}),
-         ("usv-turn", {"sim.duration": 300.0}), ("berthing-channel", {})]
+         ("usv-turn", {"sim.duration": 300.0}), ("berthing-channel", {}),
+         # the tow scenarios (winch: variable node count; seabed), their default horizons
+         ("tow-straight", {}), ("tow-deploy", {}), ("tow-survey-depth", {})]
 
 
 def _sim(name, over, fused):
@@ -49,6 +53,10 @@ def _physics(sim, steps):
 
 
 if __name__ == "__main__":
+    import sys
+
+    if sys.argv[1:]:
+        CASES = [c for c in CASES if any(a in c[0] for a in sys.argv[1:])]
     print("| scenario | overrides | simulated s | path | wall s (python / fused) | CPU s (python / fused) "
           "| RTF wall (python / fused) | RTF CPU fused | physics alone CPU s |")
     print("|---|---|---|---|---|---|---|---|---|")

@@ -1,30 +1,42 @@
 """Start-up and end-to-end times of ``oceangnc`` commands in fresh processes (issue 19).
 
-    python benchmarks/bench_startup.py [--cold]
+    python benchmarks/bench_startup.py [--repeat N] [--cold]
 
-Each command runs in a new Python process, three times (best and median wall time reported).
-``--cold`` first empties the generated-module cache (``$OCEANGNC_CACHE_DIR``, a temporary folder
-here) to show a first run's cost (numba caches of the package itself stay warm: their cold cost is
-the compile time of every model, 15-50 s on this machine). "starts simulating" is the time from
-process start to the first tick of the clock, measured inside the process.
+Each command runs in a new Python process, ``N + 1`` times (default N = 3): the first run, then the
+best and median of the others. "starts simulating" is the time from process start to the first
+tick of the clock, measured inside the process. The caches are those of the environment
+(``$OCEANGNC_CACHE_DIR``, default ``~/.cache/oceangnc``: the package's numba caches, the generated
+steppers and fused drivers, the derived values).
+
+``--cold`` adds the compile-once table for ``combined-survey``: a copy of the package is "installed"
+into a temporary folder (a fresh copy of ``src/oceangnc``: new mtimes, no numba cache files, its
+bytecode compiled, as a non-editable ``pip install`` leaves it) with an empty cache folder; then
+the first run (everything compiled), the second run, and the run after a *reinstall* (the copy
+replaced by a new one, the cache folder kept), without and with plots.
 """
 
 import os
+import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
-PROBE = ("import time, sys; t0 = time.perf_counter()\n"
-         "import oceangnc.core.clock as c\n"
-         "orig = c.Simulation.run\n"
-         "def run(self, *a, **k):\n"
-         "    if not getattr(c, '_t', None): c._t = time.perf_counter() - t0; print(f'START {c._t:.3f}', file=sys.stderr)\n"
-         "    return orig(self, *a, **k)\n"
-         "c.Simulation.run = run\n"
-         "from oceangnc.cli import main\n"
-         "sys.exit(main(sys.argv[1:]))\n")
+SRC = Path(__file__).resolve().parents[1] / "src"
+
+PROBE = (
+    "import time, sys; t0 = time.perf_counter()\n"
+    "import oceangnc.core.clock as c\n"
+    "orig = c.Simulation.run\n"
+    "def run(self, *a, **k):\n"
+    "    if not getattr(c, '_t', None): c._t = time.perf_counter() - t0; print(f'START {c._t:.3f}', file=sys.stderr)\n"
+    "    return orig(self, *a, **k)\n"
+    "c.Simulation.run = run\n"
+    "from oceangnc.cli import main\n"
+    "sys.exit(main())\n"
+)
 
 COMMANDS = [
     ["list"],
@@ -38,8 +50,12 @@ COMMANDS = [
 
 def once(cmd, env, out):
     t0 = time.perf_counter()
-    r = subprocess.run([sys.executable, "-c", PROBE, *cmd, *(["--out", out] if cmd[0] == "run" else [])],
-                       capture_output=True, text=True, env=env)
+    r = subprocess.run(
+        [sys.executable, "-c", PROBE, *cmd, *(["--out", out] if cmd[0] == "run" else [])],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     w = time.perf_counter() - t0
     start = [float(line.split()[1]) for line in r.stderr.splitlines() if line.startswith("START")]
     if r.returncode != 0:
@@ -47,17 +63,64 @@ def once(cmd, env, out):
     return w, (start[0] if start else float("nan"))
 
 
-if __name__ == "__main__":
-    cold = "--cold" in sys.argv
-    env = dict(os.environ)
-    tmp = tempfile.mkdtemp()
-    if cold:
-        env["OCEANGNC_CACHE_DIR"] = tmp
+def load() -> str:
+    return "load average " + ", ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def warm_table(env, tmp, repeat):
     print("| command | first run wall s (starts simulating) | later runs wall s: best / median (starts simulating) |")
     print("|---|---|---|")
     for cmd in COMMANDS:
-        runs = [once(cmd, env, os.path.join(tmp, "run")) for _ in range(4)]
+        runs = [once(cmd, env, os.path.join(tmp, "run")) for _ in range(repeat + 1)]
         later = runs[1:]
         ws = [w for w, _ in later]
-        print(f"| `oceangnc {' '.join(cmd)}` | {runs[0][0]:.2f} ({runs[0][1]:.2f}) | {min(ws):.2f} / "
-              f"{statistics.median(ws):.2f} ({min(s for _, s in later):.2f}) |", flush=True)
+        print(
+            f"| `oceangnc {' '.join(cmd)}` | {runs[0][0]:.2f} ({runs[0][1]:.2f}) | {min(ws):.2f} / "
+            f"{statistics.median(ws):.2f} ({min(s for _, s in later):.2f}) |",
+            flush=True,
+        )
+
+
+def install(site: Path) -> None:
+    """What ``pip install`` leaves: a fresh copy of the package with its bytecode compiled."""
+    shutil.rmtree(site / "oceangnc", ignore_errors=True)
+    shutil.copytree(SRC / "oceangnc", site / "oceangnc", ignore=shutil.ignore_patterns("__pycache__"))
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(site / "oceangnc")], check=True)
+
+
+def cold_table(tmp, repeat):
+    site, cache = Path(tmp) / "site", Path(tmp) / "cache"
+    site.mkdir()
+    install(site)
+    env = dict(os.environ, PYTHONPATH=str(site), OCEANGNC_CACHE_DIR=str(cache))
+    env.pop("NUMBA_CACHE_DIR", None)
+    base = ["run", "combined-survey", "--duration", "40", "--quiet"]
+    rows = []
+
+    def measure(label, cmd, n):
+        runs = [once(cmd, env, os.path.join(tmp, "run")) for _ in range(n)]
+        ws = [w for w, _ in runs]
+        rows.append((label, min(ws), statistics.median(ws), min(s for _, s in runs)))
+        print(f"| {label} | {min(ws):.2f} / {statistics.median(ws):.2f} | {rows[-1][3]:.2f} |", flush=True)
+
+    print("| `oceangnc run combined-survey --duration 40 --quiet` | wall s: best / median | starts simulating (s) |")
+    print("|---|---|---|")
+    measure("first run, empty cache, `--no-plots` (compiles everything)", [*base, "--no-plots"], 1)
+    measure("second run, `--no-plots`", [*base, "--no-plots"], repeat)
+    install(site)  # reinstall of the same version: new files, the cache folder kept
+    measure("after a reinstall, `--no-plots`", [*base, "--no-plots"], repeat)
+    measure("after a reinstall, with the 6 plots", base, repeat)
+
+
+if __name__ == "__main__":
+    repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+    # an installed package has its bytecode compiled; a source tree under PYTHONDONTWRITEBYTECODE=1 (as
+    # in the project's sandbox) would compile ~40 modules in every process (~0.1 s): compile them once
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(SRC / "oceangnc")], check=True)
+    print(f"{time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}, {os.cpu_count()} cores, {load()}")
+    with tempfile.TemporaryDirectory() as tmp:
+        warm_table(dict(os.environ), tmp, repeat)
+        if "--cold" in sys.argv:
+            print()
+            cold_table(tmp, repeat)
+    print(f"end: {time.strftime('%H:%M:%S UTC', time.gmtime())}, {load()}")

@@ -59,7 +59,7 @@ def test_run_imports_only_its_scenario_module_and_no_scipy_optimize():
         "import json; print(json.dumps([scen, 'scipy.optimize' in sys.modules, 'matplotlib' in sys.modules]))"
     )
     scen, scipy_loaded, mpl_loaded = json.loads(out)
-    assert scen == ["oceangnc.scenarios._common", "oceangnc.scenarios.combined"]
+    assert scen == ["oceangnc.scenarios._combined_plots", "oceangnc.scenarios._common", "oceangnc.scenarios.combined"]
     assert not scipy_loaded and not mpl_loaded
 
 

@@ -9,8 +9,14 @@ Python API first::
 The command line ``oceangnc`` is a thin layer over :func:`run`.
 """
 
-from .api import RunResult, list_scenarios, replot, resolve_config, run
-from .errors import ConfigError, DivergenceError, InputError, OceanGNCError
+from ._numba_hook import install as _install_numba_cache
+
+# before any module of the package is compiled or loaded from numba's cache: caches in the user cache
+# folder, kept across reinstalls (oceangnc.jitcache)
+_install_numba_cache()
+
+from .api import RunResult, list_scenarios, replot, resolve_config, run  # noqa: E402
+from .errors import ConfigError, DivergenceError, InputError, OceanGNCError  # noqa: E402
 
 
 def run_batch(*args, **kwargs):

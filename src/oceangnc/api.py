@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from . import postproc
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_log, read_table
@@ -102,6 +103,15 @@ def resolve_config(
     return sc, cfg
 
 
+def resolve_run_config(scenario=None, config=None, overrides=None, duration=None, model=None):
+    """:func:`resolve_config` with an identified model file's parameters under ``overrides`` (as :func:`run`)."""
+    if model is not None:
+        from .identification.model_file import load_model_overrides
+
+        overrides = {**load_model_overrides(model), **dict(overrides or {})}
+    return resolve_config(scenario, config, overrides, duration)
+
+
 def new_run_dir(root: str | Path = "runs", name: str = "run") -> Path:
     """A new, unique folder ``runs/<name>-<timestamp>``."""
     stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
@@ -137,6 +147,7 @@ def run(
     checkpoint_every: float | None = None,
     resume: str | Path | None = None,
     model: str | Path | None = None,
+    _post: postproc.PostProcess | None = None,
 ) -> RunResult:
     """Run a scenario and write its outputs.
 
@@ -167,6 +178,9 @@ def run(
     model : path, optional
         An identified model file (``identified.toml`` from ``oceangnc identify``): its
         ``[parameters]`` (dotted keys) are applied over the config, under ``overrides``.
+    _post : internal
+        The summary/plot helper forked by the command line (:mod:`oceangnc.postproc`); without it
+        the summary and plots are made in this process.
 
     Raises
     ------
@@ -213,11 +227,7 @@ def run(
         )
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
-        if model is not None:
-            from .identification.model_file import load_model_overrides
-
-            overrides = {**load_model_overrides(model), **dict(overrides or {})}
-        sc, cfg = resolve_config(scenario, config, overrides, duration)
+        sc, cfg = resolve_run_config(scenario, config, overrides, duration, model)
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
         out_dir.mkdir(parents=True, exist_ok=True)
         for stale in ("summary.json", ckpt.FILE):
@@ -236,6 +246,9 @@ def run(
     )
     if checkpoint_every is not None or state is not None:
         ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
+    # summary and plots in forked helpers that imported pandas/matplotlib while this process simulated
+    # (the command line forks them; a Python caller's later runs reuse its own imports)
+    post = _post
     t0 = time.perf_counter()
     summary: dict = {"scenario": sc.name}
 
@@ -245,6 +258,7 @@ def run(
     try:
         metrics = sc.run(cfg, ctx)
     except DivergenceError as e:
+        postproc.cancel(post)
         log.close()
         summary.update(
             {"status": "diverged", "error": str(e), "duration_s": e.t, "wall_time_s": time.perf_counter() - t0}
@@ -252,30 +266,43 @@ def run(
         write_summary()
         raise
     except KeyboardInterrupt:
+        postproc.cancel(post)
         log.close()
         summary.update({"status": "interrupted", "rows": log.rows_written, "wall_time_s": time.perf_counter() - t0})
         write_summary()
         raise
     except BaseException:
+        postproc.cancel(post)
         log.close()
         raise
     log.close()
     if state is not None and ctx.checkpointer.attached == 0:
+        postproc.cancel(post)
         raise InputError(f"scenario {sc.name} runs without a single simulation; it cannot be resumed")
     table = read_table(out_dir / "log.parquet")
-    df = table.to_pandas()
-    metrics = dict(metrics or {})
-    metrics.update(sc.summarize(df, cfg))
-    summary.update({k: _jsonable(v) for k, v in metrics.items()})
-    summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
-    summary["status"] = "ok"
-    summary["wall_time_s"] = time.perf_counter() - t0
-    if ctx.checkpointer is not None:
-        summary["checkpoints"] = ctx.checkpointer.saved
-        if state is not None:
-            summary["resumed_from_t"] = float(state["t"])
-    write_summary()
-    plot_paths = sc.plot(df, cfg, out_dir) if plots else []
+    df = None
+    if post is not None:
+        post.go(out_dir)
+    try:
+        found = post.summary() if post is not None else None
+        if found is None:  # no helper, or it failed: here (an error surfaces as it would without helpers)
+            df = table.to_pandas()
+            found = sc.summarize(df, cfg)
+        metrics = {**(metrics or {}), **found}
+        summary.update({k: _jsonable(v) for k, v in metrics.items()})
+        summary.setdefault("duration_s", float(ctx.info.get("t_end", cfg.sim.duration)))
+        summary["status"] = "ok"
+        summary["wall_time_s"] = time.perf_counter() - t0
+        if ctx.checkpointer is not None:
+            summary["checkpoints"] = ctx.checkpointer.saved
+            if state is not None:
+                summary["resumed_from_t"] = float(state["t"])
+        write_summary()
+        plot_paths = (post.plots() if post is not None else None) if plots else []
+        if plot_paths is None:
+            plot_paths = sc.plot(table.to_pandas() if df is None else df, cfg, out_dir)
+    finally:
+        postproc.cancel(post, done=True)
     return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
 
 

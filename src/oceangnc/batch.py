@@ -175,16 +175,26 @@ def run_batch(
 
 
 def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk, config, dirs, workers, n):
-    """Share the runs among this process and ``workers - 1`` spawned ones, in tasks of at most
-    ``chunk`` runs handed out as processes become free (this process starts at once, so the others'
-    start-up is hidden behind its work)."""
+    """Share the runs among this process and ``workers - 1`` spawned ones, in tasks of a few runs
+    taken from one queue as each process becomes free (this process starts at once, so the others'
+    start-up is hidden behind its work; a feeder thread per spawned process hands it the next task
+    as soon as it returns one)."""
     import multiprocessing
+    import threading
+    from collections import deque
     from concurrent.futures import ProcessPoolExecutor
 
-    size = max(1, min(chunk, -(-n // (4 * workers))))
-    tasks = [list(range(i, min(n, i + size))) for i in range(0, n, size)]
+    size = max(1, min(chunk, -(-n // (16 * workers))))
+    pending = deque(list(range(i, min(n, i + size))) for i in range(0, n, size))
+    lock = threading.Lock()
+    summaries: list[dict] = [{} for _ in range(n)]
+    errors: list[BaseException] = []
 
-    def submit_args(idx):
+    def take():
+        with lock:
+            return pending.popleft() if pending and not errors else None
+
+    def args(idx):
         return (
             scenario,
             [dict(overrides_list[i]) for i in idx] if overrides_list is not None else None,
@@ -198,21 +208,31 @@ def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk,
             1,
         )
 
-    summaries: list[dict] = [{} for _ in range(n)]
-    pending = list(reversed(tasks))
-    running = {}
+    def store(idx, result):
+        for i, summary in zip(idx, result):
+            summaries[i] = summary
+
     with ProcessPoolExecutor(workers - 1, mp_context=multiprocessing.get_context("spawn")) as pool:
-        while pending or running:
-            while pending and len(running) < 2 * (workers - 1):
-                idx = pending.pop()
-                running[pool.submit(run_batch, *submit_args(idx))] = idx
-            if pending:
-                idx = pending.pop()
-                for i, summary in zip(idx, run_batch(*submit_args(idx))):
-                    summaries[i] = summary
-            for fut in [f for f in running if f.done() or not pending]:
-                for i, summary in zip(running.pop(fut), fut.result()):
-                    summaries[i] = summary
+
+        def feed():
+            while (idx := take()) is not None:
+                try:
+                    store(idx, pool.submit(run_batch, *args(idx)).result())
+                except BaseException as e:  # noqa: BLE001 - re-raised in the calling thread
+                    errors.append(e)
+
+        feeders = [threading.Thread(target=feed, daemon=True) for _ in range(workers - 1)]
+        for f in feeders:
+            f.start()
+        try:
+            while (idx := take()) is not None:
+                store(idx, run_batch(*args(idx)))
+        except BaseException as e:
+            errors.append(e)
+        for f in feeders:
+            f.join()
+    if errors:
+        raise errors[0]
     return summaries
 
 

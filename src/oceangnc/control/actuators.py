@@ -84,6 +84,13 @@ class ThrustersOff(Block):
         self.inputs = {}
         self.outputs = {k: "N" for k in self.keys}
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.thrusters_off_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled_tow import thrusters_off_step
+
+        return CompiledBlock(thrusters_off_step, list(self.keys))
+
     def step(self, t: float, bus: dict) -> None:
         for k in self.keys:
             bus[k] = 0.0

@@ -100,6 +100,8 @@ from .pid import PID
 )
 
 CMD_KEYS = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd")
+#: the outputs every berthing controller writes, in the order of the compiled kernels' slots
+_OUT = (*CMD_KEYS, "ctrl.e_u", "ctrl.e_r")
 
 
 class ControlConfig(StrictModel):
@@ -206,16 +208,31 @@ class OpenLoopController(_Base):
         super().__init__(cfg, ship)
         self.inputs.update({"joystick.surge_db": "1", "joystick.yaw_db": "1"})
 
-    def step(self, t, bus):
+    def _law_params(self) -> list[float]:
         c = self.cfg
-        su = bus["joystick.surge_db"]
-        sy = bus["joystick.yaw_db"]
-        n = su * c.n_open_rpm / 60.0
-        delta = max(-1.0, min(1.0, sy / c.rudder_open_stick)) * math.radians(c.delta_open_deg)
-        nb = sy * c.thruster_open * self.ship.thruster_rpm_max / 60.0
+        return [
+            c.n_open_rpm,
+            c.rudder_open_stick,
+            math.radians(c.delta_open_deg),
+            c.thruster_open,
+            self.ship.thruster_rpm_max,
+        ]
+
+    def step(self, t, bus):
+        from ._compiled_berthing_modes import open_loop_law
+
+        delta, n, nb = open_loop_law(
+            float(bus["joystick.surge_db"]), float(bus["joystick.yaw_db"]), *self._law_params()
+        )
         e_u = bus["ship.u"] - bus["cmd.u_d"]
         e_r = bus["ship.r"] - bus["cmd.r_d"]
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_berthing_modes.open_loop_step`."""
+        from ._compiled_berthing_modes import open_loop_form
+
+        return open_loop_form(self, _OUT)
 
 
 @register_block("ship.pid")
@@ -241,6 +258,12 @@ class PIDController(_Base):
         delta = self.pid_d.step(-e_r, h)
         nb = self.pid_t.step(-e_r, h)
         self._write(bus, delta, n, nb, -nb, e_u, e_r)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_berthing_modes.berthing_pid_step`."""
+        from ._compiled_berthing_modes import pid_form
+
+        return pid_form(self, _OUT)
 
 
 @register_block("ship.nonlinear")

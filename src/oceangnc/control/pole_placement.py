@@ -25,10 +25,10 @@ same blocks serve a fixed identified model or the speed-scheduled model of 000 t
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from ..core.blocks import Block
 from ..core.registry import register_block
-from ..core.rotations import wrap
 from ..errors import ConfigError
 
 
@@ -88,6 +88,10 @@ class HeadingAutopilot(Block):
     role = "controller"
 
     name = "heading_autopilot"
+    coefficients: Callable[[float], tuple[float, float]]
+    zeta: float
+    wn: float
+    body: str
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
@@ -99,12 +103,20 @@ class HeadingAutopilot(Block):
         return heading_gains(K, T, self.zeta, self.wn)
 
     def step(self, t: float, bus: dict) -> None:
+        from ._compiled_first_order import heading_pd_law
+
         b = self.body
-        k1, k2 = self.gains(bus[f"{b}.u"])
-        e = wrap(bus[f"{b}.psi_cmd"] - bus[f"{b}.psi"])
-        bus[f"{b}.delta_s_cmd"] = k1 * (k2 * e - bus[f"{b}.r"])
+        K, T = self.coefficients(bus[f"{b}.u"])
+        _check(K, T, self.zeta, self.wn, "heading autopilot")
+        d, k1, k2 = heading_pd_law(K, T, self.zeta, self.wn, bus[f"{b}.psi_cmd"], bus[f"{b}.psi"], bus[f"{b}.r"])
+        bus[f"{b}.delta_s_cmd"] = d
         bus[f"{b}.hdg_k1"] = k1
         bus[f"{b}.hdg_k2"] = k2
+
+    def compiled(self):
+        """Compiled form (:func:`oceangnc.control._compiled_first_order.heading_pd_step`) when the
+        coefficients are the first-order schedule (:class:`~oceangnc.models.first_order.FirstOrderSchedule`)."""
+        return _scheduled_form(self, "nomoto", ["psi_cmd", "psi", "r", "u", "delta_s_cmd", "hdg_k1", "hdg_k2"])
 
 
 @register_block("usv.speed_p")
@@ -118,6 +130,10 @@ class SpeedAutopilot(Block):
     role = "controller"
 
     name = "speed_autopilot"
+    coefficients: Callable[[float], tuple[float, float]]
+    zeta: float
+    wn: float
+    body: str
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
@@ -125,9 +141,31 @@ class SpeedAutopilot(Block):
         self.outputs = {f"{body}.rpm_cmd": "rpm", f"{body}.spd_k1": "1"}
 
     def step(self, t: float, bus: dict) -> None:
+        from ._compiled_first_order import speed_p_law
+
         b = self.body
         vc = bus[f"{b}.u_cmd"]
         K, T = self.coefficients(vc)
-        k1 = speed_gain(K, T, self.zeta, self.wn)
-        bus[f"{b}.rpm_cmd"] = k1 * (vc - bus[f"{b}.u"])
+        _check(K, T, self.zeta, self.wn, "speed autopilot")
+        n, k1 = speed_p_law(K, T, self.zeta, self.wn, vc, bus[f"{b}.u"])
+        bus[f"{b}.rpm_cmd"] = n
         bus[f"{b}.spd_k1"] = k1
+
+    def compiled(self):
+        """Compiled form (:func:`oceangnc.control._compiled_first_order.speed_p_step`) on the first-order schedule."""
+        return _scheduled_form(self, "speed", ["u_cmd", "u", "rpm_cmd", "spd_k1"])
+
+
+def _scheduled_form(block, law: str, signals: list[str]):
+    """The compiled form of an autopilot whose coefficients are the first-order schedule ``law``, else None."""
+    import numpy as np
+
+    from ..core.fused import CompiledBlock
+    from . import _compiled_first_order as kern
+
+    sched = block.coefficients
+    if getattr(sched, "law", None) != law or getattr(sched, "schedule_params", None) is None:
+        return None  # an arbitrary coefficients callable: the Python path
+    kernel = kern.heading_pd_step if law == "nomoto" else kern.speed_p_step
+    params = np.concatenate([[block.zeta, block.wn], np.asarray(sched.schedule_params, dtype=np.float64)])
+    return CompiledBlock(kernel, [f"{block.body}.{k}" for k in signals], params=params)

@@ -19,8 +19,12 @@ from ..io.config import StrictModel
 from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
 from ..units import KGF
+from ._compiled_tow import bearing_to, drag_feedforward
 from .pid import PID
 from .usv_control import mix, speed_loop
+
+_USV_CMD = ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd")
+_UUV_CMD = ("uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd")
 
 
 class TowCommand(StrictModel):
@@ -52,7 +56,7 @@ def uuv_loops_step(bus: dict, uuv: UUVConfig, speed: PID, head: PID, u_d: float,
     """One step of :func:`uuv_loops`: stern thrust PID(u_d - u) - X_u|u| u_d |u_d| (axial-drag
     feed-forward) shared by both stern thrusters; bow thrust PD(wrap(psi_d - psi), -r). Writes the
     ``uuv.thrust_*_cmd`` keys (N)."""
-    ff = -uuv.X_uu_total * u_d * abs(u_d)
+    ff = float(drag_feedforward(uuv.X_uu_total, u_d))
     tot = speed.step(u_d - bus["uuv.u"], h, feedforward=ff)
     bus["uuv.thrust_port_cmd"] = 0.5 * tot
     bus["uuv.thrust_stbd_cmd"] = 0.5 * tot
@@ -102,6 +106,20 @@ class TowStraightControl(Block):
         self.uuv_speed, self.uuv_head = uuv_loops(
             self.uuv_cfg, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading, c.uuv_kd_heading
         )
+
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.tow_straight_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, pid_params, pid_state
+        from ._compiled_tow import tow_straight_step
+
+        c = self.cmd
+        pids = (self.usv_speed, self.usv_head, self.uuv_speed, self.uuv_head)
+        st = arr(sum((pid_state(q) for q in pids), []))
+        pa = sum((pid_params(q) for q in pids), []) + [self.period, math.radians(c.heading_deg), c.start_s]
+        pa += [c.usv_speed, c.uuv_speed, self.usv_cfg.d11, self.uuv_cfg.X_uu_total]
+        sig = ["usv.u", "usv.psi", "usv.r", "uuv.u", "uuv.psi", "uuv.r", *_USV_CMD, *_UUV_CMD]
+        return CompiledBlock(tow_straight_step, sig, st, arr(pa))
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cmd
@@ -171,10 +189,21 @@ class UUVFollow(Block):
         c = self.cfg
         self.speed, self.head = uuv_loops(self.uuv_cfg, c.kp_speed, c.ki_speed, c.kp_heading, c.kd_heading)
 
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.uuv_follow_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, pid_params, pid_state
+        from ._compiled_tow import uuv_follow_step
+
+        sig = ["usv.x", "usv.y", "uuv.x", "uuv.y", "uuv.u", "uuv.psi", "uuv.r", *_UUV_CMD]
+        st = arr(pid_state(self.speed) + pid_state(self.head))
+        pa = pid_params(self.speed) + pid_params(self.head) + [self.cfg.speed, self.period, self.uuv_cfg.X_uu_total]
+        return CompiledBlock(uuv_follow_step, sig, st, arr(pa))
+
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         if c.speed <= 0.0:
             bus["uuv.thrust_port_cmd"] = bus["uuv.thrust_stbd_cmd"] = bus["uuv.thrust_bow_cmd"] = 0.0
             return
-        psi_d = math.atan2(bus["usv.y"] - bus["uuv.y"], bus["usv.x"] - bus["uuv.x"])
+        psi_d = bearing_to(bus["usv.x"], bus["usv.y"], bus["uuv.x"], bus["uuv.y"])
         uuv_loops_step(bus, self.uuv_cfg, self.speed, self.head, c.speed, psi_d, self.period)

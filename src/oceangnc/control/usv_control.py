@@ -322,6 +322,25 @@ class USVRateController(Block):
         self.speed_pid.reset()
         self.yaw_pid.reset()
 
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_rate.rate_control_step` (PIDs without hold/ramp)."""
+        from ..core.fused import CompiledBlock
+        from ..core.fused_strings import ENUMS
+        from ._compiled import arr, pid_params, pid_state
+        from ._compiled_rate import rate_control_step
+
+        if any(pid.held or pid._ramp_left > 0.0 for pid in (self.speed_pid, self.yaw_pid)):
+            return None
+        p, st = self.usv_cfg, self.stick
+        # external signals with a slot even when absent (0, or code -1 for the default mode), so that
+        # values injected between runs reach the kernel
+        sigs = ["usv.u_d", "usv.r_d", "usv.u", "usv.r", "console.mode", "console.loop", "joystick.surge"]
+        sigs += ["joystick.yaw", "_estop", "usv.thrust_port_cmd", "usv.thrust_stbd_cmd"]
+        pa = pid_params(self.speed_pid) + pid_params(self.yaw_pid) + [self.period, p.d11, p.d33, p.thruster_spacing]
+        pa += [st.open_loop_thrust_kgf, st.open_loop_reverse_kgf, st.open_loop_diff_kgf, KGF]
+        pa += [ENUMS["console.mode"].index(self.mode), ENUMS["console.loop"].index(self.loop)]
+        return CompiledBlock(rate_control_step, sigs, arr(pid_state(self.speed_pid) + pid_state(self.yaw_pid)), arr(pa))
+
     def step(self, t: float, bus: dict) -> None:
         h = self.period
         p = self.usv_cfg

@@ -27,6 +27,7 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..io.config import StrictModel
+from ._compiled_tow import profile_reference, tension_payout
 from .pid import PID
 
 
@@ -80,13 +81,21 @@ class WinchDepthController(Block):
         """(target m, its rate m/s) at time ``t``."""
         if self._pt is None:
             return self.cfg.target, 0.0
-        z = float(np.interp(t, self._pt, self._pz))
-        i = int(np.searchsorted(self._pt, t, side="right"))
-        if 0 < i < len(self._pt):
-            rate = (self._pz[i] - self._pz[i - 1]) / (self._pt[i] - self._pt[i - 1])
-        else:
-            rate = 0.0
-        return z, float(rate)
+        z, rate = profile_reference(float(t), self._pt, self._pz)
+        return float(z), float(rate)
+
+    def compiled(self):
+        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.winch_depth_step`)."""
+        from ..core.fused import CompiledBlock
+        from ._compiled import arr, pid_params, pid_state
+        from ._compiled_tow import winch_depth_step
+
+        c = self.cfg
+        prof = [] if self._pt is None or self._pz is None else [*self._pt, *self._pz]
+        pa = pid_params(self.pid) + [self.period, 0.0 if c.mode == "depth" else 1.0]
+        pa += [c.tension_margin * self.tension_max, c.tension_gain, c.speed_max, c.target, len(prof) // 2, *prof]
+        sig = [self.meas, "?cable.top_tension", "winch.speed_cmd", "winch.target", "winch.error"]
+        return CompiledBlock(winch_depth_step, sig, arr(pid_state(self.pid)), arr(pa))
 
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
@@ -101,8 +110,6 @@ class WinchDepthController(Block):
         s = self.pid.step(e, self.period, feedforward=rate if c.mode == "depth" else 0.0)
         tm = c.tension_margin * self.tension_max
         T = float(bus.get("cable.top_tension", 0.0))
-        if T > tm:
-            s = max(s, min(c.speed_max, c.tension_gain * (T - tm)))
-        bus["winch.speed_cmd"] = s
+        bus["winch.speed_cmd"] = float(tension_payout(s, T, tm, c.tension_gain, c.speed_max))
         bus["winch.target"] = ref
         bus["winch.error"] = e

@@ -36,6 +36,10 @@ from typing import Any
 
 import numpy as np
 
+from .fused_strings import ENUMS
+from .fused_strings import code as _code
+from .fused_strings import strings_ok as _strings_ok
+
 
 @dataclass
 class CompiledBlock:
@@ -87,15 +91,15 @@ def plant_form(plant, slot_of) -> PlantForm | None:
         return own(slot_of)
     from .blocks import Plant
 
+    if type(plant).__name__ == "CombinedPlant" and getattr(plant, "_var", False):  # winch / seabed
+        from ..models._combined_var_form import var_plant_form
+
+        return var_plant_form(plant, slot_of)
     uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
     args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
     read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
     cls = type(plant).__name__
-    if (
-        cls == "CombinedPlant"
-        and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex")
-        and not getattr(plant, "_var", False)  # winch / seabed plants have a variable node count
-    ):
+    if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex"):
         out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
         args.update(
             {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
@@ -245,7 +249,9 @@ class FusedLoop:
 
     def __init__(self, sim, forms: list[CompiledBlock]):
         bus = sim.bus
-        names = sorted(k for k, v in bus.items() if _numeric(v))
+        self._readers = list(zip(sim.blocks, forms))
+        self._plants = list(sim.plants)
+        names = sorted(k for k, v in bus.items() if _numeric(v) or k in ENUMS)
         for f in forms:
             for s in f.signals:
                 if not s.startswith("?") and s not in names:
@@ -255,14 +261,14 @@ class FusedLoop:
                 names.append(s)
         self.names = names
         self.slot = {k: i for i, k in enumerate(names)}
-        self.sig = np.array([float(bus.get(k, 0.0)) if _numeric(bus.get(k, 0.0)) else 0.0 for k in names])
+        self.sig = np.array([_code(k, bus.get(k)) for k in names])
         self.had = {k for k in names if k in bus}
 
         def slot_of(name: str) -> int:
             if name not in self.slot:
                 self.slot[name] = len(self.names)
                 self.names.append(name)
-                self.sig = np.append(self.sig, float(bus.get(name, 0.0)))
+                self.sig = np.append(self.sig, _code(name, bus.get(name)))
             return self.slot[name]
 
         slot_of.names = self.slot  # type: ignore[attr-defined]
@@ -361,18 +367,30 @@ class FusedLoop:
         """Copy the signal array back onto the bus (after each fused call)."""
         vals = self.sig.tolist()
         for k, v in zip(self.names, vals):
+            if k in ENUMS:
+                continue  # a string signal read as its code: the kernels never write it
             if k in ("_stop", "_estop"):
                 if v != 0.0 or k in self.had:
                     bus[k] = bool(v)
             else:
                 bus[k] = v
+        for pl in self._plants:  # a plant's own follow-up of a fused call (e.g. a warning its publish gives)
+            hook = getattr(pl, "after_fused", None)
+            if hook is not None:
+                hook(bus)
 
     def from_bus(self, bus: dict) -> None:
-        """Copy numeric bus values into the signal array (values injected between runs)."""
+        """Copy numeric bus values into the signal array (values injected between runs); a console
+        string the kernels cannot read (a route sent by the console) is refused with a ConfigError."""
+        why = _strings_ok(bus, self._readers)
+        if why is not None:
+            from ..errors import ConfigError
+
+            raise ConfigError(f"fused loop: {why}; run this simulation with use_fused = False")
         for k, v in bus.items():
             i = self.slot.get(k)
-            if i is not None and _numeric(v):
-                self.sig[i] = float(v)
+            if i is not None and (_numeric(v) or k in ENUMS):
+                self.sig[i] = _code(k, v)
 
 
 class _NoFused(Exception):
@@ -392,9 +410,9 @@ def build_fused(sim):
         if f is None:
             return None, f"block '{b.name}' ({type(b).__name__}) has no compiled form"
         forms.append(f)
-    for k, v in sim.bus.items():
-        if not _numeric(v) and k in ("console.mode",):
-            return None, f"signal '{k}' = {v!r} (console modes run on the Python path)"
+    why = _strings_ok(sim.bus, list(zip(sim.blocks, forms)))
+    if why is not None:
+        return None, why
     try:
         return FusedLoop(sim, forms), None
     except _NoFused as e:

@@ -144,14 +144,9 @@ def stepper_cache_dir() -> Path:
     plus a ``steppers-<version>`` subfolder; it lives outside the installed package, so a reinstall of
     the same version keeps it.
     """
-    from .. import __version__
+    from ..cachedir import versioned
 
-    root = os.environ.get("OCEANGNC_CACHE_DIR")
-    if not root:
-        root = os.path.join(
-            os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "oceangnc"
-        )
-    return Path(root) / f"steppers-{__version__}"
+    return versioned("steppers")
 
 
 def _fingerprint(mod) -> str:

@@ -100,7 +100,7 @@ def cached_closure(fn):
       compiling different models at once never write into each other's files.
 
     As with any numba cache, edits to functions in *other* files than the closed-over ones are not
-    seen (clear ``__pycache__`` or ``NUMBA_CACHE_DIR`` after such an edit).
+    seen (clear ``<cache>/numba-<version>``, see :mod:`oceangnc.jitcache`, after such an edit).
     """
     import hashlib
 

@@ -35,21 +35,14 @@ import numpy as np
 
 from ..core.blocks import Block
 from ..core.registry import register_block
-from ..core.rotations import wrap
-
-BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
+from . import _compiled_waypoints as _cw
+from ._compiled_waypoints import BAND_LOS, BAND_PERPENDICULAR, BAND_R1, BAND_R2  # noqa: F401 (re-exported)
 
 
 def leg_frame(pn: float, pe: float, an: float, ae: float, bn: float, be: float):
-    """(alpha, s, e, length) of the vessel at (pn, pe) relative to the leg a -> b; angles rad, lengths m."""
-    dn, de = bn - an, be - ae
-    length = math.hypot(dn, de)
-    alpha = math.atan2(de, dn)
-    c, sn = math.cos(alpha), math.sin(alpha)
-    rn, re = pn - an, pe - ae
-    s = c * rn + sn * re
-    e = -sn * rn + c * re
-    return alpha, s, e, length
+    """(alpha, s, e, length) of the vessel at (pn, pe) relative to the leg a -> b; angles rad, lengths m
+    (compiled: :func:`oceangnc.guidance._compiled_waypoints.leg_frame`)."""
+    return _cw.leg_frame(float(pn), float(pe), float(an), float(ae), float(bn), float(be))
 
 
 def los_circle_heading(alpha: float, s: float, e: float, radius: float) -> float | None:
@@ -58,32 +51,19 @@ def los_circle_heading(alpha: float, s: float, e: float, radius: float) -> float
     With the vessel at cross-track e, the target is ``sqrt(R^2 - e^2)`` ahead along the line, so the
     heading is ``alpha + atan2(-e, sqrt(R^2 - e^2))``.
     """
-    if radius <= abs(e):
-        return None
-    return alpha + math.atan2(-e, math.sqrt(radius * radius - e * e))
+    psi = _cw.los_circle(float(alpha), float(s), float(e), float(radius))
+    return None if math.isnan(psi) else psi
 
 
 def conventional_los(pn, pe, an, ae, bn, be, R):
     """Conventional LOS heading psi_l (rad); steers at waypoint b when the circle misses the line."""
-    alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
-    psi = los_circle_heading(alpha, s, e, R)
-    if psi is None:
-        psi = math.atan2(be - pe, bn - pn)
-    return psi
+    return _cw.conventional_los(*(float(v) for v in (pn, pe, an, ae, bn, be, R)))
 
 
 def hybrid_los(pn, pe, an, ae, bn, be, R, R1, R2):
     """Hybrid heading of 000 table 1 (rad) and the band used (3 perpendicular, 2 R2, 1 R1, 0 LOS)."""
-    alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
-    d = abs(e)
-    if d > 2.0 * R:
-        return alpha - math.copysign(0.5 * math.pi, e), BAND_PERPENDICULAR
-    if d > R:
-        return los_circle_heading(alpha, s, e, R2), BAND_R2
-    if d > 0.5 * R:
-        return los_circle_heading(alpha, s, e, R1), BAND_R1
-    psi = los_circle_heading(alpha, s, e, R)
-    return psi, BAND_LOS
+    psi, band = _cw.hybrid_los(*(float(v) for v in (pn, pe, an, ae, bn, be, R, R1, R2)))
+    return psi, int(band)
 
 
 def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray:
@@ -150,6 +130,7 @@ class WaypointGuidance(Block):
         if mode not in ("los", "hybrid"):
             raise ValueError(f"guidance mode must be 'los' or 'hybrid', got {mode!r}")
         self.wp = wp
+        self._wp_flat = np.ascontiguousarray(wp.ravel())
         self.mode = mode
         self.R = float(R)
         self.R1 = float(R1) if R1 is not None else 1.25 * self.R
@@ -183,34 +164,34 @@ class WaypointGuidance(Block):
 
     def step(self, t: float, bus: dict) -> None:
         b = self.body
-        pn, pe = bus[f"{b}.x"], bus[f"{b}.y"]
+        pn, pe = float(bus[f"{b}.x"]), float(bus[f"{b}.y"])
         n = len(self.wp)
-        while self.k < n:
-            an, ae = self.wp[self.k - 1]
-            bn, be = self.wp[self.k]
-            _, s, _, length = leg_frame(pn, pe, an, ae, bn, be)
-            if math.hypot(bn - pn, be - pe) < self.accept or s >= length:
-                self.k += 1
-                continue
-            break
+        self.k, psi, band, e = _cw.waypoint_law(
+            pn, pe, self._wp_flat, n, self.k, self.mode == "los", self.R, self.R1, self.R2, self.accept
+        )
         if self.k >= n:
             self.done = True
             if self.stop_at_end:
                 bus["_stop"] = True
                 bus["_stop_reason"] = f"last waypoint reached at t = {t:.1f} s"
         k = min(self.k, n - 1)
-        an, ae = self.wp[k - 1]
-        bn, be = self.wp[k]
-        alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
-        if self.done:
-            psi, band = alpha - math.atan2(e, 3.0 * self.R), BAND_LOS
-        elif self.mode == "los":
-            psi, band = conventional_los(pn, pe, an, ae, bn, be, self.R), BAND_LOS
-        else:
-            psi, band = hybrid_los(pn, pe, an, ae, bn, be, self.R, self.R1, self.R2)
-        bus[f"{b}.psi_cmd"] = wrap(psi)
+        bus[f"{b}.psi_cmd"] = psi
         bus[f"{b}.u_cmd"] = self.speed if self.speeds is None else float(self.speeds[k - 1])
         bus["guidance.d"] = abs(e)
         bus["guidance.e"] = e
         bus["guidance.band"] = float(band)
         bus["guidance.leg"] = float(k)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.guidance._compiled_waypoints.waypoint_guidance_step`."""
+        from ..core.fused import CompiledBlock
+
+        b = self.body
+        n = len(self.wp)
+        speeds = np.zeros(n) if self.speeds is None else self.speeds
+        head = [1.0 if self.mode == "los" else 0.0, self.R, self.R1, self.R2, self.accept, self.speed]
+        head += [0.0 if self.speeds is None else 1.0, 1.0 if self.stop_at_end else 0.0, float(n)]
+        pa = np.concatenate([head, self._wp_flat, speeds]).astype(np.float64)
+        sigs = [f"{b}.x", f"{b}.y", f"{b}.psi_cmd", f"{b}.u_cmd", "guidance.d", "guidance.e", "guidance.band"]
+        sigs += ["guidance.leg", "_stop"]
+        return CompiledBlock(_cw.waypoint_guidance_step, sigs, state=np.array([float(self.k)]), params=pa)

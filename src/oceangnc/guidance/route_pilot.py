@@ -25,13 +25,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
 from ..core.registry import register_block
-from ..core.rotations import wrap
 from ..io.config import StrictModel
-from .pure_pursuit import closest_point, look_ahead_point, pursuit_command
+from . import _compiled_route as _cr
 
 
 class RouteConfig(StrictModel):
@@ -151,31 +151,6 @@ class RoutePilot(Block):
         self.leg_start: tuple[float, float] | None = None
         self.route_done = False
 
-    def _pursuit(self, x: float, y: float, psi: float) -> tuple[float, float, float]:
-        """Pure pursuit on the current leg: (psi_d rad, cross-track m, distance to the waypoint m);
-        psi_d is NaN once the route is complete. The first leg starts where the vehicle is."""
-        p = (x, y)
-        while True:
-            if self.leg_start is None:
-                self.leg_start = p
-            b = self.route[self.wp]
-            a = self.leg_start
-            leg = math.hypot(b[0] - a[0], b[1] - a[1])
-            dist = math.hypot(b[0] - x, b[1] - y)
-            along = 0.0
-            if leg > 1e-9:
-                _, along, _ = closest_point(p, a, b)
-            if dist < self.cfg.accept_radius or leg <= 1e-9 or along > leg:
-                self.leg_start = b
-                self.wp += 1
-                if self.wp >= len(self.route):
-                    self.route_done = True
-                    return math.nan, 0.0, 0.0
-                continue
-            last = self.wp == len(self.route) - 1
-            target, _, e = look_ahead_point(p, a, b, self.lookahead, clamp_end=last)
-            return pursuit_command(p, psi, target)[0], e, dist
-
     def step(self, t: float, bus: dict) -> None:
         psi = bus["usv.psi"]
         mode = bus.get("console.mode", self.mode)
@@ -185,27 +160,45 @@ class RoutePilot(Block):
             self.wp = 0
             self.leg_start = None
             self.route_done = False
-        surge = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
-        yaw = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))
-        st = self.stick
-        r_max = math.radians(st.max_yaw_rate_degps)
-        psi_d = math.nan
-        xte = 0.0
-        if mode == "remote":
-            u_d = surge * (st.max_speed if surge >= 0 else st.max_reverse_speed)
-            r_d = yaw * r_max
-        elif self.route_done:
-            u_d, r_d = 0.0, 0.0
-        else:
-            psi_d, xte, _ = self._pursuit(bus.get("gps.x", bus["usv.x"]), bus.get("gps.y", bus["usv.y"]), psi)
-            if self.route_done:
-                u_d, r_d = 0.0, 0.0
-            else:
-                err = wrap(psi_d - psi)
-                r_d = max(-r_max, min(r_max, self.heading_gain * err))
-                u_d = self.cruise_speed * max(0.0, math.cos(err))
+        surge = float(bus.get("joystick.surge", 0.0))
+        yaw = float(bus.get("joystick.yaw", 0.0))
+        x, y = float(bus.get("gps.x", bus["usv.x"])), float(bus.get("gps.y", bus["usv.y"]))
+        rs = self._route_state()
+        route = np.array(self.route, dtype=np.float64).ravel()
+        u_d, r_d, psi_d, xte = _cr.route_pilot_law(
+            mode == "remote", surge, yaw, x, y, float(psi), route, len(self.route), rs, self._law_params()
+        )
+        self.wp = int(rs[0])
+        self.leg_start = (float(rs[2]), float(rs[3])) if rs[1] != 0.0 else None
+        self.route_done = self.wp >= len(self.route)
         bus["usv.u_d"] = u_d
         bus["usv.r_d"] = r_d
-        bus["guidance.psi_d"] = psi_d if math.isfinite(psi_d) else psi
+        bus["guidance.psi_d"] = psi_d
         bus["guidance.cross_track"] = xte
         bus["guidance.wp_index"] = float(self.wp)
+
+    def _route_state(self) -> np.ndarray:
+        ls = self.leg_start
+        return np.array([self.wp, 0.0 if ls is None else 1.0, *(ls or (0.0, 0.0))], dtype=np.float64)
+
+    def _law_params(self) -> np.ndarray:
+        st = self.stick
+        r_max = math.radians(st.max_yaw_rate_degps)
+        c = self.cfg
+        v = [st.max_speed, st.max_reverse_speed, r_max, self.heading_gain, self.cruise_speed, self.lookahead]
+        return np.array([*v, c.accept_radius], dtype=np.float64)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.guidance._compiled_route.route_pilot_step` (the route as it
+        stands; a route sent by the console while running keeps the Python path, see
+        :func:`oceangnc.core.fused.build_fused`)."""
+        from ..core.fused import CompiledBlock
+        from ..core.fused_strings import ENUMS
+
+        route = np.array(self.route, dtype=np.float64).ravel()
+        pa = np.concatenate(
+            [self._law_params(), [float(ENUMS["console.mode"].index(self.mode))], [len(self.route)], route]
+        )
+        sigs = ["usv.psi", "usv.x", "usv.y", "console.mode", "joystick.surge", "joystick.yaw", "?gps.x", "?gps.y"]
+        sigs += ["usv.u_d", "usv.r_d", "guidance.psi_d", "guidance.cross_track", "guidance.wp_index"]
+        return CompiledBlock(_cr.route_pilot_step, sigs, state=self._route_state(), params=pa)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -49,38 +50,42 @@ class ZigZag(Block):
         self.psi0 = None
 
     def step(self, t, bus):
-        psi = bus["usv.psi"]
-        if self.psi0 is None:
-            self.psi0 = psi
-        dpsi = wrap(psi - self.psi0)
-        if t < self.t_step - 1e-9:
-            bus[self.key] = 0.0
-            return
-        if self.sign > 0 and dpsi >= self.psi_z:
-            self.sign = -1.0
-        elif self.sign < 0 and dpsi <= -self.psi_z:
-            self.sign = 1.0
-        bus[self.key] = self.sign * self.amp * self.scale
+        from ._compiled_trials import zigzag_law
+
+        st = np.array([self.sign, 0.0 if self.psi0 is None else self.psi0, 0.0 if self.psi0 is None else 1.0])
+        s = zigzag_law(float(t), float(bus["usv.psi"]), st, float(self.t_step), float(self.psi_z))
+        self.sign, self.psi0 = float(st[0]), float(st[1])
+        bus[self.key] = 0.0 if s == 0.0 else s * self.amp * self.scale
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.identification._compiled_trials.zigzag_step`."""
+        from ..core.fused import CompiledBlock
+        from ._compiled_trials import zigzag_step
+
+        st = np.array([self.sign, 0.0 if self.psi0 is None else self.psi0, 0.0 if self.psi0 is None else 1.0])
+        pa = np.array([self.amp, self.psi_z, self.t_step, self.scale], dtype=np.float64)
+        return CompiledBlock(zigzag_step, ["usv.psi", self.key], st, pa)
 
 
 @register_block("sensor.trial")
 class TrialSensors(Block):
     """Measured trial signals with white noise: trial.speed, trial.heading (wrapped), trial.yaw_rate, inputs.
 
-    ``steer_fn(bus)`` and ``thrust_fn(bus)`` give the logged inputs ``trial.steer`` / ``trial.thrust``
-    (whatever the vehicle's inputs are: rudder and rpm, or differential and mean thrust); ``inputs``
-    declares the signals they read.
+    ``steer`` and ``thrust`` say which signals are logged as the inputs ``trial.steer`` / ``trial.thrust``
+    (whatever the vehicle's inputs are: rudder and rpm, or differential and mean thrust): a signal
+    name, or ``(a, b, sign, scale)`` for ``scale * (a + sign * b)``; ``units`` gives the units of the
+    signals they read.
     """
 
     role = "sensor"
 
     name = "trial_sensors"
 
-    def __init__(self, noise: TrialNoise, period, steer_fn, thrust_fn, inputs=None):
+    def __init__(self, noise: TrialNoise, period, steer, thrust, units=None):
         self.n = noise
         self.period = period
-        self.steer_fn, self.thrust_fn = steer_fn, thrust_fn
-        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", **(inputs or {})}
+        self.steer, self.thrust = _spec(steer), _spec(thrust)
+        self.inputs = {"usv.u": "m/s", "usv.psi": "rad", "usv.r": "rad/s", **(units or {})}
         self.outputs = {
             "trial.speed": "m/s",
             "trial.heading": "rad",
@@ -101,5 +106,31 @@ class TrialSensors(Block):
         bus["trial.yaw_rate"] = bus["usv.r"] + (
             g.normal(0, math.radians(n.yaw_rate_degps)) if n.yaw_rate_degps else 0.0
         )
-        bus["trial.steer"] = self.steer_fn(bus)
-        bus["trial.thrust"] = self.thrust_fn(bus)
+        bus["trial.steer"] = _value(bus, self.steer)
+        bus["trial.thrust"] = _value(bus, self.thrust)
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.identification._compiled_trials.trial_sensors_step`."""
+        from ..core.fused import CompiledBlock
+        from ._compiled_trials import trial_sensors_step
+
+        n = self.n
+        (sa, sb, ss, sc), (ta, tb, ts, tc) = self.steer, self.thrust
+        sigs = ["usv.u", "usv.psi", "usv.r", sa, sb or "?", ta, tb or "?"]
+        sigs += ["trial.speed", "trial.heading", "trial.yaw_rate", "trial.steer", "trial.thrust"]
+        sd = [n.speed_mps, math.radians(n.heading_deg), math.radians(n.yaw_rate_degps)]
+        pa = np.array([*sd, ss, sc, ts, tc], dtype=np.float64)
+        return CompiledBlock(trial_sensors_step, sigs, params=pa, rng=self.rng)
+
+
+def _spec(s) -> tuple:
+    """A logged input: a signal name, or (a, b, sign, scale) for scale * (a + sign * b)."""
+    if isinstance(s, str):
+        return (s, None, 1.0, 1.0)
+    a, b, sign, scale = s
+    return (a, b, float(sign), float(scale))
+
+
+def _value(bus, spec) -> float:
+    a, b, sign, scale = spec
+    return bus[a] if b is None else scale * (bus[a] + sign * bus[b])

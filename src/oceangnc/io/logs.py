@@ -38,23 +38,20 @@ import pyarrow.parquet as pq
 
 from ..errors import InputError
 
-PART_FMT = "part-{:06d}.parquet"
+# reading, compaction and repair live in oceangnc.io.log_read; importable from here as before
+from .log_read import (  # noqa: F401
+    META_ROW0,
+    META_ROWS,
+    PART_FMT,
+    _fsync_dir,
+    compact_log,
+    list_parts,
+    read_log,
+    read_table,
+    repair_log,
+)
+
 MEM_CELLS = 20_000_000  #: values (rows x columns) of a log kept in memory for compaction (160 MB)
-META_ROW0 = b"oceangnc.row0"
-META_ROWS = b"oceangnc.rows"
-
-
-def _fsync_dir(d: Path) -> None:
-    try:
-        fd = os.open(d, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def atomic_write_bytes(path: str | Path, data: bytes) -> None:
@@ -74,21 +71,11 @@ def atomic_write_text(path: str | Path, text: str) -> None:
     atomic_write_bytes(path, text.encode("utf-8"))
 
 
-def _part_index(p: Path) -> int | None:
-    name = p.name
-    if not (name.startswith("part-") and name.endswith(".parquet")):
-        return None
-    try:
-        return int(name[5:-8])
-    except ValueError:
-        return None
-
-
-def list_parts(folder: str | Path) -> list[Path]:
-    """The visible part files of a dataset folder, in write order."""
-    d = Path(folder)
-    parts = [(i, p) for p in d.iterdir() if (i := _part_index(p)) is not None]
-    return [p for _, p in sorted(parts)]
+def _f64(a: np.ndarray) -> pa.Array:
+    """A float64 Arrow array sharing a contiguous numpy row's memory (``pa.array`` would import pandas
+    to check its argument, about 0.5 s of a run's start-up)."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return pa.Array.from_buffers(pa.float64(), len(a), [None, pa.py_buffer(a)])
 
 
 class LogWriter:
@@ -132,7 +119,11 @@ class LogWriter:
         self._mem: list[pa.Table] | None = [] if start_part == 0 else None
         self._mem_cells = 0
         self.columns: list[str] | None = None
+        # rows appended one by one (lists per column) and blocks from append_rows (arrays of shape
+        # (columns, rows)), kept in order in _chunks; _nbuf counts the buffered rows of both
         self._buf: dict[str, list] = {}
+        self._chunks: list[np.ndarray] = []
+        self._nbuf = 0
         self._t0: float | None = None
         self.rows = int(start_row)  # rows appended (including those of a resumed run)
         self.rows_written = int(start_row)  # rows in visible parts
@@ -157,7 +148,8 @@ class LogWriter:
             else:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
-        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or len(self._buf["t"]) >= self.flush_rows:
+        self._nbuf += 1
+        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or self._nbuf >= self.flush_rows:
             self.flush()
 
     def append_rows(self, t, names: list[str], values) -> None:
@@ -175,32 +167,51 @@ class LogWriter:
         idx = {c: j for j, c in enumerate(names)}
         ts_all = np.asarray(t, dtype=float)
         vals_all = np.asarray(values, dtype=float)
+        # where each column comes from: a column of values, a constant extra, or NaN (absent)
+        pos = {c: j for j, c in enumerate(self.columns)}
+        src = [c for c in self.columns[1:] if c in idx and c not in self.extra]
+        dst_rows = np.array([pos[c] for c in src], dtype=np.intp)
+        src_cols = np.array([idx[c] for c in src], dtype=np.intp)
+        fill = [
+            (j, float(self.extra[c]) if c in self.extra else np.nan)
+            for j, c in enumerate(self.columns)
+            if j > 0 and (c in self.extra or c not in idx)
+        ]
         i0 = 0
         while i0 < m:
             # the same parts as row-by-row append(): a part closes with the first row at or past the flush time
             if self._t0 is None:
                 self._t0 = float(ts_all[i0])
                 self._t_flush = (math.floor(self._t0 / self.flush_period + 1e-9) + 1) * self.flush_period
-            room = self.flush_rows - len(self._buf["t"])
+            room = self.flush_rows - self._nbuf
             past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0]
             i1 = min(m, i0 + max(1, room), i0 + int(past[0]) + 1 if past.size else m)
-            ts = ts_all[i0:i1].tolist()
-            n = len(ts)
-            self._buf["t"].extend(ts)
-            for c in self.columns[1:]:
-                if c in self.extra:
-                    self._buf[c].extend([float(self.extra[c])] * n)
-                elif c in idx:
-                    self._buf[c].extend(vals_all[i0:i1, idx[c]].tolist())
-                else:
-                    self._buf[c].extend([np.nan] * n)
+            n = i1 - i0
+            self._seal_rows()
+            block = np.empty((len(self.columns), n))
+            block[0] = ts_all[i0:i1]
+            block[dst_rows] = vals_all[i0:i1, src_cols].T
+            for j, v in fill:
+                block[j] = v
+            self._chunks.append(block)
+            self._nbuf += n
             self.rows += n
-            if ts[-1] >= self._t_flush - 1e-9 * self.flush_period or len(self._buf["t"]) >= self.flush_rows:
+            if ts_all[i1 - 1] >= self._t_flush - 1e-9 * self.flush_period or self._nbuf >= self.flush_rows:
                 self.flush()
             i0 = i1
 
+    def _seal_rows(self) -> None:
+        """Move the rows appended one by one into an array block (keeps the row order with append_rows)."""
+        if self.columns and self._buf["t"]:
+            rows = np.array([self._buf[c] for c in self.columns], dtype=float)
+            self._chunks.append(rows.reshape(len(self.columns), -1))
+            for c in self.columns:
+                self._buf[c].clear()
+
     def _table(self) -> pa.Table:
-        return pa.table({c: pa.array(self._buf[c], type=pa.float64()) for c in self.columns})
+        self._seal_rows()
+        data = self._chunks[0] if len(self._chunks) == 1 else np.concatenate(self._chunks, axis=1)
+        return pa.table({c: _f64(data[j]) for j, c in enumerate(self.columns or [])})
 
     def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
         meta = dict(table.schema.metadata or {})
@@ -245,7 +256,7 @@ class LogWriter:
 
     def flush(self) -> None:
         """Write the buffered rows as one new part file (atomically)."""
-        if not self.columns or not self._buf["t"]:
+        if not self.columns or not self._nbuf:
             return
         self.path.mkdir(parents=True, exist_ok=True)
         table = self._table()
@@ -259,8 +270,8 @@ class LogWriter:
             self.sync()
         self.parts += 1
         self.rows_written += table.num_rows
-        for c in self.columns:
-            self._buf[c].clear()
+        self._chunks.clear()
+        self._nbuf = 0
         self._t0 = None
 
     def close(self) -> None:
@@ -268,20 +279,21 @@ class LogWriter:
         if self.closed:
             return
         self.closed = True
-        if self.parts == 0 and self._mem == [] and self.columns and self._buf["t"]:
+        if self.parts == 0 and self._mem == [] and self.columns and self._nbuf:
             # everything still in memory (a short run, or a batch run): one compressed, synced file
             self.path.mkdir(parents=True, exist_ok=True)
             table = self._table()
             self._write_part(table, 0, 0)
             self._mem = [table]
             self.parts, self.rows_written = 1, table.num_rows
-            for c in self.columns:
-                self._buf[c].clear()
+            self._chunks.clear()
+            self._nbuf = 0
             return
         self.flush()
         self.path.mkdir(parents=True, exist_ok=True)
-        self.sync()
         parts = list_parts(self.path)
+        if not (self.compact and len(parts) > 1 and self._mem is not None and len(self._mem) == len(parts)):
+            self.sync()  # (compacted from memory: the parts are replaced by a synced file, no need to force them)
         if not parts:
             # no row at all: still leave a valid, empty log behind
             cols = self.columns or ["t"]
@@ -305,7 +317,7 @@ class LogWriter:
         without reading the log back."""
         if self._mem is None:
             return None
-        if self.columns and self._buf.get("t"):
+        if self.columns and self._nbuf:
             return pa.concat_tables([*self._mem, self._table()])
         return pa.concat_tables(self._mem) if self._mem else None
 
@@ -315,129 +327,3 @@ class LogWriter:
     def __exit__(self, *exc):
         self.close()
         return False
-
-
-def _part_range(p: Path) -> tuple[int, int] | None:
-    """(first row, row count) from a part's metadata, or None when unreadable."""
-    try:
-        md = pq.read_metadata(p)
-    except (pa.ArrowInvalid, OSError, ValueError):
-        return None
-    kv = md.metadata or {}
-    try:
-        return int(kv[META_ROW0]), int(kv[META_ROWS])
-    except (KeyError, ValueError):
-        return -1, md.num_rows  # not written by LogWriter: keep, no order information
-
-
-def _live_parts(folder: Path) -> tuple[list[Path], list[Path]]:
-    """(parts to read in order, parts to drop: unreadable or covered by an earlier compaction)."""
-    keep: list[Path] = []
-    drop: list[Path] = []
-    covered = 0
-    for p in list_parts(folder):
-        r = _part_range(p)
-        if r is None:
-            drop.append(p)
-            continue
-        row0, n = r
-        if row0 >= 0 and row0 + n <= covered and n > 0:
-            drop.append(p)  # its rows are already in a compacted part
-            continue
-        keep.append(p)
-        if row0 >= 0:
-            covered = max(covered, row0 + n)
-    return keep, drop
-
-
-def compact_log(folder: str | Path) -> None:
-    """Merge a dataset's parts into one ``part-000000.parquet`` (crash-safe, see the module docstring)."""
-    d = Path(folder)
-    keep, drop = _live_parts(d)
-    if len(keep) <= 1 and not drop:
-        return
-    table = pa.concat_tables([pq.read_table(p) for p in keep]) if keep else None
-    if table is None:
-        return
-    w = LogWriter(d)
-    w._write_part(table.replace_schema_metadata(None), 0, 0)  # atomic rename over part 0
-    for p in [*keep, *drop]:
-        if p.name != PART_FMT.format(0):
-            p.unlink(missing_ok=True)
-    _fsync_dir(d)
-
-
-def repair_log(path: str | Path) -> dict:
-    """Make a log folder (or a run folder holding ``log.parquet``) whole after a crash.
-
-    Removes temporary files of interrupted writes, unreadable parts and parts already covered by a
-    compacted part, then compacts. Returns ``{"parts": kept, "removed": [...], "rows": n}``.
-    """
-    d = _dataset_path(Path(path))
-    if not d.is_dir():
-        raise InputError(f"log folder not found: {d}")
-    removed = []
-    for p in sorted(d.iterdir()):
-        if p.name.startswith(".") and p.name.endswith(".tmp"):
-            p.unlink()
-            removed.append(p.name)
-    keep, drop = _live_parts(d)
-    for p in drop:
-        p.unlink()
-        removed.append(p.name)
-    if not keep:
-        pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), d / PART_FMT.format(0))
-    elif len(keep) > 1:
-        compact_log(d)
-    parts = list_parts(d)
-    rows = sum(pq.read_metadata(p).num_rows for p in parts)
-    return {"parts": len(parts), "removed": removed, "rows": rows}
-
-
-def _dataset_path(p: Path) -> Path:
-    if p.is_dir() and p.name != "log.parquet" and (p / "log.parquet").exists():
-        return p / "log.parquet"
-    return p
-
-
-def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
-    """A log as a pyarrow Table: a dataset folder (parts in order, covered parts skipped), a single
-    Parquet file, or a run folder holding ``log.parquet``."""
-    p = _dataset_path(Path(path))
-    if p.is_dir():
-        keep, _ = _live_parts(p)
-        if not keep:
-            raise InputError(f"log {p} holds no readable part (try: oceangnc log repair {p.parent})")
-        tables = [pq.read_table(q, columns=columns) for q in keep]
-        schema = tables[0].schema
-        return pa.concat_tables([t.replace_schema_metadata(None) for t in tables]).replace_schema_metadata(
-            {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None
-        )
-    return pq.read_table(p, columns=columns)
-
-
-def read_log(path: str | Path, columns: list[str] | None = None):
-    """Read a Parquet log (dataset folder or file) or a CSV log as a pandas DataFrame.
-
-    ``path`` may be a run folder (its ``log.parquet`` is read). A missing or unreadable log is an
-    :class:`~oceangnc.errors.InputError` with a one-line message.
-    """
-    import pandas as pd
-
-    p = _dataset_path(Path(path))
-    if not p.exists():
-        raise InputError(f"log not found: {p}")
-    try:
-        if p.is_file() and p.suffix.lower() == ".csv":
-            df = pd.read_csv(p)
-        else:
-            df = read_table(p, columns=columns).to_pandas()
-    except (pa.ArrowInvalid, OSError, ValueError, KeyError) as e:
-        if isinstance(e, InputError):
-            raise
-        raise InputError(f"cannot read log {p}: {e}") from None
-    if columns:
-        missing = [c for c in columns if c not in df.columns]
-        if missing:
-            raise InputError(f"log {p} has no column(s) {', '.join(missing)}; it has: {', '.join(df.columns[:30])}")
-    return df

@@ -173,6 +173,25 @@ def schedule(u, p):
     return (p[_KVS] * us + p[_KVI], p[_TVS] * us + p[_TVI], p[_KRS] * ut + p[_KRI], p[_TRS] * ut + p[_TRI])
 
 
+class FirstOrderSchedule:
+    """One law of the clamped schedule as a ``coefficients(u) -> (K, T)`` callable for the autopilots of
+    :mod:`oceangnc.control.pole_placement`: ``law = "nomoto"`` gives (K_r, T_r), ``"speed"`` (K_v, T_v).
+
+    ``schedule_params`` (the layout :data:`LAYOUT`) lets the autopilots' compiled forms evaluate the
+    same :func:`schedule` inside the fused loop (issue 19).
+    """
+
+    def __init__(self, cfg: FirstOrderConfig, law: str):
+        if law not in ("nomoto", "speed"):
+            raise ValueError(f"law must be 'nomoto' or 'speed', got {law!r}")
+        self.law = law
+        self.schedule_params = cfg.params()
+
+    def __call__(self, u: float) -> tuple[float, float]:
+        kv, tv, kr, tr = schedule.py_func(float(u), self.schedule_params)
+        return (kr, tr) if self.law == "nomoto" else (kv, tv)
+
+
 @njit(cache=True)
 def first_order_rhs(t, x, u, p, out):
     """dx/dt of the first-order USV (000 eq. 8, 15 and 1); layouts in the module docstring."""
@@ -221,6 +240,12 @@ class FirstOrderUSV(Plant):
         self.cfg = cfg
         self._warned = False
 
+    def compiled_form(self, slot_of):
+        """The plant's part of the fused loop (:func:`oceangnc.models._compiled_first_order.first_order_form`)."""
+        from ._compiled_first_order import first_order_form
+
+        return first_order_form(self, slot_of)
+
     def publish(self, bus: dict) -> None:
         super().publish(bus)
         x = self.x
@@ -232,15 +257,28 @@ class FirstOrderUSV(Plant):
             u = bus.get(f"{self.name}.u_op", u)
         out = not (c.straight_lo_mps <= u <= c.straight_hi_mps and c.turn_lo_mps <= u <= c.turn_hi_mps)
         bus[f"{self.name}.schedule_clamped"] = 1.0 if out else 0.0
-        if out and not self._warned:
-            self._warned = True
-            warnings.warn(
-                f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
-                f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
-                f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends",
-                RuntimeWarning,
-                stacklevel=2,
-            )
+        if out:
+            self._warn(u)
+
+    def _warn(self, u: float) -> None:
+        """Warn once per plant that the speed ``u`` (m/s) left the trial ranges."""
+        if self._warned:
+            return
+        self._warned = True
+        c = self.cfg
+        warnings.warn(
+            f"{VEHICLE}: speed {u:.2f} m/s is outside the trial ranges of 000 table 2 "
+            f"(straight {c.straight_lo_mps:g}-{c.straight_hi_mps:g} m/s, turning {c.turn_lo_mps:g}-"
+            f"{c.turn_hi_mps:g} m/s); coefficients are held at the range ends",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+    def after_fused(self, bus: dict) -> None:
+        """After a fused call: the warning :meth:`publish` gives, if the speed left the ranges in it."""
+        cp = getattr(self, "_fused_cp", None)
+        if cp is not None and cp[5] != 0.0:
+            self._warn(float(cp[6]))
 
 
 class FirstOrderActuators(Block):
@@ -261,13 +299,22 @@ class FirstOrderActuators(Block):
         self.nmax = cfg.rpm_max
 
     def step(self, t: float, bus: dict) -> None:
+        from ..control._compiled_first_order import saturate_rudder_engine
+
         b = self.body
-        d = bus.get(f"{b}.delta_s_cmd", 0.0)
-        n = bus.get(f"{b}.rpm_cmd", 0.0)
-        if bus.get("_estop", False):
-            d, n = 0.0, 0.0
-        d = min(self.dmax, max(-self.dmax, d))
-        n = min(self.nmax, max(self.nmin, n))
+        d = float(bus.get(f"{b}.delta_s_cmd", 0.0))
+        n = float(bus.get(f"{b}.rpm_cmd", 0.0))
+        estop = bool(bus.get("_estop", False))
+        d, n, deg = saturate_rudder_engine(d, n, estop, self.dmax, self.nmin, self.nmax)
         bus[f"{b}.delta_s"] = d
         bus[f"{b}.rpm"] = n
-        bus[f"{b}.delta_s_deg"] = math.degrees(d)
+        bus[f"{b}.delta_s_deg"] = deg
+
+    def compiled(self):
+        """Compiled form: :func:`oceangnc.control._compiled_first_order.rudder_engine_step`."""
+        from ..control._compiled_first_order import rudder_engine_step
+        from ..core.fused import CompiledBlock
+
+        b = self.body
+        sigs = [f"{b}.delta_s_cmd", f"{b}.rpm_cmd", "_estop", f"{b}.delta_s", f"{b}.rpm", f"{b}.delta_s_deg"]
+        return CompiledBlock(rudder_engine_step, sigs, params=np.array([self.dmax, self.nmin, self.nmax]))

@@ -152,6 +152,12 @@ class TowedTrailer(Plant):
             },
         )
 
+    def compiled_form(self, slot_of):
+        """The plant's part of the fused loop (:func:`oceangnc.models._compiled_first_order.trailer_form`)."""
+        from ._compiled_first_order import trailer_form
+
+        return trailer_form(self, slot_of)
+
     def read_inputs(self, bus: dict) -> None:
         self.u[0] = bus.get(f"{self.usv}.u", 0.0)
         psi = bus.get(f"{self.usv}.psi", 0.0)

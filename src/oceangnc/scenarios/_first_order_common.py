@@ -12,10 +12,10 @@ from ..control.pole_placement import (
     HeadingAutopilot,
     SpeedAutopilot,
 )
-from ..core.blocks import FunctionBlock
+from ..core.blocks import ConstantBlock
 from ..errors import ConfigError
 from ..io.config import ScenarioConfig, StrictModel
-from ..models.first_order import FirstOrderConfig
+from ..models.first_order import FirstOrderConfig, FirstOrderSchedule
 
 RAD2DEG = 180.0 / math.pi
 
@@ -68,19 +68,11 @@ def check_design(cfg) -> None:
 
 
 def _nomoto(cfg):
-    def f(u):
-        c = cfg.usv.coefficients(u)
-        return c["K_r"], c["T_r"]
-
-    return f
+    return FirstOrderSchedule(cfg.usv, "nomoto")
 
 
 def _speedlaw(cfg):
-    def f(u):
-        c = cfg.usv.coefficients(u)
-        return c["K_v"], c["T_v"]
-
-    return f
+    return FirstOrderSchedule(cfg.usv, "speed")
 
 
 def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None):
@@ -93,11 +85,7 @@ def closed_loop_blocks(cfg, guidance_blocks, rpm_open_loop: float | None = None)
         blocks.append(SpeedAutopilot(_speedlaw(cfg), cfg.speed_control.zeta, cfg.speed_control.wn, h))
     else:
         n = float(rpm_open_loop)
-        blocks.append(
-            FunctionBlock(
-                "engine", h, lambda t, bus: bus.__setitem__("usv.rpm_cmd", n), inputs={}, outputs={"usv.rpm_cmd": "rpm"}
-            )
-        )
+        blocks.append(ConstantBlock("engine", h, {"usv.rpm_cmd": n}, units={"usv.rpm_cmd": "rpm"}))
     blocks.append(RudderEngineBlock(cfg.usv, h))
     return blocks
 

@@ -23,8 +23,10 @@ checks that the index matches what the modules define.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import pkgutil
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -89,7 +91,19 @@ class Scenario:
         return {}
 
     def plot(self, df, cfg, out_dir: Path) -> list[Path]:
-        return []
+        """Draw the plots (default: every job of :meth:`plot_jobs`, in order)."""
+        return [p for job in self.plot_jobs(df, cfg, out_dir) for p in job()]
+
+    def plot_jobs(self, df, cfg, out_dir: Path) -> list[Callable[[], list[Path]]]:
+        """The plots as independent jobs, each drawing its file(s) and returning their paths.
+
+        :mod:`oceangnc.postproc` shares the jobs between two processes. The default is one job, the
+        scenario's own :meth:`plot`; a scenario with several costly figures overrides this (and
+        leaves :meth:`plot` to run the jobs). Jobs must not depend on each other.
+        """
+        if type(self).plot is Scenario.plot:
+            return []
+        return [functools.partial(self.plot, df, cfg, out_dir)]
 
 
 #: name -> (module under oceangnc.scenarios, one-line summary); kept equal to the modules by a test

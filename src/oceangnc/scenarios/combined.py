@@ -40,6 +40,7 @@ from ..control.uuv_control import UUVPIDConfig
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
+from ..derived import cached
 from ..environment import EnvironmentConfig
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
@@ -49,7 +50,6 @@ from ..guidance.pure_pursuit import (
     uuv_turning_radius_at,
 )
 from ..io.config import ScenarioConfig, StrictModel
-from ..io.plots import plot_signals, plot_track
 from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
 from ..models.usv import USVConfig
@@ -67,6 +67,7 @@ from ..sensors import (
 )
 from ..sensors.navigation import USBLNavigation
 from ..units import KGF
+from ._combined_plots import plot_3d, plot_jobs, rel_distance  # noqa: F401  (plot_3d: public before)
 from ._common import environment_blocks
 from .base import Scenario
 
@@ -179,9 +180,16 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
     the speed it must hold, the surge target capped at the USV's top speed
     (:func:`oceangnc.guidance.pure_pursuit.uuv_turning_radius_at`).
     """
-    r_usv = usv_min_turning_radius(cfg.usv)
     top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
-    r_uuv = uuv_turning_radius_at(cfg.uuv, min(cfg.control.surge_speed, top))
+    speed = min(cfg.control.surge_speed, top)
+    # trimming the models once per machine and inputs (oceangnc.derived: no model code loaded at start-up)
+    key = [cfg.usv.model_dump(mode="json"), cfg.uuv.model_dump(mode="json"), speed]
+    r_usv, r_uuv = cached(
+        "turning-radii",
+        key,
+        lambda: [usv_min_turning_radius(cfg.usv), uuv_turning_radius_at(cfg.uuv, speed)],
+        ("models", "guidance", "core"),
+    )
     if cfg.guidance.look_ahead is not None:
         return cfg.guidance.look_ahead, r_usv, r_uuv
     return look_ahead_distance(r_usv, r_uuv), r_usv, r_uuv
@@ -273,11 +281,6 @@ def cross_track(df, waypoints) -> np.ndarray:
     return -t[:, 1] * w[:, 0] + t[:, 0] * w[:, 1]
 
 
-def rel_distance(df) -> np.ndarray:
-    """True horizontal USV-UUV distance (m)."""
-    return np.hypot(df["usv.x"] - df["uuv.x"], df["usv.y"] - df["uuv.y"]).to_numpy()
-
-
 class CombinedScenario(Scenario):
     Config = CombinedConfig
 
@@ -315,108 +318,8 @@ class CombinedScenario(Scenario):
             out["ahrs.gps_heading_diff_mean_deg"] = float(d.mean()) if len(d) else float("nan")
         return out
 
-    def plot(self, df, cfg, out_dir: Path) -> list[Path]:
-        out_dir = Path(out_dir)
-        df = df.copy()
-        df["rel.distance"] = rel_distance(df)
-        wp = cfg.guidance.waypoints
-        paths = [
-            plot_3d(df, out_dir / "trajectory3d.png", title=f"{self.name}: 3D trajectory"),
-            plot_track(
-                df, ["usv", "uuv"], out_dir / "track.png", title=f"{self.name} ({cfg.control.uuv.kind})", waypoints=wp
-            ),
-        ]
-        paths.append(
-            plot_signals(
-                df,
-                [
-                    (
-                        "surge speed [m/s]",
-                        [("usv.u", "USV u", 1.0), ("usv_ctrl.u_d", "USV target", 1.0), ("uuv.u", "UUV u", 1.0)],
-                    ),
-                    ("sway speed [m/s]", [("usv.v", "USV v", 1.0), ("uuv.v", "UUV v", 1.0)]),
-                    ("yaw rate [deg/s]", [("usv.r", "USV r", DEG), ("uuv.r", "UUV r", DEG)]),
-                ],
-                out_dir / "speeds.png",
-                title=f"{self.name}: speeds (cf. 003 fig 4-9)",
-            )
-        )
-        paths.append(
-            plot_signals(
-                df,
-                [
-                    (
-                        "USV thrust [kgf]",
-                        [("usv.thrust_port", "port (L)", 1 / KGF), ("usv.thrust_stbd", "stbd (R)", 1 / KGF)],
-                    ),
-                    (
-                        "UUV thrust [N]",
-                        [
-                            ("uuv.thrust_port", "port (L)", 1.0),
-                            ("uuv.thrust_stbd", "stbd (R)", 1.0),
-                            ("uuv.thrust_bow", "bow (F)", 1.0),
-                        ],
-                    ),
-                ],
-                out_dir / "thrusts.png",
-                title=f"{self.name}: thrusts (cf. 003 figs 4-10, 4-11)",
-            )
-        )
-        for col in ("usv.psi", "guidance.psi_d", "uuv.psi", "uuv_ctrl.psi_d"):
-            df[col + "_deg"] = np.degrees(np.unwrap(df[col].to_numpy()))
-        paths.append(
-            plot_signals(
-                df,
-                [
-                    ("USV heading [deg]", [("usv.psi_deg", "psi", 1.0), ("guidance.psi_d_deg", "target", 1.0)]),
-                    ("UUV heading [deg]", [("uuv.psi_deg", "psi", 1.0), ("uuv_ctrl.psi_d_deg", "target", 1.0)]),
-                ],
-                out_dir / "headings.png",
-                title=f"{self.name}: headings (cf. 003 figs 4-12, 4-13)",
-            )
-        )
-        paths.append(
-            plot_signals(
-                df,
-                [
-                    ("UUV depth [m]", [("uuv.z", "true", 1.0), ("depth.z", "depth sensor (filtered)", 1.0)]),
-                    ("rel. distance [m]", [("rel.distance", "true horizontal", 1.0), ("lf.range", "as measured", 1.0)]),
-                    ("cable tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom", 1.0)]),
-                ],
-                out_dir / "depth_distance.png",
-                title=f"{self.name}: depth and distance (cf. 003 figs 4-14, 4-15)",
-            )
-        )
-        return paths
-
-
-def plot_3d(df, path: Path, title: str = "", n_snap: int = 8) -> Path:
-    """3D trajectories (east, north, depth down) with the cable drawn at ``n_snap`` instants (003 fig 4-7)."""
-    import matplotlib.pyplot as plt
-
-    fig = plt.figure(figsize=(7, 6))
-    ax = fig.add_subplot(projection="3d")
-    ax.plot(df["usv.y"], df["usv.x"], 0 * df["usv.x"], label="USV")
-    ax.plot(df["uuv.y"], df["uuv.x"], -df["uuv.z"], label="UUV")
-    n = 0
-    while f"cable.x{n}" in df:
-        n += 1
-    if n:
-        for k in np.linspace(0, len(df) - 1, n_snap).astype(int):
-            row = df.iloc[k]
-            xs = [row[f"cable.x{i}"] for i in range(n)]
-            ys = [row[f"cable.y{i}"] for i in range(n)]
-            zs = [-row[f"cable.z{i}"] for i in range(n)]
-            ax.plot(ys, xs, zs, "k.-", lw=0.8, ms=2)
-    ax.set_xlabel("east y [m]")
-    ax.set_ylabel("north x [m]")
-    ax.set_zlabel("-depth [m]")
-    ax.set_title(title)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    def plot_jobs(self, df, cfg, out_dir: Path) -> list:
+        return plot_jobs(self.name, df, cfg, out_dir)
 
 
 #: the implicit cable (``cable.integrator = "imex"``) at the 10 ms control period: the physics step is set by

@@ -17,10 +17,10 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from ..control.commands import StepCommand
 from ..control.pole_placement import (
     predicted_overshoot,
 )
-from ..core.blocks import FunctionBlock
 from ..core.clock import Simulation
 from ..io.config import StrictModel
 from ..io.plots import plot_signals, plot_track
@@ -32,6 +32,9 @@ from ._first_order_common import (
     closed_loop_blocks,
 )
 from .base import Scenario
+
+#: units of the commanded set points
+_UNITS = {"usv.psi_cmd": "rad", "usv.u_cmd": "m/s"}
 
 # -- autopilots -------------------------------------------------------------------------------------------
 
@@ -57,13 +60,7 @@ class AutopilotHeading(Scenario):
         usv = cfg.usv.model_copy(update={"u0": c.speed_mps})
         cfg_u = cfg.model_copy(update={"usv": usv})
         psi_c = math.radians(c.heading_deg)
-        cmd = FunctionBlock(
-            "command",
-            1.0 / cfg.control_rate,
-            lambda t, bus: bus.__setitem__("usv.psi_cmd", psi_c if t >= c.step_time_s - 1e-9 else 0.0),
-            inputs={},
-            outputs={"usv.psi_cmd": "rad"},
-        )
+        cmd = StepCommand("command", 1.0 / cfg.control_rate, c.step_time_s, {"usv.psi_cmd": (0.0, psi_c)}, _UNITS)
         blocks = closed_loop_blocks(cfg_u, [cmd], rpm_open_loop=usv.trim_rpm(c.speed_mps))
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
@@ -121,23 +118,8 @@ class AutopilotSpeed(Scenario):
     def build(self, cfg, rng):
         c = cfg.command
         usv = cfg.usv.model_copy(update={"u0": 0.0})
-
-        def cmd(t, bus):
-            bus["usv.u_cmd"] = c.speed_mps if t >= c.step_time_s - 1e-9 else 0.0
-            bus["usv.psi_cmd"] = 0.0
-
-        blocks = closed_loop_blocks(
-            cfg,
-            [
-                FunctionBlock(
-                    "command",
-                    1.0 / cfg.control_rate,
-                    cmd,
-                    inputs={},
-                    outputs={"usv.u_cmd": "m/s", "usv.psi_cmd": "rad"},
-                )
-            ],
-        )
+        steps = {"usv.u_cmd": (0.0, c.speed_mps), "usv.psi_cmd": (0.0, 0.0)}
+        blocks = closed_loop_blocks(cfg, [StepCommand("command", 1.0 / cfg.control_rate, c.step_time_s, steps, _UNITS)])
         return Simulation([FirstOrderUSV(usv)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:

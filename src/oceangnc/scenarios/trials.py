@@ -18,7 +18,8 @@ import numpy as np
 from pydantic import Field
 
 from ..control.actuators import RudderEngineBlock, USVThrusterBlock
-from ..core.blocks import FunctionBlock
+from ..control.commands import DifferentialThrust, StepCommand
+from ..core.blocks import ConstantBlock
 from ..core.clock import Simulation
 from ..errors import ConfigError
 from ..identification.trials import TrialNoise, TrialSensors, ZigZag
@@ -80,6 +81,13 @@ class _OffsetLog:
         r.update(self.extra)
         self.log.append(self.t0 + t, r)
 
+    def append_rows(self, t, names, values):
+        """The fused clock's row blocks (:meth:`oceangnc.io.logs.LogWriter.append_rows`), offset and extended alike."""
+        keys = [k for k in self.extra if k not in names]
+        const = np.tile([float(self.extra[k]) for k in keys], (len(t), 1))
+        vals = np.hstack([np.asarray(values, dtype=float), const])
+        self.log.append_rows(self.t0 + np.asarray(t, dtype=float), [*names, *keys], vals)
+
 
 def _nomoto_3dof(c, U):
     """First-order Nomoto (K, T = T1 + T2 - T3) of the linearised 3-DOF USV at speed U, steer in N."""
@@ -125,55 +133,26 @@ class Trials(Scenario):
             usv = m.model_copy(update={"u0": 0.0 if kind == "straight" else U, "psi0_deg": 0.0})
             plant = FirstOrderUSV(usv)
             d = math.radians(tr.steer_deg)
-            blocks = [
-                FunctionBlock(
-                    "operating_speed",
-                    h,
-                    lambda t, bus: bus.__setitem__("usv.u_op", U),
-                    inputs={},
-                    outputs={"usv.u_op": "m/s"},
-                )
-            ]
+            blocks: list = [ConstantBlock("operating_speed", h, {"usv.u_op": U}, units={"usv.u_op": "m/s"})]
             rudder_engine = {"usv.rpm_cmd": "rpm", "usv.delta_s_cmd": "rad"}
             if kind == "straight":
-
-                def cmd(t, bus):
-                    bus["usv.rpm_cmd"] = n if t >= ts - 1e-9 else 0.0
-                    bus["usv.delta_s_cmd"] = 0.0
-
-                blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
+                steps = {"usv.rpm_cmd": (0.0, n), "usv.delta_s_cmd": (0.0, 0.0)}
+                blocks.append(StepCommand("command", h, ts, steps, rudder_engine))
                 truth = (co["K_v"], co["T_v"])
             elif kind == "turn":
-
-                def cmd(t, bus):
-                    bus["usv.rpm_cmd"] = n
-                    bus["usv.delta_s_cmd"] = d if t >= ts - 1e-9 else 0.0
-
-                blocks.append(FunctionBlock("command", h, cmd, inputs={}, outputs=rudder_engine))
+                steps = {"usv.rpm_cmd": (n, n), "usv.delta_s_cmd": (0.0, d)}
+                blocks.append(StepCommand("command", h, ts, steps, rudder_engine))
                 truth = (co["K_r"], co["T_r"])
             else:
                 a = math.radians(val)
                 blocks += [
-                    FunctionBlock(
-                        "command",
-                        h,
-                        lambda t, bus: bus.__setitem__("usv.rpm_cmd", n),
-                        inputs={},
-                        outputs={"usv.rpm_cmd": "rpm"},
-                    ),
+                    ConstantBlock("command", h, {"usv.rpm_cmd": n}, units=rudder_engine),
                     ZigZag(a, a, ts, h, "usv.delta_s_cmd", unit="rad"),
                 ]
                 truth = (co["K_r"], co["T_r"])
             blocks.append(RudderEngineBlock(usv, h))
-            blocks.append(
-                TrialSensors(
-                    cfg.noise,
-                    h,
-                    lambda bus: bus["usv.delta_s"],
-                    lambda bus: bus["usv.rpm"],
-                    inputs={"usv.delta_s": "rad", "usv.rpm": "rpm"},
-                )
-            )
+            units = {"usv.delta_s": "rad", "usv.rpm": "rpm"}
+            blocks.append(TrialSensors(cfg.noise, h, "usv.delta_s", "usv.rpm", units=units))
         else:
             from ..models.usv import USVPlant
 
@@ -184,54 +163,24 @@ class Trials(Scenario):
             c0 = c.model_copy(update={"u0": 0.0 if kind == "straight" else U})
             plant = USVPlant(c0)
 
-            def put(bus, thrust, steer):
-                bus["usv.thrust_port_cmd"] = thrust + steer
-                bus["usv.thrust_stbd_cmd"] = thrust - steer
-
             thrusts = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
-            if kind == "straight":
-                blocks = [
-                    FunctionBlock(
-                        "command",
-                        h,
-                        lambda t, bus: put(bus, T0 if t >= ts - 1e-9 else 0.0, 0.0),
-                        inputs={},
-                        outputs=thrusts,
-                    )
-                ]
+            if kind == "straight":  # port = mean + steer, stbd = mean - steer
+                steps = {"usv.thrust_port_cmd": (0.0 + 0.0, T0 + 0.0), "usv.thrust_stbd_cmd": (0.0 - 0.0, T0 - 0.0)}
+                blocks = [StepCommand("command", h, ts, steps, thrusts)]
                 truth = (2.0 / c.d11, c.m11 / c.d11)
             elif kind == "turn":
-                blocks = [
-                    FunctionBlock(
-                        "command",
-                        h,
-                        lambda t, bus: put(bus, T0, s if t >= ts - 1e-9 else 0.0),
-                        inputs={},
-                        outputs=thrusts,
-                    )
-                ]
+                steps = {"usv.thrust_port_cmd": (T0 + 0.0, T0 + s), "usv.thrust_stbd_cmd": (T0 - 0.0, T0 - s)}
+                blocks = [StepCommand("command", h, ts, steps, thrusts)]
                 truth = _nomoto_3dof(c, U)
             else:
                 zz = ZigZag(s, math.radians(val), ts, h, "_steer", unit="N")
-                blocks = [
-                    zz,
-                    FunctionBlock(
-                        "command",
-                        h,
-                        lambda t, bus: put(bus, T0, bus.get("_steer", 0.0)),
-                        inputs={"_steer": "N"},
-                        outputs=thrusts,
-                    ),
-                ]
+                blocks = [zz, DifferentialThrust("command", h, T0, "_steer", *thrusts)]
                 truth = _nomoto_3dof(c, U)
             blocks.append(USVThrusterBlock(c0, h))
+            port, stbd = "usv.thrust_port", "usv.thrust_stbd"
             blocks.append(
                 TrialSensors(
-                    cfg.noise,
-                    h,
-                    lambda bus: 0.5 * (bus["usv.thrust_port"] - bus["usv.thrust_stbd"]),
-                    lambda bus: 0.5 * (bus["usv.thrust_port"] + bus["usv.thrust_stbd"]),
-                    inputs={"usv.thrust_port": "N", "usv.thrust_stbd": "N"},
+                    cfg.noise, h, (port, stbd, -1.0, 0.5), (port, stbd, 1.0, 0.5), units={port: "N", stbd: "N"}
                 )
             )
         sim = Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
@@ -258,6 +207,8 @@ class Trials(Scenario):
                         "trial.true_t": truth[1],
                     },
                 )
+                sim.use_fused = ctx.fused
+                sim.verbose = ctx.verbose
                 sim.run(dur, log=log)
                 t0 += dur + 10.0
         ctx.info["t_end"] = t0

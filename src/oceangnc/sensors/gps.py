@@ -100,15 +100,16 @@ class GPS(Block):
         return xt + self.bias[0] + c.jitter * w[2], yt + self.bias[1] + c.jitter * w[3]
 
     def compiled(self):
-        """Compiled form for the fused loop, Gauss-Markov errors without outages
-        (:func:`oceangnc.sensors._compiled.gps_step`)."""
+        """Compiled form for the fused loop: Gauss-Markov errors without outages
+        (:func:`oceangnc.sensors._compiled.gps_step`), else :func:`oceangnc.sensors._compiled_gps.gps_fix_step`."""
         c = self.cfg
-        if self.cog is None or c.error_model == "white" or c.outages:
+        if self.cog is None:
             return None
         import numpy as np
 
         from ..core.fused import CompiledBlock
         from ._compiled import gps_step
+        from ._compiled_gps import gps_fix_step
 
         n = self.hist.maxlen
         ring = np.zeros(3 * n)
@@ -128,6 +129,10 @@ class GPS(Block):
             f"{o}.valid",
             f"{o}.hdop",
         ]
+        if c.error_model == "white" or c.outages:  # white noise, outages: _compiled_gps.gps_fix_step
+            win = [v for w in c.outages for v in w]
+            extra = [1.0 if c.error_model == "white" else 0.0, c.sigma, len(c.outages), *win]
+            return CompiledBlock(gps_fix_step, sig, st, np.concatenate([pa, extra]), rng=self.rng)
         return CompiledBlock(gps_step, sig, st, pa, rng=self.rng)
 
     def step(self, t: float, bus: dict) -> None:

@@ -1,0 +1,181 @@
+"""Reading, compacting and repairing the crash-safe Parquet logs written by
+:class:`oceangnc.io.logs.LogWriter` (layout and crash semantics: :mod:`oceangnc.io.logs`)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from ..errors import InputError
+
+PART_FMT = "part-{:06d}.parquet"
+META_ROW0 = b"oceangnc.row0"
+META_ROWS = b"oceangnc.rows"
+
+
+def _fsync_dir(d: Path) -> None:
+    try:
+        fd = os.open(d, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _part_index(p: Path) -> int | None:
+    name = p.name
+    if not (name.startswith("part-") and name.endswith(".parquet")):
+        return None
+    try:
+        return int(name[5:-8])
+    except ValueError:
+        return None
+
+
+def list_parts(folder: str | Path) -> list[Path]:
+    """The visible part files of a dataset folder, in write order."""
+    d = Path(folder)
+    parts = [(i, p) for p in d.iterdir() if (i := _part_index(p)) is not None]
+    return [p for _, p in sorted(parts)]
+
+
+def _part_range(p: Path) -> tuple[int, int] | None:
+    """(first row, row count) from a part's metadata, or None when unreadable."""
+    try:
+        md = pq.read_metadata(p)
+    except (pa.ArrowInvalid, OSError, ValueError):
+        return None
+    kv = md.metadata or {}
+    try:
+        return int(kv[META_ROW0]), int(kv[META_ROWS])
+    except (KeyError, ValueError):
+        return -1, md.num_rows  # not written by LogWriter: keep, no order information
+
+
+def _live_parts(folder: Path) -> tuple[list[Path], list[Path]]:
+    """(parts to read in order, parts to drop: unreadable or covered by an earlier compaction)."""
+    keep: list[Path] = []
+    drop: list[Path] = []
+    covered = 0
+    for p in list_parts(folder):
+        r = _part_range(p)
+        if r is None:
+            drop.append(p)
+            continue
+        row0, n = r
+        if row0 >= 0 and row0 + n <= covered and n > 0:
+            drop.append(p)  # its rows are already in a compacted part
+            continue
+        keep.append(p)
+        if row0 >= 0:
+            covered = max(covered, row0 + n)
+    return keep, drop
+
+
+def compact_log(folder: str | Path) -> None:
+    """Merge a dataset's parts into one ``part-000000.parquet`` (crash-safe, see the module docstring)."""
+    d = Path(folder)
+    keep, drop = _live_parts(d)
+    if len(keep) <= 1 and not drop:
+        return
+    table = pa.concat_tables([pq.read_table(p) for p in keep]) if keep else None
+    if table is None:
+        return
+    from .logs import LogWriter
+
+    w = LogWriter(d)
+    w._write_part(table.replace_schema_metadata(None), 0, 0)  # atomic rename over part 0
+    for p in [*keep, *drop]:
+        if p.name != PART_FMT.format(0):
+            p.unlink(missing_ok=True)
+    _fsync_dir(d)
+
+
+def repair_log(path: str | Path) -> dict:
+    """Make a log folder (or a run folder holding ``log.parquet``) whole after a crash.
+
+    Removes temporary files of interrupted writes, unreadable parts and parts already covered by a
+    compacted part, then compacts. Returns ``{"parts": kept, "removed": [...], "rows": n}``.
+    """
+    d = _dataset_path(Path(path))
+    if not d.is_dir():
+        raise InputError(f"log folder not found: {d}")
+    removed = []
+    for p in sorted(d.iterdir()):
+        if p.name.startswith(".") and p.name.endswith(".tmp"):
+            p.unlink()
+            removed.append(p.name)
+    keep, drop = _live_parts(d)
+    for p in drop:
+        p.unlink()
+        removed.append(p.name)
+    if not keep:
+        pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), d / PART_FMT.format(0))
+    elif len(keep) > 1:
+        compact_log(d)
+    parts = list_parts(d)
+    rows = sum(pq.read_metadata(p).num_rows for p in parts)
+    return {"parts": len(parts), "removed": removed, "rows": rows}
+
+
+def _dataset_path(p: Path) -> Path:
+    if p.is_dir() and p.name != "log.parquet" and (p / "log.parquet").exists():
+        return p / "log.parquet"
+    return p
+
+
+def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
+    """A log as a pyarrow Table: a dataset folder (parts in order, covered parts skipped), a single
+    Parquet file, or a run folder holding ``log.parquet``."""
+    p = _dataset_path(Path(path))
+    if p.is_dir():
+        keep, _ = _live_parts(p)
+        if not keep:
+            raise InputError(f"log {p} holds no readable part (try: oceangnc log repair {p.parent})")
+        tables = [_read_file(q, columns) for q in keep]
+        schema = tables[0].schema
+        return pa.concat_tables([t.replace_schema_metadata(None) for t in tables]).replace_schema_metadata(
+            {k: v for k, v in (schema.metadata or {}).items() if not k.startswith(b"oceangnc.")} or None
+        )
+    return _read_file(p, columns)
+
+
+def _read_file(p: Path, columns: list[str] | None = None) -> pa.Table:
+    """One Parquet file as a Table (``ParquetFile``: ``pq.read_table`` goes through pyarrow.dataset,
+    which imports pandas, about 0.5 s of a run's start-up)."""
+    with pq.ParquetFile(p) as f:
+        return f.read(columns=columns)
+
+
+def read_log(path: str | Path, columns: list[str] | None = None):
+    """Read a Parquet log (dataset folder or file) or a CSV log as a pandas DataFrame.
+
+    ``path`` may be a run folder (its ``log.parquet`` is read). A missing or unreadable log is an
+    :class:`~oceangnc.errors.InputError` with a one-line message.
+    """
+    import pandas as pd
+
+    p = _dataset_path(Path(path))
+    if not p.exists():
+        raise InputError(f"log not found: {p}")
+    try:
+        if p.is_file() and p.suffix.lower() == ".csv":
+            df = pd.read_csv(p)
+        else:
+            df = read_table(p, columns=columns).to_pandas()
+    except (pa.ArrowInvalid, OSError, ValueError, KeyError) as e:
+        if isinstance(e, InputError):
+            raise
+        raise InputError(f"cannot read log {p}: {e}") from None
+    if columns:
+        missing = [c for c in columns if c not in df.columns]
+        if missing:
+            raise InputError(f"log {p} has no column(s) {', '.join(missing)}; it has: {', '.join(df.columns[:30])}")
+    return df

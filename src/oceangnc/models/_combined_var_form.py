@@ -1,0 +1,75 @@
+"""Fused-loop form of a :class:`~oceangnc.models.combined.CombinedPlant` with a variable node count
+(a winch and/or a seabed; issue 19).
+
+The winch inserts and removes cable nodes while it runs (:func:`oceangnc.models.combined.remesh`,
+called inside the stepper), so the number of active nodes ``p[H_N]`` changes during a compiled
+call. Nothing about that needs Python: the state vector, the parameter vector (which holds the
+active count) and the output buffer are sized for the drum's capacity (``n_max``) once, when the
+plant is built, and the stepper and :func:`~oceangnc.models.combined._fill_outputs_var` read the
+active count from ``p`` each time. The plant form therefore only wires those arrays into the
+generated driver (:mod:`oceangnc.core.fused`):
+
+1. read the inputs (thrusts, current, wind, ``winch.speed_cmd``) from the signal array;
+2. advance with the plant's integrator (``imex``, which a winch requires, ``rk4-split`` or ``rk4``);
+3. fill the full output vector (node columns for ``n_max + 1`` nodes, the inactive ones collapsed
+   onto the tow point, then ``cable.length``, ``cable.nodes``, ``cable.mass``, the winch outputs
+   and the seabed ones) and copy the published subset into its slots -- the same values, in the
+   same order, as :meth:`CombinedPlant.publish`, so the log columns are those of the Python path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.fused import PlantForm, _kernel_ref
+from .combined import _fill_outputs_var, imex_advance, split_advance
+
+
+def var_plant_form(plant, slot_of) -> PlantForm | None:
+    """The :class:`~oceangnc.core.fused.PlantForm` of a winch/seabed ``CombinedPlant``, or None when
+    an input the bus does not carry has a non-zero default (the signal array starts at 0)."""
+    bus_names = getattr(slot_of, "names", {})
+    for k in plant.input_names:
+        if k not in bus_names and float(plant.input_defaults.get(k, 0.0)) != 0.0:
+            return None
+    uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
+    oslots = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
+    args = {
+        "x": plant.x,
+        "u": plant.u,
+        "p": plant.p,
+        "w": plant.work,
+        "bound": float(plant.state_bound),
+        "uin": uin,
+        "o_uuv": int(plant.o_uuv),
+        "nmax": int(plant.n_max),
+        "nodes": plant._nodes,
+        "ends": plant._ends,
+        "full": plant._out_full,
+        "oidx": np.ascontiguousarray(plant._out_idx, dtype=np.int64),
+        "oslots": oslots,
+    }
+    # import lines from where the kernels live (robust to their moving between modules)
+    if plant.integrator in ("imex", "rk4-split"):
+        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
+        imports = [f"from {mod} import {name} as {{adv}}"]
+    else:
+        rhs_mod, rhs_name = _kernel_ref(plant.rhs)
+        imports = [
+            "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+            f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
+            "{adv} = _rk4_stepper(_rhs_{adv})",
+        ]
+    mod, name = _kernel_ref(_fill_outputs_var)
+    imports.append(f"from {mod} import {name} as _fill_outputs_var")
+    code = [
+        "for j in range({uin}.size):",
+        "    {u}[j] = sig[{uin}[j]]",
+        "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+        "{ends}[6] = {u}[2]",
+        "{ends}[7] = {u}[3]",
+        "_fill_outputs_var({x}, {p}, {o_uuv}, {nodes}, {ends}, {full}, {u}, {nmax})",
+        "for j in range({oslots}.size):",
+        "    sig[{oslots}[j]] = {full}[{oidx}[j]]",
+    ]
+    return PlantForm(imports, args, code)

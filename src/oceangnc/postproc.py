@@ -1,0 +1,206 @@
+"""A run's summary and plots computed in forked helper processes, overlapping the simulation.
+
+What a user of ``oceangnc run`` waits for is mostly not the simulation (issue 19): importing pandas
+(for the scenario's ``summarize``) and matplotlib, and drawing the figures, cost more than a cached
+simulation of the flagship. On Linux ``oceangnc run`` calls :func:`start` to fork a helper right
+after its first imports; while the parent resolves the config, builds and runs the simulation, the
+helper imports pandas (and matplotlib, drawing one small figure so the fonts are loaded) and
+resolves the same config. When the log is closed the parent says "go" with the run folder: the
+helper forks a second drawer, both read the log, the first computes the summary metrics and sends
+them back, and the scenario's :meth:`~oceangnc.scenarios.base.Scenario.plot_jobs` are shared
+between the two (jobs 0, 2, 4, ... in the second drawer, 1, 3, 5, ... in the first). The files
+written, the summary and the returned paths are those of the in-process path; if a helper fails for
+any reason the parent recomputes what is missing in-process, so errors surface as before.
+
+The helpers are only used where ``fork`` is safe: Linux, a single Python thread in the parent, and
+not disabled with ``OCEANGNC_POSTPROC=inline``. They ignore SIGINT (the parent handles Ctrl-C and
+kills them) and end when their pipe closes, so they never outlive a failed run.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import struct
+import sys
+import threading
+from pathlib import Path
+
+_HEAD = struct.Struct("<Q")
+
+
+def can_fork() -> bool:
+    """Whether forking helpers is safe here (Linux, one Python thread, not disabled by the environment)."""
+    return (
+        sys.platform.startswith("linux")
+        and hasattr(os, "fork")
+        and threading.active_count() == 1
+        and os.environ.get("OCEANGNC_POSTPROC", "fork") != "inline"
+    )
+
+
+def _send(fd: int, obj) -> None:
+    data = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
+    view = memoryview(_HEAD.pack(len(data)) + data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _read_exact(fd: int, n: int) -> bytes | None:
+    chunks = []
+    while n:
+        b = os.read(fd, n)
+        if not b:
+            return None
+        chunks.append(b)
+        n -= len(b)
+    return b"".join(chunks)
+
+
+def _recv(fd: int):
+    """The next message on ``fd``, or None when the other end closed (or sent garbage)."""
+    try:
+        head = _read_exact(fd, _HEAD.size)
+        if head is None:
+            return None
+        data = _read_exact(fd, _HEAD.unpack(head)[0])
+        return None if data is None else pickle.loads(data)
+    except (OSError, pickle.UnpicklingError, EOFError, ValueError):
+        return None
+
+
+class PostProcess:
+    """Handle on the helper of one run (see the module docstring); made by :func:`start`."""
+
+    def __init__(self, pid: int, go: int, res_a: int, res_b: int, plots: bool):
+        self.pid, self._go, self._res_a, self._res_b, self.want_plots = pid, go, res_a, res_b, plots
+        self._closed = False
+
+    def go(self, out_dir: Path) -> None:
+        """The log in ``out_dir`` is closed: start the summary and the plots."""
+        try:
+            _send(self._go, str(out_dir))
+        except OSError:
+            pass
+
+    def summary(self) -> dict | None:
+        """The scenario's ``summarize`` metrics from the helper, or None if it failed."""
+        msg = _recv(self._res_a)
+        return msg[1] if isinstance(msg, tuple) and msg[0] == "ok" else None
+
+    def plots(self) -> list[Path] | None:
+        """The paths of every plot job's files, in job order, or None if a drawer failed."""
+        a = _recv(self._res_a)
+        b = _recv(self._res_b)
+        if not (isinstance(a, tuple) and isinstance(b, tuple) and a[0] == b[0] == "ok" and a[1] == b[1]):
+            return None
+        done = {**a[2], **b[2]}
+        if sorted(done) != list(range(a[1])):
+            return None
+        return [Path(p) for i in range(a[1]) for p in done[i]]
+
+    def close(self, kill: bool = False) -> None:
+        """Close the pipes and reap the helper (``kill``: end it first, e.g. after a failed run)."""
+        if self._closed:
+            return
+        self._closed = True
+        for fd in (self._go, self._res_a, self._res_b):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+        if kill:
+            try:
+                os.kill(self.pid, signal.SIGKILL)
+            except OSError:
+                pass
+        try:
+            os.waitpid(self.pid, 0)
+        except ChildProcessError:
+            pass
+
+
+def start(resolve, plots: bool) -> PostProcess | None:
+    """Fork the helper of a run; None where unsafe or useless.
+
+    ``resolve()`` gives the run's ``(scenario, config)``: the helper calls it after its imports, so the
+    command line can fork before its own :func:`~oceangnc.api.resolve_config` (both resolve the same
+    arguments, deterministically). Only the command line forks helpers (one run per process): a
+    Python program making many runs pays the imports once and is better served in-process.
+    """
+    if not can_fork() or (not plots and "pandas" in sys.modules):
+        return None
+    go_r, go_w = os.pipe()
+    a_r, a_w = os.pipe()
+    b_r, b_w = os.pipe()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pid = os.fork()
+    if pid == 0:  # the helper
+        code = 0
+        try:
+            for fd in (go_w, a_r, b_r):
+                os.close(fd)
+            _helper(go_r, a_w, b_w, resolve, plots)
+        except BaseException:
+            code = 1
+        finally:
+            os._exit(code)
+    for fd in (go_r, a_w, b_w):
+        os.close(fd)
+    return PostProcess(pid, go_w, a_r, b_r, plots)
+
+
+def _helper(go: int, res_a: int, res_b: int, resolve, plots: bool) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    import pandas  # noqa: F401  (the point: imported while the parent simulates)
+
+    if plots:
+        from .io.plots import warm_up
+
+        warm_up()
+    sc, cfg = resolve()
+    msg = _recv(go)
+    if msg is None:  # the run failed or was interrupted
+        return
+    out_dir = Path(msg)
+    second = 0
+    if plots:
+        second = os.fork()
+        if second == 0:
+            try:
+                os.close(res_a)
+                _send(res_b, _draw_share(0, sc, cfg, out_dir, _read_df(out_dir)))
+            finally:
+                os._exit(0)
+    os.close(res_b)
+    df = _read_df(out_dir)
+    try:
+        _send(res_a, ("ok", sc.summarize(df, cfg)))
+    except Exception:
+        _send(res_a, ("error", None))
+    if plots:
+        _send(res_a, _draw_share(1, sc, cfg, out_dir, df))
+        os.waitpid(second, 0)
+
+
+def _read_df(out_dir: Path):
+    from .io.logs import read_table
+
+    return read_table(out_dir / "log.parquet").to_pandas()
+
+
+def _draw_share(k: int, sc, cfg, out_dir: Path, df) -> tuple:
+    """Run plot jobs k, k + 2, ...: ``("ok", n_jobs, {job: [path, ...]})`` or ``("error",)``."""
+    try:
+        jobs = sc.plot_jobs(df, cfg, out_dir)
+        return ("ok", len(jobs), {i: [str(p) for p in jobs[i]()] for i in range(k, len(jobs), 2)})
+    except Exception:
+        return ("error",)
+
+
+def cancel(post: PostProcess | None, done: bool = False) -> None:
+    """Release a run's helper (None: nothing); ``done=False`` (the run failed) kills it first."""
+    if post is not None:
+        post.close(kill=not done)
