@@ -39,16 +39,28 @@ def gps_step(t, sig, sl, st, pa, rng):
     count, head, then the track history ring (t, x, y) x n. params: period, bias time constant,
     sigma_b, jitter, min_track, hdop, n.
     """
+    x, y = gps_bias_fix(sig, sl, st, pa, rng)
+    gps_publish(t, sig, sl, st, pa, x, y)
+
+
+@njit(cache=True)
+def gps_bias_fix(sig, sl, st, pa, rng):
+    """One fix (m, NED) with the Gauss-Markov bias (state ``st[0:2]``) and white jitter, drawing in the
+    order of :meth:`oceangnc.sensors.gps.GPS._fix`."""
     a = math.exp(-pa[0] / pa[1])
-    q = pa[2] * math.sqrt(1.0 - a * a)
     w0 = rng.standard_normal()
     w1 = rng.standard_normal()
     w2 = rng.standard_normal()
     w3 = rng.standard_normal()
-    st[0] = a * st[0] + q * w0
-    st[1] = a * st[1] + q * w1
-    x = sig[sl[0]] + st[0] + pa[3] * w2
-    y = sig[sl[1]] + st[1] + pa[3] * w3
+    st[0] = gauss_markov(st[0], a, pa[2], w0)
+    st[1] = gauss_markov(st[1], a, pa[2], w1)
+    return sig[sl[0]] + st[0] + pa[3] * w2, sig[sl[1]] + st[1] + pa[3] * w3
+
+
+@njit(cache=True)
+def gps_publish(t, sig, sl, st, pa, x, y):
+    """The fix (x, y) into the track-history ring, the course and speed over ground from the oldest
+    entry, and the GPS outputs (slots and state as :func:`gps_step`)."""
     n = int(pa[6])
     count = int(st[3])
     head = int(st[4])
