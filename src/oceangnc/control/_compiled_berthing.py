@@ -13,8 +13,11 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.rotations import wrap
 from ..models.ship_lowspeed import hull_forces, rudder_forces
 from ..models.usv import wind_load
+from ..sensors._compiled import ring_slot
+from ..sensors.filters import gauss_markov
 from .allocation import allocate
 from .berthing import rps_for_thrust
 
@@ -105,9 +108,8 @@ def pilot_step(t, sig, sl, st, pa, rng):
     params: see ``ScriptedPilot.compiled``; route from index 32 (points, lengths, directions, s0).
     """
     a = math.exp(-pa[0] / pa[1])
-    q = math.sqrt(1 - a * a)
     for i in range(3):
-        st[3 + i] = a * st[3 + i] + q * pa[2 + i] * rng.standard_normal()
+        st[3 + i] = gauss_markov(st[3 + i], a, pa[2 + i], rng.standard_normal())
     x = sig[sl[0]]
     y = sig[sl[1]]
     obs_psi = sig[sl[2]] + st[3]
@@ -118,12 +120,7 @@ def pilot_step(t, sig, sl, st, pa, rng):
     head = int(st[7])
     cap = int(st[8])
     o = 9
-    if cnt < cap:
-        j = (head + cnt) % cap
-        cnt += 1
-    else:
-        j = head
-        head = (head + 1) % cap
+    j, cnt, head = ring_slot(cnt, head, cap)
     st[o + 7 * j] = t
     st[o + 7 * j + 1] = x
     st[o + 7 * j + 2] = y
@@ -149,7 +146,7 @@ def pilot_step(t, sig, sl, st, pa, rng):
     aim0, aim1 = _point_at(pa, s + look)
     psi_des = math.atan2(aim1 - e, aim0 - n)
     course = psi + math.atan2(v, u) if pa[9] != 0.0 and math.hypot(u, v) > 0.1 else psi
-    e_psi = (psi_des - course + math.pi) % (2 * math.pi) - math.pi
+    e_psi = wrap(psi_des - course)
     s_rem = length - s
     u_cruise = pa[10]
     if stop_at_end:

@@ -22,6 +22,7 @@ from numba import njit
 
 from ..core.rotations import wrap
 from ._compiled import pid_step
+from .usv_control import mix
 
 
 @njit(cache=True)
@@ -126,10 +127,7 @@ def tow_straight_step(t, sig, sl, st, pa):
     tot = pid_step(st, 0, pa, 0, u_d - sig[sl[0]], h, 0.0, False, ff, pa[3], pa[4])
     e = wrap(psi_d - sig[sl[1]])
     dif = pid_step(st, 5, pa, 6, e, h, -sig[sl[2]], True, 0.0, pa[9], pa[10])
-    a = 0.5 * tot
-    b = 0.5 * dif
-    sig[sl[6]] = a + b
-    sig[sl[7]] = a - b
+    sig[sl[6]], sig[sl[7]] = mix(0.5 * tot, 0.5 * dif)  # the one mixer (003 eq. 3.11)
     _uuv_loops(sig, sl, 3, 8, st, 10, pa, 12, pa[28], psi_d, h, pa[30])
 
 

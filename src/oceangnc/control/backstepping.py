@@ -67,12 +67,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..core.rotations import wrap
+from ..guidance.leader_follower import target_point
 from ..io.config import StrictModel
+from ..models._hydro import damping_coefficient
+from ..sensors.filters import lowpass_step
 from ..units import KGF
 
 
@@ -109,13 +114,13 @@ class Model3DOF:
     sway_from_bow: float = 1.0  # 1: the bow thrust also pushes sideways (Y = T_b); 0: as printed (Y = 0)
 
     def d11(self, u):
-        return -self.Xu - self.Xuu * abs(u)
+        return damping_coefficient(self.Xu, self.Xuu, u)
 
     def d22(self, v):
-        return -self.Yv - self.Yvv * abs(v)
+        return damping_coefficient(self.Yv, self.Yvv, v)
 
     def d33(self, r):
-        return -self.Nr - self.Nrr * abs(r)
+        return damping_coefficient(self.Nr, self.Nrr, r)
 
     def accel(self, u, v, r, tau_u, tau_r):
         """(u', v', r') of eq. 3.32 (with the bow side force if ``sway_from_bow``)."""
@@ -143,11 +148,10 @@ def model_from_uuv(uuv_cfg) -> Model3DOF:
     )
 
 
+@njit(cache=True)
 def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     """(eps1, eps2, e_psi): control-point error in the follower frame (m) and psi_l - psi_f (rad)."""
-    cl, sl = math.cos(psil), math.sin(psil)
-    tn = xl + cl * cx - sl * cy
-    te = yl + sl * cx + cl * cy
+    tn, te = target_point(xl, yl, psil, cx, cy)  # the target of the control point (003 eq. 3.8)
     cf, sf = math.cos(psif), math.sin(psif)
     hn = xf + h * cf
     he = yf + h * sf
@@ -156,33 +160,27 @@ def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     return cf * dn + sf * de, -sf * dn + cf * de, e_psi
 
 
-def control_law(
-    m: Model3DOF,
-    g: BacksteppingConfig,
-    eps1,
-    eps2,
-    e_psi,
-    u,
-    v,
-    r,
-    ul,
-    vl,
-    rl,
-    dul=0.0,
-    dvl=0.0,
-    drl=0.0,
-    cx=0.0,
-    cy=0.0,
-):
-    """Backstepping law (module docstring). Returns a dict with tau_u (N), tau_r (N m), V, Vdot
-    (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e, alpha_u, alpha_r.
+#: parameter layout of the compiled law (and of the fused block's parameters)
+PARAMS = ("period", "a_lp", "cx", "cy", "h", "k1", "k2", "k6", "k7", "m11", "m22", "m33", "Xu", "Yv", "Nr", "Xuu",
+          "Yvv", "Nrr", "bow_arm", "sway_from_bow", "hi", "lo")  # fmt: skip
 
-    Inputs: errors from :func:`errors`; follower velocities u, v (m/s), r (rad/s); leader
-    velocities ul, vl, rl and their time derivatives dul, dvl, drl; c = (cx, cy) the control point's
-    target in the leader frame (m).
-    """
-    h = g.h
-    k1, k2, k6, k7 = g.k1, g.k2, g.k6, g.k7
+
+def law_params(m: Model3DOF, g: BacksteppingConfig, cx=0.0, cy=0.0, period=0.0, a_lp=0.0, hi=0.0, lo=0.0):
+    """The flat parameters (layout :data:`PARAMS`) of :func:`law` and :func:`update`."""
+    v = {"period": period, "a_lp": a_lp, "cx": cx, "cy": cy, "h": g.h, "k1": g.k1, "k2": g.k2, "k6": g.k6}
+    v.update(k7=g.k7, m11=m.m11, m22=m.m22, m33=m.m33, Xu=m.Xu, Yv=m.Yv, Nr=m.Nr, Xuu=m.Xuu, Yvv=m.Yvv, Nrr=m.Nrr)
+    v.update(bow_arm=m.bow_arm, sway_from_bow=m.sway_from_bow, hi=hi, lo=lo)
+    return np.array([float(v[k]) for k in PARAMS])
+
+
+@njit(cache=True)
+def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
+    """Backstepping law (module docstring), parameters ``pa`` (:data:`PARAMS`). Returns (tau_u (N),
+    tau_r (N m), V, Vdot (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e,
+    alpha_u, alpha_r)."""
+    cx, cy, h = pa[2], pa[3], pa[4]
+    k1, k2, k6, k7 = pa[5], pa[6], pa[7], pa[8]
+    m11, m22, m33 = pa[9], pa[10], pa[11]
     cs, sn = math.cos(e_psi), math.sin(e_psi)
     z1 = -ul + rl * cy
     z2 = -vl - rl * cx
@@ -199,30 +197,66 @@ def control_law(
     alpha_r = (-k2 * eps2 - b - v) / h
     u_e = u - alpha_u
     r_e = r - alpha_r
-    d11, d22, d33 = m.d11(u), m.d22(v), m.d33(r)
+    d11 = damping_coefficient(pa[12], pa[15], u)  # as Model3DOF.d11 .. d33
+    d22 = damping_coefficient(pa[13], pa[16], v)
+    d33 = damping_coefficient(pa[14], pa[17], r)
     dalpha_u = -k1 * deps1 - da
-    tau_u = m.m11 * (dalpha_u - k6 * u_e - eps1) - m.m22 * v * r + d11 * u
-    dv0 = (-m.m11 * u * r - d22 * v) / m.m22  # v' without the bow side force
+    tau_u = m11 * (dalpha_u - k6 * u_e - eps1) - m22 * v * r + d11 * u
+    dv0 = (-m11 * u * r - d22 * v) / m22  # v' without the bow side force
     dalpha_r0 = (-k2 * deps2 - db - dv0) / h
-    cb = m.sway_from_bow / (h * m.bow_arm * m.m22)  # alpha_r' = dalpha_r0 - cb * tau_r
-    tau_r = (dalpha_r0 - k7 * r_e - h * eps2 + ((m.m22 - m.m11) * u * v + d33 * r) / m.m33) / (1.0 / m.m33 + cb)
+    cb = pa[19] / (h * pa[18] * m22)  # alpha_r' = dalpha_r0 - cb * tau_r
+    tau_r = (dalpha_r0 - k7 * r_e - h * eps2 + ((m22 - m11) * u * v + d33 * r) / m33) / (1.0 / m33 + cb)
     V = 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
     Vdot = -k1 * eps1 * eps1 - k2 * eps2 * eps2 - k6 * u_e * u_e - k7 * r_e * r_e
-    return {
-        "tau_u": tau_u,
-        "tau_r": tau_r,
-        "V": V,
-        "Vdot": Vdot,
-        "u_e": u_e,
-        "r_e": r_e,
-        "alpha_u": alpha_u,
-        "alpha_r": alpha_r,
-    }
+    return tau_u, tau_r, V, Vdot, u_e, r_e, alpha_u, alpha_r
+
+
+@njit(cache=True)
+def update(st, pa):
+    """One firing of the block on its state ``st`` (19): leader velocities u_l, v_l, r_l of the last
+    firing, has them, leader-acceleration estimate (3), then this firing's inputs in the order of
+    :data:`ROLES`. Runs the acceleration filter, :func:`errors`, :func:`law` and the thruster split (stern
+    T = tau_u / 2, bow T_b = tau_r / B_f, clipped to [lo, hi] N). Returns (T_stern, T_bow, V, Vdot, eps1,
+    eps2, tau_u, tau_r)."""
+    xl, yl, psil, ul, vl, rl, xf, yf, psif, u, v, r = st[7:19]
+    lv = (ul, vl, rl)
+    for i in range(3):
+        if st[3] != 0.0:
+            st[4 + i] = lowpass_step(st[4 + i], pa[1], (lv[i] - st[i]) / pa[0])
+        st[i] = lv[i]
+    st[3] = 1.0
+    eps1, eps2, e_psi = errors(xl, yl, psil, xf, yf, psif, pa[2], pa[3], pa[4])
+    tau_u, tau_r, V, Vdot, _, _, _, _ = law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, st[4], st[5], st[6])
+    ts = min(pa[20], max(pa[21], 0.5 * tau_u))
+    tb = min(pa[20], max(pa[21], tau_r / pa[18]))
+    return ts, tb, V, Vdot, eps1, eps2, tau_u, tau_r
+
+
+def control_law(m: Model3DOF, g: BacksteppingConfig, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul=0.0, dvl=0.0,
+                drl=0.0, cx=0.0, cy=0.0):  # fmt: skip
+    """:func:`law` with the model and gains as objects. Returns a dict with tau_u (N), tau_r (N m), V,
+    Vdot, u_e, r_e, alpha_u, alpha_r.
+
+    Inputs: errors from :func:`errors`; follower velocities u, v (m/s), r (rad/s); leader
+    velocities ul, vl, rl and their time derivatives dul, dvl, drl; c = (cx, cy) the control point's
+    target in the leader frame (m).
+    """
+    out = law(law_params(m, g, cx, cy), eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl)
+    return dict(zip(("tau_u", "tau_r", "V", "Vdot", "u_e", "r_e", "alpha_u", "alpha_r"), out))
 
 
 def lyapunov(eps1, eps2, u_e, r_e) -> float:
     """V = (eps1^2 + eps2^2 + u_e^2 + r_e^2) / 2 (eq. 3.28 + 3.37 + V_4)."""
     return 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
+
+
+#: the block's inputs by role (leader l = USV, follower f = UUV), in the order :func:`update` takes them
+ROLES = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
+         "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}  # fmt: skip
+#: the block's outputs with units, in the order of its compiled form's slots
+OUTPUTS = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N", "uuv_bs.V": "J",
+           "uuv_bs.Vdot": "W", "uuv_bs.eps1": "m", "uuv_bs.eps2": "m", "uuv_bs.tau_u": "N", "uuv_bs.tau_r": "N m",
+           "uuv_ctrl.psi_d": "rad"}  # fmt: skip
 
 
 @register_block("uuv.backstepping")
@@ -251,39 +285,14 @@ class UUVBackstepping(Block):
         self.lo = -uuv_cfg.max_reverse_kgf * KGF
         self.cx = l_d * math.cos(lambda_d) + cfg.h
         self.cy = l_d * math.sin(lambda_d)
-        k = {
-            "xl": "usv.x",
-            "yl": "usv.y",
-            "psil": "usv.psi",
-            "ul": "usv.u",
-            "vl": "usv.v",
-            "rl": "usv.r",
-            "xf": "uuv.x",
-            "yf": "uuv.y",
-            "psif": "uuv.psi",
-            "uf": "uuv.u",
-            "vf": "uuv.v",
-            "rf": "uuv.r",
-        }
-        k.update(keys or {})
-        self.keys = k
+        self.keys = {**ROLES, **(keys or {})}
         unit = {"x": "m", "y": "m", "p": "rad", "u": "m/s", "v": "m/s", "r": "rad/s"}
         # an internal key ("_zero": no measurement, read as 0) is an optional input
-        self.inputs = {key: unit[n[0]] for n, key in k.items() if not key.startswith("_")}
-        self.optional_inputs = {key: unit[n[0]] for n, key in k.items() if key.startswith("_")}
-        self.outputs = {
-            "uuv.thrust_port_cmd": "N",
-            "uuv.thrust_stbd_cmd": "N",
-            "uuv.thrust_bow_cmd": "N",
-            "uuv_bs.V": "J",
-            "uuv_bs.Vdot": "W",
-            "uuv_bs.eps1": "m",
-            "uuv_bs.eps2": "m",
-            "uuv_bs.tau_u": "N",
-            "uuv_bs.tau_r": "N m",
-            "uuv_ctrl.psi_d": "rad",
-        }
+        self.inputs = {key: unit[n[0]] for n, key in self.keys.items() if not key.startswith("_")}
+        self.optional_inputs = {key: unit[n[0]] for n, key in self.keys.items() if key.startswith("_")}
+        self.outputs = dict(OUTPUTS)
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
+        self.pa = law_params(self.model, cfg, self.cx, self.cy, self.period, self.a_lp, self.hi, self.lo)
 
     params_model = BacksteppingConfig
 
@@ -291,98 +300,21 @@ class UUVBackstepping(Block):
     def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
         """Built from a scenario's ``control.uuv`` slot: leader (USV) and follower (UUV) signals by
         role from ``ctx.signal``, the target geometry ``ctx.info["l_d"]``, ``ctx.info["lambda_d"]`` (rad)."""
-        roles = {
-            "xl": "usv.x",
-            "yl": "usv.y",
-            "psil": "usv.psi",
-            "ul": "usv.u",
-            "vl": "usv.v",
-            "rl": "usv.r",
-            "xf": "uuv.x",
-            "yf": "uuv.y",
-            "psif": "uuv.psi",
-            "uf": "uuv.u",
-            "vf": "uuv.v",
-            "rf": "uuv.r",
-        }
-        keys = {n: ctx.signal(r) for n, r in roles.items()}
+        keys = {n: ctx.signal(r) for n, r in ROLES.items()}
         return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
 
     def reset(self, rng) -> None:
-        self.prev = None
-        self.acc = [0.0, 0.0, 0.0]
+        self.st = np.zeros(19)  # see update()
 
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.control._compiled.backstepping_step`)."""
         from ..core.fused import CompiledBlock
-        from ._compiled import arr, backstepping_step
+        from ._compiled import backstepping_step
 
-        k = self.keys
-        sig = ["?" + k[n] for n in ("xl", "yl", "psil", "ul", "vl", "rl", "xf", "yf", "psif", "uf", "vf", "rf")]
-        sig += [
-            "uuv.thrust_port_cmd",
-            "uuv.thrust_stbd_cmd",
-            "uuv.thrust_bow_cmd",
-            "uuv_bs.V",
-            "uuv_bs.Vdot",
-            "uuv_bs.eps1",
-            "uuv_bs.eps2",
-            "uuv_bs.tau_u",
-            "uuv_bs.tau_r",
-            "uuv_ctrl.psi_d",
-        ]
-        prev = self.prev if self.prev is not None else (0.0, 0.0, 0.0)
-        st = arr([*prev, 1.0 if self.prev is not None else 0.0, *self.acc])
-        m, g = self.model, self.cfg
-        pa = arr(
-            [
-                self.period,
-                self.a_lp,
-                self.cx,
-                self.cy,
-                g.h,
-                g.k1,
-                g.k2,
-                g.k6,
-                g.k7,
-                m.m11,
-                m.m22,
-                m.m33,
-                m.Xu,
-                m.Yv,
-                m.Nr,
-                m.Xuu,
-                m.Yvv,
-                m.Nrr,
-                m.bow_arm,
-                m.sway_from_bow,
-                self.hi,
-                self.lo,
-            ]
-        )
-        return CompiledBlock(backstepping_step, sig, st, pa)
+        sig = ["?" + self.keys[n] for n in ROLES] + list(OUTPUTS)
+        return CompiledBlock(backstepping_step, sig, self.st.copy(), self.pa.copy())
 
     def step(self, t: float, bus: dict) -> None:
-        g = {n: float(bus[k] if k in self.inputs else bus.get(k, 0.0)) for n, k in self.keys.items()}
-        lv = (g["ul"], g["vl"], g["rl"])
-        if self.prev is not None:
-            for i in range(3):
-                d = (lv[i] - self.prev[i]) / self.period
-                self.acc[i] += self.a_lp * (d - self.acc[i])
-        self.prev = lv
-        e1, e2, ep = errors(g["xl"], g["yl"], g["psil"], g["xf"], g["yf"], g["psif"], self.cx, self.cy, self.cfg.h)
-        out = control_law(
-            self.model, self.cfg, e1, e2, ep, g["uf"], g["vf"], g["rf"], *lv, *self.acc, cx=self.cx, cy=self.cy
-        )
-        ts = min(self.hi, max(self.lo, 0.5 * out["tau_u"]))
-        tb = min(self.hi, max(self.lo, out["tau_r"] / self.model.bow_arm))
-        bus["uuv.thrust_port_cmd"] = ts
-        bus["uuv.thrust_stbd_cmd"] = ts
-        bus["uuv.thrust_bow_cmd"] = tb
-        bus["uuv_bs.V"] = out["V"]
-        bus["uuv_bs.Vdot"] = out["Vdot"]
-        bus["uuv_bs.eps1"] = e1
-        bus["uuv_bs.eps2"] = e2
-        bus["uuv_bs.tau_u"] = out["tau_u"]
-        bus["uuv_bs.tau_r"] = out["tau_r"]
-        bus["uuv_ctrl.psi_d"] = g["psil"]
+        self.st[7:] = [bus[k] if k in self.inputs else bus.get(k, 0.0) for k in (self.keys[n] for n in ROLES)]
+        out = update(self.st, self.pa)
+        bus.update(zip(OUTPUTS, (out[0], out[0], *out[1:], float(self.st[9]))))

@@ -27,6 +27,21 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
+
+
+@njit(cache=True)
+def pid_output(kp, kd, integral, e, e_dot, ff):
+    """v = K_p e + I + K_d e_dot + feed-forward: the unsaturated output (the one home of eq. 3.10's sum;
+    :meth:`PID.step` and the compiled :func:`oceangnc.control._compiled.pid_step` call it)."""
+    return kp * e + integral + kd * e_dot + ff
+
+
+@njit(cache=True)
+def pid_integral(integral, dt, ki, kw, e, u, v):
+    """The integrator after one forward-Euler step of I' = K_i (e + K_w (u - v)) (back-calculation)."""
+    return integral + dt * ki * (e + kw * (u - v))
+
 
 class PID:
     """Discrete anti-windup PID.
@@ -99,7 +114,7 @@ class PID:
         if e_dot is None:
             e_dot = 0.0 if self._e_prev is None else (e - self._e_prev) / dt
         self._e_prev = e
-        v = self.kp * e + self.integral + self.kd * e_dot + feedforward
+        v = float(pid_output(self.kp, self.kd, self.integral, e, e_dot, feedforward))
         u = min(self.u_max, max(self.u_min, v))
         if self.held:  # stopped: the integrator keeps its value, the output is what the stop holds
             self.v = v
@@ -109,7 +124,7 @@ class PID:
             w = 1.0 - self._ramp_left / self._ramp_s
             u = self._u_hold + w * (u - self._u_hold)
             self._ramp_left = max(0.0, self._ramp_left - dt)
-        self.integral += dt * self.ki * (e + self.kw * (u - v))
+        self.integral = float(pid_integral(self.integral, dt, self.ki, self.kw, e, u, v))
         self.v = v
         self.u = u
         return u

@@ -21,7 +21,7 @@ from ..models.uuv import UUVConfig
 from ..units import KGF
 from ._compiled_tow import bearing_to, drag_feedforward
 from .pid import PID
-from .usv_control import mix
+from .usv_control import mix, speed_loop
 
 _USV_CMD = ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd")
 _UUV_CMD = ("uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd")
@@ -136,8 +136,7 @@ class TowStraightControl(Block):
                 bus[k] = 0.0
             return
         # USV
-        ff = self.usv_cfg.d11 * c.usv_speed
-        tot = self.usv_speed.step(c.usv_speed - bus["usv.u"], h, feedforward=ff)
+        tot = speed_loop(self.usv_speed, c.usv_speed, bus["usv.u"], h, self.usv_cfg.d11, share=1.0)
         e = wrap(psi_d - bus["usv.psi"])
         dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(0.5 * tot, 0.5 * dif)

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -44,12 +45,29 @@ from ..units import KGF
 from .pid import PID
 
 
-def mix(u_speed: float, u_heading: float) -> tuple[float, float]:
+@njit(cache=True)
+def mix(u_speed, u_heading):
     """Thruster mixing of 003 eq. 3.11: ``(T_port, T_stbd) = (U_speed + U_heading, U_speed - U_heading)`` (N).
 
     A positive ``U_heading`` turns to starboard: N = (T_port - T_stbd) B / 2 = U_heading B (003 eq. 2.4).
+    Compiled, so the fused kernels call the same function.
     """
     return u_speed + u_heading, u_speed - u_heading
+
+
+@njit(cache=True)
+def speed_range(t_min, t_max, u_heading):
+    """Heading priority (003 eq. 3.11): the speed loop's output range (N) is what is left of each
+    thruster's range [t_min, t_max] after the heading command, [min(0, t_min + |U_h|), max(0, t_max - |U_h|)]."""
+    return min(0.0, t_min + abs(u_heading)), max(0.0, t_max - abs(u_heading))
+
+
+def speed_loop(pid: PID, u_d: float, u: float, h: float, d11: float, share: float = 0.5) -> float:
+    """The USV surge-speed loop: ``PID(u_d - u)`` (003 eq. 3.10) plus the steady-state feed-forward
+    ``share * d11 u_d`` of the linear surge model (003 eq. 2.3: d11 u = T_port + T_stbd), ``share`` =
+    1/2 per thruster or 1 on the total thrust (N). The one home of this law: every USV controller calls it
+    (the compiled kernels take ``share * d11`` as a parameter)."""
+    return pid.step(u_d - u, h, feedforward=share * d11 * u_d)
 
 
 def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
@@ -188,10 +206,8 @@ class USVController(Block):
             psi_d = bus.get("guidance.psi_d", psi)
             u_h = self.heading.step(wrap(psi_d - psi), h, e_dot=-r)
         # heading priority: the speed loop gets what is left of each thruster's range
-        self.speed.u_max = max(0.0, self.t_max - abs(u_h))
-        self.speed.u_min = min(0.0, self.t_min + abs(u_h))
-        ff = 0.5 * self.d11 * u_d if c.speed_ff else 0.0
-        u_s = self.speed.step(u_d - u, h, feedforward=ff)
+        self.speed.u_min, self.speed.u_max = speed_range(self.t_min, self.t_max, u_h)
+        u_s = speed_loop(self.speed, u_d, u, h, self.d11 if c.speed_ff else 0.0)
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_s, u_h)
         bus["usv_ctrl.u_d"] = u_d
         bus["usv_ctrl.psi_d"] = psi_d
@@ -344,6 +360,6 @@ class USVRateController(Block):
             self.speed_pid.reset()
             self.yaw_pid.reset()
         else:
-            u_speed = self.speed_pid.step(u_d - bus["usv.u"], h, feedforward=0.5 * p.d11 * u_d)
+            u_speed = speed_loop(self.speed_pid, u_d, bus["usv.u"], h, p.d11)
             u_head = self.yaw_pid.step(r_d - bus["usv.r"], h, feedforward=p.d33 * r_d / p.thruster_spacing)
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_speed, u_head)

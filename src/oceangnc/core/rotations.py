@@ -37,6 +37,17 @@ def wrap(a):
     return w
 
 
+@njit(cache=True)
+def heading_speed(x, i_psi, i_vel, n_vel):
+    """(heading wrapped to (-pi, pi], speed): ``wrap(x[i_psi])`` (rad) and the norm of the ``n_vel``
+    velocity states from ``x[i_vel]`` (m/s), summed as sqrt(x0 x0 + x1 x1 + ...), the same bits in the
+    plants' Python publish and in the fused kernels."""
+    s = 0.0
+    for i in range(i_vel, i_vel + n_vel):
+        s += x[i] * x[i]
+    return wrap(x[i_psi]), math.sqrt(s)
+
+
 def wrap_array(a):
     """:func:`wrap` of a scalar or an array (rad) to (-pi, pi], vectorised with numpy (for logs)."""
     w = np.mod(np.asarray(a, dtype=np.float64) + np.pi, 2.0 * np.pi) - np.pi
@@ -60,13 +71,8 @@ def rot2(psi):
 @njit(cache=True)
 def rot3(psi):
     """3-DOF rotation body -> NED for (x, y, psi) and (u, v, r) (Fossen 2011 eq. 2.39)."""
-    c = math.cos(psi)
-    s = math.sin(psi)
     R = np.zeros((3, 3))
-    R[0, 0] = c
-    R[0, 1] = -s
-    R[1, 0] = s
-    R[1, 1] = c
+    R[:2, :2] = rot2(psi)
     R[2, 2] = 1.0
     return R
 

@@ -7,12 +7,7 @@ import math
 from numba import njit
 
 from ..core.rotations import hypot
-
-
-@njit(cache=True)
-def _wrap_pi(a):
-    w = (a + math.pi) % (2.0 * math.pi) - math.pi
-    return math.pi if w == -math.pi else w
+from .leader_follower import geometry
 
 
 @njit(cache=True)
@@ -115,34 +110,6 @@ def leader_follower_step(t, sig, sl, st, pa):
     xf = sig[sl[3]] if sl[3] >= 0 else 0.0
     yf = sig[sl[4]] if sl[4] >= 0 else 0.0
     psif = sig[sl[5]] if sl[5] >= 0 else 0.0
-    dx = xl - xf
-    dy = yl - yf
-    c = math.cos(psil)
-    s = math.sin(psil)
-    lx = -dx * c - dy * s
-    ly = dx * s - dy * c
-    rng = hypot(lx, ly)
-    lam = math.atan2(ly, lx) % (2.0 * math.pi)
-    lx_d = pa[0]
-    ly_d = pa[1]
-    tn = xl + c * lx_d - s * ly_d
-    te = yl + s * lx_d + c * ly_d
-    cf, sf = math.cos(psif), math.sin(psif)
-    dn, de = tn - xf, te - yf
-    los = math.atan2(yl - yf, xl - xf)
-    outside = rng > pa[2] and pa[3] == 0.0
-    sig[sl[6]] = lx
-    sig[sl[7]] = ly
-    sig[sl[8]] = rng
-    sig[sl[9]] = lam
-    sig[sl[10]] = lx_d
-    sig[sl[11]] = ly_d
-    sig[sl[12]] = tn
-    sig[sl[13]] = te
-    sig[sl[14]] = cf * dn + sf * de
-    sig[sl[15]] = -sf * dn + cf * de
-    sig[sl[16]] = _wrap_pi(psil - psif)
-    sig[sl[17]] = los
-    sig[sl[18]] = _wrap_pi(los - psif)
-    sig[sl[19]] = 1.0 if outside else 0.0
-    sig[sl[20]] = los if outside else psil
+    out = geometry(xl, yl, psil, xf, yf, psif, pa[0], pa[1], pa[2], pa[3] != 0.0)
+    for i in range(15):
+        sig[sl[6 + i]] = out[i]

@@ -29,11 +29,14 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
+
 from ..core.blocks import Block
 from ..core.registry import register_block
 from ..core.rotations import hypot, wrap
 
 
+@njit(cache=True)
 def relative_position(x_l, y_l, psi_l, x_f, y_f):
     """(l_x, l_y) of the follower in the leader's body frame (003 eq. 3.7), m."""
     dx = x_l - x_f
@@ -43,6 +46,7 @@ def relative_position(x_l, y_l, psi_l, x_f, y_f):
     return -dx * c - dy * s, dx * s - dy * c
 
 
+@njit(cache=True)
 def range_bearing(lx, ly):
     """Relative range l (m) and bearing lambda from the leader's bow (rad, in [0, 2 pi))."""
     return hypot(lx, ly), math.atan2(ly, lx) % (2.0 * math.pi)
@@ -53,6 +57,7 @@ def target_offset(l_d, lambda_d):
     return l_d * math.cos(lambda_d), l_d * math.sin(lambda_d)
 
 
+@njit(cache=True)
 def target_point(x_l, y_l, psi_l, lx_d, ly_d):
     """Earth-frame (N, E) position of the target offset (l_x^d, l_y^d) of a leader at (x_l, y_l, psi_l)."""
     c = math.cos(psi_l)
@@ -60,9 +65,32 @@ def target_point(x_l, y_l, psi_l, lx_d, ly_d):
     return x_l + c * lx_d - s * ly_d, y_l + s * lx_d + c * ly_d
 
 
+@njit(cache=True)
 def los_bearing(x_f, y_f, x_l, y_l):
     """Bearing from the follower to the leader (rad, NED, from north): the UUV's heading to the USV."""
     return math.atan2(y_l - y_f, x_l - x_f)
+
+
+#: the outputs of :func:`geometry` (and of the block), in order, with units
+OUTPUTS = {"lf.lx": "m", "lf.ly": "m", "lf.range": "m", "lf.bearing": "rad", "lf.lx_d": "m", "lf.ly_d": "m",
+           "lf.target_n": "m", "lf.target_e": "m", "lf.e_x": "m", "lf.e_y": "m", "lf.rel_heading_err": "rad",
+           "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}  # fmt: skip
+
+
+@njit(cache=True)
+def geometry(xl, yl, psil, xf, yf, psif, lx_d, ly_d, R, relative_only):
+    """Everything the block publishes (:data:`OUTPUTS`, in order) from the leader's and follower's
+    positions and headings: eq. 3.7-3.9, the target point, the error in the follower's frame, the LOS
+    and the desired heading (the leader's inside ``R`` or when ``relative_only``, else the LOS)."""
+    lx, ly = relative_position(xl, yl, psil, xf, yf)
+    rng, lam = range_bearing(lx, ly)
+    tn, te = target_point(xl, yl, psil, lx_d, ly_d)
+    c, s = math.cos(psif), math.sin(psif)
+    dn, de = tn - xf, te - yf
+    los = los_bearing(xf, yf, xl, yl)
+    outside = rng > R and not relative_only
+    return (lx, ly, rng, lam, lx_d, ly_d, tn, te, c * dn + s * de, -s * dn + c * de, wrap(psil - psif), los,
+            wrap(los - psif), 1.0 if outside else 0.0, los if outside else psil)  # fmt: skip
 
 
 @register_block("uuv.leader_follower")
@@ -105,16 +133,7 @@ class LeaderFollower(Block):
             **{k: u for k, u in zip(leader, ("m", "m", "rad"))},
             **{k: u for k, u in zip(follower, ("m", "m", "rad"))},
         }
-        m = ("lx", "ly", "range", "lx_d", "ly_d", "target_n", "target_e", "e_x", "e_y")
-        self.outputs = {
-            **{f"lf.{k}": "m" for k in m},
-            "lf.bearing": "rad",
-            "lf.rel_heading_err": "rad",
-            "lf.los": "rad",
-            "lf.los_err": "rad",
-            "lf.outside": "bool",
-            "lf.psi_d": "rad",
-        }
+        self.outputs = dict(OUTPUTS)
 
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
@@ -123,48 +142,11 @@ class LeaderFollower(Block):
         from ..core.fused import CompiledBlock
         from ._compiled import leader_follower_step
 
-        out = [
-            "lf.lx",
-            "lf.ly",
-            "lf.range",
-            "lf.bearing",
-            "lf.lx_d",
-            "lf.ly_d",
-            "lf.target_n",
-            "lf.target_e",
-            "lf.e_x",
-            "lf.e_y",
-            "lf.rel_heading_err",
-            "lf.los",
-            "lf.los_err",
-            "lf.outside",
-            "lf.psi_d",
-        ]
         pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
-        return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *out], params=pa)
+        return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *OUTPUTS], params=pa)
 
     def step(self, t: float, bus: dict) -> None:
         xl, yl, psil = (bus[k] for k in self.leader)
         xf, yf, psif = (bus[k] for k in self.follower)
-        lx, ly = relative_position(xl, yl, psil, xf, yf)
-        rng, lam = range_bearing(lx, ly)
-        tn, te = target_point(xl, yl, psil, self.lx_d, self.ly_d)
-        c, s = math.cos(psif), math.sin(psif)
-        dn, de = tn - xf, te - yf
-        los = los_bearing(xf, yf, xl, yl)
-        outside = rng > self.R and self.mode != "relative-angle"
-        bus["lf.lx"] = lx
-        bus["lf.ly"] = ly
-        bus["lf.range"] = rng
-        bus["lf.bearing"] = lam
-        bus["lf.lx_d"] = self.lx_d
-        bus["lf.ly_d"] = self.ly_d
-        bus["lf.target_n"] = tn
-        bus["lf.target_e"] = te
-        bus["lf.e_x"] = c * dn + s * de
-        bus["lf.e_y"] = -s * dn + c * de
-        bus["lf.rel_heading_err"] = wrap(psil - psif)
-        bus["lf.los"] = los
-        bus["lf.los_err"] = wrap(los - psif)
-        bus["lf.outside"] = 1.0 if outside else 0.0
-        bus["lf.psi_d"] = los if outside else psil
+        rel = self.mode == "relative-angle"
+        bus.update(zip(OUTPUTS, geometry(xl, yl, psil, xf, yf, psif, self.lx_d, self.ly_d, self.R, rel)))

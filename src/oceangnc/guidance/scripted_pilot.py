@@ -47,6 +47,7 @@ from ..core.blocks import Block
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
+from ..sensors.filters import gauss_markov
 from ..units import KNOT
 
 
@@ -287,7 +288,7 @@ class ScriptedPilot(Block):
     def step(self, t: float, bus: dict) -> None:
         c = self.cfg
         a = math.exp(-self.period / c.noise_time_s)
-        self.err = a * self.err + math.sqrt(1 - a * a) * self.sig * self.rng.standard_normal(3)
+        self.err = gauss_markov(self.err, a, self.sig, self.rng.standard_normal(3))
         obs = (
             bus["ship.x"],
             bus["ship.y"],

@@ -23,6 +23,18 @@ _KERNELS: dict = {}
 
 
 @njit(cache=True)
+def matmul_rows(A, B, out, rows):
+    """out[i, j] = sum_k A[i, k] B[k, j] for the first ``rows`` rows (no allocation)."""
+    n = B.shape[0]
+    for i in range(rows):
+        for j in range(B.shape[1]):
+            s = 0.0
+            for k in range(n):
+                s += A[i, k] * B[k, j]
+            out[i, j] = s
+
+
+@njit(cache=True)
 def _symmetrize(P):
     n = P.shape[0]
     for i in range(n):
@@ -50,12 +62,7 @@ def make_kernel(f, h, jac, mode):
         n = P.shape[0]
         _f(tt, x, u, p, dx)
         _fjac(tt, x, p, u, cols, F, Jfull, xc, pc, uc, oc, o1, o2, xr, pr, ur)
-        for i in range(ns):
-            for j in range(n):
-                s = 0.0
-                for k in range(n):
-                    s += F[i, k] * P[k, j]
-                G[i, j] = s
+        matmul_rows(F, P, G, ns)  # G = F P (the state rows; the parameter rows of F are zero)
         for i in range(n):
             for j in range(n):
                 v = Q[i, j]
@@ -237,12 +244,8 @@ def make_kernel(f, h, jac, mode):
                         for a in range(nv):
                             s -= K[i, a] * H[vi[a], j]
                         A[i, j] = s
+                matmul_rows(A, P, T, n)  # T = (I - K H) P
                 for i in range(n):
-                    for j in range(n):
-                        s = 0.0
-                        for l in range(n):
-                            s += A[i, l] * P[l, j]
-                        T[i, j] = s
                     for a in range(nv):
                         s = 0.0
                         for b in range(nv):

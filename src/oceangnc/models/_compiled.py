@@ -11,6 +11,9 @@ import math
 
 from numba import njit
 
+from ..core.rotations import heading_speed
+from .ship_lowspeed import ship_outputs
+
 
 @njit(cache=True)
 def thrusters_step(t, sig, sl, st, pa):
@@ -62,35 +65,21 @@ def scatter(out, sig, slots):
 @njit(cache=True)
 def usv_publish(x, sig, slots):
     """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
-    for i in range(6):
-        sig[slots[i]] = x[i]
-    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
-    sig[slots[6]] = math.sqrt(x[3] * x[3] + x[4] * x[4])  # not hypot: libm and numba differ in the last bit
+    scatter(x[:6], sig, slots[:6])
+    sig[slots[2]], sig[slots[6]] = heading_speed(x, 2, 3, 2)
 
 
 @njit(cache=True)
 def states_publish(x, sig, slots):
-    """:meth:`oceangnc.core.blocks.Plant.publish`: every state."""
-    for i in range(x.size):
-        sig[slots[i]] = x[i]
+    """:meth:`oceangnc.core.blocks.Plant.publish`: every state (one slot per state)."""
+    scatter(x, sig, slots)
 
 
 @njit(cache=True)
 def ship_publish(x, sig, slots):
     """:meth:`oceangnc.models.ship_lowspeed.ShipPlant.publish`; slots 13, 14: the current (or -1)."""
-    sig[slots[0]] = x[0]
-    sig[slots[1]] = x[1]
-    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
-    sig[slots[3]] = x[3]
-    sig[slots[4]] = x[4]
-    sig[slots[5]] = x[5]
-    sig[slots[6]] = x[6]
-    sig[slots[7]] = x[7] * 60.0
-    sig[slots[8]] = x[8] * 60.0
-    sig[slots[9]] = x[9] * 60.0
-    sig[slots[10]] = math.hypot(x[3], x[4])
-    c, s = math.cos(x[2]), math.sin(x[2])
     cn = sig[slots[13]] if slots[13] >= 0 else 0.0
     ce = sig[slots[14]] if slots[14] >= 0 else 0.0
-    sig[slots[11]] = x[3] - (c * cn + s * ce)
-    sig[slots[12]] = x[4] - (-s * cn + c * ce)
+    out = ship_outputs(x, cn, ce)
+    for i in range(13):
+        sig[slots[i]] = out[i]

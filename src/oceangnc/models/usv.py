@@ -44,9 +44,11 @@ from pydantic import Field
 
 from ..core.blocks import Block, Plant
 from ..core.signals import CALM
-from ..core.csmath import catan2, ccos, csin
+from ..core.csmath import ccos, csin
 from ..core.model import Model, Param, ParamLayout
+from ..core.rotations import heading_speed
 from ..io.config import StrictModel
+from ._hydro import relative_velocity, wind_load
 from ..units import KGF, RHO_AIR
 
 STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"))
@@ -118,27 +120,6 @@ class USVConfig(StrictModel):
 
 
 @njit(cache=True)
-def wind_load(u, v, psi, wn, we, rho, a_front, a_side, loa, c_x, c_y, c_n):
-    """Wind force and moment (X, Y, N) in body axes (003 eq. 2.6-2.9); wn, we the wind's NED velocity."""
-    c = ccos(psi)
-    s = csin(psi)
-    uw = c * wn + s * we
-    vw = -s * wn + c * we
-    urw = u - uw
-    vrw = v - vw
-    v2 = urw * urw + vrw * vrw
-    if v2 == 0.0:
-        return 0.0, 0.0, 0.0
-    gamma = -catan2(vrw, urw)
-    q = 0.5 * rho * v2
-    return (
-        -q * c_x * ccos(gamma) * a_front,
-        q * c_y * csin(gamma) * a_side,
-        q * c_n * csin(2.0 * gamma) * a_side * loa,
-    )
-
-
-@njit(cache=True)
 def usv_rhs(t, x, u, p, out):
     """dx/dt of the USV (see module docstring for the layouts)."""
     psi = x[2]
@@ -147,10 +128,7 @@ def usv_rhs(t, x, u, p, out):
     r = x[5]
     c = ccos(psi)
     s = csin(psi)
-    uc = c * u[2] + s * u[3]
-    vc = -s * u[2] + c * u[3]
-    ur = uu - uc
-    vr = vv - vc
+    ur, vr, uc, vc = relative_velocity(c, s, uu, vv, u[2], u[3])
     m11 = p[_M11]
     m22 = p[_M22]
     m33 = p[_M33]
@@ -200,9 +178,9 @@ class USVPlant(Plant):
 
     def publish(self, bus: dict) -> None:
         super().publish(bus)
-        x = self.x
-        bus[f"{self.name}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
-        bus[f"{self.name}.speed"] = float(math.sqrt(x[3] * x[3] + x[4] * x[4]))  # as the fused kernel
+        psi, speed = heading_speed(self.x, 2, 3, 2)
+        bus[f"{self.name}.psi"] = psi
+        bus[f"{self.name}.speed"] = speed
 
 
 class USVThrusters(Block):

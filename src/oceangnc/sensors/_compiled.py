@@ -9,13 +9,21 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
+
+from ..core.rotations import wrap
+from .depth import voltage
+from .filters import angle_lowpass_step, gauss_markov, lowpass_step
+from .usbl import usbl_fix, usbl_geometry
 
 
 @njit(cache=True)
-def _wrap(a):
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
+def ring_slot(count, head, cap):
+    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
+    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
+    if count < cap:
+        return (head + count) % cap, count + 1, head
+    return head, count, (head + 1) % cap
 
 
 @njit(cache=True)
@@ -31,25 +39,32 @@ def gps_step(t, sig, sl, st, pa, rng):
     count, head, then the track history ring (t, x, y) x n. params: period, bias time constant,
     sigma_b, jitter, min_track, hdop, n.
     """
+    x, y = gps_bias_fix(sig, sl, st, pa, rng)
+    gps_publish(t, sig, sl, st, pa, x, y)
+
+
+@njit(cache=True)
+def gps_bias_fix(sig, sl, st, pa, rng):
+    """One fix (m, NED) with the Gauss-Markov bias (state ``st[0:2]``) and white jitter, drawing in the
+    order of :meth:`oceangnc.sensors.gps.GPS._fix`."""
     a = math.exp(-pa[0] / pa[1])
-    q = pa[2] * math.sqrt(1.0 - a * a)
     w0 = rng.standard_normal()
     w1 = rng.standard_normal()
     w2 = rng.standard_normal()
     w3 = rng.standard_normal()
-    st[0] = a * st[0] + q * w0
-    st[1] = a * st[1] + q * w1
-    x = sig[sl[0]] + st[0] + pa[3] * w2
-    y = sig[sl[1]] + st[1] + pa[3] * w3
+    st[0] = gauss_markov(st[0], a, pa[2], w0)
+    st[1] = gauss_markov(st[1], a, pa[2], w1)
+    return sig[sl[0]] + st[0] + pa[3] * w2, sig[sl[1]] + st[1] + pa[3] * w3
+
+
+@njit(cache=True)
+def gps_publish(t, sig, sl, st, pa, x, y):
+    """The fix (x, y) into the track-history ring, the course and speed over ground from the oldest
+    entry, and the GPS outputs (slots and state as :func:`gps_step`)."""
     n = int(pa[6])
     count = int(st[3])
     head = int(st[4])
-    if count < n:
-        j = (head + count) % n
-        count += 1
-    else:
-        j = head
-        head = (head + 1) % n
+    j, count, head = ring_slot(count, head, n)
     st[5 + 3 * j] = t
     st[6 + 3 * j] = x
     st[7 + 3 * j] = y
@@ -84,7 +99,7 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     psi = sig[sl[0]]
     if pa[1] > 0:
         a = 1.0 - math.exp(-pa[0] / pa[1])
-        st[0] = _wrap(st[0] + a * _wrap(psi - st[0]))
+        st[0] = angle_lowpass_step(st[0], a, psi)
     else:
         st[0] = psi
     am = math.exp(-pa[0] / pa[2])
@@ -93,8 +108,8 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     w2 = rng.standard_normal()
     w3 = rng.standard_normal()
     w4 = rng.standard_normal()
-    st[1] = am * st[1] + pa[3] * math.sqrt(1 - am * am) * w0
-    sig[sl[4]] = _wrap(st[0] + st[1] + pa[4] * w1)
+    st[1] = gauss_markov(st[1], am, pa[3], w0)
+    sig[sl[4]] = wrap(st[0] + st[1] + pa[4] * w1)
     sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
     sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
     sig[sl[7]] = _get(sig, sl[3], 0.0) + pa[7] * w4
@@ -111,8 +126,7 @@ def usbl_step(t, sig, sl, st, pa, rng):
     dn = sig[sl[0]] - sig[sl[1]]
     de = sig[sl[2]] - sig[sl[3]]
     dz = _get(sig, sl[4], 0.0) - _get(sig, sl[5], 0.0)
-    h = math.hypot(dn, de)
-    q = h / max(abs(dz), 1e-6)
+    h, q = usbl_geometry(dn, de, dz)
     u0 = rng.uniform(-1.0, 1.0)
     u1 = rng.uniform(-1.0, 1.0)
     u2 = rng.uniform(-1.0, 1.0)
@@ -122,19 +136,9 @@ def usbl_step(t, sig, sl, st, pa, rng):
     if degraded and u3 * 0.5 + 0.5 < pa[1]:
         valid = False
     if valid:
-        g = pa[4] if degraded else 1.0
-        rho = math.sqrt(h * h + dz * dz) + g * pa[5] * u0
-        ea = pa[6] * g
-        beta = math.atan2(de, dn) + ea * u1
-        gam = math.atan2(dz, h) + ea * u2
-        rho = max(rho, 0.0)
-        hm = rho * math.cos(gam)
-        st[2] = hm * math.cos(beta)
-        st[3] = hm * math.sin(beta)
-        st[4] = rho * math.sin(gam)
-        st[5] = rho
-        st[6] = hm
-        st[7] = beta
+        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, pa[4] if degraded else 1.0, pa[5], pa[6])
+        for i in range(6):
+            st[2 + i] = fix[i]
         st[1] = 1.0
     else:
         st[0] += 1.0
@@ -150,20 +154,17 @@ def depth_step(t, sig, sl, st, pa, rng):
     """:class:`oceangnc.sensors.depth.DepthSensor` (003 ch. 6.1.3): reading, calibration, low-pass.
 
     slots: body.z | depth.volt, depth.z_raw, depth.z. state: low-pass y, has_y. params: offset,
-    gain, noise (V), c1, c0, low-pass a, full scale (V), ADC LSB (V), rho g / full-scale Pa factor
-    pieces: full scale V, rho, g, full scale Pa.
+    gain, noise (V), c1, c0, low-pass a (then the converter's constants, unused: the reading is
+    :func:`oceangnc.sensors.depth.voltage`).
     """
     z_true = sig[sl[0]]
-    ideal = pa[6] * pa[8] * pa[9] * max(z_true, 0.0) / pa[10]
-    v = pa[0] + pa[1] * ideal + pa[2] * rng.standard_normal()
-    v = min(pa[6], max(0.0, v))
-    v = np.rint(v / pa[7]) * pa[7]
+    v = voltage(z_true, pa[0], pa[1], pa[2] * rng.standard_normal())
     z = pa[3] * v + pa[4]
     if st[1] == 0.0:
         st[0] = z
         st[1] = 1.0
     else:
-        st[0] = st[0] + pa[5] * (z - st[0])
+        st[0] = lowpass_step(st[0], pa[5], z)
     sig[sl[1]] = v
     sig[sl[2]] = z
     sig[sl[3]] = st[0]

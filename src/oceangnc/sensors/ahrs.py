@@ -29,6 +29,7 @@ from ..core.blocks import Block
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
+from .filters import angle_lowpass_step, gauss_markov
 
 
 class AHRSConfig(StrictModel):
@@ -103,12 +104,12 @@ class AHRS(Block):
             self.psi_f = psi
         elif c.lag > 0:
             a = 1.0 - math.exp(-self.period / c.lag)
-            self.psi_f = wrap(self.psi_f + a * wrap(psi - self.psi_f))
+            self.psi_f = float(angle_lowpass_step(self.psi_f, a, psi))
         else:
             self.psi_f = psi
         am = math.exp(-self.period / c.mag_time_constant)
         w = self.rng.standard_normal(5)
-        self.mag = am * self.mag + math.radians(c.mag_sigma_deg) * math.sqrt(1 - am * am) * w[0]
+        self.mag = float(gauss_markov(self.mag, am, math.radians(c.mag_sigma_deg), w[0]))
         bus[f"{self.name}.psi"] = wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
         bus[f"{self.name}.r"] = bus[f"{b}.r"] + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
         sa = math.radians(c.attitude_noise_deg)

@@ -15,6 +15,7 @@ Outputs ``depth.volt`` (V), ``depth.z_raw`` (m, calibrated, unfiltered), ``depth
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -41,9 +42,19 @@ class DepthSensorConfig(StrictModel):
     calibration_samples: int = Field(200, ge=1, le=100000, description="readings averaged per calibration point")
 
 
-def ideal_voltage(z: float) -> float:
+@njit(cache=True)
+def ideal_voltage(z):
     """Nominal output (V) at depth z (m): 0-10 bar gauge -> 0-5 V."""
     return FULL_SCALE_V * RHO_WATER * G * max(z, 0.0) / FULL_SCALE_PA
+
+
+@njit(cache=True)
+def voltage(z, offset, gain, noise):
+    """One reading (V) at true depth z (m): offset, gain, additive noise (V), 0-5 V clip, 12-bit
+    quantisation (round half to even, as Python's ``round``)."""
+    v = offset + gain * ideal_voltage(z) + noise
+    v = min(FULL_SCALE_V, max(0.0, v))
+    return np.rint(v / ADC_LSB) * ADC_LSB
 
 
 @register_block("sensor.depth")
@@ -72,9 +83,7 @@ class DepthSensor(Block):
 
     def read_voltage(self, z: float) -> float:
         """One reading (V) at true depth z (m): offset, gain, noise, 12-bit quantisation, 0-5 V clip."""
-        v = self.offset + self.gain * ideal_voltage(z) + self.cfg.noise_v * self.rng.standard_normal()
-        v = min(FULL_SCALE_V, max(0.0, v))
-        return round(v / ADC_LSB) * ADC_LSB
+        return float(voltage(z, self.offset, self.gain, self.cfg.noise_v * self.rng.standard_normal()))
 
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.depth_step`)."""

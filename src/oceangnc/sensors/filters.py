@@ -40,6 +40,25 @@ def lowpass_array(x, a, y0):
     return y
 
 
+@njit(cache=True)
+def lowpass_step(y, a, x):
+    """One step of the first-order low-pass y <- y + a (x - y) (a from :func:`lowpass_coefficient`)."""
+    return y + a * (x - y)
+
+
+@njit(cache=True)
+def angle_lowpass_step(y, a, x):
+    """:func:`lowpass_step` of an angle (rad): y <- wrap(y + a wrap(x - y))."""
+    return wrap(y + a * wrap(x - y))
+
+
+@njit(cache=True)
+def gauss_markov(m, a, sigma, w):
+    """One step of a first-order Gauss-Markov process m <- a m + sigma sqrt(1 - a^2) w, a = exp(-h / T),
+    stationary standard deviation ``sigma``, ``w`` a standard normal draw (scalars or arrays)."""
+    return a * m + sigma * math.sqrt(1.0 - a * a) * w
+
+
 class LowPass:
     """Scalar first-order low-pass (state: the last output); the first sample initialises it."""
 
@@ -51,7 +70,7 @@ class LowPass:
         self.y = None
 
     def __call__(self, x: float) -> float:
-        self.y = x if self.y is None else self.y + self.a * (x - self.y)
+        self.y = x if self.y is None else float(lowpass_step(self.y, self.a, x))
         return self.y
 
 
@@ -62,8 +81,7 @@ class AngleLowPass(LowPass):
         if self.y is None:
             self.y = x
         else:
-            d = wrap(x - self.y)
-            self.y = wrap(self.y + self.a * d)
+            self.y = float(angle_lowpass_step(self.y, self.a, x))
         return self.y
 
 

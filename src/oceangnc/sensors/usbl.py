@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -45,6 +46,27 @@ class USBLConfig(StrictModel):
     degraded_gain: float = Field(5.0, ge=1, le=100, description="error scale of fixes beyond q_max")
     dropout_start: float = Field(-1.0, ge=-1, le=1e6, description="start of a forced dropout window (-1: none), s")
     dropout_duration: float = Field(0.0, ge=0, le=1e6, description="length of the forced dropout window, s")
+
+
+@njit(cache=True)
+def usbl_geometry(dn, de, dz):
+    """(horizontal range h (m), h / |dz|): the slant geometry that decides the degraded cone."""
+    h = math.hypot(dn, de)
+    return h, h / max(abs(dz), 1e-6)
+
+
+@njit(cache=True)
+def usbl_fix(h, dn, de, dz, u0, u1, u2, g, range_res, angle_res):
+    """One USBL fix (003 ch. 6.1.4): slant range, bearing and elevation of the true offset (dn, de, dz)
+    with uniform errors u0..u2 in [-1, 1] scaled by the resolutions (m, rad) times the gain ``g``
+    (> 1 when degraded); returns (dn, de, dz, range, horizontal range, bearing) in m and rad."""
+    rho = math.sqrt(h * h + dz * dz) + g * range_res * u0
+    ea = angle_res * g
+    beta = math.atan2(de, dn) + ea * u1
+    gam = math.atan2(dz, h) + ea * u2
+    rho = max(rho, 0.0)
+    hm = rho * math.cos(gam)
+    return hm * math.cos(beta), hm * math.sin(beta), rho * math.sin(gam), rho, hm, beta
 
 
 @register_block("sensor.usbl")
@@ -123,8 +145,7 @@ class USBL(Block):
         dn = bus[f"{b}.x"] - bus[f"{a}.x"]
         de = bus[f"{b}.y"] - bus[f"{a}.y"]
         dz = bus[f"{b}.z"] - bus.get(f"{a}.z", 0.0)
-        h = math.hypot(dn, de)
-        q = h / max(abs(dz), 1e-6)
+        h, q = usbl_geometry(dn, de, dz)
         u = self.rng.uniform(-1.0, 1.0, 4)
         degraded = q > c.q_max
         valid = not self.in_forced_dropout(t)
@@ -132,13 +153,8 @@ class USBL(Block):
             valid = False
         if valid:
             g = c.degraded_gain if degraded else 1.0
-            rho = math.sqrt(h * h + dz * dz) + g * c.range_resolution * u[0]
-            ea = math.radians(c.angle_resolution_deg) * g
-            beta = math.atan2(de, dn) + ea * u[1]
-            gam = math.atan2(dz, h) + ea * u[2]
-            rho = max(rho, 0.0)
-            hm = rho * math.cos(gam)
-            self.last = (hm * math.cos(beta), hm * math.sin(beta), rho * math.sin(gam), rho, hm, beta)
+            ares = math.radians(c.angle_resolution_deg)
+            self.last = usbl_fix(h, dn, de, dz, u[0], u[1], u[2], g, c.range_resolution, ares)
         else:
             self.lost += 1
         if self.last is not None:

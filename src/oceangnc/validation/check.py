@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.integrators import stability_limit
 from ..errors import ConfigError
 
 
@@ -77,21 +78,7 @@ def _explicit_limit(lam: np.ndarray, amplification) -> float:
     if lam.size == 0:
         return math.inf
     rmax = float(np.max(np.abs(lam)))
-    ok = lambda h: bool(np.all(amplification(h * lam) <= 1.0 + 1e-12))  # noqa: E731
-    lo = 1e-4 / rmax
-    if not ok(lo):
-        return 0.0
-    hi = lo
-    while ok(hi) and hi < 100.0 / rmax:
-        lo = hi
-        hi *= 1.25
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if ok(mid):
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    return stability_limit(lam, amplification, 1e-4 / rmax, 100.0 / rmax)
 
 
 def linearised_eigenvalues(pl, t: float = 0.0) -> np.ndarray:

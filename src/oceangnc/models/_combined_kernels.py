@@ -1,0 +1,168 @@
+"""The combined plant's compiled right-hand side and cable end forces (layout: :mod:`._combined_layout`).
+
+:func:`combined_rhs` is dx/dt of USV + lumped-mass cable + UUV (003 ch. 2.4); :func:`cable_state` the
+node positions and the forces the cable exerts at its two ends; :func:`_contact` the seabed penalty
+force on a node or on the UUV.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ._combined_layout import (
+    H_N,
+    H_TOP,
+    H_L0,
+    H_EA,
+    H_CV,
+    H_MC,
+    H_MA,
+    H_WSEG,
+    H_KDRAG,
+    H_CVE,
+    H_LAW,
+    H_KDT,
+    H_BED,
+    H_BED_GX,
+    H_BED_GY,
+    H_BED_MU,
+    H_BED_W,
+    H_BED_R,
+    H_PO,
+    H_VO,
+    H_UO,
+    H_WIN,
+    H_WO,
+    H_NMAX,
+    H_BED_Z,
+    P_USV,
+    N_USV,
+    P_UUV,
+    UUV_NP,
+    _gather,
+    top_l0,
+    seabed_depth,
+)
+from ._combined_winch import _winch_rhs
+from .cable import cable_loads, solve_sym3
+from .usv import usv_rhs
+from .uuv import P_MRB, uuv_deriv
+
+
+@njit(cache=True)
+def _contact(p, x, y, z, vx, vy, vz, radius, mass):
+    """Seabed penalty force (N, NED) on a point of contact radius ``radius`` and mass ``mass``.
+
+    Plane z_b = D + g . (x, y); unit normal into the water nu = (g_x, g_y, -1) / |.|; penetration
+    d = (z - z_b) / |(g_x, g_y, -1)| + radius. For d > 0: normal force N = m (w^2 d + 2 zeta w v_in),
+    clipped >= 0 (a spring-damper of natural frequency w and damping ratio zeta per unit mass, so the
+    static penetration is g' / w^2 whatever the mass), and a regularised Coulomb friction
+    -mu N v_t / sqrt(|v_t|^2 + 0.01^2) against the velocity v_t along the bed.
+    """
+    gx = p[H_BED_GX]
+    gy = p[H_BED_GY]
+    nn = math.sqrt(gx * gx + gy * gy + 1.0)
+    nx = gx / nn
+    ny = gy / nn
+    nz = -1.0 / nn
+    d = (z - seabed_depth(p, x, y)) / nn + radius
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    vn = vx * nx + vy * ny + vz * nz  # > 0: leaving the bed
+    w = p[H_BED_W]
+    fn = mass * (w * w * d - 2.0 * p[H_BED_Z] * w * vn)
+    if fn <= 0.0:
+        return 0.0, 0.0, 0.0
+    tx = vx - vn * nx
+    ty = vy - vn * ny
+    tz = vz - vn * nz
+    f = p[H_BED_MU] * fn / math.sqrt(tx * tx + ty * ty + tz * tz + 1e-4)
+    return fn * nx - f * tx, fn * ny - f * ty, fn * nz - f * tz
+
+
+@njit(cache=True)
+def _loads(p, pos, vel, F, Mn, n, cv, vcn, vce, cv_last, l0_top, ldot_top):
+    """:func:`~oceangnc.models.cable.cable_loads` with the cable's parameters from the header of ``p``."""
+    cable_loads(
+        pos, vel, F, Mn, n, p[H_L0], p[H_EA], cv, p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], vcn, vce, cv_last,
+        int(p[H_LAW]), p[H_KDT], l0_top, ldot_top,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def combined_rhs(t, x, u, p, out):
+    """dx/dt of the combined USV + cable + UUV (layout in the module docstring); allocates nothing."""
+    n = int(p[H_N])
+    usv_rhs(t, x[0:6], u[0:6], p[P_USV : P_USV + N_USV], out[0:6])
+    if p[H_TOP] > 0.5:
+        for k in range(6):
+            out[k] = 0.0
+    pos, vel, F, Mn = _gather(x, p, n)
+    lt = top_l0(x, p, n)
+    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+    _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
+    po = int(p[H_PO])
+    vo = int(p[H_VO])
+    bed = p[H_BED] > 0.5
+    mnode = p[H_MC] + p[H_MA]
+    for i in range(1, n):
+        k = 3 * i
+        if bed:
+            fx, fy, fz = _contact(p, pos[k], pos[k + 1], pos[k + 2], vel[k], vel[k + 1], vel[k + 2], 0.0, mnode)
+            F[k] += fx
+            F[k + 1] += fy
+            F[k + 2] += fz
+        ax, ay, az = solve_sym3(Mn, 6 * i, F[k], F[k + 1], F[k + 2])
+        j = 3 * (i - 1)
+        out[po + j] = vel[k]
+        out[po + j + 1] = vel[k + 1]
+        out[po + j + 2] = vel[k + 2]
+        out[vo + j] = ax
+        out[vo + j + 1] = ay
+        out[vo + j + 2] = az
+    o = int(p[H_UO])
+    b = 3 * n
+    fbx = F[b]
+    fby = F[b + 1]
+    fbz = F[b + 2]
+    if bed:  # UUV: a sphere of radius H_BED_R around the CB, force applied at the tow point
+        cx, cy, cz = _contact(p, x[o], x[o + 1], x[o + 2], vel[b], vel[b + 1], vel[b + 2], p[H_BED_R], p[P_UUV + P_MRB])
+        fbx += cx
+        fby += cy
+        fbz += cz
+    uuv_deriv(x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3], fbx, fby, fbz)
+    if p[H_WIN] > 0.5:
+        nmax = int(p[H_NMAX])
+        for k in range(3 * (n - 1), 3 * (nmax - 1)):  # inactive node slots stay put
+            out[po + k] = 0.0
+            out[vo + k] = 0.0
+        wo = int(p[H_WO])
+        _winch_rhs(x, u, p, wo, F, out)
+
+
+@njit(cache=True)
+def cable_state(x, p, nodes, ends):
+    """Node positions into ``nodes`` (3(n+1)) and the end forces (top xyz, bottom xyz, N) into ``ends``.
+
+    The top force is the one the cable exerts on the top attachment, the bottom force the one on the
+    UUV (both: tension of the end segment plus half its drag and submerged weight). Current is taken
+    from ``ends[6:8]`` (NED, m/s) on entry.
+    """
+    n = int(p[H_N])
+    pos, vel, F, Mn = _gather(x, p, n)
+    for k in range(3 * (n + 1)):
+        nodes[k] = pos[k]
+    # only the two end segments matter: run the segment loads on one-segment views
+    lt = top_l0(x, p, n)
+    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+    _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
+    for k in range(3):
+        ends[k] = F[k]
+    b = 3 * (n - 1)
+    lb = lt if n == 1 else -1.0
+    lbd = ldot if n == 1 else 0.0
+    _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
+    for k in range(3):
+        ends[3 + k] = F[3 + k]
