@@ -83,6 +83,29 @@ def test_log_parts_open_as_one_table_in_pandas_pyarrow_and_read_log(tmp_path):
         np.testing.assert_array_equal(df["a.x"].to_numpy(), np.arange(101.0))
 
 
+def test_a_wall_clock_floor_keeps_a_fast_run_to_few_parts_and_the_same_rows(tmp_path):
+    """log.min_flush_wall_s: a run far faster than real time does not write a part per simulated second;
+    once the floor has passed, the next row past the flush time flushes (same rows either way)."""
+    rows = [(k * 0.05, {"x": float(k)}) for k in range(201)]  # 10 s at 20 Hz
+    fast = LogWriter(tmp_path / "fast.parquet", flush_period=1.0, min_flush_wall_s=3600.0, compact=False)
+    for t, r in rows:
+        fast.append(t, r)
+    assert not (tmp_path / "fast.parquet").exists()  # nothing due yet: less than an hour of wall time
+    fast.close()
+    slow = LogWriter(tmp_path / "slow.parquet", flush_period=1.0, min_flush_wall_s=0.02, compact=False)
+    for t, r in rows[:30]:
+        slow.append(t, r)
+    assert not (tmp_path / "slow.parquet").exists()  # t = 1 s passed, 20 ms of wall time not yet
+    time.sleep(0.05)
+    slow.append(*rows[30])
+    assert len(list_parts(tmp_path / "slow.parquet")) == 1  # the floor has passed: the next row flushes
+    slow.append_rows(np.array([t for t, _ in rows[31:]]), ["x"], np.array([[r["x"]] for _, r in rows[31:]]))
+    assert len(list_parts(tmp_path / "slow.parquet")) == 1  # a block right after: within the floor
+    slow.close()
+    for name in ("fast", "slow"):
+        np.testing.assert_array_equal(read_log(tmp_path / f"{name}.parquet")["x"].to_numpy(), np.arange(201.0))
+
+
 def test_close_compacts_into_one_file_and_a_crash_mid_compaction_is_repaired(tmp_path):
     p = tmp_path / "log.parquet"
     w = LogWriter(p, flush_period=1.0, compact=False)
@@ -164,8 +187,9 @@ def test_sigkill_at_a_random_instant_keeps_every_flushed_row(tmp_path, seed):
     assert not (out / "summary.json").exists()
     parts = list_parts(out / "log.parquet")
     df = read_log(out)
-    # every visible part is whole: part 0 holds t = 0..1 s (21 rows), each next one 1 s (20 rows)
-    assert len(df) == 1 + 20 * len(parts)
+    # every visible part is whole (a part is due each simulated second once log.min_flush_wall_s of
+    # wall time has passed, so a run at thousands x real time writes a part per ~0.25 s of wall time)
+    assert len(parts) >= 1 and len(df) > 20
     t = df["t"].to_numpy()
     np.testing.assert_allclose(np.diff(t), 0.05, atol=1e-9)
     # and the rows are exactly those of an uninterrupted run up to the last flush
@@ -185,7 +209,14 @@ def test_resume_from_checkpoint_equals_uninterrupted_log(tmp_path, monkeypatch):
     # a run that "crashes" at its very end: the parts are not compacted and no summary is written
     orig = LogWriter.close
     monkeypatch.setattr(LogWriter, "close", lambda self: (setattr(self, "compact", False), orig(self))[1])
-    res = oceangnc.run("usv-turn", duration=40, out=tmp_path / "cut", plots=False, checkpoint_every=15)
+    res = oceangnc.run(
+        "usv-turn",
+        duration=40,
+        out=tmp_path / "cut",
+        plots=False,
+        checkpoint_every=15,
+        overrides={"log.min_flush_wall_s": 0.0},  # a part per simulated second, however fast the run
+    )
     monkeypatch.setattr(LogWriter, "close", orig)
     assert res.summary["checkpoints"] == 2
     (tmp_path / "cut" / "summary.json").unlink()

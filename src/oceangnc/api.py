@@ -222,6 +222,7 @@ def run(
             out_dir / "log.parquet",
             flush_period=cfg.log.flush_period,
             fsync=cfg.log.fsync,
+            min_flush_wall_s=cfg.log.min_flush_wall_s,
             start_part=state["log"]["parts"],
             start_row=state["log"]["rows"],
         )
@@ -240,7 +241,12 @@ def run(
         elif old_log.exists():
             old_log.unlink()
         dump_toml(cfg, out_dir / "config.toml")
-        log = LogWriter(out_dir / "log.parquet", flush_period=cfg.log.flush_period, fsync=cfg.log.fsync)
+        log = LogWriter(
+            out_dir / "log.parquet",
+            flush_period=cfg.log.flush_period,
+            fsync=cfg.log.fsync,
+            min_flush_wall_s=cfg.log.min_flush_wall_s,
+        )
     ctx = RunContext(
         out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress, verbose=verbose
     )

@@ -85,6 +85,14 @@ class LogConfig(StrictModel):
     fsync: bool = Field(
         False, description="force each flushed part to disk (power-cut safety; about 10 ms per part on a busy disk)"
     )
+    min_flush_wall_s: float = Field(
+        0.25,
+        ge=0,
+        le=60,
+        description="wall-clock time that must also pass between two flushes, so a run much faster than real "
+        "time writes a few parts, not one per simulated second; a crash loses at most flush_period of "
+        "simulated time or this much wall time, whichever is more, s",
+    )
 
 
 class ScenarioConfig(StrictModel):

@@ -5,7 +5,8 @@ float64 SI values.
 
 Layout (crash safety). ``log.parquet`` is a *folder* (a Parquet dataset) holding one complete file
 per flush, ``part-000000.parquet``, ``part-000001.parquet``, ... :class:`LogWriter` buffers rows and
-writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s). Each
+writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s), but
+no more often than every ``min_flush_wall_s`` of wall time (``log.min_flush_wall_s``). Each
 part is written to a hidden temporary name (``.part-000007.parquet.tmp``), flushed to disk and then
 renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL
 or a full disk loses at most the rows buffered since the last flush (the kernel keeps what a killed
@@ -30,6 +31,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from pathlib import Path
 
 import numpy as np
@@ -91,6 +93,11 @@ class LogWriter:
         Also flush when this many rows are buffered (bounds memory on fast log rates).
     fsync : bool
         Force every part to disk before going on (power-cut safety; costs an fsync per part).
+    min_flush_wall_s : float
+        Wall-clock seconds that must also have passed since the last flush before a flush is due
+        (default 0: every ``flush_period``). A simulation far faster than real time would otherwise write
+        a part per simulated second, thousands a minute; with this floor a crash loses at most
+        ``flush_period`` simulated seconds or ``min_flush_wall_s`` of wall time, whichever is more.
     start_part, start_row : int
         Continue an existing dataset (resume from a checkpoint) at this part index and row count.
 
@@ -107,8 +114,11 @@ class LogWriter:
         start_row: int = 0,
         compact: bool = True,
         fsync: bool = False,
+        min_flush_wall_s: float = 0.0,
     ):
         self.path = Path(path)
+        self.min_flush_wall_s = float(min_flush_wall_s)
+        self._wall_flush = time.monotonic()
         self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
         self.compact = bool(compact)
@@ -149,7 +159,11 @@ class LogWriter:
                 self._buf[c].append(float(row.get(c, np.nan)))
         self.rows += 1
         self._nbuf += 1
-        if t >= self._t_flush - 1e-9 * self.flush_period or t < self._t0 or self._nbuf >= self.flush_rows:
+        if (
+            (t >= self._t_flush - 1e-9 * self.flush_period and self._wall_due())
+            or t < self._t0
+            or self._nbuf >= self.flush_rows
+        ):
             self.flush()
 
     def append_rows(self, t, names: list[str], values) -> None:
@@ -184,7 +198,8 @@ class LogWriter:
                 self._t0 = float(ts_all[i0])
                 self._t_flush = (math.floor(self._t0 / self.flush_period + 1e-9) + 1) * self.flush_period
             room = self.flush_rows - self._nbuf
-            past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0]
+            due = self._wall_due()
+            past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0] if due else np.empty(0, np.intp)
             i1 = min(m, i0 + max(1, room), i0 + int(past[0]) + 1 if past.size else m)
             n = i1 - i0
             self._seal_rows()
@@ -196,9 +211,12 @@ class LogWriter:
             self._chunks.append(block)
             self._nbuf += n
             self.rows += n
-            if ts_all[i1 - 1] >= self._t_flush - 1e-9 * self.flush_period or self._nbuf >= self.flush_rows:
+            if (due and ts_all[i1 - 1] >= self._t_flush - 1e-9 * self.flush_period) or self._nbuf >= self.flush_rows:
                 self.flush()
             i0 = i1
+
+    def _wall_due(self) -> bool:
+        return self.min_flush_wall_s <= 0.0 or time.monotonic() - self._wall_flush >= self.min_flush_wall_s
 
     def _seal_rows(self) -> None:
         """Move the rows appended one by one into an array block (keeps the row order with append_rows)."""
@@ -273,6 +291,7 @@ class LogWriter:
         self._chunks.clear()
         self._nbuf = 0
         self._t0 = None
+        self._wall_flush = time.monotonic()
 
     def close(self) -> None:
         """Flush, then compact the parts into one file; safe to call twice."""
