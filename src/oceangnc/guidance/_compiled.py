@@ -25,6 +25,23 @@ def _closest_s(p0, p1, a0, a1, b0, b1):
 
 
 @njit(cache=True)
+def look_ahead_point(x, y, a0, a1, b0, b1, lookahead, last):
+    """``(e, g_n, g_e)``: cross-track distance e (m, positive to starboard of a -> b) of the point
+    (x, y) from the leg a -> b, and the look-ahead goal G on the leg at distance ``lookahead`` (m) from
+    the point (003 eq. 3.5, fig. 3-2; on the leg's own point when |e| >= lookahead), not past b on the
+    ``last`` leg. The one home of this geometry: pure pursuit and the console's route pilot."""
+    s, e = _closest_s(x, y, a0, a1, b0, b1)
+    L = hypot(b0 - a0, b1 - a1)
+    t0 = (b0 - a0) / L
+    t1 = (b1 - a1) / L
+    ds = math.sqrt(lookahead * lookahead - e * e) if abs(e) < lookahead else 0.0
+    sg = s + ds
+    if last and sg > L:
+        sg = L
+    return e, a0 + sg * t0, a1 + sg * t1
+
+
+@njit(cache=True)
 def pure_pursuit_step(t, sig, sl, st, pa):
     """:class:`oceangnc.guidance.pure_pursuit.PurePursuit` (003 table 3-1, eq. 3.5).
 
@@ -61,18 +78,7 @@ def pure_pursuit_step(t, sig, sl, st, pa):
     a0, a1 = pa[4 + 2 * leg], pa[5 + 2 * leg]
     b0, b1 = pa[6 + 2 * leg], pa[7 + 2 * leg]
     last = leg + 1 == n - 1
-    # look_ahead_point
-    s, e = _closest_s(p0, p1, a0, a1, b0, b1)
-    L = hypot(b0 - a0, b1 - a1)
-    t0 = (b0 - a0) / L
-    t1 = (b1 - a1) / L
-    lk = pa[0]
-    ds = math.sqrt(lk * lk - e * e) if abs(e) < lk else 0.0
-    sg = s + ds
-    if last and sg > L:
-        sg = L
-    g0 = a0 + sg * t0
-    g1 = a1 + sg * t1
+    e, g0, g1 = look_ahead_point(p0, p1, a0, a1, b0, b1, pa[0], last)
     # pursuit_command
     dn = g0 - p0
     de = g1 - p1

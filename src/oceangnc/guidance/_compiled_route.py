@@ -20,6 +20,7 @@ import math
 from numba import njit
 
 from ..core.rotations import hypot, wrap
+from ._compiled import look_ahead_point
 
 
 @njit(cache=True)
@@ -49,20 +50,7 @@ def _pursuit(x, y, psi, route, n, rs, lookahead, accept):
                 return math.nan, 0.0
             continue
         last = k == n - 1
-        # look_ahead_point
-        L = hypot(b0 - a0, b1 - a1)
-        t0 = (b0 - a0) / L
-        t1 = (b1 - a1) / L
-        w0 = x - a0
-        w1 = y - a1
-        s = w0 * t0 + w1 * t1
-        e = -t1 * w0 + t0 * w1
-        ds = math.sqrt(lookahead * lookahead - e * e) if abs(e) < lookahead else 0.0
-        sg = s + ds
-        if last and sg > L:
-            sg = L
-        g0 = a0 + sg * t0
-        g1 = a1 + sg * t1
+        e, g0, g1 = look_ahead_point(x, y, a0, a1, b0, b1, lookahead, last)
         return math.atan2(g1 - y, g0 - x), e
 
 
