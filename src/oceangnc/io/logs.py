@@ -199,7 +199,9 @@ class LogWriter:
                 self._t_flush = (math.floor(self._t0 / self.flush_period + 1e-9) + 1) * self.flush_period
             room = self.flush_rows - self._nbuf
             due = self._wall_due()
-            past = np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0] if due else np.empty(0, np.intp)
+            past = (
+                np.nonzero(ts_all[i0:] >= self._t_flush - 1e-9 * self.flush_period)[0] if due else np.empty(0, np.intp)
+            )
             i1 = min(m, i0 + max(1, room), i0 + int(past[0]) + 1 if past.size else m)
             n = i1 - i0
             self._seal_rows()
