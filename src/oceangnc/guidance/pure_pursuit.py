@@ -32,7 +32,6 @@ starts. On the last leg G is clamped to the final waypoint, and reaching it sets
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
@@ -72,31 +71,7 @@ def usv_min_turning_radius(cfg) -> float:
     return hypot(u, v) / abs(r)
 
 
-class _ConfigKey:
-    """A pydantic config as a cache key (equal when its JSON dump is): the value computed from it is
-    a pure function of its numbers."""
-
-    def __init__(self, cfg):
-        self.cfg = cfg
-        self.key = (type(cfg).__qualname__, cfg.model_dump_json())
-
-    def __hash__(self) -> int:
-        return hash(self.key)
-
-    def __eq__(self, other) -> bool:
-        return isinstance(other, _ConfigKey) and self.key == other.key
-
-
 def uuv_turning_radius_at(cfg, speed: float) -> float:
-    """Turning radius of the UUV (m) at surge speed ``speed`` (m/s); see :func:`_uuv_turning_radius_at`.
-
-    Memoised on the UUV config's numbers: the runs of a batch or a sweep share one root search.
-    """
-    return _uuv_turning_radius_at(_ConfigKey(cfg), float(speed))
-
-
-@functools.lru_cache(maxsize=32)
-def _uuv_turning_radius_at(key: _ConfigKey, speed: float) -> float:
     """Turning radius of the UUV (m) at surge speed ``speed`` (m/s) from its model: the stern
     thrusters set to the thrust that holds ``speed`` straight ahead, the bow thruster at full thrust
     (:func:`oceangnc.models.uuv.uuv_steady_planar`). The full-power radius of
@@ -107,7 +82,6 @@ def _uuv_turning_radius_at(key: _ConfigKey, speed: float) -> float:
     from ..models.uuv import uuv_steady_planar
     from ..units import KGF
 
-    cfg = key.cfg
     hi = cfg.max_thrust_kgf * KGF
     if not speed > 0:
         raise ConfigError(f"UUV turning radius: speed must be > 0 m/s, got {speed}")
