@@ -218,14 +218,7 @@ def run(
         state = ckpt.load(out_dir)
         sc, cfg = resolve_config(None, load_toml(out_dir / "config.toml"))
         _truncate_log(out_dir / "log.parquet", state["log"]["parts"])
-        log = LogWriter(
-            out_dir / "log.parquet",
-            flush_period=cfg.log.flush_period,
-            fsync=cfg.log.fsync,
-            min_flush_wall_s=cfg.log.min_flush_wall_s,
-            start_part=state["log"]["parts"],
-            start_row=state["log"]["rows"],
-        )
+        log = LogWriter.for_run(out_dir, cfg.log, start_part=state["log"]["parts"], start_row=state["log"]["rows"])
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
         sc, cfg = resolve_run_config(scenario, config, overrides, duration, model)
@@ -241,12 +234,7 @@ def run(
         elif old_log.exists():
             old_log.unlink()
         dump_toml(cfg, out_dir / "config.toml")
-        log = LogWriter(
-            out_dir / "log.parquet",
-            flush_period=cfg.log.flush_period,
-            fsync=cfg.log.fsync,
-            min_flush_wall_s=cfg.log.min_flush_wall_s,
-        )
+        log = LogWriter.for_run(out_dir, cfg.log)
     ctx = RunContext(
         out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress, verbose=verbose
     )

@@ -165,12 +165,7 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
             run_dir = new_run_dir(self.out_root, f"console-{sc.name}")
             run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, run_dir / "config.toml")
-            writer = LogWriter(
-                run_dir / "log.parquet",
-                flush_period=cfg.log.flush_period,
-                fsync=cfg.log.fsync,
-                min_flush_wall_s=cfg.log.min_flush_wall_s,
-            )
+            writer = LogWriter.for_run(run_dir, cfg.log)
         with self._lock:
             self.scenario, self.cfg, self.sim = sc, cfg, sim
             self.run_dir = run_dir

@@ -141,6 +141,18 @@ class LogWriter:
         self.extra: dict[str, float] = {}
         self.closed = False
 
+    @classmethod
+    def for_run(cls, run_dir: str | Path, log_cfg, **kw) -> LogWriter:
+        """The writer of a run folder's ``log.parquet`` with the settings of its config's ``log`` table
+        (:class:`oceangnc.io.config.LogConfig`); ``kw`` as for the constructor (e.g. a resume's start)."""
+        return cls(
+            Path(run_dir) / "log.parquet",
+            flush_period=log_cfg.flush_period,
+            fsync=log_cfg.fsync,
+            min_flush_wall_s=log_cfg.min_flush_wall_s,
+            **kw,
+        )
+
     def append(self, t: float, row: dict[str, float]) -> None:
         """Add one sample at time ``t`` (s)."""
         t = float(t)
