@@ -194,19 +194,18 @@ def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk,
         with lock:
             return pending.popleft() if pending and not errors else None
 
-    def args(idx):
-        return (
-            scenario,
-            [dict(overrides_list[i]) for i in idx] if overrides_list is not None else None,
-            [seeds[i] for i in idx] if seeds is not None else None,
-            duration,
-            None,
-            threads,
-            chunk,
-            config,
-            [dirs[i] for i in idx],
-            1,
-        )
+    def args(idx) -> dict:
+        return {
+            "scenario": scenario,
+            "overrides_list": [dict(overrides_list[i]) for i in idx] if overrides_list is not None else None,
+            "seeds": [seeds[i] for i in idx] if seeds is not None else None,
+            "duration": duration,
+            "threads": threads,
+            "chunk": chunk,
+            "config": config,
+            "out_dirs": [dirs[i] for i in idx],
+            "workers": 1,
+        }
 
     def store(idx, result):
         for i, summary in zip(idx, result):
@@ -217,7 +216,7 @@ def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk,
         def feed():
             while (idx := take()) is not None:
                 try:
-                    store(idx, pool.submit(run_batch, *args(idx)).result())
+                    store(idx, pool.submit(run_batch, **args(idx)).result())
                 except BaseException as e:  # noqa: BLE001 - re-raised in the calling thread
                     errors.append(e)
 
@@ -226,7 +225,7 @@ def _run_in_processes(scenario, overrides_list, seeds, duration, threads, chunk,
             f.start()
         try:
             while (idx := take()) is not None:
-                store(idx, run_batch(*args(idx)))
+                store(idx, run_batch(**args(idx)))
         except BaseException as e:
             errors.append(e)
         for f in feeders:

@@ -197,8 +197,6 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
 
 def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     """Plant, environment, sensors, navigation, guidance, control and thrusters (module docstring)."""
-    if cfg.sim.dt > 0.002:
-        pass  # the plant checks its own stability limit
     h = 1.0 / cfg.control.rate
     sens = cfg.sensors.enabled
     blocks = [*environment_blocks(cfg.environment)]
