@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 import pytest
 
+from fused_paths import run_both, run_path, same_log
 from oceangnc.api import resolve_config
 from oceangnc.io.logs import LogWriter, read_log
 
@@ -28,48 +29,22 @@ FUSED_MORE = [
 ]
 
 
-def _run(name, over, dur, fused, tmp_path):
-    sc, cfg = resolve_config(name, overrides=over, duration=dur)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # the first-order schedule's range warning
-        sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
-        sim.use_fused = fused
-        path = tmp_path / f"{name}-{int(fused)}.parquet"
-        with LogWriter(path) as log:
-            t = sim.run(dur, log=log)
-    return sim, t, read_log(path), cfg
-
-
-def _same_log(a, b):
-    assert list(a.columns) == list(b.columns)
-    assert len(a) == len(b)
-    x, y = a.to_numpy(), b.to_numpy()
-    np.testing.assert_allclose(y, x, rtol=1e-9, atol=1e-12)
-    # the kernels share the Python blocks' compiled laws: nearly every column is bit-identical
-    # (an ulp of libm's hypot against numba's is the only difference seen)
-    assert ((x == y) | (np.isnan(x) & np.isnan(y))).all(axis=0).mean() > 0.9
-
-
 @pytest.mark.parametrize(
     "name,over,dur", FUSED_MORE, ids=[f"{n}-{'-'.join(map(str, o.values()))}" for n, o, _ in FUSED_MORE]
 )
 def test_fused_log_equals_python_log(name, over, dur, tmp_path):
-    sp, tp, a, cfg = _run(name, over, dur, False, tmp_path)
-    sf, tf, b, _ = _run(name, over, dur, True, tmp_path)
-    assert sp.path == "python" and sf.path == "fused"
-    assert tp == tf
+    sp, sf, a, b, tp, cfg = run_both(name, over, dur, tmp_path)
     assert len(a) == int(round(tp * cfg.sim.log_rate)) + 1
-    _same_log(a, b)
 
 
 def test_fused_waypoint_guidance_switches_legs_and_stops_like_python(tmp_path):
     over = {"waypoints": [[0.0, 40.0], [0.0, 120.0], [60.0, 170.0]]}
-    sp, tp, a, _ = _run("usv-waypoints-7", over, 120.0, False, tmp_path)
-    sf, tf, b, _ = _run("usv-waypoints-7", over, 120.0, True, tmp_path)
+    sp, tp, a, _ = run_path("usv-waypoints-7", over, 120.0, False, tmp_path)
+    sf, tf, b, _ = run_path("usv-waypoints-7", over, 120.0, True, tmp_path)
     assert sf.path == "fused"
     assert tp < 120.0 and tf == tp  # the last waypoint stops both runs at the same tick
     assert set(b["guidance.leg"]) == {1.0, 2.0}
-    _same_log(a, b)
+    same_log(a, b)
 
 
 def _console_session(fused, tmp_path, absent=False):
@@ -101,7 +76,7 @@ def test_fused_reads_the_console_signals_between_runs(absent, tmp_path):
     sp, a = _console_session(False, tmp_path, absent)
     sf, b = _console_session(True, tmp_path, absent)
     assert sf.path == "fused"
-    _same_log(a, b)
+    same_log(a, b)
     assert sf.bus["console.mode"] == "auto" and sf.bus["console.loop"] == "closed"  # strings stay strings
     # the stick moved the boat, the e-stop zeroed the thrust, the route pilot took over
     t = b["t"].to_numpy()
@@ -127,11 +102,7 @@ def test_a_console_route_keeps_the_python_path(tmp_path):
 )
 def test_fused_berthing_modes(name, mode, tmp_path):
     over = {"control.mode": mode}
-    sp, tp, a, cfg = _run(name, over, 60.0, False, tmp_path)
-    sf, tf, b, _ = _run(name, over, 60.0, True, tmp_path)
-    assert sp.path == "python" and sf.path == "fused"
-    assert tp == tf
-    _same_log(a, b)
+    sp, sf, a, b, tp, cfg = run_both(name, over, 60.0, tmp_path)
     # the controller acted: a propeller command, and the rudder or the thrusters moved
     assert np.abs(b["ship.n_prop_cmd"]).max() > 0.0
 
@@ -156,7 +127,7 @@ def test_fused_trials_inner_runs(vehicle, tmp_path):
             logs.append(read_log(path))
             sims.append(sim)
         assert sims[1].path == "fused", (kind, val)
-        _same_log(*logs)
+        same_log(*logs)
         kinds.add(kind)
     assert kinds == {"straight", "turn", "zigzag"}
     # the zig-zag's command switched sign within the horizon (the manoeuvre ran, not just the step)
