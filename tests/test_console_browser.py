@@ -12,14 +12,12 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import socket
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import httpx
 import pytest
+from console_server import console_server
 
 pytestmark = pytest.mark.browser
 
@@ -63,56 +61,12 @@ FAKE_GAMEPAD = """
 """
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    port = _free_port()
     out = tmp_path_factory.mktemp("console_runs")
-    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "oceangnc.cli",
-            "console",
-            "usv-remote",
-            "--port",
-            str(port),
-            "--out",
-            str(out),
-            "--token",
-            TOKEN,
-        ],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    url = f"http://127.0.0.1:{port}"
-    deadline = time.monotonic() + 90
-    while True:
-        if proc.poll() is not None:
-            pytest.fail(f"console server exited: {proc.stdout.read()}")
-        try:
-            if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
-                break
-        except httpx.HTTPError:
-            pass
-        if time.monotonic() > deadline:
-            proc.kill()
-            pytest.fail("console server did not start within 90 s")
-        time.sleep(0.3)
-    yield {"url": url, "out": out, "proc": proc, "page": f"{url}/?token={TOKEN}"}
-    proc.terminate()
-    try:
-        proc.wait(timeout=15)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    with console_server(out, TOKEN, start_timeout_s=90) as (port, proc):
+        url = f"http://127.0.0.1:{port}"
+        yield {"url": url, "out": out, "proc": proc, "page": f"{url}/?token={TOKEN}"}
 
 
 @pytest.fixture(scope="module")

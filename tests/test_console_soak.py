@@ -12,12 +12,10 @@ import asyncio
 import json
 import os
 import socket
-import subprocess
-import sys
 import time
 
-import httpx
 import pytest
+from console_server import console_server
 
 psutil = pytest.importorskip("psutil")
 websockets_client = pytest.importorskip("websockets.asyncio.client")
@@ -29,53 +27,10 @@ DURATION = 60.0
 VIEWERS = 20
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture
 def console(tmp_path):
-    port = _free_port()
-    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "oceangnc.cli",
-            "console",
-            "usv-remote",
-            "--port",
-            str(port),
-            "--out",
-            str(tmp_path),
-            "--token",
-            TOKEN,
-        ],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    url = f"http://127.0.0.1:{port}"
-    deadline = time.monotonic() + 120
-    while True:
-        if proc.poll() is not None:
-            pytest.fail(f"console exited: {proc.stdout.read()}")
-        try:
-            if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
-                break
-        except httpx.HTTPError:
-            pass
-        assert time.monotonic() < deadline, "console did not start"
-        time.sleep(0.3)
-    yield port, proc
-    proc.terminate()
-    try:
-        proc.wait(timeout=20)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    with console_server(tmp_path, TOKEN, start_timeout_s=120) as (port, proc):
+        yield port, proc
 
 
 async def _soak(port: int, pid: int) -> dict:
