@@ -20,12 +20,12 @@ PLOTS = {"trajectory3d.png", "track.png", "speeds.png", "thrusts.png", "headings
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the helpers fork (Linux only)")
 
 
-def _cli(out: Path, mode: str, prelude: str = "") -> list:
-    """``oceangnc run combined-survey`` through ``cli.main`` in a new process: (summary, files, heavy
+def _cli(out: Path, mode: str, prelude: str = "", scenario: str = "combined-survey") -> list:
+    """``oceangnc run SCENARIO`` through ``cli.main`` in a new process: (summary, files, heavy
     modules imported by the parent)."""
     code = (
         "import sys, json\n" + prelude + "from oceangnc.cli import main\n"
-        f"rc = main(['run', 'combined-survey', '--duration', '2', '--quiet', '--out', {str(out)!r}])\n"
+        f"rc = main(['run', {scenario!r}, '--duration', '2', '--quiet', '--out', {str(out)!r}])\n"
         "print(json.dumps([rc, [m in sys.modules for m in ('pandas', 'matplotlib')]]))\n"
     )
     env = dict(os.environ, PYTHONPATH=str(SRC), OCEANGNC_POSTPROC=mode)
@@ -39,28 +39,39 @@ def _cli(out: Path, mode: str, prelude: str = "") -> list:
 
 
 def test_forked_summary_and_plots_equal_the_in_process_ones(tmp_path):
+    """The flagship: its drawer forked first thing (light plot module, plain config, columns)."""
     s_fork, png_fork, heavy_fork = _cli(tmp_path / "fork", "fork")
     s_inl, png_inl, heavy_inl = _cli(tmp_path / "inline", "inline")
     assert s_fork == s_inl and s_fork["status"] == "ok"
     assert set(png_fork) == set(png_inl) == PLOTS
+    assert png_fork == png_inl  # byte sizes equal (tests/test_frame.py compares the bytes)
     assert all(size > 10_000 for size in png_fork.values())  # drawn PNGs, not empty files
     assert heavy_fork == [False, False]  # the parent never imported pandas or matplotlib
-    assert heavy_inl == [True, True]
+    assert heavy_inl == [False, True]  # its summary and plots read columns: no pandas even in-process
+
+
+def test_the_classic_helper_of_a_pandas_scenario_equals_in_process_work(tmp_path):
+    """A scenario without a light plot module: the helper forked after the first imports, with pandas."""
+    s_fork, png_fork, heavy_fork = _cli(tmp_path / "fork", "fork", scenario="usv-turn")
+    s_inl, png_inl, heavy_inl = _cli(tmp_path / "inline", "inline", scenario="usv-turn")
+    assert s_fork == s_inl and s_fork["status"] == "ok"
+    assert png_fork and png_fork == png_inl
+    assert heavy_fork == [False, False] and heavy_inl == [True, True]
 
 
 def test_a_failing_helper_falls_back_to_in_process_work(tmp_path):
     prelude = (
         "import os\n"
-        "from oceangnc.scenarios.base import get_scenario\n"
-        "sc = get_scenario('combined-survey'); parent = os.getpid(); real = type(sc).plot_jobs\n"
-        "def jobs(self, df, cfg, out_dir):  # breaks in the helpers only\n"
-        "    if os.getpid() != parent: raise RuntimeError('helper failure')\n"
-        "    return real(self, df, cfg, out_dir)\n"
-        "type(sc).plot_jobs = jobs\n"
+        "import oceangnc.scenarios._combined_plots as light\n"
+        "parent = os.getpid(); real = light.plot_jobs\n"
+        "def jobs(name, df, cfg, out_dir):  # breaks in the drawers only\n"
+        "    if os.getpid() != parent: raise RuntimeError('drawer failure')\n"
+        "    return real(name, df, cfg, out_dir)\n"
+        "light.plot_jobs = jobs\n"
     )
     summary, pngs, heavy = _cli(tmp_path, "fork", prelude)
     assert summary["status"] == "ok" and set(pngs) == PLOTS
-    assert heavy == [True, True]  # the parent drew them itself
+    assert heavy == [False, True]  # the parent drew them itself
 
 
 def test_log_blocks_and_rows_mix_in_order(tmp_path):

@@ -276,11 +276,11 @@ def run(
     table = read_table(out_dir / "log.parquet")
     df = None
     if post is not None:
-        post.go(out_dir)
+        post.go(out_dir, cfg)
     try:
         found = post.summary() if post is not None else None
         if found is None:  # no helper, or it failed: here (an error surfaces as it would without helpers)
-            df = table.to_pandas()
+            df = log_frame(sc, table)
             found = sc.summarize(df, cfg)
         metrics = {**(metrics or {}), **found}
         summary.update({k: _jsonable(v) for k, v in metrics.items()})
@@ -294,10 +294,20 @@ def run(
         write_summary()
         plot_paths = (post.plots() if post is not None else None) if plots else []
         if plot_paths is None:
-            plot_paths = sc.plot(table.to_pandas() if df is None else df, cfg, out_dir)
+            plot_paths = sc.plot(log_frame(sc, table) if df is None else df, cfg, out_dir)
     finally:
         postproc.cancel(post, done=True)
     return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
+
+
+def log_frame(sc, table):
+    """A run's log for its scenario's summary and plots: :class:`~oceangnc.io.frame.Columns` when the
+    scenario reads columns only (``frame = "columns"``: no pandas import), else a DataFrame."""
+    if getattr(sc, "frame", "pandas") == "columns":
+        from .io.frame import Columns
+
+        return Columns.from_table(table)
+    return table.to_pandas()
 
 
 def _truncate_log(folder: Path, parts: int) -> None:

@@ -10,6 +10,7 @@ Subcommands of later capabilities live in their own packages and are registered 
 from __future__ import annotations
 
 import argparse
+import functools
 import importlib
 import json
 import os
@@ -40,23 +41,38 @@ def _cmd_list(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from .jitcache import lean_loads
-
-    with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.jitcache)
-        return _run(args)
-
-
-def _run(args) -> int:
-    import functools
-
     from . import postproc
-    from .api import resolve_run_config, run
-    from .core.registry import load_plugin
-    from .errors import InputError
     from .io.config import flatten, parse_sets
 
-    for path in args.plugin or []:
-        load_plugin(path)
+    overrides = flatten(parse_sets(args.set))
+    post = None
+    try:
+        for path in args.plugin or []:  # first: the helper resolves the config with the plugins' blocks
+            from .core.registry import load_plugin
+
+            load_plugin(path)
+        if args.resume is None:
+            from .api import resolve_run_config
+
+            # fork the summary/plot helper first, so that its imports overlap this process's (oceangnc.postproc)
+            post = postproc.start_for(
+                args.scenario,
+                args.config,
+                functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
+                plots=not args.no_plots,
+            )
+        from .jitcache import lean_loads
+
+        with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.jitcache)
+            return _run(args, overrides, post)
+    except BaseException:
+        postproc.cancel(post)
+        raise
+
+
+def _run(args, overrides: dict, post) -> int:
+    from .api import run
+    from .errors import InputError
 
     if args.scenario and args.scenario.lower().endswith(".toml"):
         from .scenarios.base import registry
@@ -73,33 +89,23 @@ def _run(args) -> int:
             progress=not args.quiet,
             scenario=args.scenario,
             config=args.config,
-            overrides=flatten(parse_sets(args.set)) or None,
+            overrides=overrides or None,
             duration=args.duration,
         )
     else:
-        overrides = flatten(parse_sets(args.set))
-        # fork the summary/plot helper first, so that its imports overlap this process's (oceangnc.postproc)
-        post = postproc.start(
-            functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
+        res = run(
+            args.scenario,
+            overrides=overrides,
+            duration=args.duration,
+            config=args.config,
+            out=args.out,
             plots=not args.no_plots,
+            progress=not args.quiet,
+            verbose=args.verbose,
+            checkpoint_every=args.checkpoint_every,
+            model=args.model,
+            _post=post,
         )
-        try:
-            res = run(
-                args.scenario,
-                overrides=overrides,
-                duration=args.duration,
-                config=args.config,
-                out=args.out,
-                plots=not args.no_plots,
-                progress=not args.quiet,
-                verbose=args.verbose,
-                checkpoint_every=args.checkpoint_every,
-                model=args.model,
-                _post=post,
-            )
-        except BaseException:
-            postproc.cancel(post)
-            raise
     if not args.quiet:
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)

@@ -12,6 +12,13 @@ between the two (jobs 0, 2, 4, ... in the second drawer, 1, 3, 5, ... in the fir
 written, the summary and the returned paths are those of the in-process path; if a helper fails for
 any reason the parent recomputes what is missing in-process, so errors surface as before.
 
+A scenario with a light plot module (:data:`oceangnc.scenarios.base.LIGHT_PLOTS`: the flagship
+family) goes further, through :func:`start_early`: its drawer is forked first thing, before numba and
+the models are imported, and imports only matplotlib and the plot module; with "go" the parent sends
+the run folder and its config as plain values (:class:`oceangnc.io.frame.Plain`), and the drawers
+read the log as :class:`oceangnc.io.frame.Columns`. Such a scenario's summary is computed in the
+parent on columns (``frame = "columns"``), without pandas, and without plots it forks nothing.
+
 The helpers are only used where ``fork`` is safe: Linux, a single Python thread in the parent, and
 not disabled with ``OCEANGNC_POSTPROC=inline``. They ignore SIGINT (the parent handles Ctrl-C and
 kills them) and end when their pipe closes, so they never outlive a failed run.
@@ -73,19 +80,23 @@ def _recv(fd: int):
 class PostProcess:
     """Handle on the helper of one run (see the module docstring); made by :func:`start`."""
 
-    def __init__(self, pid: int, go: int, res_a: int, res_b: int, plots: bool):
+    def __init__(self, pid: int, go: int, res_a: int, res_b: int, plots: bool, early: bool = False):
         self.pid, self._go, self._res_a, self._res_b, self.want_plots = pid, go, res_a, res_b, plots
+        self.early = early  # a drawer of start_early: plots only, the config sent with "go"
         self._closed = False
 
-    def go(self, out_dir: Path) -> None:
-        """The log in ``out_dir`` is closed: start the summary and the plots."""
+    def go(self, out_dir: Path, cfg=None) -> None:
+        """The log in ``out_dir`` is closed: start the summary and the plots (``cfg``: the run's config,
+        which an early drawer gets as plain values)."""
         try:
-            _send(self._go, str(out_dir))
-        except OSError:
+            _send(self._go, (str(out_dir), cfg.model_dump()) if self.early else str(out_dir))
+        except (OSError, AttributeError, pickle.PicklingError):
             pass
 
     def summary(self) -> dict | None:
-        """The scenario's ``summarize`` metrics from the helper, or None if it failed."""
+        """The scenario's ``summarize`` metrics from the helper, or None if it failed (or computes none)."""
+        if self.early:
+            return None
         msg = _recv(self._res_a)
         return msg[1] if isinstance(msg, tuple) and msg[0] == "ok" else None
 
@@ -131,6 +142,33 @@ def start(resolve, plots: bool) -> PostProcess | None:
     """
     if not can_fork() or (not plots and "pandas" in sys.modules):
         return None
+    return _fork(_helper, resolve, plots, plots=plots)
+
+
+def start_for(scenario: str | None, config, resolve, plots: bool) -> PostProcess | None:
+    """The command line's choice: :func:`start_early` for a scenario with a light plot module (none
+    without plots: its summary needs no pandas), else :func:`start`. ``config`` (a ``--config`` file,
+    which may name another scenario) rules the early drawer out."""
+    from .scenarios.base import light_plots
+
+    if scenario is None:
+        from .api import default_scenario
+
+        scenario = default_scenario()
+    module = light_plots(scenario) if config is None else None
+    if module is None:
+        return start(resolve, plots)
+    return start_early(scenario, module) if plots else None
+
+
+def start_early(scenario: str, plots_module: str) -> PostProcess | None:
+    """Fork the drawer of a scenario with a light plot module (module docstring); None where unsafe."""
+    if not can_fork():
+        return None
+    return _fork(_early_helper, scenario, plots_module, plots=True, early=True)
+
+
+def _fork(target, *args, plots: bool, early: bool = False) -> PostProcess:
     go_r, go_w = os.pipe()
     a_r, a_w = os.pipe()
     b_r, b_w = os.pipe()
@@ -142,14 +180,61 @@ def start(resolve, plots: bool) -> PostProcess | None:
         try:
             for fd in (go_w, a_r, b_r):
                 os.close(fd)
-            _helper(go_r, a_w, b_w, resolve, plots)
+            target(go_r, a_w, b_w, *args)
         except BaseException:
             code = 1
         finally:
             os._exit(code)
     for fd in (go_r, a_w, b_w):
         os.close(fd)
-    return PostProcess(pid, go_w, a_r, b_r, plots)
+    return PostProcess(pid, go_w, a_r, b_r, plots, early=early)
+
+
+def _early_helper(go: int, res_a: int, res_b: int, scenario: str, plots_module: str) -> None:
+    import importlib
+
+    from .io.frame import Plain
+    from .io.plots import warm_up
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    warm_up()
+    plots = _LightPlots(importlib.import_module(plots_module), scenario)
+    msg = _recv(go)
+    if msg is None:  # the run failed or was interrupted
+        return
+    out_dir = Path(msg[0])
+    _draw_both(plots, Plain(msg[1]), out_dir, _read_columns, res_a, res_b)
+
+
+class _LightPlots:
+    """A light plot module seen as a scenario's ``plot_jobs``."""
+
+    def __init__(self, module, name: str):
+        self.module, self.name = module, name
+
+    def plot_jobs(self, df, cfg, out_dir: Path) -> list:
+        return self.module.plot_jobs(self.name, df, cfg, out_dir)
+
+
+def _draw_both(sc, cfg, out_dir: Path, read, res_a: int, res_b: int) -> None:
+    """Share the plot jobs with a second drawer forked here; each reports on its own pipe."""
+    second = os.fork()
+    if second == 0:
+        try:
+            os.close(res_a)
+            _send(res_b, _draw_share(0, sc, cfg, out_dir, read(out_dir)))
+        finally:
+            os._exit(0)
+    os.close(res_b)
+    _send(res_a, _draw_share(1, sc, cfg, out_dir, read(out_dir)))
+    os.waitpid(second, 0)
+
+
+def _read_columns(out_dir: Path):
+    from .io.frame import Columns
+    from .io.logs import read_table
+
+    return Columns.from_table(read_table(out_dir / "log.parquet"))
 
 
 def _helper(go: int, res_a: int, res_b: int, resolve, plots: bool) -> None:

@@ -74,6 +74,10 @@ class Scenario:
     summary: str = ""
     Config: type[ScenarioConfig] = ScenarioConfig
     defaults: dict = {}
+    #: ``"columns"``: :meth:`summarize` and :meth:`plot_jobs` also take an
+    #: :class:`oceangnc.io.frame.Columns` for ``df``, and ``oceangnc run`` gives them one (no pandas
+    #: import, 0.3-0.5 s of start-up); ``"pandas"``: always a DataFrame
+    frame: str = "pandas"
 
     def build(self, cfg, rng: np.random.Generator):
         """The scenario's :class:`~oceangnc.core.clock.Simulation`, ready to run (if it is one).
@@ -168,6 +172,21 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
 
 _REGISTRY: dict[str, Scenario] | None = None
 _LOADED: dict[str, Scenario] = {}
+
+
+#: scenario module -> a module with ``plot_jobs(name, df, cfg, out_dir)`` that draws the figures of
+#: that module's scenarios from a :class:`~oceangnc.io.frame.Columns` log and a config read by
+#: attribute (the scenario's config or a :class:`~oceangnc.io.frame.Plain` of it), importing neither
+#: the models nor numba. ``oceangnc run`` forks their drawer first thing, so it imports matplotlib while
+#: this process simulates (:func:`oceangnc.postproc.start_early`). Their scenarios have
+#: ``frame = "columns"``; tests/test_frame.py checks both and that the figures are the same bytes.
+LIGHT_PLOTS: dict[str, str] = {"combined": "oceangnc.scenarios._combined_plots"}
+
+
+def light_plots(name: str) -> str | None:
+    """The light plot module of scenario ``name`` (see :data:`LIGHT_PLOTS`), None if it has none."""
+    entry = SCENARIO_INDEX.get(name)
+    return LIGHT_PLOTS.get(entry[0]) if entry else None
 
 
 def _scenario_modules() -> list[str]:

@@ -281,6 +281,7 @@ def cross_track(df, waypoints) -> np.ndarray:
 
 class CombinedScenario(Scenario):
     Config = CombinedConfig
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame; plots in LIGHT_PLOTS)
 
     def __init__(self, name: str, summary: str, defaults: dict):
         self.name = name
