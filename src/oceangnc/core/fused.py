@@ -157,7 +157,7 @@ def plant_form(plant, slot_of) -> PlantForm | None:
                 "v_r",
             )
         ]
-        imports.append("from oceangnc.models._compiled import ship_publish as _pub_{adv}")
+        imports.append("from oceangnc.models.ship_lowspeed import ship_publish as _pub_{adv}")
         slots = [slot_of(k) for k in names] + [
             slot_of(k) if k in plant_bus_keys(slot_of) else -1 for k in ("env.current_n", "env.current_e")
         ]

@@ -2,7 +2,8 @@
 
 Kernel convention: :mod:`oceangnc.control._compiled`. Plants are integrated in the fused loop with
 their own compiled steppers; what is here publishes their outputs into the signal array in the
-order of the Python ``publish``.
+order of the Python ``publish``. The ship's (``ship_publish``) is in :mod:`oceangnc.models.ship_lowspeed`,
+so that other scenarios do not import the ship model.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import math
 from numba import njit
 
 from ..core.rotations import heading_speed
-from .ship_lowspeed import ship_outputs
 
 
 @njit(cache=True)
@@ -73,13 +73,3 @@ def usv_publish(x, sig, slots):
 def states_publish(x, sig, slots):
     """:meth:`oceangnc.core.blocks.Plant.publish`: every state (one slot per state)."""
     scatter(x, sig, slots)
-
-
-@njit(cache=True)
-def ship_publish(x, sig, slots):
-    """:meth:`oceangnc.models.ship_lowspeed.ShipPlant.publish`; slots 13, 14: the current (or -1)."""
-    cn = sig[slots[13]] if slots[13] >= 0 else 0.0
-    ce = sig[slots[14]] if slots[14] >= 0 else 0.0
-    out = ship_outputs(x, cn, ce)
-    for i in range(13):
-        sig[slots[i]] = out[i]

@@ -354,3 +354,13 @@ def simulate_open(
         t = rk4_advance(ship_rhs, t, x, u, p, dt, 1, work)
         out[i + 1] = x
     return out
+
+
+@njit(cache=True)
+def ship_publish(x, sig, slots):
+    """:meth:`ShipPlant.publish` in the fused loop; slots 13, 14: the current (or -1)."""
+    cn = sig[slots[13]] if slots[13] >= 0 else 0.0
+    ce = sig[slots[14]] if slots[14] >= 0 else 0.0
+    out = ship_outputs(x, cn, ce)
+    for i in range(13):
+        sig[slots[i]] = out[i]
