@@ -15,8 +15,45 @@ from ._numba_hook import install as _install_numba_cache
 # folder, kept across reinstalls (oceangnc.jitcache)
 _install_numba_cache()
 
-from .api import RunResult, list_scenarios, replot, resolve_config, run  # noqa: E402
-from .errors import ConfigError, DivergenceError, InputError, OceanGNCError  # noqa: E402
+from typing import TYPE_CHECKING  # noqa: E402
+
+if TYPE_CHECKING:
+    from .api import RunResult, list_scenarios, replot, resolve_config, run
+    from .errors import ConfigError, DivergenceError, InputError, OceanGNCError
+
+#: the public names and the module that defines them: imported on first use (PEP 562), so that
+#: ``import oceangnc.cli`` costs nothing and ``oceangnc run`` can fork its plot drawer before numpy,
+#: pydantic and pyarrow are imported (oceangnc.postproc)
+_LAZY = {
+    "run": "api",
+    "replot": "api",
+    "list_scenarios": "api",
+    "resolve_config": "api",
+    "RunResult": "api",
+    "ConfigError": "errors",
+    "DivergenceError": "errors",
+    "InputError": "errors",
+    "OceanGNCError": "errors",
+}
+
+
+def __getattr__(name: str):
+    import importlib
+
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    try:  # a subpackage or module used as an attribute (``oceangnc.api``) without its own import
+        return importlib.import_module(f".{name}", __name__)
+    except ModuleNotFoundError as e:
+        if e.name != f"{__name__}.{name}":
+            raise
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_LAZY])
 
 
 def run_batch(*args, **kwargs):

@@ -17,10 +17,8 @@ from . import postproc
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_log, read_table
+from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO  # noqa: F401  (re-exported)
 from .scenarios.base import RunContext, get_scenario, scenario_summaries
-
-DEFAULT_SCENARIO = "combined-survey"
-FALLBACK_SCENARIO = "usv-turn"
 
 
 @dataclass

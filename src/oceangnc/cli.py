@@ -42,19 +42,24 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from . import postproc
-    from .io.config import flatten, parse_sets
 
-    overrides = flatten(parse_sets(args.set))
     post = None
     try:
-        for path in args.plugin or []:  # first: the helper resolves the config with the plugins' blocks
+        if args.resume is None and not args.no_plots:
+            # a scenario with a light plot module: its drawer forked first thing, before numpy, pydantic
+            # and numba are imported here, so that it imports matplotlib meanwhile (oceangnc.postproc)
+            post = postproc.start_early_for(args.scenario, args.config)
+        from .io.config import flatten, parse_sets
+
+        overrides = flatten(parse_sets(args.set))
+        for path in args.plugin or []:  # before the helper: it resolves the config with the plugins' blocks
             from .core.registry import load_plugin
 
             load_plugin(path)
-        if args.resume is None:
+        if args.resume is None and post is None:
             from .api import resolve_run_config
 
-            # fork the summary/plot helper first, so that its imports overlap this process's (oceangnc.postproc)
+            # fork the summary/plot helper first, so that its imports overlap this process's
             post = postproc.start_for(
                 args.scenario,
                 args.config,

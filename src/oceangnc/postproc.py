@@ -6,15 +6,16 @@ simulation of the flagship. On Linux ``oceangnc run`` calls :func:`start` to for
 after its first imports; while the parent resolves the config, builds and runs the simulation, the
 helper imports pandas (and matplotlib, drawing one small figure so the fonts are loaded) and
 resolves the same config. When the log is closed the parent says "go" with the run folder: the
-helper forks a second drawer, both read the log, the first computes the summary metrics and sends
-them back, and the scenario's :meth:`~oceangnc.scenarios.base.Scenario.plot_jobs` are shared
-between the two (jobs 0, 2, 4, ... in the second drawer, 1, 3, 5, ... in the first). The files
+helper reads the log, forks a second drawer, computes the summary metrics and sends them back, and
+the two draw the scenario's :meth:`~oceangnc.scenarios.base.Scenario.plot_jobs`, each taking the
+next job number from a shared pipe (balanced whatever the figures cost). The files
 written, the summary and the returned paths are those of the in-process path; if a helper fails for
 any reason the parent recomputes what is missing in-process, so errors surface as before.
 
-A scenario with a light plot module (:data:`oceangnc.scenarios.base.LIGHT_PLOTS`: the flagship
-family) goes further, through :func:`start_early`: its drawer is forked first thing, before numba and
-the models are imported, and imports only matplotlib and the plot module; with "go" the parent sends
+A scenario with a light plot module (:data:`oceangnc.scenario_index.LIGHT_PLOTS`: the flagship
+family) goes further, through :func:`start_early`: its drawer is forked first thing, before numpy,
+pydantic, numba and the models are imported (``import oceangnc`` imports nothing heavy), and imports
+only matplotlib, pyarrow and the plot module; with "go" the parent sends
 the run folder and its config as plain values (:class:`oceangnc.io.frame.Plain`), and the drawers
 read the log as :class:`oceangnc.io.frame.Columns`. Such a scenario's summary is computed in the
 parent on columns (``frame = "columns"``), without pandas, and without plots it forks nothing.
@@ -145,20 +146,31 @@ def start(resolve, plots: bool) -> PostProcess | None:
     return _fork(_helper, resolve, plots, plots=plots)
 
 
-def start_for(scenario: str | None, config, resolve, plots: bool) -> PostProcess | None:
-    """The command line's choice: :func:`start_early` for a scenario with a light plot module (none
-    without plots: its summary needs no pandas), else :func:`start`. ``config`` (a ``--config`` file,
-    which may name another scenario) rules the early drawer out."""
-    from .scenarios.base import light_plots
+def _light_plots(scenario: str | None, config) -> tuple[str, str] | None:
+    """``(scenario, light plot module)`` for a run of ``scenario`` (None: the default one), or None
+    (no light module, or a ``--config`` file, which may name another scenario)."""
+    from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO, SCENARIO_INDEX, light_plots
 
+    if config is not None:
+        return None
     if scenario is None:
-        from .api import default_scenario
+        scenario = DEFAULT_SCENARIO if DEFAULT_SCENARIO in SCENARIO_INDEX else FALLBACK_SCENARIO
+    module = light_plots(scenario)
+    return (scenario, module) if module else None
 
-        scenario = default_scenario()
-    module = light_plots(scenario) if config is None else None
-    if module is None:
-        return start(resolve, plots)
-    return start_early(scenario, module) if plots else None
+
+def start_for(scenario: str | None, config, resolve, plots: bool) -> PostProcess | None:
+    """The command line's helper when :func:`start_early_for` gave none: :func:`start`, except for a
+    scenario with a light plot module without plots (its summary needs no pandas: no helper)."""
+    if not plots and _light_plots(scenario, config) is not None:
+        return None
+    return start(resolve, plots)
+
+
+def start_early_for(scenario: str | None, config) -> PostProcess | None:
+    """:func:`start_early` for a run of ``scenario`` if it has a light plot module, else None."""
+    light = _light_plots(scenario, config)
+    return start_early(*light) if light is not None else None
 
 
 def start_early(scenario: str, plots_module: str) -> PostProcess | None:
@@ -199,11 +211,13 @@ def _early_helper(go: int, res_a: int, res_b: int, scenario: str, plots_module: 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     warm_up()
     plots = _LightPlots(importlib.import_module(plots_module), scenario)
+    from .io.logs import read_table  # noqa: F401  (pyarrow's Parquet reader imported before the log is ready)
+
     msg = _recv(go)
     if msg is None:  # the run failed or was interrupted
         return
     out_dir = Path(msg[0])
-    _draw_both(plots, Plain(msg[1]), out_dir, _read_columns, res_a, res_b)
+    _draw_both(plots, Plain(msg[1]), out_dir, _read_columns(out_dir), res_a, res_b)
 
 
 class _LightPlots:
@@ -214,27 +228,6 @@ class _LightPlots:
 
     def plot_jobs(self, df, cfg, out_dir: Path) -> list:
         return self.module.plot_jobs(self.name, df, cfg, out_dir)
-
-
-def _draw_both(sc, cfg, out_dir: Path, read, res_a: int, res_b: int) -> None:
-    """Share the plot jobs with a second drawer forked here; each reports on its own pipe."""
-    second = os.fork()
-    if second == 0:
-        try:
-            os.close(res_a)
-            _send(res_b, _draw_share(0, sc, cfg, out_dir, read(out_dir)))
-        finally:
-            os._exit(0)
-    os.close(res_b)
-    _send(res_a, _draw_share(1, sc, cfg, out_dir, read(out_dir)))
-    os.waitpid(second, 0)
-
-
-def _read_columns(out_dir: Path):
-    from .io.frame import Columns
-    from .io.logs import read_table
-
-    return Columns.from_table(read_table(out_dir / "log.parquet"))
 
 
 def _helper(go: int, res_a: int, res_b: int, resolve, plots: bool) -> None:
@@ -250,39 +243,82 @@ def _helper(go: int, res_a: int, res_b: int, resolve, plots: bool) -> None:
     if msg is None:  # the run failed or was interrupted
         return
     out_dir = Path(msg)
-    second = 0
-    if plots:
-        second = os.fork()
-        if second == 0:
-            try:
-                os.close(res_a)
-                _send(res_b, _draw_share(0, sc, cfg, out_dir, _read_df(out_dir)))
-            finally:
-                os._exit(0)
-    os.close(res_b)
     df = _read_df(out_dir)
-    try:
-        _send(res_a, ("ok", sc.summarize(df, cfg)))
-    except Exception:
-        _send(res_a, ("error", None))
+
+    def summary() -> None:
+        try:
+            _send(res_a, ("ok", sc.summarize(df, cfg)))
+        except Exception:
+            _send(res_a, ("error", None))
+
     if plots:
-        _send(res_a, _draw_share(1, sc, cfg, out_dir, df))
-        os.waitpid(second, 0)
+        _draw_both(sc, cfg, out_dir, df, res_a, res_b, first=summary)
+    else:
+        os.close(res_b)
+        summary()
+
+
+_TOKEN = struct.Struct("<I")
+_MAX_JOBS = 16_384  # job numbers written at once into a pipe (64 KiB on Linux) before any is read
+
+
+def _draw_both(sc, cfg, out_dir: Path, df, res_a: int, res_b: int, first=None) -> None:
+    """Draw the scenario's plot jobs here and in a second drawer forked here, each reporting on its
+    own pipe (``res_a`` here, ``res_b`` there).
+
+    The drawers take the next job number from a shared pipe, so the work is balanced whatever the
+    jobs cost (a scenario lists its costliest figure first). ``first`` (the classic helper's summary)
+    runs here before this drawer starts taking jobs.
+    """
+    try:
+        jobs = sc.plot_jobs(df, cfg, out_dir)
+        if len(jobs) > _MAX_JOBS:
+            raise ValueError("too many plot jobs for the job pipe")
+        tokens_r, tokens_w = os.pipe()
+        os.write(tokens_w, b"".join(_TOKEN.pack(i) for i in range(len(jobs))))
+        os.close(tokens_w)
+    except Exception:
+        jobs, tokens_r = None, -1
+    second = os.fork()
+    if second == 0:
+        try:
+            os.close(res_a)
+            _send(res_b, _draw_from(tokens_r, jobs))
+        finally:
+            os._exit(0)
+    os.close(res_b)
+    if first is not None:
+        first()
+    _send(res_a, _draw_from(tokens_r, jobs))
+    os.waitpid(second, 0)
+
+
+def _draw_from(tokens: int, jobs) -> tuple:
+    """Run jobs by the numbers read from ``tokens`` until it is empty: ``("ok", n_jobs, {job: [path,
+    ...]})``, or ``("error",)``. Reads of one token are atomic: every read returns a whole number."""
+    if jobs is None:
+        return ("error",)
+    done: dict[int, list[str]] = {}
+    try:
+        while b := os.read(tokens, _TOKEN.size):
+            i = _TOKEN.unpack(b)[0]
+            done[i] = [str(p) for p in jobs[i]()]
+    except Exception:
+        return ("error",)
+    return ("ok", len(jobs), done)
+
+
+def _read_columns(out_dir: Path):
+    from .io.frame import Columns
+    from .io.logs import read_table
+
+    return Columns.from_table(read_table(out_dir / "log.parquet"))
 
 
 def _read_df(out_dir: Path):
     from .io.logs import read_table
 
     return read_table(out_dir / "log.parquet").to_pandas()
-
-
-def _draw_share(k: int, sc, cfg, out_dir: Path, df) -> tuple:
-    """Run plot jobs k, k + 2, ...: ``("ok", n_jobs, {job: [path, ...]})`` or ``("error",)``."""
-    try:
-        jobs = sc.plot_jobs(df, cfg, out_dir)
-        return ("ok", len(jobs), {i: [str(p) for p in jobs[i]()] for i in range(k, len(jobs), 2)})
-    except Exception:
-        return ("error",)
 
 
 def cancel(post: PostProcess | None, done: bool = False) -> None:

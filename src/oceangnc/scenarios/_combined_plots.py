@@ -60,17 +60,18 @@ def plot_jobs(name: str, df, cfg, out_dir: Path) -> list:
         ("rel. distance [m]", [("rel.distance", "true horizontal", 1.0), ("lf.range", "as measured", 1.0)]),
         ("cable tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom", 1.0)]),
     ]
+    # the costliest first: the two drawers of oceangnc.postproc take jobs in this order
     return [
         lambda: [plot_3d(df, out_dir / "trajectory3d.png", title=f"{name}: 3D trajectory")],
+        partial(signals, speeds, "speeds.png", "speeds (cf. 003 fig 4-9)"),
+        partial(signals, depth, "depth_distance.png", "depth and distance (cf. 003 figs 4-14, 4-15)"),
+        partial(signals, thrusts, "thrusts.png", "thrusts (cf. 003 figs 4-10, 4-11)"),
+        partial(signals, headings, "headings.png", "headings (cf. 003 figs 4-12, 4-13)"),
         lambda: [
             plot_track(
                 df, ["usv", "uuv"], out_dir / "track.png", title=f"{name} ({cfg.control.uuv.kind})", waypoints=wp
             )
         ],
-        partial(signals, speeds, "speeds.png", "speeds (cf. 003 fig 4-9)"),
-        partial(signals, thrusts, "thrusts.png", "thrusts (cf. 003 figs 4-10, 4-11)"),
-        partial(signals, headings, "headings.png", "headings (cf. 003 figs 4-12, 4-13)"),
-        partial(signals, depth, "depth_distance.png", "depth and distance (cf. 003 figs 4-14, 4-15)"),
     ]
 
 
