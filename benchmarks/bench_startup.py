@@ -28,14 +28,18 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 
 PROBE = (
     "import time, sys; t0 = time.perf_counter()\n"
-    "import oceangnc.core.clock as c\n"
-    "orig = c.Simulation.run\n"
-    "def run(self, *a, **k):\n"
-    "    if not getattr(c, '_t', None): c._t = time.perf_counter() - t0; print(f'START {c._t:.3f}', file=sys.stderr)\n"
-    "    return orig(self, *a, **k)\n"
-    "c.Simulation.run = run\n"
-    "from oceangnc.cli import main\n"
-    "sys.exit(main())\n"
+    "import oceangnc.cli as cli\n"  # light: the probe must not import numpy before the drawer forks
+    "run_cmd = cli._run\n"
+    "def _run(*a, **k):\n"
+    "    import oceangnc.core.clock as c\n"
+    "    orig = c.Simulation.run\n"
+    "    def run(self, *a, **k):\n"
+    "        if not getattr(c, '_t', None): c._t = time.perf_counter() - t0; print(f'START {c._t:.3f}', file=sys.stderr)\n"
+    "        return orig(self, *a, **k)\n"
+    "    c.Simulation.run = run\n"
+    "    return run_cmd(*a, **k)\n"
+    "cli._run = _run\n"
+    "sys.exit(cli.main())\n"
 )
 
 COMMANDS = [

@@ -16,7 +16,7 @@ import numpy as np
 from . import postproc
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
-from .io.logs import LogWriter, atomic_write_text, read_log, read_table
+from .io.logs import LogWriter, atomic_write_text, read_table
 from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO  # noqa: F401  (re-exported)
 from .scenarios.base import RunContext, get_scenario, scenario_summaries
 
@@ -333,8 +333,7 @@ def replot(run_dir: str | Path) -> list[Path]:
         raise InputError(f"{d} is not a run folder: it has no config.toml")
     cfg_dict = load_toml(d / "config.toml")
     sc, cfg = resolve_config(cfg_dict.get("scenario"), cfg_dict)
-    df = read_log(d / "log.parquet")
-    return sc.plot(df, cfg, d)
+    return sc.plot(log_frame(sc, read_table(d / "log.parquet")), cfg, d)
 
 
 def config_dict(cfg) -> dict:
