@@ -26,7 +26,7 @@ COLUMN_SCENARIOS = sorted(n for n, sc in registry().items() if sc.frame == "colu
 
 def test_light_plot_modules_belong_to_column_scenarios():
     assert COLUMN_SCENARIOS, "the flagship family reads columns"
-    assert "combined-survey" in COLUMN_SCENARIOS
+    assert {"combined-survey", "usv-turn"} <= set(COLUMN_SCENARIOS)
     for name, (module, _) in SCENARIO_INDEX.items():
         if module in LIGHT_PLOTS:
             assert get_scenario(name).frame == "columns", name
@@ -49,13 +49,18 @@ def test_summary_and_figures_on_columns_equal_those_on_pandas(name, tmp_path):
     on_columns = sc.summarize(Columns.from_table(table), cfg)
     assert on_pandas.keys() == on_columns.keys()
     assert all(_same(on_pandas[k], on_columns[k]) for k in on_pandas), (on_pandas, on_columns)
-    # the drawer's way (columns, the config as plain values) against a DataFrame and the real config
+    # on columns against a DataFrame; with a light plot module, the drawer's way (the config as plain values)
     a, b = tmp_path / "pandas", tmp_path / "columns"
     a.mkdir(), b.mkdir()
     files_a = sc.plot(table.to_pandas(), cfg, a)
-    module = __import__(LIGHT_PLOTS[SCENARIO_INDEX[name][0]], fromlist=["plot_jobs"])
-    jobs = module.plot_jobs(name, Columns.from_table(table), Plain(cfg.model_dump()), b)
-    files_b = [p for job in jobs for p in job()]
+    light = light_plots(name)
+    if light is None:
+        files_b = sc.plot(Columns.from_table(table), cfg, b)
+    else:
+        jobs = __import__(light, fromlist=["plot_jobs"]).plot_jobs(
+            name, Columns.from_table(table), Plain(cfg.model_dump()), b
+        )
+        files_b = [p for job in jobs for p in job()]
     assert [p.name for p in files_a] == [p.name for p in files_b] and files_a
     for pa_, pb in zip(files_a, files_b):
         assert pa_.read_bytes() == pb.read_bytes(), pa_.name
@@ -64,7 +69,7 @@ def test_summary_and_figures_on_columns_equal_those_on_pandas(name, tmp_path):
 def test_log_frame_follows_the_scenario():
     table = pa.Table.from_arrays([pa.array([0.0, 0.1])], names=["t"])
     assert isinstance(log_frame(get_scenario("combined-survey"), table), Columns)
-    assert isinstance(log_frame(get_scenario("usv-turn"), table), pd.DataFrame)
+    assert isinstance(log_frame(get_scenario("berthing-dock"), table), pd.DataFrame)
 
 
 def test_a_column_behaves_as_a_series():
@@ -93,8 +98,12 @@ def test_columns_offer_the_dataframe_subset():
     np.testing.assert_array_equal(cp["k"], [5.0, 5.0, 5.0])
     with pytest.raises(ValueError, match="column 'z': 2 values for 3 rows"):
         cp["z"] = [1.0, 2.0]
+    late = df[df["t"] >= 1.0]  # rows by a boolean mask
+    assert len(late) == 2 and late["a"].iloc[0] == 2.0 and late.columns == df.columns
     with pytest.raises(KeyError):
         df["missing"]
+    with pytest.raises(TypeError, match="boolean row mask"):
+        df[np.array([True, False])]
     with pytest.raises(ValueError, match="different lengths"):
         Columns({"a": [1.0], "b": [1.0, 2.0]})
 

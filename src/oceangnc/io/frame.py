@@ -6,8 +6,8 @@ Importing pandas costs 0.3-0.5 s, more than a cached simulation of the flagship.
 built straight from the log's Arrow table instead of a :class:`pandas.DataFrame`.
 
 :class:`Columns` has the part of the DataFrame interface such code uses: ``df["col"]``,
-``df[["a", "b"]].to_numpy()``, ``"col" in df``, ``len(df)``, ``df.copy()``, ``df["new"] = values``,
-``df.columns``. A column is a :class:`Col`, a 1-D numpy array with the Series methods used on logs:
+``df[["a", "b"]].to_numpy()``, ``df[df["t"] > 5.0]`` (rows by a boolean mask), ``"col" in df``,
+``len(df)``, ``df.copy()``, ``df["new"] = values``, ``df.columns``. A column is a :class:`Col`, a 1-D numpy array with the Series methods used on logs:
 ``.iloc[k]``, ``.to_numpy()``, ``.values`` and reductions that skip NaN as pandas does (``max``,
 ``min``, ``sum``, ``mean``, ``median``, ``std``/``var`` with ``ddof=1``). Arithmetic and numpy
 functions work as on arrays. Anything else raises ``AttributeError``: a scenario that needs more
@@ -125,7 +125,9 @@ class Columns:
             return self._d[key].view(Col)
         if isinstance(key, list):
             return Columns({k: self._d[k] for k in key})
-        raise TypeError(f"Columns[{key!r}]: a column name or a list of names")
+        if isinstance(key, np.ndarray) and key.dtype == bool and key.shape == (self._n,):
+            return Columns({k: v[key] for k, v in self._d.items()})  # rows, as df[df["t"] > 5]
+        raise TypeError(f"Columns[{key!r}]: a column name, a list of names or a boolean row mask")
 
     def __setitem__(self, key: str, value) -> None:
         a = np.asarray(value)

@@ -83,6 +83,7 @@ def build_simulation(cfg: USVOpenLoopConfig, rng) -> Simulation:
 
 class USVOpenLoop(Scenario):
     Config = USVOpenLoopConfig
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
 
     def __init__(self, name: str, summary: str, defaults: dict, turning: bool):
         self.name = name
