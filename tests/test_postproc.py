@@ -52,8 +52,8 @@ def test_forked_summary_and_plots_equal_the_in_process_ones(tmp_path):
 
 def test_the_classic_helper_of_a_pandas_scenario_equals_in_process_work(tmp_path):
     """A scenario without a light plot module: the helper forked after the first imports, with pandas."""
-    s_fork, png_fork, heavy_fork = _cli(tmp_path / "fork", "fork", scenario="autopilot-heading")
-    s_inl, png_inl, heavy_inl = _cli(tmp_path / "inline", "inline", scenario="autopilot-heading")
+    s_fork, png_fork, heavy_fork = _cli(tmp_path / "fork", "fork", scenario="berthing-dock")
+    s_inl, png_inl, heavy_inl = _cli(tmp_path / "inline", "inline", scenario="berthing-dock")
     assert s_fork == s_inl and s_fork["status"] == "ok"
     assert png_fork and png_fork == png_inl
     assert heavy_fork == [False, False] and heavy_inl == [True, True]

@@ -51,6 +51,7 @@ class AutopilotHeadingConfig(ClosedLoopConfig):
 
 
 class AutopilotHeading(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "autopilot-heading"
     summary = "Pole-placed heading PD on the first-order USV: 0 -> 100 deg (000 fig. 17)"
     Config = AutopilotHeadingConfig
@@ -111,6 +112,7 @@ class AutopilotSpeedConfig(ClosedLoopConfig):
 
 
 class AutopilotSpeed(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "autopilot-speed"
     summary = "Pole-placed speed P on the first-order USV: 0 -> 5 m/s, steady error of P control (000 fig. 18)"
     Config = AutopilotSpeedConfig
@@ -185,6 +187,7 @@ class Waypoints7Config(ClosedLoopConfig):
 
 
 class USVWaypoints7(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "usv-waypoints-7"
     summary = "First-order USV through seven waypoints from heading 90 deg, rest; hybrid/LOS guidance (000 fig. 21)"
     Config = Waypoints7Config
@@ -285,6 +288,7 @@ def _plan(cfg):
 
 
 class UUVProfilePlan(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "uuv-profile-plan"
     summary = "USV planned from the towed UUV's plan (000 table 3, eq. 32-34), LOS or hybrid guidance (figs. 22-26)"
     Config = ProfilePlanConfig

@@ -120,6 +120,7 @@ def _common_summary(df, cfg) -> dict:
 
 
 class TowDeploy(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "tow-deploy"
     summary = "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"
     Config = TowDeployConfig
@@ -211,6 +212,7 @@ class TowDeploy(Scenario):
 
 
 class TowSurveyDepth(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
     name = "tow-survey-depth"
     summary = "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"
     Config = TowSurveyConfig

@@ -100,6 +100,8 @@ def build_simulation(cfg: USVRemoteConfig, rng) -> Simulation:
 class USVRemote(Scenario):
     """See the module docstring."""
 
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
+
     name = "usv-remote"
     summary = "USV for the operator console: stick (speed / yaw-rate PIDs) or pure-pursuit waypoint autopilot"
     Config = USVRemoteConfig
