@@ -128,6 +128,26 @@ def test_plain_config_reads_as_the_config():
     assert plain.guidance.waypoints == cfg.guidance.waypoints
     assert plain.control.uuv.kind == cfg.control.uuv.kind
     assert plain.sim.dt == cfg.sim.dt
+    assert plain["sim"]["dt"] == cfg.sim.dt and plain == cfg.model_dump()  # by key too, equal values
+    with pytest.raises(AttributeError, match="nope"):
+        _ = plain.sim.nope
+
+
+def test_a_config_that_does_not_pickle_makes_the_parent_draw(tmp_path):
+    """The early drawer gets no "go" when the config cannot be sent: it ends, and the parent draws."""
+    from oceangnc import postproc
+
+    post = postproc.start_early("combined-survey", LIGHT_PLOTS["combined"])
+    if post is None:
+        pytest.skip("fork is not safe here (threads in this process)")
+
+    class Unpicklable:
+        def model_dump(self):
+            return {"lock": __import__("threading").Lock()}
+
+    post.go(tmp_path, Unpicklable())
+    assert post.plots() is None  # the drawer ended without drawing; the run falls back to in-process
+    post.close()
 
 
 def test_a_light_plot_module_imports_neither_numba_nor_pandas():

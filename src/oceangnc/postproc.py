@@ -91,8 +91,11 @@ class PostProcess:
         which an early drawer gets as plain values)."""
         try:
             _send(self._go, (str(out_dir), cfg.model_dump()) if self.early else str(out_dir))
-        except (OSError, AttributeError, pickle.PicklingError):
-            pass
+        except Exception:  # e.g. a plugin's config that does not pickle: the helper must not wait for ever
+            try:
+                os.close(self._go)  # it reads the end of the pipe, ends, and the parent draws in-process
+            except OSError:
+                pass
 
     def summary(self) -> dict | None:
         """The scenario's ``summarize`` metrics from the helper, or None if it failed (or computes none)."""

@@ -181,13 +181,23 @@ def _chunk_to_numpy(chunk) -> np.ndarray:
     return np.array(values)
 
 
-class Plain:
-    """A config as nested attributes over plain values (``cfg.model_dump()``), for code that only reads
-    it: the light plot modules in a drawer process that imports no config classes."""
+class Plain(dict):
+    """A config as plain values (``cfg.model_dump()``) read by attribute or by key, nested, for code
+    that only reads it: the light plot modules in a drawer process that imports no config classes."""
 
     def __init__(self, data: Mapping):
-        for k, v in data.items():
-            setattr(self, k, Plain(v) if isinstance(v, Mapping) else v)
+        super().__init__({k: _plain(v) for k, v in data.items()})
 
-    def __repr__(self) -> str:
-        return f"Plain({vars(self)!r})"
+    def __getattr__(self, name: str):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+
+def _plain(v):
+    if isinstance(v, Mapping):
+        return Plain(v)
+    if isinstance(v, (list, tuple)):
+        return type(v)(_plain(x) for x in v)
+    return v
