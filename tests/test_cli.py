@@ -80,3 +80,16 @@ def test_config_file_run(tmp_path):
     s = json.loads(r.stdout.strip().splitlines()[-1])
     assert s["scenario"] == "usv-straight"
     assert abs(s["usv.steady_speed_mps"] - 0.8 * 20 / 30) < 0.01
+
+
+def test_list_into_a_closed_pipe_ends_quietly():
+    """``oceangnc list | head -1``: the reader goes away; no traceback, exit 0."""
+    import subprocess
+    import sys
+
+    code = "import sys; from oceangnc.cli import main; sys.exit(main(['list']))"
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p.stdout.close()  # the reader is gone before the command writes (it starts in ~0.1 s)
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=60) == 0
+    assert "Traceback" not in err and "Broken pipe" not in err

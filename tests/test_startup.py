@@ -37,7 +37,8 @@ def test_list_imports_no_scenario_module_and_no_heavy_library():
         "import sys, io, contextlib\n"
         "from oceangnc.cli import main\n"
         "with contextlib.redirect_stdout(io.StringIO()) as f: main(['list'])\n"
-        "heavy = [m for m in ('numba', 'scipy', 'matplotlib', 'pandas', 'dask', 'fastapi') if m in sys.modules]\n"
+        "heavy = [m for m in ('numba', 'scipy', 'matplotlib', 'pandas', 'dask', 'fastapi', 'numpy', 'pydantic', "
+        "'pyarrow') if m in sys.modules]\n"
         "scen = sorted(m for m in sys.modules if m.startswith('oceangnc.scenarios.') and m != 'oceangnc.scenarios.base')\n"  # noqa: E501
         "import json; print(json.dumps([heavy, scen, f.getvalue().count(chr(10))]))"
     )

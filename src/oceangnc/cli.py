@@ -29,10 +29,15 @@ PLUGINS = (
 
 
 def _cmd_list(args) -> int:
-    from .api import default_scenario, list_scenarios
+    from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO, SCENARIO_INDEX, unindexed_modules
 
-    default = default_scenario()
-    scen = list_scenarios()
+    if unindexed_modules():  # a scenario module the index does not name: import it for its summary
+        from .api import default_scenario, list_scenarios
+
+        default, scen = default_scenario(), list_scenarios()
+    else:  # the index alone: nothing heavy imported
+        scen = {name: summary for name, (_, summary) in sorted(SCENARIO_INDEX.items())}
+        default = DEFAULT_SCENARIO if DEFAULT_SCENARIO in scen else FALLBACK_SCENARIO
     w = max(len(n) for n in scen)
     for name, summary in scen.items():
         star = " (default)" if name == default else ""
@@ -244,6 +249,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted: the log written so far is kept (summary.json status: interrupted)", file=sys.stderr)
         rc = 130
+    except BrokenPipeError:  # the reader of the output went away (``oceangnc list | head``): end quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush does not fail again
+        rc = 0
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
     return rc

@@ -8,6 +8,8 @@ re-exports both.
 
 from __future__ import annotations
 
+import pkgutil
+
 DEFAULT_SCENARIO = "combined-survey"  #: the flagship, run by ``oceangnc run`` without a name
 FALLBACK_SCENARIO = "usv-turn"  #: the default when the flagship's module is absent
 
@@ -85,3 +87,16 @@ def light_plots(name: str) -> str | None:
     """The light plot module of scenario ``name`` (see :data:`LIGHT_PLOTS`), None if it has none."""
     entry = SCENARIO_INDEX.get(name)
     return LIGHT_PLOTS.get(entry[0]) if entry else None
+
+
+def scenario_modules() -> list[str]:
+    """The scenario modules in the ``oceangnc.scenarios`` package (their names, none imported)."""
+    import oceangnc.scenarios as pkg  # light: its names are imported on first use
+
+    return sorted(m.name for m in pkgutil.iter_modules(pkg.__path__) if not m.name.startswith("_") and m.name != "base")
+
+
+def unindexed_modules() -> list[str]:
+    """Scenario modules that :data:`SCENARIO_INDEX` does not name (a user's module dropped in the package)."""
+    known = {mod for mod, _ in SCENARIO_INDEX.values()}
+    return [m for m in scenario_modules() if m not in known]

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import functools
 import importlib
-import pkgutil
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,7 +35,13 @@ import numpy as np
 from ..errors import InputError
 from ..io.config import ScenarioConfig
 from ..io.logs import LogWriter
-from ..scenario_index import LIGHT_PLOTS, SCENARIO_INDEX, light_plots  # noqa: F401  (re-exported)
+from ..scenario_index import (  # noqa: F401  (re-exported)
+    LIGHT_PLOTS,
+    SCENARIO_INDEX,
+    light_plots,
+    scenario_modules,
+    unindexed_modules,
+)
 
 
 @dataclass
@@ -115,12 +120,6 @@ _REGISTRY: dict[str, Scenario] | None = None
 _LOADED: dict[str, Scenario] = {}
 
 
-def _scenario_modules() -> list[str]:
-    import oceangnc.scenarios as pkg
-
-    return sorted(m.name for m in pkgutil.iter_modules(pkg.__path__) if not m.name.startswith("_") and m.name != "base")
-
-
 def _load_module(modname: str) -> list[Scenario]:
     m = importlib.import_module(f"oceangnc.scenarios.{modname}")
     scs = list(getattr(m, "SCENARIOS", []))
@@ -129,15 +128,10 @@ def _load_module(modname: str) -> list[Scenario]:
     return scs
 
 
-def _unindexed_modules() -> list[str]:
-    known = {mod for mod, _ in SCENARIO_INDEX.values()}
-    return [m for m in _scenario_modules() if m not in known]
-
-
 def scenario_summaries() -> dict[str, str]:
     """Name -> one-line summary of every scenario, importing only modules missing from the index."""
     out = {n: s for n, (_, s) in SCENARIO_INDEX.items()}
-    for modname in _unindexed_modules():
+    for modname in unindexed_modules():
         for sc in _load_module(modname):
             out.setdefault(sc.name, sc.summary)
     return dict(sorted(out.items()))
@@ -153,7 +147,7 @@ def registry() -> dict[str, Scenario]:
     global _REGISTRY
     if _REGISTRY is None:
         reg: dict[str, Scenario] = {}
-        for modname in _scenario_modules():
+        for modname in scenario_modules():
             for sc in _load_module(modname):
                 if sc.name in reg:
                     raise RuntimeError(f"scenario {sc.name} defined twice")
@@ -170,7 +164,7 @@ def get_scenario(name: str) -> Scenario:
         _load_module(SCENARIO_INDEX[name][0])
         if name in _LOADED:
             return _LOADED[name]
-    for modname in _unindexed_modules():
+    for modname in unindexed_modules():
         _load_module(modname)
         if name in _LOADED:
             return _LOADED[name]
