@@ -250,8 +250,10 @@ def main(argv: list[str] | None = None) -> int:
         print("interrupted: the log written so far is kept (summary.json status: interrupted)", file=sys.stderr)
         rc = 130
     except BrokenPipeError:  # the reader of the output went away (``oceangnc list | head``): end quietly
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())  # so that the interpreter's final flush does not fail again
+        try:  # so that the interpreter's final flush of stdout does not fail again
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
         rc = 0
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
