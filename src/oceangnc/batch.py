@@ -81,7 +81,7 @@ def run_batch(
         parallel only across processes, so this is what scales a batch with the cores. Processes are
         started with ``spawn``: call from under ``if __name__ == "__main__":`` in a script.
     """
-    from .api import _jsonable, new_run_dir, resolve_config
+    from .api import _jsonable, log_frame, new_run_dir, resolve_config
     from .io.config import dump_toml
     from .io.logs import LogWriter
     from .scenarios.base import RunContext
@@ -162,7 +162,7 @@ def run_batch(
                     import pyarrow.parquet as pq
 
                     table = pq.read_table(d / "log.parquet")
-                df = table.to_pandas()
+                df = log_frame(sc, table)  # columns for a scenario that reads columns: no pandas import
                 metrics = dict(r.get("metrics") or {})
                 metrics.update(sc.summarize(df, cfg))
                 summary.update({k: _jsonable(v) for k, v in metrics.items()})
