@@ -229,9 +229,10 @@ class USVThrusters(Block):
             bus[f"{b}.thrust_{side}"] = min(self.hi, max(self.lo, thrust))
 
 
-def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
+def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float, jacobian: str | None = None):
     """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N): :func:`oceangnc.core.linearize.trim`
-    of the surge, sway and yaw equations (Newton with the exact complex-step Jacobian)."""
+    of the surge, sway and yaw equations (Newton with the exact complex-step Jacobian, or ``jacobian``,
+    one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`)."""
     from ..core.linearize import trim
 
     res = trim(
@@ -241,6 +242,7 @@ def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float):
         free=("u", "v", "r"),
         zero=("u", "v", "r"),
         tol=1e-13,
+        jacobian=jacobian,
     )
     return float(res.x[3]), float(res.x[4]), float(res.x[5])
 

@@ -357,11 +357,12 @@ class UUVThrusters(Block):
             bus[f"{b}.thrust_{side}"] = min(self.hi, max(self.lo, thrust))
 
 
-def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float):
+def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float, jacobian: str | None = None):
     """Steady (u, v, r) of the UUV in the horizontal plane for constant thrusts (N), calm water.
 
     Solves the surge, sway and yaw rows of the 6-DOF model with w = p = q = 0 and level attitude
-    (roll/pitch held: :func:`uuv_planar_rhs`) by :func:`oceangnc.core.linearize.trim` (Newton, exact Jacobian).
+    (roll/pitch held: :func:`uuv_planar_rhs`) by :func:`oceangnc.core.linearize.trim` (Newton, exact
+    Jacobian, or ``jacobian``, one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`).
     """
     from ..core.linearize import trim
 
@@ -378,6 +379,7 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
             free=("u", "v", "r"),
             zero=("u", "v", "r"),
             tol=1e-12,
+            jacobian=jacobian,
         )
     except InputError as e:
         raise RuntimeError(f"uuv_steady_planar: no steady turn found ({e})") from None
