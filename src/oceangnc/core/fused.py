@@ -79,6 +79,28 @@ def _kernel_ref(fn) -> tuple[Any, Any]:
     return mod, name
 
 
+def rk4_stepper_imports(rhs) -> list[str]:
+    """Generated-code lines binding ``{adv}`` to the cached RK4 stepper of the compiled rhs ``rhs``
+    (:func:`oceangnc.core.integrators.rk4_stepper`), imported by name from its module."""
+    mod, name = _kernel_ref(rhs)
+    return [
+        "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
+        f"from {mod} import {name} as _rhs_{{adv}}",
+        "{adv} = _rk4_stepper(_rhs_{adv})",
+    ]
+
+
+def combined_advance_imports(plant) -> list[str]:
+    """Generated-code lines binding ``{adv}`` to the combined plant's compiled advance for its
+    integrator: the IMEX or split-RK4 stepper, or the RK4 stepper of its rhs."""
+    if plant.integrator in ("imex", "rk4-split"):
+        from ..models.combined import imex_advance, split_advance
+
+        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
+        return [f"from {mod} import {name} as {{adv}}"]
+    return rk4_stepper_imports(plant.rhs)
+
+
 def plant_bus_keys(slot_of) -> set:
     """Names the signal array carries (the bus's numeric keys and the blocks' signals)."""
     return set(getattr(slot_of, "names", ()))
@@ -104,17 +126,7 @@ def plant_form(plant, slot_of) -> PlantForm | None:
         args.update(
             {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
         )
-        if plant.integrator == "rk4-split":
-            imports = ["from oceangnc.models.combined import split_advance as {adv}"]
-        elif plant.integrator == "imex":
-            imports = ["from oceangnc.models.combined import imex_advance as {adv}"]
-        else:
-            rhs_mod, rhs_name = _kernel_ref(plant.rhs)
-            imports = [
-                "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-                f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
-                "{adv} = _rk4_stepper(_rhs_{adv})",
-            ]
+        imports = combined_advance_imports(plant)
         imports.append("from oceangnc.models.combined import _fill_outputs")
         code = [
             *read,
@@ -131,11 +143,7 @@ def plant_form(plant, slot_of) -> PlantForm | None:
     rhs_mod, rhs_name = _kernel_ref(plant.rhs)
     if rhs_mod is None or rhs_name is None or "<" in rhs_name:
         return None
-    imports = [
-        "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-        f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
-        "{adv} = _rk4_stepper(_rhs_{adv})",
-    ]
+    imports = rk4_stepper_imports(plant.rhs)
     names = [f"{plant.name}.{k}" for k in plant.state_names]
     if cls == "ShipPlant":
         names += ["ship.speed", "ship.u_r", "ship.v_r"]

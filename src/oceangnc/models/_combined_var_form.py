@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.fused import PlantForm, _kernel_ref
-from .combined import _fill_outputs_var, imex_advance, split_advance
+from ..core.fused import PlantForm, _kernel_ref, combined_advance_imports
+from .combined import _fill_outputs_var
 
 
 def var_plant_form(plant, slot_of) -> PlantForm | None:
@@ -50,16 +50,7 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
         "oslots": oslots,
     }
     # import lines from where the kernels live (robust to their moving between modules)
-    if plant.integrator in ("imex", "rk4-split"):
-        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
-        imports = [f"from {mod} import {name} as {{adv}}"]
-    else:
-        rhs_mod, rhs_name = _kernel_ref(plant.rhs)
-        imports = [
-            "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-            f"from {rhs_mod} import {rhs_name} as _rhs_{{adv}}",
-            "{adv} = _rk4_stepper(_rhs_{adv})",
-        ]
+    imports = combined_advance_imports(plant)
     mod, name = _kernel_ref(_fill_outputs_var)
     imports.append(f"from {mod} import {name} as _fill_outputs_var")
     code = [

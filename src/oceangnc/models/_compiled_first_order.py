@@ -68,24 +68,13 @@ def trailer_publish(x, sig, slots, L):
     sig[slots[10]] = phi
 
 
-def _stepper_imports(plant) -> list[str]:
-    from ..core.fused import _kernel_ref
-
-    mod, name = _kernel_ref(plant.rhs)
-    return [
-        "from oceangnc.core.integrators import rk4_stepper as _rk4_stepper",
-        f"from {mod} import {name} as _rhs_{{adv}}",
-        "{adv} = _rk4_stepper(_rhs_{adv})",
-    ]
-
-
 def _base_args(plant) -> dict:
     return {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound)}
 
 
 def first_order_form(plant, slot_of):
     """The :class:`~oceangnc.core.fused.PlantForm` of a :class:`~oceangnc.models.first_order.FirstOrderUSV`."""
-    from ..core.fused import PlantForm, plant_bus_keys
+    from ..core.fused import PlantForm, plant_bus_keys, rk4_stepper_imports
 
     c = plant.cfg
     n = plant.name
@@ -99,7 +88,7 @@ def first_order_form(plant, slot_of):
     args["cp"] = np.array([c.straight_lo_mps, c.straight_hi_mps, c.turn_lo_mps, c.turn_hi_mps, oper, 0.0, 0.0])
     plant._fused_cp = args["cp"]
     imports = [
-        *_stepper_imports(plant),
+        *rk4_stepper_imports(plant.rhs),
         "from oceangnc.models._compiled_first_order import first_order_publish as _pub_{adv}",
     ]
     code = [
@@ -113,7 +102,7 @@ def first_order_form(plant, slot_of):
 
 def trailer_form(plant, slot_of):
     """The :class:`~oceangnc.core.fused.PlantForm` of a :class:`~oceangnc.models.towed_trailer.TowedTrailer`."""
-    from ..core.fused import PlantForm
+    from ..core.fused import PlantForm, rk4_stepper_imports
 
     s, n = plant.usv, plant.name
     args = _base_args(plant)
@@ -122,7 +111,7 @@ def trailer_form(plant, slot_of):
     args["oslots"] = np.array([slot_of(k) for k in outs], dtype=np.int64)
     args["L"] = float(plant.L)
     imports = [
-        *_stepper_imports(plant),
+        *rk4_stepper_imports(plant.rhs),
         "from oceangnc.models._compiled_first_order import trailer_read as _rd_{adv}",
         "from oceangnc.models._compiled_first_order import trailer_publish as _pub_{adv}",
     ]
