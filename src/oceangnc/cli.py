@@ -49,11 +49,12 @@ def _cmd_run(args) -> int:
     from . import postproc
 
     post = None
+    light = postproc.light_plots_for(args.scenario, args.config) if args.resume is None else None
     try:
-        if args.resume is None and not args.no_plots:
+        if light is not None and not args.no_plots:
             # a scenario with a light plot module: its drawer forked first thing, before numpy, pydantic
             # and numba are imported here, so that it imports matplotlib meanwhile (oceangnc.postproc)
-            post = postproc.start_early_for(args.scenario, args.config)
+            post = postproc.start_early(*light)
         from .io.config import flatten, parse_sets
 
         overrides = flatten(parse_sets(args.set))
@@ -61,13 +62,11 @@ def _cmd_run(args) -> int:
             from .core.registry import load_plugin
 
             load_plugin(path)
-        if args.resume is None and post is None:
+        if args.resume is None and light is None:
             from .api import resolve_run_config
 
             # fork the summary/plot helper first, so that its imports overlap this process's
-            post = postproc.start_for(
-                args.scenario,
-                args.config,
+            post = postproc.start(
                 functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
                 plots=not args.no_plots,
             )

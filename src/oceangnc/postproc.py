@@ -149,9 +149,11 @@ def start(resolve, plots: bool) -> PostProcess | None:
     return _fork(_helper, resolve, plots, plots=plots)
 
 
-def _light_plots(scenario: str | None, config) -> tuple[str, str] | None:
-    """``(scenario, light plot module)`` for a run of ``scenario`` (None: the default one), or None
-    (no light module, or a ``--config`` file, which may name another scenario)."""
+def light_plots_for(scenario: str | None, config) -> tuple[str, str] | None:
+    """``(scenario, light plot module)`` for a command-line run of ``scenario`` (None: the default
+    one), or None: no light module, or a ``--config`` file (which may name another scenario). Such a
+    scenario's drawer is :func:`start_early`'s; without plots it needs no helper (its summary reads
+    columns); every other scenario's helper is :func:`start`'s."""
     from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO, SCENARIO_INDEX, light_plots
 
     if config is not None:
@@ -160,20 +162,6 @@ def _light_plots(scenario: str | None, config) -> tuple[str, str] | None:
         scenario = DEFAULT_SCENARIO if DEFAULT_SCENARIO in SCENARIO_INDEX else FALLBACK_SCENARIO
     module = light_plots(scenario)
     return (scenario, module) if module else None
-
-
-def start_for(scenario: str | None, config, resolve, plots: bool) -> PostProcess | None:
-    """The command line's helper when :func:`start_early_for` gave none: :func:`start`, except for a
-    scenario with a light plot module without plots (its summary needs no pandas: no helper)."""
-    if not plots and _light_plots(scenario, config) is not None:
-        return None
-    return start(resolve, plots)
-
-
-def start_early_for(scenario: str | None, config) -> PostProcess | None:
-    """:func:`start_early` for a run of ``scenario`` if it has a light plot module, else None."""
-    light = _light_plots(scenario, config)
-    return start_early(*light) if light is not None else None
 
 
 def start_early(scenario: str, plots_module: str) -> PostProcess | None:
