@@ -98,6 +98,9 @@ def test_columns_offer_the_dataframe_subset():
     np.testing.assert_array_equal(cp["k"], [5.0, 5.0, 5.0])
     with pytest.raises(ValueError, match="column 'z': 2 values for 3 rows"):
         cp["z"] = [1.0, 2.0]
+    with pytest.raises(ValueError, match="column 'a': 1 values for 3 rows"):
+        cp["a"] = [1.0]
+    np.testing.assert_array_equal(cp["a"], [2.0, 4.0, 6.0])  # a refused assignment keeps the column
     late = df[df["t"] >= 1.0]  # rows by a boolean mask
     assert len(late) == 2 and late["a"].iloc[0] == 2.0 and late.columns == df.columns
     with pytest.raises(KeyError):

@@ -131,11 +131,12 @@ class Columns:
 
     def __setitem__(self, key: str, value) -> None:
         a = np.asarray(value)
-        self._d[key] = np.array(np.broadcast_to(a, (self._n,))) if a.ndim == 0 else a.view(np.ndarray)
-        if len(self._d[key]) != self._n and len(self._d) > 1:
-            del self._d[key]
+        if a.ndim == 0:  # a scalar fills the column, as in pandas
+            a = np.full(self._n, a[()])
+        elif len(a) != self._n and self._d.keys() - {key}:
             raise ValueError(f"column {key!r}: {len(a)} values for {self._n} rows")
-        self._n = len(self._d[key])
+        self._d[key] = a.view(np.ndarray)
+        self._n = len(a)
 
     def copy(self) -> Columns:
         return Columns({k: v.copy() for k, v in self._d.items()})
