@@ -17,7 +17,7 @@ from oceangnc.sensors import (
     LowPass,
     USBLConfig,
 )
-from oceangnc.sensors.depth import ideal_voltage
+from oceangnc.sensors.depth import PARAMS, ideal_voltage
 from oceangnc.sensors.filters import AngleLowPass, lowpass_array, lowpass_coefficient
 from oceangnc.units import RHO_WATER, G
 
@@ -162,7 +162,7 @@ def test_depth_sensor_voltage_calibration_and_filter():
     cfg = DepthSensorConfig()
     s = DepthSensor(cfg)
     s.reset(np.random.default_rng(4))
-    assert s.c1 == pytest.approx(z_fs / 5.0, rel=0.01)  # ~20 m/V
+    assert s.pa[PARAMS.at.c1] == pytest.approx(z_fs / 5.0, rel=0.01)  # ~20 m/V
     bus = {"uuv.z": 2.77}
     raw, filt = [], []
     for k in range(2000):

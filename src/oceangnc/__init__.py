@@ -9,11 +9,12 @@ Python API first::
 The command line ``oceangnc`` is a thin layer over :func:`run`.
 """
 
-from ._numba_hook import install as _install_numba_cache
+from ._version import __version__
+from .core.caches import configure_numba as _configure_numba
 
-# before any module of the package is compiled or loaded from numba's cache: caches in the user cache
-# folder, kept across reinstalls (oceangnc.jitcache)
-_install_numba_cache()
+# before numba is imported: its cache folder is keyed by the content of every source file, so a
+# compiled function never runs with an old callee (oceangnc.core.caches)
+_configure_numba()
 
 from typing import TYPE_CHECKING  # noqa: E402
 
@@ -63,7 +64,6 @@ def run_batch(*args, **kwargs):
     return _rb(*args, **kwargs)
 
 
-__version__ = "0.1.0"
 
 __all__ = [
     "run",

@@ -70,9 +70,9 @@ def _cmd_run(args) -> int:
                 functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
                 plots=not args.no_plots,
             )
-        from .jitcache import lean_loads
+        from .core.caches import lean_loads
 
-        with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.jitcache)
+        with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.core.caches)
             return _run(args, overrides, post)
     except BaseException:
         postproc.cancel(post)

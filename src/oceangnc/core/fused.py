@@ -31,11 +31,13 @@ from __future__ import annotations
 
 import hashlib
 import math
+import sys
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from .caches import code_key, package_root, tree_key
 from .fused_strings import ENUMS
 from .fused_strings import code as _code
 from .fused_strings import strings_ok as _strings_ok
@@ -99,6 +101,21 @@ def combined_advance_imports(plant) -> list[str]:
         mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
         return [f"from {mod} import {name} as {{adv}}"]
     return rk4_stepper_imports(plant.rhs)
+
+
+def kernels_key(import_lines) -> str:
+    """Hash of the user code the generated import lines name: the key of the registered user sources
+    (:func:`oceangnc.core.caches.code_key`) and, for each module outside oceangnc, its whole top-level
+    package (:func:`~oceangnc.core.caches.package_root`), so a kernel's callees in sibling files count."""
+    h = hashlib.sha1(code_key().encode())
+    for line in dict.fromkeys(import_lines):
+        name = line.split()[1]
+        if name == "oceangnc" or name.startswith("oceangnc."):
+            continue  # the package's own code: the cache folder's key
+        src = getattr(sys.modules.get(name), "__file__", None)
+        if src:
+            h.update(f"{name}:{tree_key(package_root(src))}".encode())
+    return h.hexdigest()[:16]
 
 
 def plant_bus_keys(slot_of) -> set:
@@ -337,18 +354,9 @@ class FusedLoop:
             blocks="\n".join(block_lines),
             plants="\n".join(plant_lines),
         )
-        # numba's cache does not follow callees: fingerprint the kernels' and plants' sources, so an
-        # edited kernel regenerates (and recompiles) the driver
-        import sys as _sys
-
-        fp = hashlib.sha1()
-        for line in dict.fromkeys(imports):
-            kmod = _sys.modules.get(line.split()[1])
-            kfile = getattr(kmod, "__file__", None)
-            if kfile:
-                with open(kfile, "rb") as fh:
-                    fp.update(fh.read())
-        self.source = f"# kernels fingerprint: {fp.hexdigest()[:16]}\n" + self.source
+        # numba's cache does not follow callees: the package's own kernels are covered by the code key
+        # of the cache folder (oceangnc.core.caches); a user's kernels by the key of their package
+        self.source = f"# kernels fingerprint: {kernels_key(imports)}\n" + self.source
         from .integrators import load_generated
 
         digest = hashlib.sha1(self.source.encode()).hexdigest()[:16]

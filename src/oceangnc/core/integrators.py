@@ -140,13 +140,13 @@ def advance(t, x, u, p, dt, n, work, bound):
 def stepper_cache_dir() -> Path:
     """Folder of the generated per-rhs stepper modules (and their numba cache).
 
-    ``$OCEANGNC_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/oceangnc`` (default ``~/.cache/oceangnc``),
-    plus a ``steppers-<version>`` subfolder; it lives outside the installed package, so a reinstall of
-    the same version keeps it.
+    ``<cache root>/steppers-<version>-<code key>`` (:mod:`oceangnc.core.caches`): keyed by the content
+    of every source file of the package, so a generated module never calls an old kernel; outside the
+    installed package, so a reinstall of the same files keeps it.
     """
-    from ..cachedir import versioned
+    from .caches import ensure
 
-    return versioned("steppers")
+    return ensure("steppers")
 
 
 def _fingerprint(mod) -> str:

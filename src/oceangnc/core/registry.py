@@ -13,6 +13,7 @@ the registered kinds of that family.
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import importlib.util
 import sys
@@ -23,6 +24,7 @@ from typing import Any, ClassVar
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from ..errors import ConfigError, InputError
+from .caches import add_sources, package_root, user_code
 
 #: modules whose blocks register themselves on import (the built-in kinds)
 BUILTIN_MODULES = (
@@ -76,6 +78,16 @@ def register_block(kind: str):
     return deco
 
 
+def _add_package_sources(module: str) -> None:
+    """Make the top-level package of ``module`` part of the compiled-code key before it is imported
+    (:func:`oceangnc.core.caches.add_sources`): an edit of any of its files recompiles its kernels."""
+    spec = importlib.util.find_spec(module.split(".")[0])
+    if spec is None:
+        return
+    roots = list(spec.submodule_search_locations or ()) or ([spec.origin] if spec.origin else [])
+    add_sources(roots[:1])
+
+
 def _load_entry_points() -> None:
     """Import the built-in block modules and every ``oceangnc.blocks`` entry point (once)."""
     global _ENTRY_POINTS_LOADED
@@ -92,7 +104,9 @@ def _load_entry_points() -> None:
 
     for ep in entry_points(group="oceangnc.blocks"):
         try:
-            ep.load()
+            _add_package_sources(ep.module)
+            with user_code():
+                ep.load()
         except Exception as exc:  # a user's package: report, don't trace back
             raise InputError(
                 f"entry point {ep.name} = {ep.value} (group oceangnc.blocks): {type(exc).__name__}: {exc}"
@@ -147,14 +161,18 @@ def load_plugin(path: str | Path) -> None:
     p = Path(path)
     if not p.is_file():
         raise InputError(f"--plugin: file not found: {p}")
-    name = f"oceangnc_plugin_{abs(hash(str(p.resolve())))}"
+    _load_entry_points()  # the built-in blocks first: their compiled functions keep the package's key
+    add_sources([package_root(p)])  # its compiled functions cache under a key of its package's content
+    # a stable name (str hashes change per process): generated drivers import its kernels by name
+    name = f"oceangnc_plugin_{hashlib.blake2b(str(p.resolve()).encode(), digest_size=6).hexdigest()}"
     spec = importlib.util.spec_from_file_location(name, p)
     if spec is None or spec.loader is None:
         raise InputError(f"--plugin: cannot import {p} (not a Python file?)")
     mod = importlib.util.module_from_spec(spec)
     sys.modules[name] = mod
     try:
-        spec.loader.exec_module(mod)
+        with user_code():
+            spec.loader.exec_module(mod)
     except Exception as exc:  # a user's file: report, don't trace back
         raise InputError(f"--plugin {p}: {type(exc).__name__}: {exc}") from exc
 

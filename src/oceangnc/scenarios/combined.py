@@ -37,10 +37,10 @@ from pydantic import Field, field_validator
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.backstepping import BacksteppingConfig
 from ..control.uuv_control import UUVPIDConfig
+from ..core.caches import cached
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
-from ..derived import cached
 from ..environment import EnvironmentConfig
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
@@ -182,7 +182,7 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
     """
     top = 2.0 * cfg.usv.max_thrust_kgf * KGF / cfg.usv.d11
     speed = min(cfg.control.surge_speed, top)
-    # trimming the models once per machine and inputs (oceangnc.derived: no model code loaded at start-up)
+    # trimming the models once per machine and inputs (oceangnc.core.caches.cached: no model code loaded at start-up)
     key = [cfg.usv.model_dump(mode="json"), cfg.uuv.model_dump(mode="json"), speed]
     # Newton with a finite-difference Jacobian: the same roots to the last digit or two (1e-16 relative),
     # without compiling the models in complex arithmetic for the complex step (~9 s of a first run)
@@ -193,7 +193,6 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
             usv_min_turning_radius(cfg.usv, jacobian="finite-difference"),
             uuv_turning_radius_at(cfg.uuv, speed, jacobian="finite-difference"),
         ],
-        ("models", "guidance", "core"),
     )
     if cfg.guidance.look_ahead is not None:
         return cfg.guidance.look_ahead, r_usv, r_uuv

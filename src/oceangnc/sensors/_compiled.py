@@ -12,8 +12,7 @@ import math
 from numba import njit
 
 from ..core.rotations import wrap
-from .depth import voltage
-from .filters import angle_lowpass_step, gauss_markov, lowpass_step
+from .filters import angle_lowpass_step, gauss_markov
 from .usbl import usbl_fix, usbl_geometry
 
 
@@ -147,27 +146,6 @@ def usbl_step(t, sig, sl, st, pa, rng):
             sig[sl[6 + i]] = st[2 + i]
     sig[sl[12]] = 1.0 if valid else 0.0
     sig[sl[13]] = st[0]
-
-
-@njit(cache=True)
-def depth_step(t, sig, sl, st, pa, rng):
-    """:class:`oceangnc.sensors.depth.DepthSensor` (003 ch. 6.1.3): reading, calibration, low-pass.
-
-    slots: body.z | depth.volt, depth.z_raw, depth.z. state: low-pass y, has_y. params: offset,
-    gain, noise (V), c1, c0, low-pass a (then the converter's constants, unused: the reading is
-    :func:`oceangnc.sensors.depth.voltage`).
-    """
-    z_true = sig[sl[0]]
-    v = voltage(z_true, pa[0], pa[1], pa[2] * rng.standard_normal())
-    z = pa[3] * v + pa[4]
-    if st[1] == 0.0:
-        st[0] = z
-        st[1] = 1.0
-    else:
-        st[0] = lowpass_step(st[0], pa[5], z)
-    sig[sl[1]] = v
-    sig[sl[2]] = z
-    sig[sl[3]] = st[0]
 
 
 @njit(cache=True)

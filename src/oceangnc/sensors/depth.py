@@ -18,11 +18,11 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..io.config import StrictModel
 from ..units import RHO_WATER, G
-from .filters import LowPass
+from .filters import lowpass_coefficient, lowpass_step
 
 FULL_SCALE_PA = 10e5  #: 10 bar
 FULL_SCALE_V = 5.0
@@ -57,67 +57,63 @@ def voltage(z, offset, gain, noise):
     return np.rint(v / ADC_LSB) * ADC_LSB
 
 
+SIGNALS = Signals(z=In("m"), volt=Out("V"), z_raw=Out("m"), z_out=Out("m"))
+PARAMS = Layout("offset", "gain", "noise_v", "c1", "c0", "a")
+STATE = Layout("y", "has_y")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+
+
+@njit(cache=True)
+def depth_law(t, sig, sl, st, pa, rng):
+    """One sample (003 ch. 6.1.3): a reading (V) of the true depth ``z`` (m) with the unit's offset,
+    gain and white noise (:func:`voltage`), the first-order calibration z = c1 V + c0, and the
+    first-order low-pass of the calibrated depth (the first sample initialises it)."""
+    v = voltage(sig[sl[S.z]], pa[P.offset], pa[P.gain], pa[P.noise_v] * rng.standard_normal())
+    z = pa[P.c1] * v + pa[P.c0]
+    if st[X.has_y] == 0.0:
+        st[X.y] = z
+        st[X.has_y] = 1.0
+    else:
+        st[X.y] = lowpass_step(st[X.y], pa[P.a], z)
+    sig[sl[S.volt]] = v
+    sig[sl[S.z_raw]] = z
+    sig[sl[S.z_out]] = st[X.y]
+
+
 @register_block("sensor.depth")
-class DepthSensor(Block):
-    """Depth sensor on body ``body`` (module docstring)."""
+class DepthSensor(LawBlock):
+    """Depth sensor on body ``body`` (module docstring): reads ``<body>.z`` (m), writes ``depth.volt``
+    (V), ``depth.z_raw`` and ``depth.z`` (m); law :func:`depth_law`."""
 
     role = "sensor"
-
     name = "depth"
+    law = staticmethod(depth_law)
+    signals = SIGNALS
+    draws = True
 
     def __init__(self, cfg: DepthSensorConfig, body: str = "uuv"):
         self.cfg = cfg
         self.body = body
         self.period = 1.0 / cfg.rate
-        self.inputs = {f"{body}.z": "m"}
-        self.outputs = {"depth.volt": "V", "depth.z_raw": "m", "depth.z": "m"}
+        self.bind(z=f"{body}.z", volt="depth.volt", z_raw="depth.z_raw", z_out="depth.z")
+        self.st = STATE.pack(y=0.0, has_y=0.0)
+        self.pa = PARAMS.pack(offset=0.0, gain=1.0, noise_v=cfg.noise_v, c1=1.0, c0=0.0, a=1.0)
 
     def reset(self, rng) -> None:
+        """Draw the unit's offset and gain errors, calibrate it (003 ch. 6.1.3), clear the filter."""
         c = self.cfg
         self.rng = rng
         e = c.accuracy_fs * FULL_SCALE_V
-        self.offset = rng.uniform(-e, e)
-        self.gain = 1.0 + rng.uniform(-c.accuracy_fs, c.accuracy_fs)
-        self.c1, self.c0 = calibrate(self, c.calibration_depths, c.calibration_samples)
-        self.lp = LowPass(c.cutoff_hz, self.period)
+        self.pa[P.offset] = rng.uniform(-e, e)
+        self.pa[P.gain] = 1.0 + rng.uniform(-c.accuracy_fs, c.accuracy_fs)
+        self.pa[P.c1], self.pa[P.c0] = calibrate(self, c.calibration_depths, c.calibration_samples)
+        self.pa[P.a] = lowpass_coefficient(c.cutoff_hz, self.period)
+        self.st[:] = 0.0
 
     def read_voltage(self, z: float) -> float:
         """One reading (V) at true depth z (m): offset, gain, noise, 12-bit quantisation, 0-5 V clip."""
-        return float(voltage(z, self.offset, self.gain, self.cfg.noise_v * self.rng.standard_normal()))
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.depth_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import depth_step
-
-        c = self.cfg
-        y = self.lp.y
-        pa = np.array(
-            [
-                self.offset,
-                self.gain,
-                c.noise_v,
-                self.c1,
-                self.c0,
-                self.lp.a,
-                FULL_SCALE_V,
-                ADC_LSB,
-                RHO_WATER,
-                G,
-                FULL_SCALE_PA,
-            ]
-        )
-        st = np.array([y if y is not None else 0.0, 0.0 if y is None else 1.0])
-        return CompiledBlock(
-            depth_step, [f"{self.body}.z", "depth.volt", "depth.z_raw", "depth.z"], st, pa, rng=self.rng
-        )
-
-    def step(self, t: float, bus: dict) -> None:
-        v = self.read_voltage(bus[f"{self.body}.z"])
-        z = self.c1 * v + self.c0
-        bus["depth.volt"] = v
-        bus["depth.z_raw"] = z
-        bus["depth.z"] = self.lp(z)
+        pa = self.pa
+        return float(voltage(z, pa[P.offset], pa[P.gain], pa[P.noise_v] * self.rng.standard_normal()))
 
 
 def calibrate(sensor: DepthSensor, depths, samples: int = 200):

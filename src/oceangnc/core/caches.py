@@ -1,0 +1,319 @@
+"""Every cache of oceangnc, and the key that keeps them from going stale (issue 25).
+
+oceangnc keeps three things on disk so that a second run starts at once: numba's machine code of
+the package's ``@njit(cache=True)`` functions, the generated steppers and fused-loop drivers
+(:func:`oceangnc.core.integrators.load_generated`), and values derived from the models by a
+numerical search (:func:`cached`). All of them live under one **code key**, a hash of the *content*
+of every ``.py`` file of the package::
+
+    <root>/numba-<version>-<key>/        numba's caches (NUMBA_CACHE_DIR of the process)
+    <root>/steppers-<version>-<key>/     generated modules and their numba caches
+    <root>/derived-<version>-<key>/      derived values (JSON)
+
+numba keys a cached function on its *own* source file only, so a kernel that calls a law in another
+file would keep the old law after that file is edited (the mixed result of issue 25). Here any edit
+of any source file gives a new key, hence new, empty folders: a compiled function can never run
+with an old callee. A reinstall of the same files (new mtimes, same content) keeps the key and every
+cache. Old key folders are pruned (:func:`prune`, the newest :data:`KEEP` of each kind stay).
+
+A user's compiled code (a ``--plugin`` file, an ``oceangnc.blocks`` entry point) is keyed by the
+package *and* its own package's files (:func:`add_sources`, :func:`user_code`): numba caches the
+functions decorated while it is imported under ``numba-<version>-<combined key>``, so an edit of
+any file of the user's package recompiles them (and not oceangnc); the generated fused driver names
+the fingerprint of the user kernels it calls in its source (:func:`oceangnc.core.fused.kernels_key`).
+
+The root is ``$OCEANGNC_CACHE_DIR``, else ``$XDG_CACHE_HOME/oceangnc`` (default
+``~/.cache/oceangnc``); a ``NUMBA_CACHE_DIR`` set by the user is the base of the numba folder
+instead. The key of a tree is computed from the files' content once and remembered under
+``<root>/keys/`` against the files' (name, mtime, size) list, so a process pays a few ``stat`` calls
+(about 1 ms), not a read of 1.2 MB.
+
+Nothing here imports numba at module level (``import oceangnc`` must stay light); the process's
+numba folder is set through numba's own ``NUMBA_CACHE_DIR`` setting (:func:`configure_numba`), with
+no change to numba's code.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import hashlib
+import json
+import os
+import shutil
+import sys
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from .._version import __version__
+
+#: key folders kept per kind (numba, steppers, derived); older ones are deleted by :func:`prune`
+KEEP = 4
+
+_PKG = Path(__file__).resolve().parents[1]  # the oceangnc package folder
+_EXTRA: dict[str, str] = {}  # plugin source path -> its key (add_sources)
+
+
+def cache_root() -> Path:
+    """``$OCEANGNC_CACHE_DIR``, else ``$XDG_CACHE_HOME/oceangnc`` (default ``~/.cache/oceangnc``)."""
+    root = os.environ.get("OCEANGNC_CACHE_DIR")
+    if not root:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        root = os.path.join(base, "oceangnc")
+    return Path(root)
+
+
+def _py_files(path: Path) -> list[Path]:
+    if path.is_file():
+        return [path]
+    out: list[Path] = []
+    for dirpath, dirnames, filenames in os.walk(path):
+        dirnames[:] = sorted(d for d in dirnames if d != "__pycache__" and not d.startswith("."))
+        out.extend(Path(dirpath) / f for f in sorted(filenames) if f.endswith(".py"))
+    return out
+
+
+def _write_atomic(path: Path, data: str) -> None:
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        tmp.write_text(data)
+        os.replace(tmp, path)  # concurrent processes never read half a file
+    except OSError:
+        pass  # a read-only cache folder: computed again next time
+
+
+def tree_key(path: Path) -> str:
+    """Hash (16 hex digits) of the names and contents of the ``.py`` files of a folder (or of one file).
+
+    Remembered against the files' (name, mtime, size) list in ``<root>/keys/``: an unchanged tree costs
+    one ``stat`` per file; a touched but unchanged tree (a reinstall) gets the same key back.
+    """
+    path = Path(path).resolve()
+    files = _py_files(path)
+    stats = hashlib.blake2b(str(path).encode(), digest_size=10)
+    for f in files:
+        try:
+            st = f.stat()
+        except OSError:
+            continue
+        stats.update(f"{f.relative_to(path.parent)}\0{st.st_mtime_ns}\0{st.st_size}\n".encode())
+    memo = cache_root() / "keys" / stats.hexdigest()
+    try:
+        key = memo.read_text()
+        if len(key) == 16:
+            return key
+    except OSError:
+        pass
+    h = hashlib.blake2b(digest_size=8)
+    for f in files:
+        try:
+            data = f.read_bytes()
+        except OSError:
+            continue
+        h.update(str(f.relative_to(path.parent if path.is_file() else path)).encode() + b"\0")
+        h.update(hashlib.blake2b(data, digest_size=16).digest())
+    key = h.hexdigest()
+    _write_atomic(memo, key)
+    return key
+
+
+@functools.cache
+def package_key() -> str:
+    """The code key of the oceangnc package's own sources (once per process)."""
+    return tree_key(_PKG)
+
+
+def code_key() -> str:
+    """The key of the package with the user sources added so far (:func:`add_sources`)."""
+    if not _EXTRA:
+        return package_key()
+    h = hashlib.blake2b(package_key().encode(), digest_size=8)
+    for p in sorted(_EXTRA):
+        h.update(f"{p}\0{_EXTRA[p]}".encode())
+    return h.hexdigest()
+
+
+def keyed(kind: str) -> Path:
+    """``<root>/<kind>-<version>-<package key>``: the folder of one kind of cache for this code."""
+    return cache_root() / f"{kind}-{__version__}-{package_key()}"
+
+
+def _numba_base() -> str:
+    """The user's ``NUMBA_CACHE_DIR`` (not one this module set), else the base remembered from the
+    parent process, else "" (the cache root)."""
+    cur = os.environ.get("NUMBA_CACHE_DIR")
+    if cur and cur != os.environ.get("OCEANGNC_NUMBA_SET"):
+        return cur
+    return os.environ.get("OCEANGNC_NUMBA_BASE", "")
+
+
+def numba_dir(key: str | None = None) -> Path:
+    """numba's cache folder for code of this key (default: the package's): under the user's
+    ``NUMBA_CACHE_DIR`` if set, else the cache root."""
+    key = key or package_key()
+    base = _numba_base()
+    return Path(base) / f"oceangnc-{__version__}-{key}" if base else cache_root() / f"numba-{__version__}-{key}"
+
+
+def configure_numba(key: str | None = None) -> None:
+    """Point numba's cache folder (``NUMBA_CACHE_DIR``) at :func:`numba_dir` of ``key``.
+
+    Called by ``import oceangnc``, before numba is imported, for the package's key; numba reads
+    the folder when a function is decorated, so each function caches under the key of the code
+    that was current then (:func:`user_code`). If numba is loaded its configuration is re-read.
+    Child processes inherit the setting and the user's base (``OCEANGNC_NUMBA_BASE``); a
+    ``NUMBA_CACHE_DIR`` the user sets for a child wins.
+    """
+    base = _numba_base()
+    target = str(numba_dir(key))
+    os.environ["OCEANGNC_NUMBA_BASE"] = base
+    os.environ["OCEANGNC_NUMBA_SET"] = target
+    if os.environ.get("NUMBA_CACHE_DIR") == target:
+        return
+    os.environ["NUMBA_CACHE_DIR"] = target
+    cfg = sys.modules.get("numba.core.config")
+    if cfg is not None:
+        cfg.reload_config()
+
+
+def package_root(path: str | Path) -> Path:
+    """The top-level package folder a source file belongs to (parents with ``__init__.py``), else the file."""
+    path = Path(path).resolve()
+    top, d = path, path.parent
+    while (d / "__init__.py").is_file():
+        top, d = d, d.parent
+    return top
+
+
+def add_sources(paths: Iterable[str | Path]) -> None:
+    """Make user code (a plugin file, a package folder) part of the key of :func:`user_code`."""
+    for p in paths:
+        rp = str(Path(p).resolve())
+        _EXTRA[rp] = tree_key(Path(rp))
+
+
+@contextlib.contextmanager
+def user_code():
+    """Within the block, compiled functions being decorated (a plugin's, while it is imported)
+    cache under the key of the package *and* the user sources (:func:`add_sources`): an edit of any
+    file of the user's package, or of oceangnc, recompiles them. The package's own functions keep
+    the package key, so a plugin's edit does not recompile oceangnc."""
+    if not _EXTRA:
+        yield
+        return
+    configure_numba(code_key())
+    try:
+        yield
+    finally:
+        configure_numba(package_key())
+
+
+def prune(keep: int = KEEP) -> list[Path]:
+    """Delete all but the ``keep`` most recently used key folders of each kind; returns those deleted.
+
+    The folders of the current key are never deleted. Called when a new key folder is created."""
+    root = cache_root()
+    current = {keyed(k).name for k in ("numba", "steppers", "derived")}
+    removed: list[Path] = []
+    try:
+        entries = [p for p in root.iterdir() if p.is_dir() and p.name.count("-") >= 2]
+    except OSError:
+        return removed
+    by_kind: dict[str, list[Path]] = {}
+    for p in entries:
+        by_kind.setdefault(p.name.split("-", 1)[0], []).append(p)
+    for group in by_kind.values():
+        group.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+        for p in group[keep:]:
+            if p.name not in current:
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+    return removed
+
+
+def ensure(kind: str) -> Path:
+    """:func:`keyed` folder of ``kind``, created (and the old keys pruned) if it is new."""
+    d = keyed(kind)
+    if not d.is_dir():
+        d.mkdir(parents=True, exist_ok=True)
+        prune()
+    return d
+
+
+# -- derived values -----------------------------------------------------------------------------------
+
+
+def cached(name: str, key, compute: Callable[[], list]) -> list:
+    """``compute()`` (a list of floats) for these inputs, from ``derived-<version>-<code key>`` if known.
+
+    Values derived from a model by a numerical search (the flagship's turning radii, by trimming
+    the vehicle models) are computed once per machine and code: ``key`` is any JSON-serialisable
+    description of the inputs; the code key covers the sources. The floats round-trip exactly (JSON
+    keeps the shortest repr), so a run from the stored value is bit-identical to one that computes
+    it. An unreadable or unwritable cache just computes the value.
+    """
+    blob = json.dumps(key, sort_keys=True, default=str)
+    path = keyed("derived") / f"{name}-{hashlib.sha256(blob.encode()).hexdigest()[:20]}.json"
+    try:
+        return list(json.loads(path.read_text()))
+    except (OSError, ValueError):
+        pass
+    value = list(compute())
+    try:
+        ensure("derived")
+    except OSError:
+        return value
+    _write_atomic(path, json.dumps(value))
+    return value
+
+
+# -- loading cached machine code ------------------------------------------------------------------------
+
+#: blake2b of the source of numba's ``Cache.load_overload`` that :func:`lean_loads` was written for;
+#: any other numba keeps its own loading (tests/test_caches.py fails when numba changes it)
+LOAD_OVERLOAD_SOURCE = "5ef13fb2a4017d1a"  # numba 0.68
+
+
+def _load_overload_source_hash() -> str:
+    import inspect
+
+    from numba.core import caching
+
+    src = inspect.getsource(caching.Cache.load_overload)
+    return hashlib.blake2b(src.encode(), digest_size=8).hexdigest()
+
+
+def _lean_load_overload(self, sig, target_context):
+    from numba.core.runtime import rtsys
+
+    rtsys.initialize(target_context)  # what a cached function needs of the target's refresh: the runtime
+    with self._guard_against_spurious_io_errors():
+        return self._load_overload(sig, target_context)
+
+
+class lean_loads:  # noqa: N801  (used as a context manager, like contextlib's)
+    """Within the block, numba loads cached functions without refreshing its target context.
+
+    numba's ``Cache.load_overload`` refreshes the target context before a load, which imports and
+    installs every implementation numba has (0.4-0.9 s of a run's start-up); machine code loaded
+    from the cache needs only the runtime. Used by ``oceangnc run`` around the run. Only for the
+    numba whose ``load_overload`` source hash is :data:`LOAD_OVERLOAD_SOURCE`: any other keeps its
+    own loading, so a numba upgrade cannot break a run.
+    """
+
+    def __enter__(self):
+        from numba.core import caching
+
+        self._orig = None
+        if _load_overload_source_hash() == LOAD_OVERLOAD_SOURCE:
+            self._orig = caching.Cache.load_overload
+            caching.Cache.load_overload = _lean_load_overload
+        return self
+
+    def __exit__(self, *exc):
+        if self._orig is not None:
+            from numba.core import caching
+
+            caching.Cache.load_overload = self._orig
+        return False

@@ -1,0 +1,201 @@
+"""Caches that cannot go stale (issue 25): every compiled function, generated driver and derived value
+is cached under a key of the content of every source file it may call (oceangnc.core.caches)."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pyarrow.parquet as pq
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+MYLAW = Path(__file__).resolve().parent / "data" / "mylaw"
+
+PROBE = (
+    "import json, oceangnc\n"
+    "from oceangnc.sensors.filters import angle_lowpass_step as f\n"
+    "v = f(0.0, 0.5, 3.0)\n"
+    "s = f.stats\n"
+    "print(json.dumps([oceangnc.__file__, sum(s.cache_hits.values()), sum(s.cache_misses.values()), v,\n"
+    "                  f._cache.cache_path]))\n"
+)
+
+
+def _install(site: Path) -> None:
+    """A non-editable install of the package's files: a fresh copy (new mtimes, no __pycache__)."""
+    shutil.rmtree(site / "oceangnc", ignore_errors=True)
+    shutil.copytree(SRC / "oceangnc", site / "oceangnc", ignore=shutil.ignore_patterns("__pycache__"))
+
+
+def _env(**kw) -> dict:
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_CACHE_DIR", "OCEANGNC_NUMBA"))}
+    env.update(kw)
+    return env
+
+
+def _probe(site: Path, cache: Path, code: str = PROBE):
+    env = _env(PYTHONPATH=str(site), OCEANGNC_CACHE_DIR=str(cache))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300, cwd=site)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def test_a_reinstall_keeps_the_cache_and_an_edit_of_a_callee_in_another_file_recompiles(tmp_path):
+    """``angle_lowpass_step`` (sensors/filters.py) calls ``wrap`` (core/rotations.py): numba alone
+    would keep the caller's machine code after an edit of the callee's file."""
+    site, cache = tmp_path / "site", tmp_path / "cache"
+    site.mkdir()
+    _install(site)
+    f0, hits0, miss0, v0, path0 = _probe(site, cache)
+    assert f0.startswith(str(site))  # the copy is what runs
+    assert (hits0, miss0) == (0, 1)  # empty cache: compiled
+    assert Path(path0).is_relative_to(cache) and Path(path0).parts[len(cache.parts)].startswith("numba-0.1.0-")
+    _install(site)  # reinstall of the same files: new mtimes, same content, same key
+    _, hits1, miss1, v1, path1 = _probe(site, cache)
+    assert (hits1, miss1) == (1, 0) and v1 == v0 and path1 == path0
+    # the callee's file is edited: wrap now returns its argument doubled
+    rot = site / "oceangnc" / "core" / "rotations.py"
+    src = rot.read_text()
+    rot.write_text(src + "\n\n@njit(cache=True)\ndef wrap(a):\n    return 2.0 * a\n")
+    _, hits2, miss2, v2, path2 = _probe(site, cache)
+    assert (hits2, miss2) == (0, 1) and path2 != path0  # a new key: compiled with the new callee
+    assert v0 == 1.5 and v2 == 6.0  # wrap(0 + 0.5 wrap(3)) before, 2 (0 + 0.5 * 2 * 3) after
+    rot.write_text(src)  # undone: the old key, the old machine code, the old value
+    _, hits3, miss3, v3, path3 = _probe(site, cache)
+    assert (hits3, miss3) == (1, 0) and v3 == v0 and path3 == path0
+
+
+def test_a_numba_cache_dir_of_the_user_is_the_base(tmp_path):
+    code = (
+        "import json, oceangnc\nfrom oceangnc.core.rotations import wrap\nprint(json.dumps(wrap._cache.cache_path))\n"
+    )
+    env = _env(PYTHONPATH=str(SRC), NUMBA_CACHE_DIR=str(tmp_path / "nb"))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stderr
+    path = Path(json.loads(r.stdout.strip().splitlines()[-1]))
+    assert path.is_relative_to(tmp_path / "nb") and path.parts[len((tmp_path / "nb").parts)].startswith("oceangnc-")
+
+
+def _run_plugin(pkg: Path, out: Path, gain: float) -> None:
+    gains = pkg / "mylaw" / "gains.py"
+    gains.write_text(
+        gains.read_text().replace("return 20.0", f"return {gain}").replace("return 35.0", f"return {gain}")
+    )
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(pkg), str(SRC), os.environ.get("PYTHONPATH", "")]))
+    args = [
+        "run",
+        "combined-survey",
+        "--plugin",
+        str(pkg / "mylaw" / "blocks.py"),
+        "--set",
+        "control.uuv.kind=mylaw.hold",
+    ]
+    args += ["--duration", "3", "--no-plots", "--verbose", "--out", str(out)]
+    r = subprocess.run([sys.executable, "-m", "oceangnc", *args], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert "fused compiled loop" in r.stderr + r.stdout  # the fused driver ran (the path that could go stale)
+    t = pq.read_table(out / "log.parquet").to_pydict()
+    law = [gain * e for e in t["lf.e_x"]]
+    assert max(abs(a - b) for a, b in zip(t["uuv.thrust_port_cmd"], law)) == 0.0
+    assert max(abs(e) for e in t["lf.e_x"]) > 0.1  # the law was exercised
+
+
+def test_an_edited_user_law_runs_its_new_version_with_the_same_cache_folder(tmp_path):
+    """A user's controller (tests/data/mylaw: its compiled law calls a gain in another file of its
+    package) is run, the gain's file edited, run again with the same cache folder: the log shows the
+    new law; the edit undone, the old law again (issue 25's stale-cache defect)."""
+    pkg = tmp_path / "pkg"
+    shutil.copytree(MYLAW, pkg / "mylaw", ignore=shutil.ignore_patterns("__pycache__"))
+    _run_plugin(pkg, tmp_path / "r20", 20.0)
+    _run_plugin(pkg, tmp_path / "r35", 35.0)
+    _run_plugin(pkg, tmp_path / "r20b", 20.0)
+
+
+def test_the_numba_loading_patch_is_for_this_numba_only():
+    """``lean_loads`` replaces numba's ``Cache.load_overload`` only when its source is the one it was
+    written for (saves ~0.3 s of a cached flagship run, benchmarks/RESULTS.md): fails when numba changes it."""
+    from oceangnc.core import caches
+
+    assert caches._load_overload_source_hash() == caches.LOAD_OVERLOAD_SOURCE
+    from numba.core import caching
+
+    orig = caching.Cache.load_overload
+    with caches.lean_loads():
+        assert caching.Cache.load_overload is caches._lean_load_overload
+    assert caching.Cache.load_overload is orig
+
+
+def test_derived_values_are_computed_once_per_code_key(tmp_path, monkeypatch):
+    from oceangnc.core import caches
+
+    monkeypatch.setenv("OCEANGNC_CACHE_DIR", str(tmp_path))
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return [0.1 + 0.2, 1.0 / 3.0]
+
+    a = caches.cached("x", {"speed": 0.6}, compute)
+    b = caches.cached("x", {"speed": 0.6}, compute)
+    assert a == b == [0.1 + 0.2, 1.0 / 3.0] and len(calls) == 1  # exact floats from the disk
+    caches.cached("x", {"speed": 0.7}, compute)
+    assert len(calls) == 2  # other inputs: computed
+    monkeypatch.setattr(caches, "package_key", lambda: "0123456789abcdef")
+    caches.cached("x", {"speed": 0.6}, compute)
+    assert len(calls) == 3  # other code: computed
+
+
+def test_old_key_folders_are_pruned(tmp_path, monkeypatch):
+    from oceangnc.core import caches
+
+    monkeypatch.setenv("OCEANGNC_CACHE_DIR", str(tmp_path))
+    for i in range(caches.KEEP + 3):
+        d = tmp_path / f"steppers-0.1.0-{i:016x}"
+        d.mkdir()
+        os.utime(d, (1000 + i, 1000 + i))
+    caches.prune()
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == [f"steppers-0.1.0-{i:016x}" for i in range(3, caches.KEEP + 3)]
+
+
+def test_cli_run_loads_lean_and_gives_the_same_log_as_the_api(tmp_path):
+    """``oceangnc run`` loads cached kernels without numba's full refresh (no numba.np.arraymath, no
+    SciPy, no pandas in the process) and its log is bit-identical to an API run's."""
+    import oceangnc
+
+    api = oceangnc.run("combined-survey", duration=3, out=tmp_path / "api", plots=False)
+    code = (
+        "import sys, json\n"
+        "from oceangnc.cli import main\n"
+        f"rc = main(['run', 'combined-survey', '--duration', '3', '--quiet', '--no-plots', '--out', {str(tmp_path / 'cli')!r}])\n"  # noqa: E501
+        "print(json.dumps([rc] + [m in sys.modules for m in ('numba.np.arraymath', 'scipy.linalg', 'pandas')]))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    rc, arraymath, scipy_linalg, pandas = json.loads(r.stdout.strip().splitlines()[-1])
+    assert rc == 0 and not arraymath and not scipy_linalg and not pandas
+    cli = pq.read_table(tmp_path / "cli" / "log.parquet")
+    assert cli.column_names == api.log.column_names
+    assert cli.equals(api.log)
+
+
+def test_fast_exit_keeps_every_output(tmp_path):
+    """``oceangnc run`` ends without the interpreter's teardown: its output (a pipe here) is flushed,
+    the exit code kept, and an atexit handler of the process still runs."""
+    code = (
+        "import atexit, sys\n"
+        f"atexit.register(lambda: open({str(tmp_path / 'atexit')!r}, 'w').write('ran'))\n"
+        "from oceangnc.cli import main\n"
+        "sys.exit(main())\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    args = ["run", "usv-turn", "--duration", "1", "--quiet", "--no-plots", "--json", "--out", str(tmp_path / "r")]
+    r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout.strip().splitlines()[-1])["status"] == "ok"
+    assert (tmp_path / "atexit").read_text() == "ran"
