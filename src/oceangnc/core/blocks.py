@@ -30,8 +30,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numba import njit
 
 from ..errors import DivergenceError
+from .fused import CompiledBlock, PlantForm, _kernel_ref, advance_and_publish, rk4_stepper_imports
 from .integrators import rk4_stepper, rk4_workspace
 
 
@@ -253,6 +255,20 @@ class Plant:
         for k, v in zip(self.state_names, self.x):
             bus[f"{self.name}.{k}"] = float(v)
 
+    def compiled_form(self, slot_of) -> PlantForm | None:
+        """The plant's part of the fused loop (:class:`~oceangnc.core.fused.PlantForm`).
+
+        Default: the disk-cached RK4 stepper of ``rhs`` and every state published. A subclass with
+        its own integration or outputs returns its own form from its own module (or None: the
+        simulation then runs on the Python clock, saying why)."""
+        if type(self).advance is not Plant.advance or type(self).publish is not Plant.publish:
+            return None
+        mod, name = _kernel_ref(self.rhs)
+        if mod is None or name is None or "<" in name:
+            return None
+        names = [f"{self.name}.{k}" for k in self.state_names]
+        return advance_and_publish(self, slot_of, rk4_stepper_imports(self.rhs), names, states_publish)
+
 
 class ConstantBlock(Block):
     """A block writing constant values ``{signal: value}`` every period (open-loop commands, set points).
@@ -273,8 +289,25 @@ class ConstantBlock(Block):
         bus.update(self.values)
 
     def compiled(self):
-        """Compiled form: :func:`oceangnc.models._compiled.constant_step`."""
-        from ..models._compiled import constant_step
-        from .fused import CompiledBlock
-
+        """Compiled form: :func:`constant_step`, the same constants."""
         return CompiledBlock(constant_step, list(self.values), params=np.array(list(self.values.values())))
+
+
+@njit(cache=True)
+def constant_step(t, sig, sl, st, pa):
+    """A block writing constants: ``sig[sl[i]] = pa[i]``."""
+    for i in range(sl.size):
+        sig[sl[i]] = pa[i]
+
+
+@njit(cache=True)
+def scatter(out, sig, slots):
+    """``sig[slots[i]] = out[i]``."""
+    for i in range(slots.size):
+        sig[slots[i]] = out[i]
+
+
+@njit(cache=True)
+def states_publish(x, sig, slots):
+    """:meth:`Plant.publish` in the fused loop: every state (one slot per state)."""
+    scatter(x, sig, slots)

@@ -92,17 +92,6 @@ def rk4_stepper_imports(rhs) -> list[str]:
     ]
 
 
-def combined_advance_imports(plant) -> list[str]:
-    """Generated-code lines binding ``{adv}`` to the combined plant's compiled advance for its
-    integrator: the IMEX or split-RK4 stepper, or the RK4 stepper of its rhs."""
-    if plant.integrator in ("imex", "rk4-split"):
-        from ..models.combined import imex_advance, split_advance
-
-        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
-        return [f"from {mod} import {name} as {{adv}}"]
-    return rk4_stepper_imports(plant.rhs)
-
-
 def kernels_key(import_lines) -> str:
     """Hash of the user code the generated import lines name: the key of the registered user sources
     (:func:`oceangnc.core.caches.code_key`) and, for each module outside oceangnc, its whole top-level
@@ -124,80 +113,31 @@ def plant_bus_keys(slot_of) -> set:
 
 
 def plant_form(plant, slot_of) -> PlantForm | None:
-    """The compiled form of a plant, or None. ``slot_of(name)`` gives a signal's slot."""
+    """The compiled form of a plant (its ``compiled_form(slot_of)``), or None.
+
+    Every plant supplies its own (:meth:`oceangnc.core.blocks.Plant.compiled_form` for the generic
+    RK4 plant that publishes its states; a vehicle model with its own integrator or outputs overrides
+    it in its own module): the fused loop knows no vehicle. ``slot_of(name)`` gives a signal's slot.
+    """
     own = getattr(plant, "compiled_form", None)
-    if own is not None:
-        return own(slot_of)
-    from .blocks import Plant
+    return own(slot_of) if own is not None else None
 
-    if type(plant).__name__ == "CombinedPlant" and getattr(plant, "_var", False):  # winch / seabed
-        from ..models._combined_var_form import var_plant_form
 
-        return var_plant_form(plant, slot_of)
+def advance_and_publish(plant, slot_of, imports: list[str], names: list[str], publish) -> PlantForm:
+    """The usual plant form: read the inputs from their slots, advance with the stepper bound to
+    ``{adv}`` by ``imports``, then ``publish(x, sig, oslots)`` (a module-level compiled function,
+    imported by name; the plant's outputs in the order of ``names``)."""
+    mod, name = _kernel_ref(publish)
+    imports = [*imports, f"from {mod} import {name} as _pub_{{adv}}"]
     uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
     args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
-    read = ["for j in range({uin}.size):", "    {u}[j] = sig[{uin}[j]]"]
-    cls = type(plant).__name__
-    if cls == "CombinedPlant" and getattr(plant, "integrator", None) in ("rk4", "rk4-split", "imex"):
-        out = np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64)
-        args.update(
-            {"o_uuv": int(plant.o_uuv), "nodes": plant._nodes, "ends": plant._ends, "out": plant._out, "oslots": out}
-        )
-        imports = combined_advance_imports(plant)
-        imports.append("from oceangnc.models.combined import _fill_outputs")
-        code = [
-            *read,
-            "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
-            "{ends}[6] = {u}[2]",
-            "{ends}[7] = {u}[3]",
-            "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
-            "for j in range({oslots}.size):",
-            "    sig[{oslots}[j]] = {out}[j]",
-        ]
-        return PlantForm(imports, args, code)
-    if type(plant).advance is not Plant.advance:
-        return None  # a plant with its own integration scheme we do not know
-    rhs_mod, rhs_name = _kernel_ref(plant.rhs)
-    if rhs_mod is None or rhs_name is None or "<" in rhs_name:
-        return None
-    imports = rk4_stepper_imports(plant.rhs)
-    names = [f"{plant.name}.{k}" for k in plant.state_names]
-    if cls == "ShipPlant":
-        names += ["ship.speed", "ship.u_r", "ship.v_r"]
-        names = [
-            f"{plant.name}.{k}"
-            for k in (
-                "x",
-                "y",
-                "psi",
-                "u",
-                "v",
-                "r",
-                "rudder",
-                "rpm_prop",
-                "rpm_bow",
-                "rpm_stern",
-                "speed",
-                "u_r",
-                "v_r",
-            )
-        ]
-        imports.append("from oceangnc.models.ship_lowspeed import ship_publish as _pub_{adv}")
-        slots = [slot_of(k) for k in names] + [
-            slot_of(k) if k in plant_bus_keys(slot_of) else -1 for k in ("env.current_n", "env.current_e")
-        ]
-        args["oslots"] = np.array(slots, dtype=np.int64)
-        code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
-        return PlantForm(imports, args, code)
-    if cls == "USVPlant":
-        names += [f"{plant.name}.speed"]
-        imports.append("from oceangnc.models._compiled import usv_publish as _pub_{adv}")
-    elif type(plant).publish is Plant.publish:
-        imports.append("from oceangnc.models._compiled import states_publish as _pub_{adv}")
-    else:
-        return None
     args["oslots"] = np.array([slot_of(k) for k in names], dtype=np.int64)
-    code = [*read, "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})", "_pub_{adv}({x}, sig, {oslots})"]
+    code = [
+        "for j in range({uin}.size):",
+        "    {u}[j] = sig[{uin}[j]]",
+        "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+        "_pub_{adv}({x}, sig, {oslots})",
+    ]
     return PlantForm(imports, args, code)
 
 

@@ -12,7 +12,6 @@ import math
 
 from numba import njit
 
-from ..core.rotations import heading_speed
 
 
 @njit(cache=True)
@@ -46,30 +45,3 @@ def steady_wind_step(t, sig, sl, st, pa):
     sig[sl[1]] = speed * math.sin(to)
     sig[sl[2]] = speed
     sig[sl[3]] = pa[1]
-
-
-@njit(cache=True)
-def constant_step(t, sig, sl, st, pa):
-    """A block writing constants: ``sig[sl[i]] = pa[i]``."""
-    for i in range(sl.size):
-        sig[sl[i]] = pa[i]
-
-
-@njit(cache=True)
-def scatter(out, sig, slots):
-    """``sig[slots[i]] = out[i]``."""
-    for i in range(slots.size):
-        sig[slots[i]] = out[i]
-
-
-@njit(cache=True)
-def usv_publish(x, sig, slots):
-    """:meth:`oceangnc.models.usv.USVPlant.publish`: states, then psi wrapped to [-pi, pi) and speed."""
-    scatter(x[:6], sig, slots[:6])
-    sig[slots[2]], sig[slots[6]] = heading_speed(x, 2, 3, 2)
-
-
-@njit(cache=True)
-def states_publish(x, sig, slots):
-    """:meth:`oceangnc.core.blocks.Plant.publish`: every state (one slot per state)."""
-    scatter(x, sig, slots)

@@ -37,6 +37,7 @@ from ..units import G
 
 # the compiled pieces live in ._combined_*; the layout constants and what generated fused modules and
 # tests import are re-exported here
+from ._combined_form import combined_plant_form
 from ._combined_imex import imex_advance
 from ._combined_kernels import cable_state, combined_rhs
 from ._combined_layout import *  # noqa: F403
@@ -148,9 +149,12 @@ class CombinedPlant(Plant):
     def advance(self, t: float, dt: float, n: int) -> float:
         """RK4 steps, for ``integrator="rk4-split"`` Strang-split steps (:func:`split_advance`), for
         ``"imex"`` ROS2 steps with the axial cable forces implicit (:func:`imex_advance`): the kernel is
-        chosen in ``__init__`` (``self._advance``). Overridden so that the fused loop's generic RK4 plant
-        form does not claim this plant."""
+        chosen in ``__init__`` (``self._advance``)."""
         return super().advance(t, dt, n)
+
+    def compiled_form(self, slot_of):
+        """The fused loop's form (:func:`oceangnc.models._combined_form.combined_plant_form`)."""
+        return combined_plant_form(self, slot_of)
 
     # -- outputs -----------------------------------------------------------------------------------
     def cable_snapshot(self):

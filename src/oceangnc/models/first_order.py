@@ -50,6 +50,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..core.blocks import Block, Plant
+from ..core.fused import advance_and_publish, plant_bus_keys, rk4_stepper_imports
 from ..core.csmath import ccos, csin
 from ..core.model import Model, Param, ParamLayout
 from ..io.config import StrictModel
@@ -240,25 +241,33 @@ class FirstOrderUSV(Plant):
         self.cfg = cfg
         self._warned = False
 
-    def compiled_form(self, slot_of):
-        """The plant's part of the fused loop (:func:`oceangnc.models._compiled_first_order.first_order_form`)."""
-        from ._compiled_first_order import first_order_form
+        n = self.name
+        self._out_keys = [f"{n}.{k}" for k in ("x", "y", "psi", "u", "r", "speed", "schedule_clamped")]
+        oper = 1.0 if cfg.schedule == "operating" else 0.0
+        #: the schedule's ranges (m/s), operating-point flag, then set by the law: left a range, speed then
+        self._cp = np.array(
+            [cfg.straight_lo_mps, cfg.straight_hi_mps, cfg.turn_lo_mps, cfg.turn_hi_mps, oper, 0.0, 0.0]
+        )
+        self._sig = np.zeros(8)
+        self._sl = np.arange(8, dtype=np.int64)
 
-        return first_order_form(self, slot_of)
+    def compiled_form(self, slot_of):
+        """The fused loop's form: the RK4 stepper, then :func:`first_order_publish` (as :meth:`publish`)."""
+        uop = f"{self.name}.u_op"
+        form = advance_and_publish(self, slot_of, rk4_stepper_imports(self.rhs), self._out_keys, first_order_publish)
+        form.args["oslots"] = np.append(form.args["oslots"], slot_of(uop) if uop in plant_bus_keys(slot_of) else -1)
+        form.args["cp"] = self._cp
+        form.code[-1] = "_pub_{adv}({x}, sig, {oslots}, {cp})"
+        return form
 
     def publish(self, bus: dict) -> None:
-        super().publish(bus)
-        x = self.x
-        c = self.cfg
-        bus[f"{self.name}.psi"] = float((x[2] + math.pi) % (2 * math.pi) - math.pi)
-        bus[f"{self.name}.speed"] = float(abs(x[3]))
-        u = float(x[3])
-        if c.schedule == "operating":
-            u = bus.get(f"{self.name}.u_op", u)
-        out = not (c.straight_lo_mps <= u <= c.straight_hi_mps and c.turn_lo_mps <= u <= c.turn_hi_mps)
-        bus[f"{self.name}.schedule_clamped"] = 1.0 if out else 0.0
-        if out:
-            self._warn(u)
+        """The outputs of :func:`first_order_publish` (the fused loop's), and the range warning."""
+        uop = bus.get(f"{self.name}.u_op")
+        self._sl[7] = -1 if uop is None else 7
+        self._sig[7] = 0.0 if uop is None else uop
+        first_order_publish(self.x, self._sig, self._sl, self._cp)
+        bus.update(zip(self._out_keys, self._sig[:7].tolist()))
+        self.after_fused(bus)
 
     def _warn(self, u: float) -> None:
         """Warn once per plant that the speed ``u`` (m/s) left the trial ranges."""
@@ -274,11 +283,32 @@ class FirstOrderUSV(Plant):
             stacklevel=3,
         )
 
-    def after_fused(self, bus: dict) -> None:
+    def after_fused(self, bus: dict) -> None:  # also after each Python publish
         """After a fused call: the warning :meth:`publish` gives, if the speed left the ranges in it."""
-        cp = getattr(self, "_fused_cp", None)
-        if cp is not None and cp[5] != 0.0:
-            self._warn(float(cp[6]))
+        if self._cp[5] != 0.0:
+            self._warn(float(self._cp[6]))
+
+
+@njit(cache=True)
+def first_order_publish(x, sig, slots, cp):
+    """The first-order USV's outputs (:class:`FirstOrderUSV`, both paths).
+
+    slots: x, y, psi, u, r, speed, schedule_clamped, u_op (-1: absent). cp: straight lo/hi, turn
+    lo/hi (m/s), operating schedule (1/0), then set here: left a range (1/0), the speed then (m/s),
+    for the plant's warning (:meth:`~oceangnc.models.first_order.FirstOrderUSV.after_fused`).
+    """
+    for i in range(5):
+        sig[slots[i]] = x[i]
+    sig[slots[2]] = (x[2] + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[5]] = abs(x[3])
+    u = x[3]
+    if cp[4] != 0.0 and slots[7] >= 0:
+        u = sig[slots[7]]
+    out = not (cp[0] <= u <= cp[1] and cp[2] <= u <= cp[3])
+    sig[slots[6]] = 1.0 if out else 0.0
+    if out and cp[5] == 0.0:
+        cp[5] = 1.0
+        cp[6] = u
 
 
 class FirstOrderActuators(Block):

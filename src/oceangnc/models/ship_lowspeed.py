@@ -67,6 +67,7 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Plant
+from ..core.fused import advance_and_publish, plant_bus_keys, rk4_stepper_imports
 from ..core.signals import CALM
 from ..core.csmath import cabs, catan2, ccos, csin, csqrt
 from ..core.model import Model
@@ -320,6 +321,15 @@ class ShipPlant(Plant):
         x = self.x
         out = ship_outputs(x, bus.get("env.current_n", 0.0), bus.get("env.current_e", 0.0))
         bus.update(zip(self._out_keys, out))
+
+    def compiled_form(self, slot_of):
+        """The fused loop's form: the RK4 stepper, then :func:`ship_publish` (the same
+        :func:`ship_outputs` as :meth:`publish`; the current's slots -1 when nobody writes it)."""
+        form = advance_and_publish(self, slot_of, rk4_stepper_imports(self.rhs), self._out_keys, ship_publish)
+        bus = plant_bus_keys(slot_of)
+        cur = [slot_of(k) if k in bus else -1 for k in ("env.current_n", "env.current_e")]
+        form.args["oslots"] = np.append(form.args["oslots"], np.array(cur, dtype=np.int64))
+        return form
 
 
 @njit(cache=True)

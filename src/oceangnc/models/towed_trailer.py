@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from ..core.blocks import Plant
+from ..core.fused import PlantForm, rk4_stepper_imports
 from ..core.csmath import csin
 from ..core.model import Model, Param, ParamLayout
 
@@ -126,6 +127,36 @@ def uuv_position(x_usv, y_usv, psi_uuv, L):
     return x_usv - L * np.cos(psi_uuv), y_usv - L * np.sin(psi_uuv)
 
 
+@njit(cache=True)
+def trailer_read(x, u, sig, islots):
+    """The trailer's inputs (:class:`TowedTrailer`, both paths): islots usv.u, usv.psi, usv.r."""
+    u[0] = sig[islots[0]]
+    psi = sig[islots[1]]
+    u[1] = x[0] + ((psi - x[0] + math.pi) % (2 * math.pi) - math.pi)
+    u[2] = sig[islots[2]]
+
+
+@njit(cache=True)
+def trailer_publish(x, sig, slots, L):
+    """The trailer's outputs (:class:`TowedTrailer`, both paths).
+
+    slots: usv.x, usv.y, usv.u, usv.r, usv.psi | uuv.x, uuv.y, uuv.psi, uuv.u, uuv.r, uuv.phi.
+    """
+    psi = x[0]
+    xs = sig[slots[0]]
+    ys = sig[slots[1]]
+    us = sig[slots[2]]
+    rs = sig[slots[3]]
+    phi = (psi - sig[slots[4]] + math.pi) % (2 * math.pi) - math.pi
+    uu, ru, _ = trailer_rates(us, rs, phi, L)
+    sig[slots[5]] = xs - L * math.cos(psi)
+    sig[slots[6]] = ys - L * math.sin(psi)
+    sig[slots[7]] = (psi + math.pi) % (2 * math.pi) - math.pi
+    sig[slots[8]] = uu
+    sig[slots[9]] = ru
+    sig[slots[10]] = phi
+
+
 class TowedTrailer(Plant):
     """The towed UUV as a trailer plant (000 eq. 2-7).
 
@@ -142,6 +173,10 @@ class TowedTrailer(Plant):
             raise ValueError(f"cable length must be > 0 m, got {cable_length}")
         self.usv = usv
         self.L = float(cable_length)
+        #: what the publish law reads (the USV's) and writes (the UUV's), in its slot order
+        self._io_keys = [f"{usv}.{k}" for k in ("x", "y", "u", "r", "psi")] + [
+            f"{name}.{k}" for k in ("x", "y", "psi", "u", "r", "phi")
+        ]
         super().__init__(
             **trailer_model(self.L).plant_args(
                 name, np.array([psi0]), [f"{usv}.u", f"{usv}.psi", f"{usv}.r", "_t_ref"], declare=True
@@ -153,17 +188,30 @@ class TowedTrailer(Plant):
         )
 
     def compiled_form(self, slot_of):
-        """The plant's part of the fused loop (:func:`oceangnc.models._compiled_first_order.trailer_form`)."""
-        from ._compiled_first_order import trailer_form
+        """The fused loop's form: :func:`trailer_read`, the RK4 stepper, :func:`trailer_publish`."""
+        s, n = self.usv, self.name
+        args = {"x": self.x, "u": self.u, "p": self.p, "w": self.work, "bound": float(self.state_bound)}
+        args["islots"] = np.array([slot_of(f"{s}.{k}") for k in ("u", "psi", "r")], dtype=np.int64)
+        args["oslots"] = np.array([slot_of(k) for k in self._io_keys], dtype=np.int64)
+        args["L"] = float(self.L)
+        imports = [*rk4_stepper_imports(self.rhs)]
+        for fn, alias in ((trailer_read, "_rd_{adv}"), (trailer_publish, "_pub_{adv}")):
+            imports.append(f"from {fn.__module__} import {fn.__name__} as {alias}")
+        code = [
+            "_rd_{adv}({x}, {u}, sig, {islots})",
+            "{u}[3] = t + n * dt",
+            "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+            "_pub_{adv}({x}, sig, {oslots}, {L})",
+        ]
+        return PlantForm(imports, args, code)
 
-        return trailer_form(self, slot_of)
+    def _gather(self, bus: dict, keys) -> np.ndarray:
+        return np.array([bus.get(k, 0.0) for k in keys], dtype=np.float64)
 
     def read_inputs(self, bus: dict) -> None:
-        self.u[0] = bus.get(f"{self.usv}.u", 0.0)
-        psi = bus.get(f"{self.usv}.psi", 0.0)
-        # bring the USV heading within pi of the UUV heading (the sine is 2 pi periodic anyway)
-        self.u[1] = self.x[0] + ((psi - self.x[0] + math.pi) % (2 * math.pi) - math.pi)
-        self.u[2] = bus.get(f"{self.usv}.r", 0.0)
+        """The USV's surge, heading (unwrapped next to the UUV's) and yaw rate: :func:`trailer_read`."""
+        sig = self._gather(bus, [f"{self.usv}.{k}" for k in ("u", "psi", "r")])
+        trailer_read(self.x, self.u, sig, np.arange(3, dtype=np.int64))
 
     def advance(self, t: float, dt: float, n: int) -> float:
         # listed after the USV, this plant reads the USV's state at the END of the interval: hold it
@@ -172,17 +220,7 @@ class TowedTrailer(Plant):
         return super().advance(t, dt, n)
 
     def publish(self, bus: dict) -> None:
-        psi = float(self.x[0])
-        xs = bus.get(f"{self.usv}.x", 0.0)
-        ys = bus.get(f"{self.usv}.y", 0.0)
-        us = bus.get(f"{self.usv}.u", 0.0)
-        rs = bus.get(f"{self.usv}.r", 0.0)
-        phi = (psi - bus.get(f"{self.usv}.psi", 0.0) + math.pi) % (2 * math.pi) - math.pi
-        uu, ru, _ = trailer_rates(us, rs, phi, self.L)
-        n = self.name
-        bus[f"{n}.x"] = xs - self.L * math.cos(psi)
-        bus[f"{n}.y"] = ys - self.L * math.sin(psi)
-        bus[f"{n}.psi"] = (psi + math.pi) % (2 * math.pi) - math.pi
-        bus[f"{n}.u"] = uu
-        bus[f"{n}.r"] = ru
-        bus[f"{n}.phi"] = phi
+        """The UUV's position, heading, speeds and cable angle from the USV's: :func:`trailer_publish`."""
+        sig = self._gather(bus, self._io_keys)
+        trailer_publish(self.x, sig, np.arange(len(self._io_keys), dtype=np.int64), self.L)
+        bus.update(zip(self._io_keys[5:], sig[5:].tolist()))

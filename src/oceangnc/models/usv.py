@@ -42,7 +42,8 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block, Plant
+from ..core.blocks import Block, Plant, scatter
+from ..core.fused import advance_and_publish, rk4_stepper_imports
 from ..core.signals import CALM
 from ..core.csmath import ccos, csin
 from ..core.model import Model, Param, ParamLayout
@@ -175,12 +176,25 @@ class USVPlant(Plant):
             extra_outputs={f"{name}.speed": "m/s"},
         )
         self.cfg = cfg
+        self._out_keys = [f"{name}.{k}" for k in (*self.state_names, "speed")]
+        self._out = np.zeros(len(self._out_keys))
+        self._out_slots = np.arange(len(self._out_keys), dtype=np.int64)
 
     def publish(self, bus: dict) -> None:
-        super().publish(bus)
-        psi, speed = heading_speed(self.x, 2, 3, 2)
-        bus[f"{self.name}.psi"] = psi
-        bus[f"{self.name}.speed"] = speed
+        """The states, psi wrapped, and the speed (m/s): :func:`usv_publish`, as the fused loop."""
+        usv_publish(self.x, self._out, self._out_slots)
+        bus.update(zip(self._out_keys, self._out.tolist()))
+
+    def compiled_form(self, slot_of):
+        """The fused loop's form: the RK4 stepper of the model, then :func:`usv_publish`."""
+        return advance_and_publish(self, slot_of, rk4_stepper_imports(self.rhs), self._out_keys, usv_publish)
+
+
+@njit(cache=True)
+def usv_publish(x, sig, slots):
+    """The USV plant's outputs: the six states, then psi wrapped to [-pi, pi) and the speed (m/s)."""
+    scatter(x[:6], sig, slots[:6])
+    sig[slots[2]], sig[slots[6]] = heading_speed(x, 2, 3, 2)
 
 
 class USVThrusters(Block):

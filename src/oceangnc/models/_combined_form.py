@@ -1,5 +1,9 @@
-"""Fused-loop form of a :class:`~oceangnc.models.combined.CombinedPlant` with a variable node count
-(a winch and/or a seabed; issue 19).
+"""Fused-loop forms of a :class:`~oceangnc.models.combined.CombinedPlant` (its ``compiled_form``).
+
+:func:`combined_plant_form`: a fixed node count, advanced by the plant's integrator, then the
+outputs filled by :func:`~oceangnc.models._combined_outputs._fill_outputs` and copied to their slots.
+
+:func:`var_plant_form`: a variable node count (a winch and/or a seabed; issue 19).
 
 The winch inserts and removes cable nodes while it runs (:func:`oceangnc.models.combined.remesh`,
 called inside the stepper), so the number of active nodes ``p[H_N]`` changes during a compiled
@@ -21,8 +25,52 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.fused import PlantForm, _kernel_ref, combined_advance_imports
-from .combined import _fill_outputs_var
+from ..core.fused import PlantForm, _kernel_ref, rk4_stepper_imports
+from ._combined_imex import imex_advance
+from ._combined_outputs import _fill_outputs, _fill_outputs_var
+from ._combined_split import split_advance
+
+
+def combined_advance_imports(plant) -> list[str]:
+    """Generated-code lines binding ``{adv}`` to the plant's compiled advance for its integrator:
+    the IMEX or split-RK4 stepper, or the RK4 stepper of its rhs."""
+    if plant.integrator in ("imex", "rk4-split"):
+        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
+        return [f"from {mod} import {name} as {{adv}}"]
+    return rk4_stepper_imports(plant.rhs)
+
+
+def combined_plant_form(plant, slot_of) -> PlantForm | None:
+    """The :class:`~oceangnc.core.fused.PlantForm` of a ``CombinedPlant``: :func:`var_plant_form`
+    with a winch or a seabed, else the fixed-node form (module docstring)."""
+    if plant._var:
+        return var_plant_form(plant, slot_of)
+    if plant.integrator not in ("rk4", "rk4-split", "imex"):
+        return None
+    uin = np.array([slot_of(k) for k in plant.input_names], dtype=np.int64)
+    args = {"x": plant.x, "u": plant.u, "p": plant.p, "w": plant.work, "bound": float(plant.state_bound), "uin": uin}
+    args.update(
+        {
+            "o_uuv": int(plant.o_uuv),
+            "nodes": plant._nodes,
+            "ends": plant._ends,
+            "out": plant._out,
+            "oslots": np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64),
+        }
+    )
+    mod, name = _kernel_ref(_fill_outputs)
+    imports = [*combined_advance_imports(plant), f"from {mod} import {name} as _fill_outputs"]
+    code = [
+        "for j in range({uin}.size):",
+        "    {u}[j] = sig[{uin}[j]]",
+        "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
+        "{ends}[6] = {u}[2]",
+        "{ends}[7] = {u}[3]",
+        "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
+        "for j in range({oslots}.size):",
+        "    sig[{oslots}[j]] = {out}[j]",
+    ]
+    return PlantForm(imports, args, code)
 
 
 def var_plant_form(plant, slot_of) -> PlantForm | None:
