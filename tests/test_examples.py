@@ -36,7 +36,8 @@ def _env() -> dict:
     env = dict(os.environ)
     env["OCEANGNC_MAX_DURATION"] = MAX_DURATION
     env["MPLBACKEND"] = "Agg"
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")])
+    # examples/ holds mygnc, the user package of docs/developing.md
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), str(ROOT / "examples"), env.get("PYTHONPATH", "")])
     return env
 
 

@@ -99,8 +99,8 @@ def cached_closure(fn):
     * the files: each (closure, fingerprint) has its own index and data files, so processes
       compiling different models at once never write into each other's files.
 
-    As with any numba cache, edits to functions in *other* files than the closed-over ones are not
-    seen (clear ``<cache>/numba-<version>``, see :mod:`oceangnc.jitcache`, after such an edit).
+    Edits to functions in *other* files than the closed-over ones are covered by the cache folder's
+    code key (:mod:`oceangnc.core.caches`).
     """
     import hashlib
 
