@@ -214,16 +214,18 @@ def test_usv_controller_slot_takes_gains_and_refuses_unknown_ones():
         sc.build(cfg, np.random.default_rng(0))
 
 
-def test_every_module_registering_blocks_is_a_builtin_module():
-    """A block module missing from BUILTIN_MODULES would be unknown until something imports it."""
+def test_every_module_registering_blocks_is_an_entry_point():
+    """The built-in blocks are found like a user's: through the ``oceangnc.blocks`` entry points of
+    pyproject.toml (a module missing there would be unknown until something imports it)."""
+    import tomllib
     from pathlib import Path
 
-    from oceangnc.core.registry import BUILTIN_MODULES
-
-    src = Path(__file__).resolve().parents[1] / "src"
+    root = Path(__file__).resolve().parents[1]
+    src = root / "src"
     mods = {
         ".".join(p.relative_to(src).with_suffix("").parts)
         for p in (src / "oceangnc").rglob("*.py")
         if "\n@register_block(" in p.read_text()
     }
-    assert mods and mods <= set(BUILTIN_MODULES), sorted(mods - set(BUILTIN_MODULES))
+    eps = tomllib.loads((root / "pyproject.toml").read_text())["project"]["entry-points"]["oceangnc.blocks"]
+    assert mods and mods == set(eps.values()), (sorted(mods - set(eps.values())), sorted(set(eps.values()) - mods))

@@ -26,34 +26,6 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 from ..errors import ConfigError, InputError
 from .caches import add_sources, package_root, user_code
 
-#: modules whose blocks register themselves on import (the built-in kinds)
-BUILTIN_MODULES = (
-    "oceangnc.environment.current",
-    "oceangnc.environment.wind",
-    "oceangnc.sensors.gps",
-    "oceangnc.sensors.ahrs",
-    "oceangnc.sensors.usbl",
-    "oceangnc.sensors.depth",
-    "oceangnc.sensors.filters",
-    "oceangnc.sensors.navigation",
-    "oceangnc.guidance.pure_pursuit",
-    "oceangnc.guidance.los",
-    "oceangnc.guidance.leader_follower",
-    "oceangnc.guidance.scripted_pilot",
-    "oceangnc.guidance.route_pilot",
-    "oceangnc.control.usv_control",
-    "oceangnc.control.uuv_control",
-    "oceangnc.control.backstepping",
-    "oceangnc.control.pole_placement",
-    "oceangnc.control.joystick",
-    "oceangnc.control.berthing",
-    "oceangnc.control.tow",
-    "oceangnc.control.winch",
-    "oceangnc.control.actuators",
-    "oceangnc.control.commands",
-    "oceangnc.identification.trials",
-)
-
 _KINDS: dict[str, type] = {}
 _ENTRY_POINTS_LOADED = False
 
@@ -94,15 +66,17 @@ def _load_entry_points() -> None:
     if _ENTRY_POINTS_LOADED:
         return
     _ENTRY_POINTS_LOADED = True
-    for mod in BUILTIN_MODULES:
-        try:
-            importlib.import_module(mod)
-        except ModuleNotFoundError as e:  # a capability not present in this install
-            if e.name != mod:
-                raise
     from importlib.metadata import entry_points
 
-    for ep in entry_points(group="oceangnc.blocks"):
+    eps = list(entry_points(group="oceangnc.blocks"))
+    own = [ep for ep in eps if ep.module.split(".")[0] == "oceangnc"]
+    if not own:
+        raise InputError("oceangnc's block entry points are missing: install the package (pip install -e .)")
+    for ep in own:  # the built-in kinds (pyproject.toml): the package's own key
+        ep.load()
+    for ep in eps:
+        if ep in own:
+            continue
         try:
             _add_package_sources(ep.module)
             with user_code():
