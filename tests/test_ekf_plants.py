@@ -108,7 +108,11 @@ def test_estimating_a_derived_parameter_is_refused():
 def test_registry_names_every_plant():
     from oceangnc.errors import InputError
 
-    for name in ("submarine-vertical", "usv", "uuv", "ship", "first-order"):
+    from oceangnc.core.model import model_names
+
+    names = ("first-order", "ship", "submarine-vertical", "usv", "uuv")
+    assert tuple(model_names()) == names  # one registry: the oceangnc.models entry points
+    for name in names:
         assert get_model(name).name in (name, "first-order")
-    with pytest.raises(InputError, match="known models: submarine-vertical, usv, uuv, ship, first-order"):
+    with pytest.raises(InputError, match="known models: first-order, ship, submarine-vertical, usv, uuv"):
         get_model("tanker")

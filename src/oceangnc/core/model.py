@@ -311,3 +311,43 @@ class Model:
             f"Model({self.name!r}: states {list(self.state_names)}, inputs {list(self.input_names)}, "
             f"{self.layout.size} parameters)"
         )
+
+
+# -- the model registry -------------------------------------------------------------------------------
+
+#: entry-point group naming the models by name: ``name = "module:factory"``, ``factory(params=None)``
+MODEL_GROUP = "oceangnc.models"
+
+
+def _model_entry_points() -> dict:
+    from importlib.metadata import entry_points
+
+    return {ep.name: ep for ep in entry_points(group=MODEL_GROUP)}
+
+
+def model_names() -> list[str]:
+    """Names of the registered models (the package's in pyproject.toml, and any user package's
+    ``oceangnc.models`` entry points): ``oceangnc identify ekf --model NAME`` and :func:`get_model`."""
+    return sorted(_model_entry_points())
+
+
+def get_model(name: str, params=None) -> Model:
+    """The model registered as ``name`` (parameters ``params`` or its defaults); unknown names give
+    InputError listing the known ones."""
+    eps = _model_entry_points()
+    if name not in eps:
+        raise InputError(f"unknown model '{name}'; known models: {', '.join(sorted(eps))}")
+    return eps[name].load()(params=params)
+
+
+class ModelNames:
+    """A live view of :func:`model_names` (``name in MODELS``, ``', '.join(MODELS)``)."""
+
+    def __iter__(self):
+        return iter(model_names())
+
+    def __contains__(self, name) -> bool:
+        return name in _model_entry_points()
+
+    def __len__(self) -> int:
+        return len(model_names())

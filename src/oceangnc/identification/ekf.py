@@ -42,8 +42,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.linearize import _call, default_mode, jacobian_columns
-from ..core.model import Model, Param, ParamLayout
+from ..core.model import Model, ModelNames, Param, ParamLayout, get_model  # noqa: F401  (get_model re-exported)
 from ..errors import ConfigError, InputError
+from ..models.submarine_vertical import filter_model
 
 
 class FilterDivergedError(InputError):
@@ -332,54 +333,12 @@ def run_ekf(
     return EKFResult(t=t, names=[*model.state_names, *est_names], X=Xout, sigma=Sout, nis=NIS, P=P, estimate=est_names)
 
 
-# -- models known by name (CLI) -------------------------------------------------------------------------
+# -- models known by name (CLI): the one model registry of oceangnc.core.model -------------------------
 
+MODELS = ModelNames()
 
-def submarine_vertical_model(params=None) -> Model:
-    """The heave-pitch submarine of document 002 (filter states w, theta, q; analytic Jacobian)."""
-    from ..models.submarine_vertical import filter_model
-
-    return filter_model(params)
-
-
-def _usv(params=None) -> Model:
-    from ..models.usv import usv_model
-
-    return usv_model(params=params)
-
-
-def _uuv(params=None) -> Model:
-    from ..models.uuv import uuv_model
-
-    return uuv_model(params=params)
-
-
-def _ship(params=None) -> Model:
-    from ..models.ship_lowspeed import ship_model
-
-    return ship_model(params=params)
-
-
-def _first_order(params=None) -> Model:
-    from ..models.first_order import first_order_model
-
-    return first_order_model(params=params)
-
-
-MODELS: dict[str, Callable[..., Model]] = {
-    "submarine-vertical": submarine_vertical_model,
-    "usv": _usv,
-    "uuv": _uuv,
-    "ship": _ship,
-    "first-order": _first_order,
-}
-
-
-def get_model(name: str) -> Model:
-    """A named model; unknown names give InputError listing the known ones."""
-    if name not in MODELS:
-        raise InputError(f"unknown model '{name}'; known models: {', '.join(MODELS)}")
-    return MODELS[name]()
+#: the heave-pitch submarine of document 002 (filter states w, theta, q; analytic Jacobian)
+submarine_vertical_model = filter_model
 
 
 def nees(err: np.ndarray, P: np.ndarray) -> float:

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ConfigError, InputError
-from .ekf import MODELS, get_model, resolve_estimate, run_ekf
+from .ekf import get_model, resolve_estimate, run_ekf
 
 
 def _parse_kv(text: str | None, what: str) -> dict[str, float]:
@@ -264,7 +264,9 @@ def register(sub) -> None:
         "augmented-state extended Kalman filter.",
     )
     p.add_argument("log", help="log.parquet / .csv, or a run folder holding log.parquet")
-    p.add_argument("--model", default="submarine-vertical", help=f"model name ({', '.join(MODELS)})")
+    p.add_argument(
+        "--model", default="submarine-vertical", help="model name (registered models: an unknown name lists them)"
+    )
     p.add_argument("--estimate", required=True, help="comma-separated parameter names, e.g. Zw,Zwdot,Mq")
     p.add_argument("--prefix", default="sub", help="column prefix of measurements and inputs (default sub)")
     p.add_argument("--initial", help="initial guesses name=value,... (default: --initial-scale x nominal values)")
