@@ -8,6 +8,7 @@ re-exports both.
 
 from __future__ import annotations
 
+import importlib.util
 import pkgutil
 
 DEFAULT_SCENARIO = "combined-survey"  #: the flagship, run by ``oceangnc run`` without a name
@@ -91,9 +92,9 @@ def light_plots(name: str) -> str | None:
 
 def scenario_modules() -> list[str]:
     """The scenario modules in the ``oceangnc.scenarios`` package (their names, none imported)."""
-    import oceangnc.scenarios as pkg  # light: its names are imported on first use
-
-    return sorted(m.name for m in pkgutil.iter_modules(pkg.__path__) if not m.name.startswith("_") and m.name != "base")
+    spec = importlib.util.find_spec("oceangnc.scenarios")  # the package's folder, not its code
+    path = list(spec.submodule_search_locations or ()) if spec is not None else []
+    return sorted(m.name for m in pkgutil.iter_modules(path) if not m.name.startswith("_") and m.name != "base")
 
 
 def unindexed_modules() -> list[str]:
