@@ -26,43 +26,40 @@ def _resolve(mod: str, is_pkg: bool, level: int, target: str | None) -> str:
     return ".".join([*base, target] if target else base)
 
 
+def _imports(tree: ast.AST, mod: str, is_pkg: bool, mods) -> dict[str, list[tuple[int, bool]]]:
+    found: dict[str, list[tuple[int, bool]]] = {}
+
+    def visit(node, in_func: bool) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.If) and "TYPE_CHECKING" in ast.unparse(child.test):
+                continue  # for type checkers only: not run
+            f = in_func or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
+            names: list[str] = []
+            if isinstance(child, ast.Import):
+                names = [a.name for a in child.names]
+            elif isinstance(child, ast.ImportFrom):
+                base = _resolve(mod, is_pkg, child.level, child.module) if child.level else (child.module or "")
+                subs = [f"{base}.{a.name}" for a in child.names if f"{base}.{a.name}" in mods]
+                names = subs or [base]  # ``from . import postproc`` imports postproc, not the package
+            for n in names:
+                parts = n.split(".")  # the longest prefix that is a module of the package
+                while parts and ".".join(parts) not in mods:
+                    parts.pop()
+                t = ".".join(parts)
+                if t and t != mod and t.startswith("oceangnc"):
+                    found.setdefault(t, []).append((child.lineno, f))
+            visit(child, f)
+
+    visit(tree, False)
+    return found
+
+
 def edges() -> dict[str, dict[str, list[tuple[int, bool]]]]:
     """``{module: {imported oceangnc module: [(line, inside a function), ...]}}``."""
     mods = modules()
-    out: dict[str, dict[str, list[tuple[int, bool]]]] = {}
-    for mod, path in mods.items():
-        tree = ast.parse(path.read_text())
-        is_pkg = path.name == "__init__.py"
-        found: dict[str, list[tuple[int, bool]]] = {}
-
-        def visit(node, in_func: bool) -> None:
-            for child in ast.iter_child_nodes(node):
-                if isinstance(child, ast.If) and "TYPE_CHECKING" in ast.unparse(child.test):
-                    continue  # for type checkers only: not run
-                f = in_func or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
-                names: list[str] = []
-                if isinstance(child, ast.Import):
-                    names = [a.name for a in child.names]
-                elif isinstance(child, ast.ImportFrom):
-                    if child.level:
-                        base = _resolve(mod, is_pkg, child.level, child.module)
-                    else:
-                        base = child.module or ""
-                    subs = [f"{base}.{a.name}" for a in child.names if f"{base}.{a.name}" in mods]
-                    names = subs or [base]  # ``from . import postproc`` imports postproc, not the package
-                for n in names:
-                    # the longest prefix that is a module of the package
-                    parts = n.split(".")
-                    while parts and ".".join(parts) not in mods:
-                        parts.pop()
-                    t = ".".join(parts)
-                    if t and t != mod and t.startswith("oceangnc"):
-                        found.setdefault(t, []).append((child.lineno, f))
-                visit(child, f)
-
-        visit(tree, False)
-        out[mod] = found
-    return out
+    return {
+        mod: _imports(ast.parse(path.read_text()), mod, path.name == "__init__.py", mods) for mod, path in mods.items()
+    }
 
 
 def cycles(graph: dict[str, dict]) -> list[list[str]]:
