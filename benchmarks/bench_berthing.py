@@ -34,11 +34,17 @@ def main() -> None:
     print(f"ship RK4 steps/s (dt 0.05 s, 4 rhs calls each): {rhs_rate():.3g}")
     for mode in ("open", "pid", "nonlinear"):
         t0 = time.perf_counter()
-        r = oceangnc.run("berthing-channel", overrides={"control.mode": mode, "runs": 1}, plots=False,
-                         out=f"/tmp/bench-berthing-{mode}")
+        r = oceangnc.run(
+            "berthing-channel",
+            overrides={"control.mode": mode, "runs": 1},
+            plots=False,
+            out=f"/tmp/bench-berthing-{mode}",
+        )
         wall = time.perf_counter() - t0
         sim_t = r.summary["duration_s"]
-        print(f"berthing-channel {mode}: {sim_t:.0f} s simulated in {wall:.1f} s wall -> real-time factor {sim_t / wall:.0f}")
+        print(
+            f"berthing-channel {mode}: {sim_t:.0f} s simulated in {wall:.1f} s wall -> real-time factor {sim_t / wall:.0f}"
+        )
 
 
 if __name__ == "__main__":

@@ -34,8 +34,9 @@ from oceangnc.models.uuv import UUVConfig
 
 
 def make_plant(n: int, length: float = 3.0, integrator: str = "rk4") -> CombinedPlant:
-    pl = CombinedPlant(USVConfig(u0=0.5), UUVConfig(u0=0.5),
-                       CableConfig(segments=n, length=length, integrator=integrator), top="usv")
+    pl = CombinedPlant(
+        USVConfig(u0=0.5), UUVConfig(u0=0.5), CableConfig(segments=n, length=length, integrator=integrator), top="usv"
+    )
     pl.u[0] = pl.u[1] = 0.5 * 735.5 * 0.5  # USV thrust for 0.5 m/s
     pl.u[2] = 0.2  # some current, so drag is active everywhere
     pl.u[6] = pl.u[7] = 2.0
@@ -67,8 +68,7 @@ def step_cost(pl: CombinedPlant, dt: float, n_steps: int = 20000):
 
 def accuracy(integrator: str, dt: float, t_sim: float = 20.0) -> np.ndarray:
     """UUV depth and top tension every 0.1 s during the onset of a 0.5 m/s current (top fixed)."""
-    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator),
-                       top="fixed")
+    pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(integrator=integrator), top="fixed")
     pl.u[2] = 0.5
     out = []
     t = 0.0
@@ -86,12 +86,16 @@ def error_vs_step(out_png: str | None = None, t_sim: float = 20.0) -> dict:
 
     Returns {integrator: [(dt, depth error m, tension error N), ...]}; plots log-log if ``out_png``.
     """
-    lim = {k: CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=k)).stability_limit
-           for k in ("rk4", "rk4-split")}
+    lim = {
+        k: CombinedPlant(USVConfig(), UUVConfig(), CableConfig(integrator=k)).stability_limit
+        for k in ("rk4", "rk4-split")
+    }
     ref = accuracy("rk4", 0.1 / math.ceil(0.1 / (lim["rk4"] / 16)), t_sim)
-    steps = {"rk4": [f * lim["rk4"] for f in (0.95, 0.5, 0.25, 0.125)],
-             "rk4-split": [f * lim["rk4-split"] for f in (0.95, 0.5, 0.25, 0.125)],
-             "imex": [0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005]}
+    steps = {
+        "rk4": [f * lim["rk4"] for f in (0.95, 0.5, 0.25, 0.125)],
+        "rk4-split": [f * lim["rk4-split"] for f in (0.95, 0.5, 0.25, 0.125)],
+        "imex": [0.05, 0.02, 0.01, 0.005, 0.002, 0.001, 0.0005],
+    }
     res: dict = {}
     for integ, hs in steps.items():
         rows = []
@@ -104,8 +108,10 @@ def error_vs_step(out_png: str | None = None, t_sim: float = 20.0) -> dict:
         res[integ] = rows
     if out_png:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+
         fig, axs = plt.subplots(1, 2, figsize=(10, 4))
         for integ, rows in res.items():
             r = np.array(rows)
@@ -131,10 +137,14 @@ def main() -> None:
         pl = make_plant(20, integrator=integ)
         dt = stable_step(pl.stability_limit)
         wall, cpu = run_ticks(pl, dt, t_sim)
-        print(f"\n1. coupled USV + 20-segment 3 m cable + UUV, integrator {integ}: limit "
-              f"{pl.stability_limit * 1e3:.3f} ms, dt {dt * 1e3:.3f} ms")
-        print(f"   {t_sim:.0f} s simulated in {wall:.3f} s wall / {cpu:.3f} s CPU: "
-              f"real-time factor {t_sim / wall:.0f}x (wall), {t_sim / cpu:.0f}x (CPU)")
+        print(
+            f"\n1. coupled USV + 20-segment 3 m cable + UUV, integrator {integ}: limit "
+            f"{pl.stability_limit * 1e3:.3f} ms, dt {dt * 1e3:.3f} ms"
+        )
+        print(
+            f"   {t_sim:.0f} s simulated in {wall:.3f} s wall / {cpu:.3f} s CPU: "
+            f"real-time factor {t_sim / wall:.0f}x (wall), {t_sim / cpu:.0f}x (CPU)"
+        )
 
     for integ in ("rk4", "rk4-split"):
         print(f"\n2. scaling with the number of segments ({integ}, automatic step)")
@@ -145,15 +155,18 @@ def main() -> None:
             _, c_us = step_cost(pl, dt)
             pl.reset()
             wall, cpu = run_ticks(pl, dt, 20.0)
-            print(f"   {n:<3d} {pl.stability_limit * 1e3:9.3f} {dt * 1e3:7.3f} {c_us:13.2f} {c_us / n:16.3f}"
-                  f" {20.0 / wall:10.0f} {20.0 / cpu:9.0f}")
+            print(
+                f"   {n:<3d} {pl.stability_limit * 1e3:9.3f} {dt * 1e3:7.3f} {c_us:13.2f} {c_us / n:16.3f}"
+                f" {20.0 / wall:10.0f} {20.0 / cpu:9.0f}"
+            )
 
     print("\n2b. implicit (imex) integrator, fixed top, UUV hanging in 0.5 m/s current: cost per simulated second")
     print("   n   dt[ms]  us/step(cpu)  RTF plant alone (cpu)  RTF ticks of 10 ms + publish (cpu)")
     for n in (10, 20, 40, 80):
         for dt in (0.01, 0.02):
-            pl = CombinedPlant(USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25),
-                               CableConfig(segments=n, integrator="imex"), top="fixed")
+            pl = CombinedPlant(
+                USVConfig(), UUVConfig(psi0_deg=180.0, z0=3.25), CableConfig(segments=n, integrator="imex"), top="fixed"
+            )
             pl.u[2] = 0.5
             _, c_us = step_cost(pl, dt, 5000)
             pl.reset()
@@ -177,8 +190,10 @@ def main() -> None:
         dt = stable_step(pl.stability_limit)
         a = accuracy(integ, dt)
         err = np.max(np.abs(a - ref), axis=0)
-        print(f"   {integ:9s} dt {dt * 1e3:.3f} ms: max error depth {err[0] * 1e3:.3f} mm, top tension "
-              f"{err[1]:.3f} N (peak {ref[:, 1].max():.1f} N), angle {err[2]:.4f} deg")
+        print(
+            f"   {integ:9s} dt {dt * 1e3:.3f} ms: max error depth {err[0] * 1e3:.3f} mm, top tension "
+            f"{err[1]:.3f} N (peak {ref[:, 1].max():.1f} N), angle {err[2]:.4f} deg"
+        )
 
     print("\n3. scenarios (python blocks at 100 Hz, Parquet log at 10 Hz, no plots)")
     import tempfile
@@ -192,8 +207,10 @@ def main() -> None:
             r = oceangnc.run(name, overrides=over, out=f"{d}/{name}", plots=False)
             wall, cpu = time.perf_counter() - w0, time.process_time() - c0
             T = r.summary["duration_s"]
-            print(f"   {name:14s} {T:5.0f} s simulated: {wall:6.2f} s wall, {cpu:6.2f} s CPU "
-                  f"(RTF {T / wall:.0f}x wall, {T / cpu:.0f}x CPU)")
+            print(
+                f"   {name:14s} {T:5.0f} s simulated: {wall:6.2f} s wall, {cpu:6.2f} s CPU "
+                f"(RTF {T / wall:.0f}x wall, {T / cpu:.0f}x CPU)"
+            )
 
 
 if __name__ == "__main__":

@@ -14,18 +14,27 @@ No log is written (the log costs the same on both paths: one row per log period)
 import time
 
 import numpy as np
+from record import record
 
 from oceangnc.api import resolve_config
 
-CASES = [("combined-survey", {"control.uuv": "pid"}), ("combined-survey", {"control.uuv": "backstepping"}),
-         ("combined-survey", {"control.uuv": "pid", "sim.dt": 0.0025}),
-         ("combined-survey", {"control.uuv": "pid", "cable.integrator": "imex", "sim.dt": 0.01}),
-         ("combined-survey", {"control.uuv": "backstepping", "cable.integrator": "imex", "sim.dt": 0.01}),
-         ("field-test", {"cable.integrator": "imex", "sim.dt": 0.01}),
-         ("waypoints-square", {}), ("field-test", {}), ("cable-current", {}),
-         ("usv-turn", {"sim.duration": 300.0}), ("berthing-channel", {}),
-         # the tow scenarios (winch: variable node count; seabed), their default horizons
-         ("tow-straight", {}), ("tow-deploy", {}), ("tow-survey-depth", {})]
+CASES = [
+    ("combined-survey", {"control.uuv": "pid"}),
+    ("combined-survey", {"control.uuv": "backstepping"}),
+    ("combined-survey", {"control.uuv": "pid", "sim.dt": 0.0025}),
+    ("combined-survey", {"control.uuv": "pid", "cable.integrator": "imex", "sim.dt": 0.01}),
+    ("combined-survey", {"control.uuv": "backstepping", "cable.integrator": "imex", "sim.dt": 0.01}),
+    ("field-test", {"cable.integrator": "imex", "sim.dt": 0.01}),
+    ("waypoints-square", {}),
+    ("field-test", {}),
+    ("cable-current", {}),
+    ("usv-turn", {"sim.duration": 300.0}),
+    ("berthing-channel", {}),
+    # the tow scenarios (winch: variable node count; seabed), their default horizons
+    ("tow-straight", {}),
+    ("tow-deploy", {}),
+    ("tow-survey-depth", {}),
+]
 
 
 def _sim(name, over, fused):
@@ -57,8 +66,10 @@ if __name__ == "__main__":
 
     if sys.argv[1:]:
         CASES = [c for c in CASES if any(a in c[0] for a in sys.argv[1:])]
-    print("| scenario | overrides | simulated s | path | wall s (python / fused) | CPU s (python / fused) "
-          "| RTF wall (python / fused) | RTF CPU fused | physics alone CPU s |")
+    print(
+        "| scenario | overrides | simulated s | path | wall s (python / fused) | CPU s (python / fused) "
+        "| RTF wall (python / fused) | RTF CPU fused | physics alone CPU s |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for name, over in CASES:
         _time(name, {**over, "sim.duration": 2.0}, True)  # compile / load caches
@@ -66,5 +77,16 @@ if __name__ == "__main__":
         sf, tf, wf, cf = _time(name, over, True)
         phys = _physics(sf, int(round(tf / sf.dt)))
         o = ", ".join(f"{k}={v}" for k, v in over.items())
-        print(f"| {name} | {o} | {tf:.1f} | {sf.path} | {wp:.2f} / {wf:.2f} | {cp:.2f} / {cf:.2f} | "
-              f"{tp / wp:.0f} / {tf / wf:.0f} | {tf / cf:.0f} | {phys:.2f} |", flush=True)
+        record(
+            "closed loop (real-time factor, one core)",
+            f"`{name}` {o}".strip() + f", {sf.path}",
+            tf / wf,
+            "x",
+            "within 10 % of before (issue 25)",
+            f"Python clock {tp / wp:.0f}x; physics alone {tf / phys:.0f}x CPU",
+        )
+        print(
+            f"| {name} | {o} | {tf:.1f} | {sf.path} | {wp:.2f} / {wf:.2f} | {cp:.2f} / {cf:.2f} | "
+            f"{tp / wp:.0f} / {tf / wf:.0f} | {tf / cf:.0f} | {phys:.2f} |",
+            flush=True,
+        )

@@ -108,8 +108,9 @@ def main() -> None:
     port = free_port()
     with tempfile.TemporaryDirectory() as d:
         session = Session("usv-remote", out_root=d)
-        server = uvicorn.Server(uvicorn.Config(create_app(session, token="bench-token-1"), host="127.0.0.1", port=port,
-                                               log_level="warning"))
+        server = uvicorn.Server(
+            uvicorn.Config(create_app(session, token="bench-token-1"), host="127.0.0.1", port=port, log_level="warning")
+        )
         th = threading.Thread(target=server.run, daemon=True)
         th.start()
         while not server.started:

@@ -26,8 +26,15 @@ def vehicle_throughput(scenario: str, sim_s: float) -> float:
 
     now = [0.0]
     with tempfile.TemporaryDirectory() as d:
-        v = MavlinkVehicle(scenario, listen="udp:127.0.0.1:0", out_root=d, clock=lambda: now[0], speed=100.0,
-                           tlog=Path(d) / "x.tlog", gcs=["udp:127.0.0.1:9"])
+        v = MavlinkVehicle(
+            scenario,
+            listen="udp:127.0.0.1:0",
+            out_root=d,
+            clock=lambda: now[0],
+            speed=100.0,
+            tlog=Path(d) / "x.tlog",
+            gcs=["udp:127.0.0.1:9"],
+        )
         v._arm(True)
         v._set_mode(10, "bench")
         t0 = time.perf_counter()

@@ -32,11 +32,18 @@ def main() -> None:
             best = []
             for i in range(3):
                 t0 = time.perf_counter()
-                oceangnc.run("usv-turn", duration=a.duration, out=Path(d) / f"p{period}-{fsync}-{i}", plots=False,
-                             overrides={"log.flush_period": period, "log.fsync": fsync})
+                oceangnc.run(
+                    "usv-turn",
+                    duration=a.duration,
+                    out=Path(d) / f"p{period}-{fsync}-{i}",
+                    plots=False,
+                    overrides={"log.flush_period": period, "log.fsync": fsync},
+                )
                 best.append(time.perf_counter() - t0)
-            print(f"usv-turn {a.duration:g} s, flush every {period:g} s, fsync {fsync}: {min(best):.2f} s wall "
-                  f"(best of 3), {a.duration / period if period < a.duration else 1:.0f} parts before compaction")
+            print(
+                f"usv-turn {a.duration:g} s, flush every {period:g} s, fsync {fsync}: {min(best):.2f} s wall "
+                f"(best of 3), {a.duration / period if period < a.duration else 1:.0f} parts before compaction"
+            )
         sc, cfg = oceangnc.resolve_config("combined-survey")
         sim = sc.build(cfg, np.random.default_rng(0))
         sim.run(20.0)
@@ -44,16 +51,20 @@ def main() -> None:
         n = 10
         for _ in range(n):
             blob = ckpt.capture(sim)
-            ckpt.save(Path(d) / "checkpoint.pkl", {"version": ckpt.VERSION, "t": sim.t, "sim": blob,
-                                                   "log": {"parts": 0, "rows": 0}})
+            ckpt.save(
+                Path(d) / "checkpoint.pkl",
+                {"version": ckpt.VERSION, "t": sim.t, "sim": blob, "log": {"parts": 0, "rows": 0}},
+            )
         t_save = (time.perf_counter() - t0) / n
         sim2 = sc.build(cfg, np.random.default_rng(0))
         t0 = time.perf_counter()
         ckpt.restore(sim2, blob)
         t_restore = time.perf_counter() - t0
         size = (Path(d) / "checkpoint.pkl").stat().st_size
-        print(f"combined-survey checkpoint: {size / 1024:.1f} kB, save {1000 * t_save:.1f} ms, "
-              f"restore {1000 * t_restore:.1f} ms")
+        print(
+            f"combined-survey checkpoint: {size / 1024:.1f} kB, save {1000 * t_save:.1f} ms, "
+            f"restore {1000 * t_restore:.1f} ms"
+        )
     print(f"load average {os.getloadavg()}")
 
 

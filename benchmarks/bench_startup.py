@@ -24,7 +24,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from record import record
+
 SRC = Path(__file__).resolve().parents[1] / "src"
+YARDSTICK = [sys.executable, "-c", "import numpy, pandas"]
 
 PROBE = (
     "import time, sys; t0 = time.perf_counter()\n"
@@ -67,6 +70,13 @@ def once(cmd, env, out):
     return w, (start[0] if start else float("nan"))
 
 
+def yardstick(env) -> float:
+    """Wall seconds of ``python -c "import numpy, pandas"`` (the figures' unit: issue 25)."""
+    t0 = time.perf_counter()
+    subprocess.run(YARDSTICK, env=env, check=True)
+    return time.perf_counter() - t0
+
+
 def load() -> str:
     return "load average " + ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
@@ -75,9 +85,22 @@ def warm_table(env, tmp, repeat):
     print("| command | first run wall s (starts simulating) | later runs wall s: best / median (starts simulating) |")
     print("|---|---|---|")
     for cmd in COMMANDS:
-        runs = [once(cmd, env, os.path.join(tmp, "run")) for _ in range(repeat + 1)]
+        runs, yard = [once(cmd, env, os.path.join(tmp, "run"))], []
+        for _ in range(repeat):  # alternated with the yardstick, so that both see the same machine
+            runs.append(once(cmd, env, os.path.join(tmp, "run")))
+            yard.append(yardstick(env))
         later = runs[1:]
         ws = [w for w, _ in later]
+        if cmd[:2] == ["run", "combined-survey"]:
+            plots = "--no-plots" not in cmd
+            record(
+                'start-up (ratio to `python -c "import numpy, pandas"`)',
+                f"cached `oceangnc run combined-survey --duration 40`{'' if plots else ' --no-plots'}, median",
+                statistics.median(ws) / statistics.median(yard),
+                "x",
+                "" if plots else "about 1.5x (issue 25: not slower than before)",
+                f"{statistics.median(ws):.2f} s against {statistics.median(yard):.2f} s, {repeat} alternated pairs",
+            )
         print(
             f"| `oceangnc {' '.join(cmd)}` | {runs[0][0]:.2f} ({runs[0][1]:.2f}) | {min(ws):.2f} / "
             f"{statistics.median(ws):.2f} ({min(s for _, s in later):.2f}) |",
@@ -104,7 +127,18 @@ def cold_table(tmp, repeat):
     def measure(label, cmd, n):
         runs = [once(cmd, env, os.path.join(tmp, "run")) for _ in range(n)]
         ws = [w for w, _ in runs]
+        y = statistics.median(yardstick(env) for _ in range(3))
         rows.append((label, min(ws), statistics.median(ws), min(s for _, s in runs)))
+        target = "< 12 s on 2 cores (issue 25)" if "first run" in label else ""
+        record("start-up, empty cache (`--cold`)", label + ": seconds", statistics.median(ws), "s", target)
+        record(
+            "start-up, empty cache (`--cold`)",
+            label + ": ratio to `import numpy, pandas`",
+            statistics.median(ws) / y,
+            "x",
+            "",
+            f"yardstick {y:.2f} s",
+        )
         print(f"| {label} | {min(ws):.2f} / {statistics.median(ws):.2f} | {rows[-1][3]:.2f} |", flush=True)
 
     print("| `oceangnc run combined-survey --duration 40 --quiet` | wall s: best / median | starts simulating (s) |")

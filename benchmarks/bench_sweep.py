@@ -28,8 +28,9 @@ import numpy as np
 import pandas as pd
 
 
-def measure(scenario: str, key: str, values: list, seeds: int, workers: int, duration: float | None,
-            root: Path) -> dict:
+def measure(
+    scenario: str, key: str, values: list, seeds: int, workers: int, duration: float | None, root: Path
+) -> dict:
     from oceangnc.sweep import build_design, run_sweep
 
     design = build_design(scenario, grid={key: values}, seeds=seeds, duration=duration)
@@ -46,13 +47,21 @@ def measure(scenario: str, key: str, values: list, seeds: int, workers: int, dur
     t_warm = first["end"].max()
     after = df[df["end"] > t_warm]
     span = (df["end"].max() - t_warm).total_seconds()
-    return {"scenario": scenario, "workers": workers, "runs": len(df), "ok": int((df["status"] == "ok").sum()),
-            "wall_s": wall, "end_to_end_rpm": 60 * len(df) / wall,
-            "warm_rpm": 60 * len(after) / span if span > 0 and len(after) else float("nan"),
-            "first_run_s": float(first["wall_time_s"].mean()), "other_run_s": float(rest["wall_time_s"].mean()),
-            "first_cpu_s": float(first["cpu_time_s"].mean()), "other_cpu_s": float(rest["cpu_time_s"].mean()),
-            "cpu_total_s": float(df["cpu_time_s"].sum()),
-            "workers_used": df["worker"].nunique()}
+    return {
+        "scenario": scenario,
+        "workers": workers,
+        "runs": len(df),
+        "ok": int((df["status"] == "ok").sum()),
+        "wall_s": wall,
+        "end_to_end_rpm": 60 * len(df) / wall,
+        "warm_rpm": 60 * len(after) / span if span > 0 and len(after) else float("nan"),
+        "first_run_s": float(first["wall_time_s"].mean()),
+        "other_run_s": float(rest["wall_time_s"].mean()),
+        "first_cpu_s": float(first["cpu_time_s"].mean()),
+        "other_cpu_s": float(rest["cpu_time_s"].mean()),
+        "cpu_total_s": float(df["cpu_time_s"].sum()),
+        "workers_used": df["worker"].nunique(),
+    }
 
 
 def main(argv=None) -> int:
@@ -71,22 +80,29 @@ def main(argv=None) -> int:
     values = [round(float(v), 3) for v in np.linspace(0.1, 1.0 if scen == "cable-current" else 0.3, 10)]
     seeds = max(1, args.runs // len(values))
     root = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="bench-sweep-"))
-    print(f"# sweep benchmark: {scen}, {key} in {values} x {seeds} seeds = {len(values) * seeds} runs, "
-          f"duration {args.duration or 'default'}; load average at start {os.getloadavg()[0]:.2f}")
+    print(
+        f"# sweep benchmark: {scen}, {key} in {values} x {seeds} seeds = {len(values) * seeds} runs, "
+        f"duration {args.duration or 'default'}; load average at start {os.getloadavg()[0]:.2f}"
+    )
     rows = []
     for w in args.workers:
         r = measure(scen, key, values, seeds, w, args.duration, root)
         rows.append(r)
-        print(f"workers {w}: {r['runs']} runs ({r['ok']} ok) in {r['wall_s']:.1f} s -> end-to-end "
-              f"{r['end_to_end_rpm']:.1f} runs/min, warm {r['warm_rpm']:.1f} runs/min; first run per worker "
-              f"{r['first_run_s']:.2f} s wall / {r['first_cpu_s']:.2f} s CPU, other runs {r['other_run_s']:.2f} s wall / "
-              f"{r['other_cpu_s']:.2f} s CPU (sum of run CPU {r['cpu_total_s']:.0f} s); workers used {r['workers_used']}; "
-              f"load average now {os.getloadavg()[0]:.2f}", flush=True)
+        print(
+            f"workers {w}: {r['runs']} runs ({r['ok']} ok) in {r['wall_s']:.1f} s -> end-to-end "
+            f"{r['end_to_end_rpm']:.1f} runs/min, warm {r['warm_rpm']:.1f} runs/min; first run per worker "
+            f"{r['first_run_s']:.2f} s wall / {r['first_cpu_s']:.2f} s CPU, other runs {r['other_run_s']:.2f} s wall / "
+            f"{r['other_cpu_s']:.2f} s CPU (sum of run CPU {r['cpu_total_s']:.0f} s); workers used {r['workers_used']}; "
+            f"load average now {os.getloadavg()[0]:.2f}",
+            flush=True,
+        )
     if len(rows) > 1:
         base = rows[0]
         for r in rows[1:]:
-            print(f"scaling {base['workers']} -> {r['workers']} workers: end-to-end x"
-                  f"{r['end_to_end_rpm'] / base['end_to_end_rpm']:.2f}, warm x{r['warm_rpm'] / base['warm_rpm']:.2f}")
+            print(
+                f"scaling {base['workers']} -> {r['workers']} workers: end-to-end x"
+                f"{r['end_to_end_rpm'] / base['end_to_end_rpm']:.2f}, warm x{r['warm_rpm'] / base['warm_rpm']:.2f}"
+            )
     if not args.out:
         shutil.rmtree(root, ignore_errors=True)
     return 0

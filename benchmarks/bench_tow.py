@@ -27,8 +27,9 @@ from oceangnc.models.winch import WinchConfig
 
 
 def towed(winch: bool = False) -> CombinedPlant:
-    cc = CableConfig(length=100.0, segments=None if winch else 50, segment_length=2.0 if winch else None,
-                     integrator="imex")
+    cc = CableConfig(
+        length=100.0, segments=None if winch else 50, segment_length=2.0 if winch else None, integrator="imex"
+    )
     kw = {"winch": WinchConfig(enabled=True, capacity=150.0), "seabed": SeabedConfig(depth=200.0)} if winch else {}
     pl = CombinedPlant(USVConfig(u0=1.0), UUVConfig(u0=0.8, z0=60.0, x0=-80.0), cc, top="usv", **kw)
     pl.u[0] = pl.u[1] = 0.5 * USVConfig().d11 * 1.0  # USV thrust for ~1 m/s
@@ -64,8 +65,10 @@ def main() -> None:
         pl = towed(winch)
         rw1, rc1, bus = rtf(pl, tick=1.0, publish=False)
         extra = f", nodes {bus.get('cable.nodes', 51):.0f}" if winch else ""
-        print(f"100 m / 50-segment towed cable, imex 10 ms, {lab}: ticks of 10 ms + publish: RTF {rw:.0f}x wall, "
-              f"{rc:.0f}x CPU; plant alone: {rw1:.0f}x wall, {rc1:.0f}x CPU{extra}")
+        print(
+            f"100 m / 50-segment towed cable, imex 10 ms, {lab}: ticks of 10 ms + publish: RTF {rw:.0f}x wall, "
+            f"{rc:.0f}x CPU; plant alone: {rw1:.0f}x wall, {rc1:.0f}x CPU{extra}"
+        )
     import tempfile
 
     import oceangnc
@@ -77,8 +80,10 @@ def main() -> None:
             r = oceangnc.run(name, out=f"{d}/{name}", plots=False)
             wall, cpu = time.perf_counter() - w0, time.process_time() - c0
             T = r.summary["duration_s"]
-            print(f"{name:17s} {T:6.0f} s simulated: {wall:6.2f} s wall, {cpu:6.2f} s CPU "
-                  f"(RTF {T / wall:.0f}x wall, {T / cpu:.0f}x CPU)")
+            print(
+                f"{name:17s} {T:6.0f} s simulated: {wall:6.2f} s wall, {cpu:6.2f} s CPU "
+                f"(RTF {T / wall:.0f}x wall, {T / cpu:.0f}x CPU)"
+            )
 
 
 if __name__ == "__main__":

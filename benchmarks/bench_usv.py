@@ -39,10 +39,16 @@ def main() -> None:
             sim.run(args.duration, log=log)
             best = min(best, time.perf_counter() - t0)
     steps = args.duration / cfg.sim.dt
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, python {platform.python_version()}")
-    print(f"usv-turn: {args.duration:.0f} s simulated in {best:.3f} s wall -> real-time factor {args.duration / best:.0f}x")
-    print(f"  physics steps (dt={cfg.sim.dt} s): {steps / best / 1e6:.2f} M steps/s; "
-          f"clock ticks (100 Hz): {args.duration * 100 / best:.0f} ticks/s")
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, python {platform.python_version()}"
+    )
+    print(
+        f"usv-turn: {args.duration:.0f} s simulated in {best:.3f} s wall -> real-time factor {args.duration / best:.0f}x"
+    )
+    print(
+        f"  physics steps (dt={cfg.sim.dt} s): {steps / best / 1e6:.2f} M steps/s; "
+        f"clock ticks (100 Hz): {args.duration * 100 / best:.0f} ticks/s"
+    )
 
 
 if __name__ == "__main__":
