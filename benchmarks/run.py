@@ -1,6 +1,6 @@
 """Run benchmark scripts and write ``benchmarks/RESULTS.md`` from their recorded figures (issue 25).
 
-    python benchmarks/run.py [NAME ...] [--list]
+    python benchmarks/run.py [NAME ...] [--list] [--markdown]
 
 NAME is a benchmark of :data:`BENCHMARKS` (default: all). Each runs as its own process with its
 arguments; the figures it records (:func:`record.record`) replace those of the same capability and
@@ -90,7 +90,8 @@ def write_markdown(rows: list[dict]) -> str:
         group = [r for r in rows if r["capability"] == cap]
         out += [f"## {cap}", "", "| case | value | target | measured | note |", "|---|---|---|---|---|"]
         for r in group:
-            v = f"{r['value']:.3g} {r['unit']}".replace(" x", "x")
+            num = f"{r['value']:.0f}" if abs(r["value"]) >= 100 else f"{r['value']:.3g}"
+            v = f"{num} {r['unit']}".replace(" x", "x")
             when = f"{r['date']}, load {r['load']}"
             out.append(f"| {r['case']} | **{v}** | {r['target']} | {when} | {r['note']} |")
         cmds = sorted({r["command"] for r in group})
@@ -100,6 +101,9 @@ def write_markdown(rows: list[dict]) -> str:
 
 
 def main(argv: list[str]) -> int:
+    if "--markdown" in argv:  # only rewrite RESULTS.md from results.json
+        (HERE / "RESULTS.md").write_text(write_markdown(json.loads(RESULTS.read_text())))
+        return 0
     if "--list" in argv:
         for k, (s, a, _) in BENCHMARKS.items():
             print(f"{k:10s} {s} {' '.join(a)}")
