@@ -17,6 +17,8 @@ import oceangnc
 from oceangnc.core.integrators import rk4_advance, rk4_workspace
 from oceangnc.models.ship_lowspeed import ShipConfig, ShipPlant, ship_rhs
 
+from record import record
+
 
 def rhs_rate(n_steps: int = 200_000) -> float:
     cfg = ShipConfig(u0=3.0)
@@ -42,6 +44,7 @@ def main() -> None:
         )
         wall = time.perf_counter() - t0
         sim_t = r.summary["duration_s"]
+        record("berthing (001)", f"`berthing-channel` {mode}, end to end with its log", sim_t / wall, "x")
         print(
             f"berthing-channel {mode}: {sim_t:.0f} s simulated in {wall:.1f} s wall -> real-time factor {sim_t / wall:.0f}"
         )

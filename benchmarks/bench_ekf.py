@@ -23,6 +23,8 @@ from oceangnc.identification.ekf import nees, run_ekf, submarine_vertical_model
 from oceangnc.identification.maneuvers import zigzag
 from oceangnc.models.submarine_vertical import COEFF_NAMES, TRUE_COEFFS, SubmarineVerticalConfig
 
+from record import record
+
 TRUE = np.array([TRUE_COEFFS[k] for k in COEFF_NAMES])
 SD = np.array([0.002, math.radians(0.02), math.radians(0.005)])
 
@@ -92,12 +94,28 @@ def main():
             f"({d.n_reversals} plane reversals)"
         )
         for mode, (first, best, worst) in timing(d).items():
+            record(
+                "EKF identification (002)",
+                f"{man} zig-zag, 200 s at 100 Hz, 13 states, {mode}: wall",
+                best,
+                "s",
+                "< 5 s",
+                f"first call incl. load/compile {first:.1f} s; noise-free worst error {100 * worst:.3f} %",
+            )
             print(
                 f"  EKF 13 states, 20001 samples, {mode:>17}: {best:6.3f} s (first call incl. load/compile "
                 f"{first:6.2f} s), real-time factor {200.0 / best:6.0f}x, noise-free worst error {100 * worst:.3f} %"
             )
     for man in ("5-5", "10-5"):
         m, (lo, hi), inside, nis, vals = nees_study(man, args.seeds, args.q_rel)
+        record(
+            "EKF identification (002)",
+            f"{man} zig-zag, mean NEES over {args.seeds} seeds (10 dof)",
+            m,
+            "",
+            f"95 % interval [{lo:.2f}, {hi:.2f}]",
+            f"mean NIS {nis:.3f} (3 dof)",
+        )
         print(
             f"\nNEES study {man}, {args.seeds} seeds, q_rel {args.q_rel:g}: mean NEES {m:.2f} (10 dof; 95 % interval "
             f"[{lo:.2f}, {hi:.2f}]), mean NIS {nis:.3f} (3 dof), runs with >= 9/10 inside 3 sigma: "

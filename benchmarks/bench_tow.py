@@ -25,6 +25,8 @@ from oceangnc.models.usv import USVConfig
 from oceangnc.models.uuv import UUVConfig
 from oceangnc.models.winch import WinchConfig
 
+from record import record
+
 
 def towed(winch: bool = False) -> CombinedPlant:
     cc = CableConfig(
@@ -65,6 +67,14 @@ def main() -> None:
         pl = towed(winch)
         rw1, rc1, bus = rtf(pl, tick=1.0, publish=False)
         extra = f", nodes {bus.get('cable.nodes', 51):.0f}" if winch else ""
+        record(
+            "tow: cable, winch, seabed",
+            f"100 m / 50-segment cable, imex 10 ms, {lab}, ticks + publish",
+            rw,
+            "x",
+            "",
+            f"plant alone {rw1:.0f}x wall",
+        )
         print(
             f"100 m / 50-segment towed cable, imex 10 ms, {lab}: ticks of 10 ms + publish: RTF {rw:.0f}x wall, "
             f"{rc:.0f}x CPU; plant alone: {rw1:.0f}x wall, {rc1:.0f}x CPU{extra}"
@@ -80,6 +90,7 @@ def main() -> None:
             r = oceangnc.run(name, out=f"{d}/{name}", plots=False)
             wall, cpu = time.perf_counter() - w0, time.process_time() - c0
             T = r.summary["duration_s"]
+            record("tow: cable, winch, seabed", f"`{name}` end to end ({T:.0f} s simulated)", T / wall, "x")
             print(
                 f"{name:17s} {T:6.0f} s simulated: {wall:6.2f} s wall, {cpu:6.2f} s CPU "
                 f"(RTF {T / wall:.0f}x wall, {T / cpu:.0f}x CPU)"

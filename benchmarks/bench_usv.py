@@ -15,6 +15,8 @@ import time
 
 import numpy as np
 
+from record import record
+
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 
@@ -44,6 +46,14 @@ def main() -> None:
     )
     print(
         f"usv-turn: {args.duration:.0f} s simulated in {best:.3f} s wall -> real-time factor {args.duration / best:.0f}x"
+    )
+    record(
+        "USV",
+        f"`usv-turn` {args.duration:.0f} s with its 20 Hz log, best of {args.repeat}",
+        args.duration / best,
+        "x",
+        "",
+        f"{steps / best / 1e6:.2f} M physics steps/s (dt {cfg.sim.dt} s)",
     )
     print(
         f"  physics steps (dt={cfg.sim.dt} s): {steps / best / 1e6:.2f} M steps/s; "

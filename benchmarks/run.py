@@ -31,6 +31,10 @@ BENCHMARKS = {
         ["combined-survey", "usv-turn", "field-test", "berthing-channel"],
         {"NUMBA_NUM_THREADS": "1"},
     ),
+    "usv": ("bench_usv.py", ["--duration", "300", "--repeat", "3"], {}),
+    "ekf": ("bench_ekf.py", ["--seeds", "10"], {"NUMBA_NUM_THREADS": "1"}),
+    "berthing": ("bench_berthing.py", [], {}),
+    "tow": ("bench_tow.py", [], {}),
 }
 
 
