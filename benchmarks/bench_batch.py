@@ -17,6 +17,8 @@ import numpy as np
 import oceangnc
 from oceangnc.io.logs import read_log
 
+from record import record
+
 if __name__ == "__main__":
     K = int(sys.argv[1]) if len(sys.argv) > 1 else 1000
     dur = float(sys.argv[2]) if len(sys.argv) > 2 else 40.0
@@ -48,6 +50,8 @@ if __name__ == "__main__":
             flush=True,
         )
     print(f"speed-up 2 cores / 1 core: {res[1] / res[2]:.2f}x")
+    record("batches (run_batch)", f"{K} flagship runs of {dur:g} s on 1 core", 60 * K / res[1], "runs/min")
+    record("batches (run_batch)", f"{K} flagship runs of {dur:g} s, speed-up 2 cores / 1 core", res[1] / res[2], "x")
     for i in range(3):
         r = oceangnc.run(
             "combined-survey",

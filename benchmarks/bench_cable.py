@@ -32,6 +32,8 @@ from oceangnc.models.combined import CombinedPlant
 from oceangnc.models.usv import USVConfig
 from oceangnc.models.uuv import UUVConfig
 
+from record import record
+
 
 def make_plant(n: int, length: float = 3.0, integrator: str = "rk4") -> CombinedPlant:
     pl = CombinedPlant(
@@ -141,6 +143,14 @@ def main() -> None:
             f"\n1. coupled USV + 20-segment 3 m cable + UUV, integrator {integ}: limit "
             f"{pl.stability_limit * 1e3:.3f} ms, dt {dt * 1e3:.3f} ms"
         )
+        record(
+            "cable + UUV (003)",
+            f"coupled USV + 20-segment cable + UUV, {integ}, 60 s, published every 10 ms",
+            t_sim / wall,
+            "x",
+            ">= 200x" if integ == "rk4-split" else "",
+            f"dt {dt * 1e3:.3f} ms",
+        )
         print(
             f"   {t_sim:.0f} s simulated in {wall:.3f} s wall / {cpu:.3f} s CPU: "
             f"real-time factor {t_sim / wall:.0f}x (wall), {t_sim / cpu:.0f}x (CPU)"
@@ -155,6 +165,15 @@ def main() -> None:
             _, c_us = step_cost(pl, dt)
             pl.reset()
             wall, cpu = run_ticks(pl, dt, 20.0)
+            if integ == "rk4-split":
+                record(
+                    "cable + UUV (003)",
+                    f"cost per RK4 step, {n} segments, {integ}",
+                    c_us,
+                    "us",
+                    "linear in n",
+                    f"{c_us / n:.2f} us per segment; real-time factor {20.0 / wall:.0f}x at dt {dt * 1e3:.2f} ms",
+                )
             print(
                 f"   {n:<3d} {pl.stability_limit * 1e3:9.3f} {dt * 1e3:7.3f} {c_us:13.2f} {c_us / n:16.3f}"
                 f" {20.0 / wall:10.0f} {20.0 / cpu:9.0f}"
@@ -178,6 +197,14 @@ def main() -> None:
             c1 = time.process_time() - c0
             line = f"   {n:<3d} {dt * 1e3:6.1f} {c_us:13.2f} {60.0 / c1:22.0f}"
             if dt == 0.01:
+                record(
+                    "cable + UUV (003)",
+                    f"implicit (imex) cable, {n} segments, dt 10 ms, plant alone",
+                    60.0 / c1,
+                    "x CPU",
+                    "",
+                    "fixed top, UUV hanging in 0.5 m/s current",
+                )
                 pl.reset()
                 _, cpu = run_ticks(pl, dt, 20.0)
                 line += f" {20.0 / cpu:30.0f}"

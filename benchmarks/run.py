@@ -35,6 +35,8 @@ BENCHMARKS = {
     "ekf": ("bench_ekf.py", ["--seeds", "10"], {"NUMBA_NUM_THREADS": "1"}),
     "berthing": ("bench_berthing.py", [], {}),
     "tow": ("bench_tow.py", [], {}),
+    "cable": ("bench_cable.py", [], {"NUMBA_NUM_THREADS": "1"}),
+    "batch": ("bench_batch.py", ["1000", "40"], {}),
 }
 
 
