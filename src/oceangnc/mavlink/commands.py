@@ -2,11 +2,33 @@
 
 from __future__ import annotations
 
+import math
+
 from .protocol import AUTO, ROVER_MODES, ROVER_OTHER, STICK_MODES, mavlink, mode_name
 
 M = mavlink
 INT16_MAX = 32767
 _GCS_TYPES = (M.MAV_TYPE_GCS,)
+#: messages that command the vehicle: their sender holds control (the GCS failsafe follows its link)
+_COMMANDING = {
+    "COMMAND_LONG",
+    "COMMAND_INT",
+    "SET_MODE",
+    "MANUAL_CONTROL",
+    "RC_CHANNELS_OVERRIDE",
+    "MISSION_COUNT",
+    "MISSION_CLEAR_ALL",
+    "MISSION_SET_CURRENT",
+}
+
+
+def _finite(*values) -> bool:
+    return all(math.isfinite(v) for v in values)
+
+
+def _whole(v: float, lo: float, hi: float) -> bool:
+    """``v`` a whole number in [lo, hi] (command parameters that name an item, a mode, a message)."""
+    return math.isfinite(v) and v == round(v) and lo <= v <= hi
 
 
 class CommandsMixin:
@@ -16,10 +38,24 @@ class CommandsMixin:
         ts = getattr(m, "target_system", 0)
         return ts in (0, self.cfg_mav.system_id)
 
-    def _link_alive(self, m) -> None:
-        self.t_gcs = self.clock()
-        if self.gcs_sysid is None:
+    def _controller(self) -> int | None:
+        """System id of the ground station that holds control: the configured ``mavlink.gcs_sysid``,
+        else the one that armed or last commanded (None before any command)."""
+        c = self.cfg_mav.gcs_sysid
+        return c if c is not None else self.gcs_sysid
+
+    def _take_control(self, m) -> None:
+        """A command (not a heartbeat or a read) from ``m``'s system: it holds control from now on
+        (unless a ground station is configured)."""
+        if self.cfg_mav.gcs_sysid is None:
             self.gcs_sysid = m.get_srcSystem()
+
+    def _link_alive(self, m) -> None:
+        """Only the controlling ground station keeps the link alive: heartbeats of any other system
+        (a second GCS, a companion computer, an attacker) do not hold off the failsafe."""
+        if m.get_srcSystem() != self._controller():
+            return
+        self.t_gcs = self.clock()
         if self.failsafe:
             self.failsafe = False
             self.event("GCS link restored; failsafe cleared (mode stays HOLD)")
@@ -45,6 +81,8 @@ class CommandsMixin:
                 self._send(self.mav_uuv.command_ack_encode(m.command, M.MAV_RESULT_UNSUPPORTED))
             self.counts["rx_ignored"] += 1
             return
+        if kind in _COMMANDING:
+            self._take_control(m)
         self._link_alive(m)
         h = getattr(self, "_on_" + kind.lower(), None)
         if h is None:
@@ -55,8 +93,33 @@ class CommandsMixin:
     def _ack(self, command: int, result: int) -> None:
         self._send(self.mav.command_ack_encode(command, result))
 
+    def _param_error(self, cmd: int, params, x=None, y=None) -> str | None:
+        """Why a command's parameters are refused (non-finite, or out of the command's range), or None."""
+        if not _finite(*params):
+            return "a non-finite parameter"
+        p1, p2 = params[0], params[1]
+        n = len(self.mission)
+        if cmd == M.MAV_CMD_COMPONENT_ARM_DISARM and p1 not in (0.0, 1.0):
+            return f"param1 {p1} (0 disarm, 1 arm)"
+        if cmd == M.MAV_CMD_DO_FLIGHTTERMINATION and p1 not in (0.0, 1.0):
+            return f"param1 {p1} (0 reset, 1 terminate)"
+        if cmd == M.MAV_CMD_DO_SET_MODE and not (_whole(p1, 0, 255) and _whole(p2, 0, 2**31 - 1)):
+            return f"mode {p1}/{p2}"
+        if cmd == M.MAV_CMD_MISSION_START and not (_whole(p1, 0, max(n - 1, 0)) and _whole(p2, 0, max(n - 1, 0))):
+            return f"mission items {p1}..{p2} of {n}"
+        if cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT and not _whole(p1, 0, max(n - 1, 0)):
+            return f"mission item {p1} of {n}"
+        if cmd == M.MAV_CMD_REQUEST_MESSAGE and not _whole(p1, 0, 65535):
+            return f"message id {p1}"
+        return None
+
     def _on_command_long(self, m) -> None:
         cmd = m.command
+        why = self._param_error(cmd, (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7))
+        if why is not None:  # refused with an answer, and nothing changes
+            self._oor(f"COMMAND_LONG {cmd}: {why}")
+            self._ack(cmd, M.MAV_RESULT_DENIED)
+            return
         if cmd == M.MAV_CMD_COMPONENT_ARM_DISARM:
             self._ack(cmd, self._arm(m.param1 > 0.5))
         elif cmd == M.MAV_CMD_DO_SET_MODE:
@@ -90,6 +153,11 @@ class CommandsMixin:
         return None
 
     def _on_command_int(self, m) -> None:
+        why = self._param_error(m.command, (m.param1, m.param2, m.param3, m.param4, m.z))
+        if why is not None:
+            self._oor(f"COMMAND_INT {m.command}: {why}")
+            self._ack(m.command, M.MAV_RESULT_DENIED)
+            return
         if m.command == M.MAV_CMD_DO_SET_MODE:
             self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
         else:
@@ -130,6 +198,7 @@ class CommandsMixin:
         if num != self.mode:
             self.mode = num
             self.stick = (0.0, 0.0)
+            self.stick_flowing = False
             if num in STICK_MODES:
                 self.t_gcs = max(self.t_gcs, self.clock())  # grace for the first stick message
             if num == AUTO and self.route.available:
@@ -163,6 +232,7 @@ class CommandsMixin:
             return
         if self.mode in STICK_MODES:
             self.stick = (x / 1000.0, r / 1000.0)
+            self._stick_seen()
 
     def _on_rc_channels_override(self, m) -> None:
         def axis(pwm):
@@ -180,6 +250,12 @@ class CommandsMixin:
             return
         if self.mode in STICK_MODES:
             self.stick = (self.stick[0] if surge is None else surge, self.stick[1] if yaw is None else yaw)
+            self._stick_seen()
+
+    def _stick_seen(self) -> None:
+        """A stick message in a stick mode: the stream is flowing (its loss is the stick failsafe)."""
+        self.t_stick = self.clock()
+        self.stick_flowing = True
 
     def _on_param_request_list(self, m) -> None:
         params = self._params()
@@ -198,6 +274,7 @@ class CommandsMixin:
     def _params(self) -> dict[str, float]:
         return {
             "FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s),
+            "FS_TIMEOUT": float(self.cfg_mav.stick_timeout_s),
             "SYSID_THISMAV": float(self.cfg_mav.system_id),
             "SIM_SPEEDUP": float(self.speed),
         }

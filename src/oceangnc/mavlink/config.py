@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import Field
 
 from ..io.config import StrictModel
@@ -18,11 +20,27 @@ class MavlinkConfig(StrictModel):
     system_id: int = Field(1, ge=1, le=250, description="MAVLink system id of the USV")
     uuv_system_id: int = Field(2, ge=1, le=250, description="MAVLink system id of the UUV (if the scenario has one)")
     gcs_timeout_s: float = Field(
-        0.7,
+        5.0,
+        gt=0.05,
+        le=60,
+        description="GCS failsafe (ArduPilot FS_GCS_TIMEOUT): no heartbeat or message from the controlling "
+        "ground station for this long in a stick mode (MANUAL, ACRO) -> HOLD, wall-clock s",
+    )
+    stick_timeout_s: float = Field(
+        1.5,
         gt=0.05,
         le=30,
-        description="no message from the ground station for this long in a stick mode "
-        "(MANUAL, ACRO) -> failsafe to HOLD, wall-clock s",
+        description="stick failsafe (ArduPilot Rover FS_TIMEOUT): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream "
+        "that was flowing in a stick mode stops for this long -> HOLD, wall-clock s",
+    )
+    gcs_sysid: int | None = Field(
+        None,
+        ge=1,
+        le=255,
+        description="system id of the controlling ground station; default: the one that armed or last commanded",
+    )
+    fs_action: Literal["hold"] = Field(
+        "hold", description="failsafe action (HOLD; RTL and SMART_RTL come with those modes)"
     )
     max_packets_per_loop: int = Field(
         500, ge=1, le=100000, description="datagrams read per loop pass (bounds the work a flood can cause)"

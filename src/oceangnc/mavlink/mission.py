@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from .geo import latlon_to_ned, ned_to_latlon
 from .protocol import AUTO, HOLD, mavlink
 
@@ -104,7 +106,15 @@ class MissionMixin:
         if m.command == M.MAV_CMD_NAV_WAYPOINT and m.seq > 0 and not (-90 <= lat <= 90 and -180 <= lon <= 180):
             self._oor(f"MISSION_ITEM seq {m.seq} lat {lat} lon {lon}")
             self._upload = None
-            self._mission_ack(M.MAV_MISSION_INVALID_PARAM5 if abs(lat) > 90 else M.MAV_MISSION_INVALID_PARAM6)
+            self._mission_ack(M.MAV_MISSION_INVALID_PARAM5_X if not abs(lat) <= 90 else M.MAV_MISSION_INVALID_PARAM6_Y)
+            return
+        bad = [i for i, v in enumerate((m.param1, m.param2, m.param3, m.param4, float(m.z)), 1) if not math.isfinite(v)]
+        if bad:  # a NaN or infinite parameter (param1-4, altitude): refused with its answer
+            self._oor(f"MISSION_ITEM seq {m.seq}: non-finite parameter {bad[0]}")
+            self._upload = None
+            errs = (M.MAV_MISSION_INVALID_PARAM1, M.MAV_MISSION_INVALID_PARAM2, M.MAV_MISSION_INVALID_PARAM3,
+                    M.MAV_MISSION_INVALID_PARAM4, M.MAV_MISSION_INVALID_PARAM7)  # fmt: skip
+            self._mission_ack(errs[bad[0] - 1])
             return
         u["items"].append(
             {

@@ -8,8 +8,10 @@ One loop (default 100 Hz, run in a thread by :meth:`MavlinkVehicle.start` or in 
    (commands, modes, sticks, mission protocol); malformed datagrams, unknown message ids and
    out-of-range values are counted (``mavlink.rx_bad``, ``mavlink.rx_unknown``,
    ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
-2. run the GCS-link watchdog: in a stick mode (MANUAL, ACRO) no message from the ground station for
-   ``mavlink.gcs_timeout_s`` (0.7 s) switches to HOLD (failsafe; the stick is zeroed);
+2. run the failsafes: in a stick mode (MANUAL, ACRO) no message from the *controlling* ground station
+   for ``mavlink.gcs_timeout_s`` (5 s, ArduPilot's FS_GCS_TIMEOUT), or a stick stream that was flowing
+   stopped for ``mavlink.stick_timeout_s`` (1.5 s, ArduPilot Rover's FS_TIMEOUT), switches to HOLD (the stick is zeroed); other
+   systems' heartbeats do not count;
 3. write the vehicle's state onto the simulation bus with ``sim.inject`` (the console's keys, see
    :mod:`oceangnc.console.session`): ``console.mode`` ("remote" in MANUAL / ACRO / HOLD, "auto" in AUTO),
    ``console.loop`` ("open" in MANUAL, "closed" otherwise), ``joystick.surge`` / ``joystick.yaw``
@@ -149,8 +151,10 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self.failsafe = False
         self.mode = HOLD
         self.stick = (0.0, 0.0)
-        self.t_gcs = -math.inf  # wall time of the last message from a ground station
-        self.gcs_sysid: int | None = None
+        self.t_gcs = -math.inf  # wall time of the last message from the controlling ground station
+        self.gcs_sysid: int | None = None  # the ground station that armed or last commanded
+        self.t_stick = -math.inf  # wall time of the last stick message in a stick mode
+        self.stick_flowing = False
         self.counts = {
             "rx_packets": 0,
             "rx_bad": 0,
@@ -230,11 +234,23 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
 
     # -- failsafe, bus, pacing ---------------------------------------------------------------------------
     def _watchdog(self, now: float) -> None:
-        if self.mode in STICK_MODES and not self.failsafe and now - self.t_gcs > self.cfg_mav.gcs_timeout_s:
-            self.failsafe = True
-            self.mode = HOLD
-            self.stick = (0.0, 0.0)
-            self.event("Failsafe: GCS link lost, HOLD", M.MAV_SEVERITY_CRITICAL)
+        """ArduPilot's two failsafes in the stick modes: the controlling ground station silent for
+        ``gcs_timeout_s`` (FS_GCS_TIMEOUT, 5 s), or a stick stream that was flowing stopped for
+        ``stick_timeout_s`` (1.5 s); either switches to HOLD with the stick zeroed."""
+        if self.mode not in STICK_MODES or self.failsafe:
+            return
+        c = self.cfg_mav
+        if now - self.t_gcs > c.gcs_timeout_s:
+            why = "GCS link lost"
+        elif self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
+            why = "stick stream lost"
+        else:
+            return
+        self.failsafe = True
+        self.mode = HOLD
+        self.stick = (0.0, 0.0)
+        self.stick_flowing = False
+        self.event(f"Failsafe: {why}, HOLD", M.MAV_SEVERITY_CRITICAL)
 
     def _push_bus(self) -> None:
         # thrust zero while disarmed or e-stopped, and in HOLD when the scenario cannot take a zero stick
