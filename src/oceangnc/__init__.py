@@ -64,7 +64,6 @@ def run_batch(*args, **kwargs):
     return _rb(*args, **kwargs)
 
 
-
 __all__ = [
     "run",
     "run_batch",

@@ -13,7 +13,6 @@ import math
 from numba import njit
 
 
-
 @njit(cache=True)
 def thrusters_step(t, sig, sl, st, pa):
     """USV/UUV thruster blocks in thrust mode: saturate each command, zero all on ``_estop``.
