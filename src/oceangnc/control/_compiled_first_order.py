@@ -51,16 +51,6 @@ def speed_p_law(K, T, zeta, wn, vc, v):
 
 
 @njit(cache=True)
-def saturate_rudder_engine(d, n, estop, dmax, nmin, nmax):
-    """(delta_S rad, delta_T rpm, delta_S deg): the rudder and engine limits, both zero on an e-stop."""
-    if estop:
-        d, n = 0.0, 0.0
-    d = min(dmax, max(-dmax, d))
-    n = min(nmax, max(nmin, n))
-    return d, n, math.degrees(d)
-
-
-@njit(cache=True)
 def step_value(t, t_step, before, after):
     """``after`` from ``t_step`` on (with 1 ns of slack for the clock's k dt), ``before`` until then."""
     return after if t >= t_step - 1e-9 else before
@@ -90,21 +80,6 @@ def speed_p_step(t, sig, sl, st, pa):
     n, k1 = speed_p_law(kv, tv, pa[0], pa[1], vc, sig[sl[1]])
     sig[sl[2]] = n
     sig[sl[3]] = k1
-
-
-@njit(cache=True)
-def rudder_engine_step(t, sig, sl, st, pa):
-    """:class:`~oceangnc.control.actuators.RudderEngineBlock`.
-
-    slots: delta_s_cmd, rpm_cmd, _estop | delta_s, rpm, delta_s_deg. params: dmax, nmin, nmax.
-    """
-    d = sig[sl[0]]
-    n = sig[sl[1]]
-    estop = sig[sl[2]] != 0.0
-    d, n, deg = saturate_rudder_engine(d, n, estop, pa[0], pa[1], pa[2])
-    sig[sl[3]] = d
-    sig[sl[4]] = n
-    sig[sl[5]] = deg
 
 
 @njit(cache=True)

@@ -32,15 +32,7 @@ class USVThrusterBlock(USVThrusters):
     role = "actuator"
 
     def __init__(self, cfg, period: float = 0.01, mode: str = "thrust", body: str = "usv"):
-        super().__init__(cfg, period, mode, body)
-        b = body
-        if mode == "voltage":
-            self.inputs = {}
-            self.optional_inputs = {f"{b}.volt_port_cmd": "V", f"{b}.volt_stbd_cmd": "V", "_estop": "bool"}
-        else:
-            self.inputs = {f"{b}.thrust_port_cmd": "N", f"{b}.thrust_stbd_cmd": "N"}
-            self.optional_inputs = {"_estop": "bool"}
-        self.outputs = {f"{b}.thrust_port": "N", f"{b}.thrust_stbd": "N"}
+        super().__init__(cfg, period, mode, body)  # declares its signals (oceangnc.core.law.LawBlock.bind)
 
 
 @register_block("uuv.thrusters")
@@ -50,11 +42,7 @@ class UUVThrusterBlock(UUVThrusters):
     role = "actuator"
 
     def __init__(self, cfg, period: float = 0.01, body: str = "uuv"):
-        super().__init__(cfg, period, body)
-        sides = ("port", "stbd", "bow")
-        self.inputs = {f"{body}.thrust_{s}_cmd": "N" for s in sides}
-        self.optional_inputs = {"_estop": "bool"}
-        self.outputs = {f"{body}.thrust_{s}": "N" for s in sides}
+        super().__init__(cfg, period, body)  # declares its signals (oceangnc.core.law.LawBlock.bind)
 
 
 @register_block("usv.rudder_engine")
@@ -64,11 +52,7 @@ class RudderEngineBlock(FirstOrderActuators):
     role = "actuator"
 
     def __init__(self, cfg, period: float = 0.05, body: str = "usv"):
-        super().__init__(cfg, period, body)
-        b = body
-        self.inputs = {f"{b}.delta_s_cmd": "rad", f"{b}.rpm_cmd": "rpm"}
-        self.optional_inputs = {"_estop": "bool"}
-        self.outputs = {f"{b}.delta_s": "rad", f"{b}.rpm": "rpm", f"{b}.delta_s_deg": "deg"}
+        super().__init__(cfg, period, body)  # declares its signals (oceangnc.core.law.LawBlock.bind)
 
 
 @register_block("thrusters.off")

@@ -209,6 +209,11 @@ def drive_batch(active, ks, done_ks, n_end, tick, dt, SIG, stop_slot, log_on, lo
 '''
 
 
+#: the loop's own flags: always carried (0 = false until set), so an optional reader always sees them, even
+#: when nothing had set them when the loop was built (an e-stop injected later must reach every block)
+_FLAGS = ("_stop", "_estop")
+
+
 class FusedLoop:
     """A built fused loop of one :class:`~oceangnc.core.clock.Simulation` (see the module docstring)."""
 
@@ -221,7 +226,7 @@ class FusedLoop:
             for s in f.signals:
                 if not s.startswith("?") and s not in names:
                     names.append(s)
-        for s in ("_stop", "_estop"):
+        for s in _FLAGS:
             if s not in names:
                 names.append(s)
         self.names = names
@@ -246,7 +251,7 @@ class FusedLoop:
             imports.append(f"from {mod} import {name} as {alias}")
             slots = np.array(
                 [
-                    (self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus) else -1)
+                    (self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus or s[1:] in _FLAGS) else -1)
                     if s.startswith("?")
                     else slot_of(s)
                     for s in f.signals

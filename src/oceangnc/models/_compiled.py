@@ -14,19 +14,6 @@ from numba import njit
 
 
 @njit(cache=True)
-def thrusters_step(t, sig, sl, st, pa):
-    """USV/UUV thruster blocks in thrust mode: saturate each command, zero all on ``_estop``.
-
-    slots: _estop, cmd_0..cmd_{m-1}, out_0..out_{m-1}; params: m, hi, lo.
-    """
-    m = int(pa[0])
-    stop = sig[sl[0]] != 0.0
-    for i in range(m):
-        thrust = 0.0 if stop else sig[sl[1 + i]]
-        sig[sl[1 + m + i]] = min(pa[1], max(pa[2], thrust))
-
-
-@njit(cache=True)
 def constant_current_step(t, sig, sl, st, pa):
     """:class:`oceangnc.environment.OceanCurrent` with ``model = "constant"``: params speed, direction (rad)."""
     sig[sl[0]] = pa[0] * math.cos(pa[1])

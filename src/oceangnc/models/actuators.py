@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..core.law import In, Layout, LawBlock, Opt, Out, Signals
 from ..units import KGF
 
 USV_POLY_KGF = np.array([-0.4968, 5.7702, -21.755, 29.0135, -3.3987, -13.081])  # highest power first
@@ -109,3 +110,69 @@ def uuv_thrust_from_voltage(v):
 def saturate(x, lo, hi):
     """Clip x to [lo, hi] (comparing real parts, so it also runs in complex arithmetic for complex step)."""
     return lo if x.real < lo.real else (hi if x.real > hi.real else x)
+
+
+# -- the thruster bank: one law for the USV's and the UUV's thrusters --------------------------------
+
+#: resume ramp after an emergency stop (s): the thrust returns from zero to the command over this time,
+#: whatever block or front end (console, MAVLink) released the stop
+RESUME_RAMP_S = 2.0
+
+#: parameters and state of :func:`thrusters_law`; the signal slots are ``_estop`` (optional), the m
+#: commands, then the m thrusts (offsets computed from ``m``: the USV has 2 thrusters, the UUV 3)
+THRUSTER_PARAMS = Layout("m", "hi", "lo", "voltage", "ramp_s", "period")
+THRUSTER_STATE = Layout("w")
+_P, _X = THRUSTER_PARAMS.at, THRUSTER_STATE.at
+
+
+@njit(cache=True)
+def thrusters_law(t, sig, sl, st, pa):
+    """Thrusts (N) of a bank of m thrusters: each command (N; or DAC volts through 003 eq. 2.5 when
+    ``voltage``, 2.4 V = zero when absent) limited to [lo, hi]; all zero at once on ``_estop``, and
+    after the stop is released the thrusts ramp back, T = w sat(T_cmd) with w rising from 0 to 1 over
+    ``ramp_s`` (no thrust step at Reset, on every front end). w starts at 1: a run without an e-stop
+    is not affected."""
+    m = int(pa[_P.m])
+    stop = sl[0] >= 0 and sig[sl[0]] != 0.0
+    if stop:
+        st[_X.w] = 0.0
+    elif st[_X.w] < 1.0:
+        st[_X.w] = 1.0 if pa[_P.ramp_s] <= 0.0 else min(1.0, st[_X.w] + pa[_P.period] / pa[_P.ramp_s])
+    for i in range(m):
+        if stop:
+            thrust = 0.0
+        elif pa[_P.voltage] != 0.0:
+            thrust = usv_thrust_from_voltage(sig[sl[1 + i]] if sl[1 + i] >= 0 else 2.4)
+        else:
+            thrust = sig[sl[1 + i]]
+        sig[sl[1 + m + i]] = st[_X.w] * min(pa[_P.hi], max(pa[_P.lo], thrust))
+
+
+class ThrusterBank(LawBlock):
+    """Saturated thrusters with the e-stop and its resume ramp (:func:`thrusters_law`).
+
+    Reads ``<body>.thrust_<side>_cmd`` (N; ``<body>.volt_<side>_cmd`` (V) in voltage mode) and the
+    optional ``_estop``; writes ``<body>.thrust_<side>`` (N) in [lo, hi].
+    """
+
+    law = staticmethod(thrusters_law)
+
+    def __init__(self, body: str, sides, hi: float, lo: float, period: float, voltage: bool = False,
+                 ramp_s: float = RESUME_RAMP_S):  # fmt: skip
+        m = len(sides)
+        self.period = float(period)
+        self.body = body
+        self.hi, self.lo = float(hi), float(lo)
+        self.mode = "voltage" if voltage else "thrust"
+        cmd = In("N", m) if not voltage else Opt("V", m)
+        self.signals = Signals(estop=Opt("bool"), cmd=cmd, out=Out("N", m))
+        kind = "volt" if voltage else "thrust"
+        self.bind(
+            estop="_estop",
+            cmd=[f"{body}.{kind}_{s}_cmd" for s in sides],
+            out=[f"{body}.thrust_{s}" for s in sides],
+        )
+        self.pa = THRUSTER_PARAMS.pack(
+            m=m, hi=self.hi, lo=self.lo, voltage=1.0 if voltage else 0.0, ramp_s=ramp_s, period=self.period
+        )
+        self.st = THRUSTER_STATE.pack(w=1.0)

@@ -49,7 +49,8 @@ import numpy as np
 from numba import njit
 from pydantic import Field, model_validator
 
-from ..core.blocks import Block, Plant
+from ..core.blocks import Plant
+from ..core.law import In, Layout, LawBlock, Opt, Out, Signals
 from ..core.fused import advance_and_publish, plant_bus_keys, rk4_stepper_imports
 from ..core.csmath import ccos, csin
 from ..core.model import Model, Param, ParamLayout
@@ -311,40 +312,61 @@ def first_order_publish(x, sig, slots, cp):
         cp[6] = u
 
 
-class FirstOrderActuators(Block):
-    """Rudder and engine: commands -> saturated inputs of the first-order USV.
+ACTUATOR_SIGNALS = Signals(
+    delta_cmd=In("rad"), rpm_cmd=In("rpm"), estop=Opt("bool"), delta=Out("rad"), rpm=Out("rpm"), delta_deg=Out("deg")
+)
+ACTUATOR_PARAMS = Layout("dmax", "nmin", "nmax", "ramp_s", "period")
+ACTUATOR_STATE = Layout("w")
+_SA, _PA, _XA = ACTUATOR_SIGNALS.at, ACTUATOR_PARAMS.at, ACTUATOR_STATE.at
+
+
+@njit(cache=True)
+def rudder_engine_law(t, sig, sl, st, pa):
+    """Rudder (rad) limited to +-dmax, engine (rpm) limited to [nmin, nmax]; both zero on ``_estop``,
+    after which the engine ramps back, n = w sat(n_cmd) with w rising 0 -> 1 over ``ramp_s`` (no
+    thrust step at Reset; the rudder, no thrust, follows its command at once)."""
+    stop = sl[_SA.estop] >= 0 and sig[sl[_SA.estop]] != 0.0
+    if stop:
+        st[_XA.w] = 0.0
+    elif st[_XA.w] < 1.0:
+        st[_XA.w] = 1.0 if pa[_PA.ramp_s] <= 0.0 else min(1.0, st[_XA.w] + pa[_PA.period] / pa[_PA.ramp_s])
+    d = 0.0 if stop else sig[sl[_SA.delta_cmd]]
+    n = 0.0 if stop else sig[sl[_SA.rpm_cmd]]
+    d = min(pa[_PA.dmax], max(-pa[_PA.dmax], d))
+    n = min(pa[_PA.nmax], max(pa[_PA.nmin], n))
+    sig[sl[_SA.delta]] = d
+    sig[sl[_SA.rpm]] = n if st[_XA.w] >= 1.0 else st[_XA.w] * n
+    sig[sl[_SA.delta_deg]] = math.degrees(d)
+
+
+class FirstOrderActuators(LawBlock):
+    """Rudder and engine: commands -> saturated inputs of the first-order USV (:func:`rudder_engine_law`).
 
     Reads ``usv.delta_s_cmd`` (rad) and ``usv.rpm_cmd`` (rev/min); writes ``usv.delta_s`` limited to
     +-``rudder_limit_deg`` and ``usv.rpm`` limited to [rpm_min, rpm_max]; also ``usv.delta_s_deg``
-    for plots. An emergency stop (``_estop``) zeroes both.
+    for plots. An emergency stop (``_estop``) zeroes both; the engine ramps back over 2 s after it.
     """
 
     name = "usv_actuators"
+    law = staticmethod(rudder_engine_law)
+    signals = ACTUATOR_SIGNALS
 
-    def __init__(self, cfg: FirstOrderConfig, period: float = 0.05, body: str = "usv"):
+    def __init__(self, cfg: FirstOrderConfig, period: float = 0.05, body: str = "usv", ramp_s: float = 2.0):
         self.period = float(period)
         self.body = body
         self.dmax = math.radians(cfg.rudder_limit_deg)
         self.nmin = cfg.rpm_min
         self.nmax = cfg.rpm_max
-
-    def step(self, t: float, bus: dict) -> None:
-        from ..control._compiled_first_order import saturate_rudder_engine
-
-        b = self.body
-        d = float(bus.get(f"{b}.delta_s_cmd", 0.0))
-        n = float(bus.get(f"{b}.rpm_cmd", 0.0))
-        estop = bool(bus.get("_estop", False))
-        d, n, deg = saturate_rudder_engine(d, n, estop, self.dmax, self.nmin, self.nmax)
-        bus[f"{b}.delta_s"] = d
-        bus[f"{b}.rpm"] = n
-        bus[f"{b}.delta_s_deg"] = deg
-
-    def compiled(self):
-        """Compiled form: :func:`oceangnc.control._compiled_first_order.rudder_engine_step`."""
-        from ..control._compiled_first_order import rudder_engine_step
-        from ..core.fused import CompiledBlock
-
-        b = self.body
-        sigs = [f"{b}.delta_s_cmd", f"{b}.rpm_cmd", "_estop", f"{b}.delta_s", f"{b}.rpm", f"{b}.delta_s_deg"]
-        return CompiledBlock(rudder_engine_step, sigs, params=np.array([self.dmax, self.nmin, self.nmax]))
+        b = body
+        self.bind(
+            delta_cmd=f"{b}.delta_s_cmd",
+            rpm_cmd=f"{b}.rpm_cmd",
+            estop="_estop",
+            delta=f"{b}.delta_s",
+            rpm=f"{b}.rpm",
+            delta_deg=f"{b}.delta_s_deg",
+        )
+        self.pa = ACTUATOR_PARAMS.pack(
+            dmax=self.dmax, nmin=self.nmin, nmax=self.nmax, ramp_s=ramp_s, period=self.period
+        )
+        self.st = ACTUATOR_STATE.pack(w=1.0)

@@ -42,7 +42,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block, Plant, scatter
+from ..core.blocks import Plant, scatter
 from ..core.fused import advance_and_publish, rk4_stepper_imports
 from ..core.signals import CALM
 from ..core.csmath import ccos, csin
@@ -50,6 +50,7 @@ from ..core.model import Model, Param, ParamLayout
 from ..core.rotations import heading_speed
 from ..io.config import StrictModel
 from ._hydro import relative_velocity, wind_load
+from .actuators import ThrusterBank
 from ..units import KGF, RHO_AIR
 
 STATES = (("x", "m"), ("y", "m"), ("psi", "rad"), ("u", "m/s"), ("v", "m/s"), ("r", "rad/s"))
@@ -197,50 +198,22 @@ def usv_publish(x, sig, slots):
     sig[slots[2]], sig[slots[6]] = heading_speed(x, 2, 3, 2)
 
 
-class USVThrusters(Block):
-    """Thruster block: commanded thrust (N) or DAC voltage (V) -> saturated thrust (N).
+class USVThrusters(ThrusterBank):
+    """The USV's two thrusters: commanded thrust (N) or DAC voltage (V) -> saturated thrust (N).
 
     Reads ``usv.thrust_port_cmd`` / ``usv.thrust_stbd_cmd`` (N) when ``mode == "thrust"``, or
     ``usv.volt_port_cmd`` / ``usv.volt_stbd_cmd`` (V, 0.05-4.68) through the thrust-voltage curve
     (003 eq. 2.5, :func:`oceangnc.models.actuators.usv_thrust_from_voltage`) when ``mode ==
     "voltage"``; writes ``usv.thrust_port`` / ``usv.thrust_stbd`` (N) limited to
-    [-max_reverse, +max_thrust]. An emergency stop (``_estop`` on the bus) zeroes both at once.
+    [-max_reverse, +max_thrust]. An emergency stop (``_estop`` on the bus) zeroes both at once; the
+    thrust ramps back over 2 s after it (:func:`oceangnc.models.actuators.thrusters_law`).
     """
 
     name = "usv_thrusters"
 
     def __init__(self, cfg: USVConfig, period: float = 0.01, mode: str = "thrust", body: str = "usv"):
-        from .actuators import usv_thrust_from_voltage
-
-        self.period = float(period)
-        self.mode = mode
-        self.body = body
-        self.hi = cfg.max_thrust_kgf * KGF
-        self.lo = -cfg.max_reverse_kgf * KGF
-        self._curve = usv_thrust_from_voltage
-
-    def compiled(self):
-        """Compiled form for the fused loop (thrust mode; :func:`oceangnc.models._compiled.thrusters_step`)."""
-        if self.mode != "thrust":
-            return None
-        from ..core.fused import CompiledBlock
-        from ._compiled import thrusters_step
-
-        b = self.body
-        sig = ["_estop", f"{b}.thrust_port_cmd", f"{b}.thrust_stbd_cmd", f"{b}.thrust_port", f"{b}.thrust_stbd"]
-        return CompiledBlock(thrusters_step, sig, params=np.array([2.0, self.hi, self.lo]))
-
-    def step(self, t: float, bus: dict) -> None:
-        b = self.body
-        for side in ("port", "stbd"):
-            if self.mode == "voltage":
-                v = bus.get(f"{b}.volt_{side}_cmd", 2.4)
-                thrust = self._curve(v)
-            else:
-                thrust = bus.get(f"{b}.thrust_{side}_cmd", 0.0)
-            if bus.get("_estop", False):
-                thrust = 0.0
-            bus[f"{b}.thrust_{side}"] = min(self.hi, max(self.lo, thrust))
+        hi, lo = cfg.max_thrust_kgf * KGF, -cfg.max_reverse_kgf * KGF
+        super().__init__(body, ("port", "stbd"), hi, lo, period, voltage=mode == "voltage")
 
 
 def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float, jacobian: str | None = None):

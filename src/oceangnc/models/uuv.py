@@ -54,7 +54,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.blocks import Block, Plant
+from ..core.blocks import Plant
+from .actuators import ThrusterBank
 from ..core.csmath import cabs, ccos, csin
 from ..core.model import Model
 from ..core.rotations import heading_speed, rzyx_entries
@@ -322,39 +323,21 @@ class UUVPlant(Plant):
         bus[f"{self.name}.speed"] = speed
 
 
-class UUVThrusters(Block):
-    """Thruster block: commanded thrusts (N) -> saturated thrusts (N) of the three UUV thrusters.
+class UUVThrusters(ThrusterBank):
+    """The UUV's three thrusters: commanded thrusts (N) -> saturated thrusts (N).
 
     Reads ``uuv.thrust_port_cmd``, ``uuv.thrust_stbd_cmd``, ``uuv.thrust_bow_cmd`` (N) and writes
     ``uuv.thrust_port``, ``uuv.thrust_stbd``, ``uuv.thrust_bow`` (N) limited to
     [-max_reverse, +max_thrust] (Tecnadyne 300: 7.7 kgf forward, 3.2 kgf reverse; curve 003 eq. 2.18
     in :func:`oceangnc.models.actuators.uuv_thrust_from_voltage`). An emergency stop (``_estop``)
-    zeroes all three.
+    zeroes all three; the thrust ramps back over 2 s after it (:func:`oceangnc.models.actuators.thrusters_law`).
     """
 
     name = "uuv_thrusters"
 
     def __init__(self, cfg: UUVConfig, period: float = 0.01, body: str = "uuv"):
-        self.period = float(period)
-        self.body = body
-        self.hi = cfg.max_thrust_kgf * KGF
-        self.lo = -cfg.max_reverse_kgf * KGF
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.models._compiled.thrusters_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import thrusters_step
-
-        b, sides = self.body, ("port", "stbd", "bow")
-        sig = ["_estop"] + [f"{b}.thrust_{s}_cmd" for s in sides] + [f"{b}.thrust_{s}" for s in sides]
-        return CompiledBlock(thrusters_step, sig, params=np.array([3.0, self.hi, self.lo]))
-
-    def step(self, t: float, bus: dict) -> None:
-        b = self.body
-        stop = bus.get("_estop", False)
-        for side in ("port", "stbd", "bow"):
-            thrust = 0.0 if stop else float(bus.get(f"{b}.thrust_{side}_cmd", 0.0))
-            bus[f"{b}.thrust_{side}"] = min(self.hi, max(self.lo, thrust))
+        hi, lo = cfg.max_thrust_kgf * KGF, -cfg.max_reverse_kgf * KGF
+        super().__init__(body, ("port", "stbd", "bow"), hi, lo, period)
 
 
 def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float, jacobian: str | None = None):
