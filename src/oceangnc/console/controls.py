@@ -79,36 +79,3 @@ def hold_controllers(sim, on: bool, ramp_s: float = 2.0) -> int:
             pid.hold(on, ramp_s=ramp_s)
             n += 1
     return n
-
-
-class _RemoteGate:
-    """Wraps a scenario's own pilot block (one that writes ``joystick.*``): it is silent while
-    ``console.mode == "remote"``, so that the operator's stick, not the pilot's, reaches the vehicle."""
-
-    def __init__(self, block):
-        self.block = block
-        self.name = block.name
-        self.period = block.period
-
-    def reset(self, rng) -> None:
-        self.block.reset(rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        if bus.get("console.mode") != "remote":
-            self.block.step(t, bus)
-
-    def __getattr__(self, item):
-        return getattr(self.block, item)
-
-
-def gate_pilots(sim) -> int:
-    """Gate the pilot blocks of a built simulation (see :class:`_RemoteGate`); returns how many.
-
-    A pilot block is one flagged ``console_pilot = True`` or the scripted berthing pilot.
-    """
-    n = 0
-    for i, b in enumerate(sim.blocks):
-        if getattr(b, "console_pilot", False) or type(b).__name__ == "ScriptedPilot":
-            sim.blocks[i] = _RemoteGate(b)
-            n += 1
-    return n

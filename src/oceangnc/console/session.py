@@ -47,7 +47,8 @@ from ..io.logs import LogWriter, atomic_write_text
 from ..mavlink.live import builds_live as _builds  # one home: live iff the scenario overrides build
 from .clients import ClientsMixin
 from .commands import NEUTRAL, CommandsMixin
-from .controls import collect_gains, gate_pilots, hold_controllers
+from ..mavlink.live import gate_pilots
+from .controls import collect_gains, hold_controllers
 from .runlog import _TeeLog, parquet_bytes
 from .snapshots import SnapshotMixin, _finite
 from .view import infer_view

@@ -16,11 +16,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..core.rotations import wrap
 from ..sensors.filters import lowpass_step
-from .backstepping import update
 from .pid import pid_integral, pid_output
-from .usv_control import mix, speed_range
 
 PID_STATE = 5
 PID_PARAMS = 6
@@ -50,32 +47,6 @@ def pid_step(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, u_min, u_max):
     st[o + 3] = v
     st[o + 4] = u
     return u
-
-
-@njit(cache=True)
-def usv_control_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.usv_control.USVController` (autopilot mode).
-
-    slots: u, psi, r, ?usv.u_d, ?guidance.psi_d | thrust_port_cmd, thrust_stbd_cmd, usv_ctrl.u_d,
-    usv_ctrl.psi_d, usv_ctrl.u_speed, usv_ctrl.u_heading. state: speed PID, heading PID.
-    params: speed PID, heading PID, h, u_d default, t_max, t_min, 0.5 d11 (or 0: no feed-forward).
-    """
-    h = pa[12]
-    u = sig[sl[0]]
-    psi = sig[sl[1]]
-    r = sig[sl[2]]
-    u_d = sig[sl[3]] if sl[3] >= 0 else pa[13]
-    psi_d = sig[sl[4]] if sl[4] >= 0 else psi
-    u_h = pid_step(st, 5, pa, 6, wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
-    t_max = pa[14]
-    t_min = pa[15]
-    s_min, s_max = speed_range(t_min, t_max, u_h)
-    ff = pa[16] * u_d
-    u_s = pid_step(st, 0, pa, 0, u_d - u, h, 0.0, False, ff, s_min, s_max)
-    sig[sl[5]], sig[sl[6]] = mix(u_s, u_h)
-    out = (u_d, psi_d, u_s, u_h)
-    for i in range(4):
-        sig[sl[7 + i]] = out[i]
 
 
 @njit(cache=True)
@@ -118,26 +89,6 @@ def uuv_pid_step(t, sig, sl, st, pa):
     out = (u1, u1, ub, psi_d, loop)
     for i in range(5):
         sig[sl[8 + i]] = out[i]
-
-
-@njit(cache=True)
-def backstepping_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.backstepping.UUVBackstepping` (:func:`oceangnc.control.backstepping.update`,
-    003 eq. 3.24-3.41).
-
-    slots: xl, yl, psil, ul, vl, rl, xf, yf, psif, uf, vf, rf | uuv.thrust_port_cmd,
-    uuv.thrust_stbd_cmd, uuv.thrust_bow_cmd, uuv_bs.V, uuv_bs.Vdot, uuv_bs.eps1, uuv_bs.eps2,
-    uuv_bs.tau_u, uuv_bs.tau_r, uuv_ctrl.psi_d. state and params: those of
-    :func:`~oceangnc.control.backstepping.update` (:data:`oceangnc.control.backstepping.PARAMS`).
-    """
-    for i in range(12):  # the inputs go to the state's scratch part
-        st[7 + i] = sig[sl[i]] if sl[i] >= 0 else 0.0
-    out = update(st, pa)
-    sig[sl[12]] = out[0]
-    sig[sl[13]] = out[0]
-    for i in range(1, 8):
-        sig[sl[13 + i]] = out[i]
-    sig[sl[21]] = st[9]
 
 
 def arr(values) -> np.ndarray:

@@ -14,12 +14,11 @@ import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
-from ..models.ship_lowspeed import hull_forces, rudder_forces
+from ..models.ship_lowspeed import hull_forces, rps_for_thrust, rudder_forces
 from ..models.usv import wind_load
 from ..sensors._compiled import ring_slot
 from ..sensors.filters import gauss_markov
 from .allocation import allocate
-from .berthing import rps_for_thrust
 
 # pilot parameter layout
 _PP = 32  # route data start

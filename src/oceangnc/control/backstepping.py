@@ -309,7 +309,6 @@ class UUVBackstepping(Block):
     def compiled(self):
         """Compiled form for the fused loop (:func:`oceangnc.control._compiled.backstepping_step`)."""
         from ..core.fused import CompiledBlock
-        from ._compiled import backstepping_step
 
         sig = ["?" + self.keys[n] for n in ROLES] + list(OUTPUTS)
         return CompiledBlock(backstepping_step, sig, self.st.copy(), self.pa.copy())
@@ -318,3 +317,23 @@ class UUVBackstepping(Block):
         self.st[7:] = [bus[k] if k in self.inputs else bus.get(k, 0.0) for k in (self.keys[n] for n in ROLES)]
         out = update(self.st, self.pa)
         bus.update(zip(OUTPUTS, (out[0], out[0], *out[1:], float(self.st[9]))))
+
+
+@njit(cache=True)
+def backstepping_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.control.backstepping.UUVBackstepping` (:func:`oceangnc.control.backstepping.update`,
+    003 eq. 3.24-3.41).
+
+    slots: xl, yl, psil, ul, vl, rl, xf, yf, psif, uf, vf, rf | uuv.thrust_port_cmd,
+    uuv.thrust_stbd_cmd, uuv.thrust_bow_cmd, uuv_bs.V, uuv_bs.Vdot, uuv_bs.eps1, uuv_bs.eps2,
+    uuv_bs.tau_u, uuv_bs.tau_r, uuv_ctrl.psi_d. state and params: those of
+    :func:`~oceangnc.control.backstepping.update` (:data:`oceangnc.control.backstepping.PARAMS`).
+    """
+    for i in range(12):  # the inputs go to the state's scratch part
+        st[7 + i] = sig[sl[i]] if sl[i] >= 0 else 0.0
+    out = update(st, pa)
+    sig[sl[12]] = out[0]
+    sig[sl[13]] = out[0]
+    for i in range(1, 8):
+        sig[sl[13 + i]] = out[i]
+    sig[sl[21]] = st[9]

@@ -41,7 +41,6 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
@@ -52,7 +51,7 @@ from ..models.ship_lowspeed import (
     ShipConfig,
     hull_forces,
     inverse_mass,
-    prop_thrust_coef,
+    rps_for_thrust,
     rudder_forces,
     thruster_forces,
 )
@@ -138,34 +137,6 @@ class ControlConfig(StrictModel):
     )
     use_disturbance: bool = Field(True, description="nonlinear: use the measured current and wind in the model")
     n_limit_rpm: float = Field(100.0, gt=0, le=1000, description="closed loop: propeller command limit, rpm")
-
-
-@njit(cache=True)
-def rps_for_thrust(x_pd, ur, p, n_lim):
-    """Shaft speed n (rev/s, |n| <= n_lim) whose thrust X_P(n) (001 eq. 16) equals x_pd (N), by bisection.
-
-    X_P is monotonic in n except in a tiny band near n = 0 when K_T(J) < 0; bisection on the sign
-    change from -n_lim to +n_lim always returns a root when one exists, else the nearer limit.
-    """
-    up = (1.0 - p[_W_P]) * ur
-    k = (1.0 - p[_T_P]) * p[_RHO]
-    target = x_pd / k
-    lo = -n_lim
-    hi = n_lim
-    flo = prop_thrust_coef(lo, up, p) - target
-    fhi = prop_thrust_coef(hi, up, p) - target
-    if flo >= 0.0:
-        return lo
-    if fhi <= 0.0:
-        return hi
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        fm = prop_thrust_coef(mid, up, p) - target
-        if fm > 0.0:
-            hi = mid
-        else:
-            lo = mid
-    return 0.5 * (lo + hi)
 
 
 class _Base(Block):

@@ -42,6 +42,7 @@ from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..units import KGF
+from ._compiled import arr, pid_params, pid_state, pid_step
 from .pid import PID
 
 
@@ -162,7 +163,6 @@ class USVController(Block):
     def compiled(self):
         """Compiled form for the fused loop (autopilot mode; :func:`oceangnc.control._compiled.usv_control_step`)."""
         from ..core.fused import CompiledBlock
-        from ._compiled import arr, pid_params, pid_state, usv_control_step
 
         m = self.meas
         sig = [
@@ -326,7 +326,6 @@ class USVRateController(Block):
         """Compiled form: :func:`oceangnc.control._compiled_rate.rate_control_step` (PIDs without hold/ramp)."""
         from ..core.fused import CompiledBlock
         from ..core.fused_strings import ENUMS
-        from ._compiled import arr, pid_params, pid_state
         from ._compiled_rate import rate_control_step
 
         if any(pid.held or pid._ramp_left > 0.0 for pid in (self.speed_pid, self.yaw_pid)):
@@ -363,3 +362,29 @@ class USVRateController(Block):
             u_speed = speed_loop(self.speed_pid, u_d, bus["usv.u"], h, p.d11)
             u_head = self.yaw_pid.step(r_d - bus["usv.r"], h, feedforward=p.d33 * r_d / p.thruster_spacing)
         bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_speed, u_head)
+
+
+@njit(cache=True)
+def usv_control_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.control.usv_control.USVController` (autopilot mode).
+
+    slots: u, psi, r, ?usv.u_d, ?guidance.psi_d | thrust_port_cmd, thrust_stbd_cmd, usv_ctrl.u_d,
+    usv_ctrl.psi_d, usv_ctrl.u_speed, usv_ctrl.u_heading. state: speed PID, heading PID.
+    params: speed PID, heading PID, h, u_d default, t_max, t_min, 0.5 d11 (or 0: no feed-forward).
+    """
+    h = pa[12]
+    u = sig[sl[0]]
+    psi = sig[sl[1]]
+    r = sig[sl[2]]
+    u_d = sig[sl[3]] if sl[3] >= 0 else pa[13]
+    psi_d = sig[sl[4]] if sl[4] >= 0 else psi
+    u_h = pid_step(st, 5, pa, 6, wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
+    t_max = pa[14]
+    t_min = pa[15]
+    s_min, s_max = speed_range(t_min, t_max, u_h)
+    ff = pa[16] * u_d
+    u_s = pid_step(st, 0, pa, 0, u_d - u, h, 0.0, False, ff, s_min, s_max)
+    sig[sl[5]], sig[sl[6]] = mix(u_s, u_h)
+    out = (u_d, psi_d, u_s, u_h)
+    for i in range(4):
+        sig[sl[7 + i]] = out[i]

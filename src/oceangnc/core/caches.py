@@ -308,12 +308,12 @@ class lean_loads:  # noqa: N801  (used as a context manager, like contextlib's)
         self._orig = None
         if _load_overload_source_hash() == LOAD_OVERLOAD_SOURCE:
             self._orig = caching.Cache.load_overload
-            caching.Cache.load_overload = _lean_load_overload
+            caching.Cache.load_overload = _lean_load_overload  # type: ignore[method-assign]
         return self
 
     def __exit__(self, *exc):
         if self._orig is not None:
             from numba.core import caching
 
-            caching.Cache.load_overload = self._orig
+            caching.Cache.load_overload = self._orig  # type: ignore[method-assign]
         return False

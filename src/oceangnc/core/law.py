@@ -31,6 +31,7 @@ from __future__ import annotations
 from collections import namedtuple
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -101,7 +102,7 @@ class Layout:
             raise ValueError(f"pack: missing {missing}, unknown {extra}")
         a = np.zeros(max(self.size, 1))
         for n, o, k in zip(self.names, self.offsets, self.sizes):
-            a[o : o + k] = values[n]
+            a[o : o + k] = values[n]  # type: ignore[call-overload]
         return a
 
     def unpack(self, a: np.ndarray) -> dict:
@@ -133,7 +134,7 @@ class LawBlock(Block):
     place or assign a new array before the loop is built.
     """
 
-    law = None
+    law: Any = None
     signals: Signals = Signals()
     draws: bool = False
     pa: np.ndarray
@@ -162,6 +163,21 @@ class LawBlock(Block):
         self._sig = np.zeros(max(len(wiring), 1))
         self._sl = np.arange(max(len(wiring), 1), dtype=np.int64)
         self._outs = [(j, k) for j, (k, kind) in enumerate(wiring) if kind == OUT and k not in ENUMS]
+
+    def get_state(self) -> dict:
+        """The block's state for a checkpoint: its state and parameter arrays (parameters may be drawn
+        at reset, e.g. a sensor's offset) and its generator's state, as plain arrays and dicts."""
+        state = {"st": self.st.copy(), "pa": self.pa.copy()}
+        if self.rng is not None:
+            state["rng"] = self.rng.bit_generator.state
+        return state
+
+    def set_state(self, state: dict) -> None:
+        """Restore :meth:`get_state`, in place: the fused loop holds these very arrays and generator."""
+        self.st[:] = state["st"]
+        self.pa[:] = state["pa"]
+        if "rng" in state and self.rng is not None:
+            self.rng.bit_generator.state = state["rng"]
 
     def slot_names(self) -> list[str]:
         """The bound bus keys in slot order (``?key`` for an optional input), as the fused loop wants."""

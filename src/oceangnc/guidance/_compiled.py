@@ -7,7 +7,6 @@ import math
 from numba import njit
 
 from ..core.rotations import hypot
-from .leader_follower import geometry
 
 
 @njit(cache=True)
@@ -101,21 +100,3 @@ def pure_pursuit_step(t, sig, sl, st, pa):
     sig[sl[10]] = 1.0 if done else 0.0
     if done and pa[2] != 0.0:
         sig[sl[11]] = 1.0
-
-
-@njit(cache=True)
-def leader_follower_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.guidance.leader_follower.LeaderFollower` (003 eq. 3.7-3.9).
-
-    slots: xl, yl, psil, xf, yf, psif | lf.lx, ly, range, bearing, lx_d, ly_d, target_n, target_e,
-    e_x, e_y, rel_heading_err, los, los_err, outside, psi_d. params: lx_d, ly_d, R, relative-angle (1/0).
-    """
-    xl = sig[sl[0]] if sl[0] >= 0 else 0.0
-    yl = sig[sl[1]] if sl[1] >= 0 else 0.0
-    psil = sig[sl[2]] if sl[2] >= 0 else 0.0
-    xf = sig[sl[3]] if sl[3] >= 0 else 0.0
-    yf = sig[sl[4]] if sl[4] >= 0 else 0.0
-    psif = sig[sl[5]] if sl[5] >= 0 else 0.0
-    out = geometry(xl, yl, psil, xf, yf, psif, pa[0], pa[1], pa[2], pa[3] != 0.0)
-    for i in range(15):
-        sig[sl[6 + i]] = out[i]

@@ -140,7 +140,6 @@ class LeaderFollower(Block):
         import numpy as np
 
         from ..core.fused import CompiledBlock
-        from ._compiled import leader_follower_step
 
         pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
         return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *OUTPUTS], params=pa)
@@ -150,3 +149,21 @@ class LeaderFollower(Block):
         xf, yf, psif = (bus[k] for k in self.follower)
         rel = self.mode == "relative-angle"
         bus.update(zip(OUTPUTS, geometry(xl, yl, psil, xf, yf, psif, self.lx_d, self.ly_d, self.R, rel)))
+
+
+@njit(cache=True)
+def leader_follower_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.guidance.leader_follower.LeaderFollower` (003 eq. 3.7-3.9).
+
+    slots: xl, yl, psil, xf, yf, psif | lf.lx, ly, range, bearing, lx_d, ly_d, target_n, target_e,
+    e_x, e_y, rel_heading_err, los, los_err, outside, psi_d. params: lx_d, ly_d, R, relative-angle (1/0).
+    """
+    xl = sig[sl[0]] if sl[0] >= 0 else 0.0
+    yl = sig[sl[1]] if sl[1] >= 0 else 0.0
+    psil = sig[sl[2]] if sl[2] >= 0 else 0.0
+    xf = sig[sl[3]] if sl[3] >= 0 else 0.0
+    yf = sig[sl[4]] if sl[4] >= 0 else 0.0
+    psif = sig[sl[5]] if sl[5] >= 0 else 0.0
+    out = geometry(xl, yl, psil, xf, yf, psif, pa[0], pa[1], pa[2], pa[3] != 0.0)
+    for i in range(15):
+        sig[sl[6 + i]] = out[i]

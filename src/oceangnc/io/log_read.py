@@ -79,52 +79,6 @@ def _live_parts(folder: Path) -> tuple[list[Path], list[Path]]:
     return keep, drop
 
 
-def compact_log(folder: str | Path) -> None:
-    """Merge a dataset's parts into one ``part-000000.parquet`` (crash-safe, see the module docstring)."""
-    d = Path(folder)
-    keep, drop = _live_parts(d)
-    if len(keep) <= 1 and not drop:
-        return
-    table = pa.concat_tables([pq.read_table(p) for p in keep]) if keep else None
-    if table is None:
-        return
-    from .logs import LogWriter
-
-    w = LogWriter(d)
-    w._write_part(table.replace_schema_metadata(None), 0, 0)  # atomic rename over part 0
-    for p in [*keep, *drop]:
-        if p.name != PART_FMT.format(0):
-            p.unlink(missing_ok=True)
-    _fsync_dir(d)
-
-
-def repair_log(path: str | Path) -> dict:
-    """Make a log folder (or a run folder holding ``log.parquet``) whole after a crash.
-
-    Removes temporary files of interrupted writes, unreadable parts and parts already covered by a
-    compacted part, then compacts. Returns ``{"parts": kept, "removed": [...], "rows": n}``.
-    """
-    d = _dataset_path(Path(path))
-    if not d.is_dir():
-        raise InputError(f"log folder not found: {d}")
-    removed = []
-    for p in sorted(d.iterdir()):
-        if p.name.startswith(".") and p.name.endswith(".tmp"):
-            p.unlink()
-            removed.append(p.name)
-    keep, drop = _live_parts(d)
-    for p in drop:
-        p.unlink()
-        removed.append(p.name)
-    if not keep:
-        pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), d / PART_FMT.format(0))
-    elif len(keep) > 1:
-        compact_log(d)
-    parts = list_parts(d)
-    rows = sum(pq.read_metadata(p).num_rows for p in parts)
-    return {"parts": len(parts), "removed": removed, "rows": rows}
-
-
 def _dataset_path(p: Path) -> Path:
     if p.is_dir() and p.name != "log.parquet" and (p / "log.parquet").exists():
         return p / "log.parquet"

@@ -167,6 +167,34 @@ def propeller_thrust(n, ur, p):
 
 
 @njit(cache=True)
+def rps_for_thrust(x_pd, ur, p, n_lim):
+    """Shaft speed n (rev/s, |n| <= n_lim) whose thrust X_P(n) (001 eq. 16) equals x_pd (N), by bisection.
+
+    X_P is monotonic in n except in a tiny band near n = 0 when K_T(J) < 0; bisection on the sign
+    change from -n_lim to +n_lim always returns a root when one exists, else the nearer limit.
+    """
+    up = (1.0 - p[_W_P]) * ur
+    k = (1.0 - p[_T_P]) * p[_RHO]
+    target = x_pd / k
+    lo = -n_lim
+    hi = n_lim
+    flo = prop_thrust_coef(lo, up, p) - target
+    fhi = prop_thrust_coef(hi, up, p) - target
+    if flo >= 0.0:
+        return lo
+    if fhi <= 0.0:
+        return hi
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        fm = prop_thrust_coef(mid, up, p) - target
+        if fm > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True)
 def rudder_inflow(ur, vr, r, n, p):
     """Rudder inflow (u_R, v_R) in m/s: propeller race ahead (Son & Nomoto), flow straightening."""
     up = (1.0 - p[_W_P]) * ur

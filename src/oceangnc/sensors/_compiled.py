@@ -13,7 +13,6 @@ from numba import njit
 
 from ..core.rotations import wrap
 from .filters import angle_lowpass_step, gauss_markov
-from .usbl import usbl_fix, usbl_geometry
 
 
 @njit(cache=True)
@@ -112,63 +111,6 @@ def ahrs_step(t, sig, sl, st, pa, rng):
     sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
     sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
     sig[sl[7]] = _get(sig, sl[3], 0.0) + pa[7] * w4
-
-
-@njit(cache=True)
-def usbl_step(t, sig, sl, st, pa, rng):
-    """:class:`oceangnc.sensors.usbl.USBL` (003 ch. 6.1.4, dropouts).
-
-    slots: bottom.x, top.x, bottom.y, top.y, ?bottom.z, ?top.z | dn, de, dz, range, hrange, bearing,
-    valid, pings_lost. state: lost, has_last, last (6). params: q_max, p_drop, dropout start,
-    dropout duration, degraded gain, range resolution, angle resolution (rad).
-    """
-    dn = sig[sl[0]] - sig[sl[1]]
-    de = sig[sl[2]] - sig[sl[3]]
-    dz = _get(sig, sl[4], 0.0) - _get(sig, sl[5], 0.0)
-    h, q = usbl_geometry(dn, de, dz)
-    u0 = rng.uniform(-1.0, 1.0)
-    u1 = rng.uniform(-1.0, 1.0)
-    u2 = rng.uniform(-1.0, 1.0)
-    u3 = rng.uniform(-1.0, 1.0)
-    degraded = q > pa[0]
-    valid = not (pa[2] >= 0 and pa[2] <= t < pa[2] + pa[3])
-    if degraded and u3 * 0.5 + 0.5 < pa[1]:
-        valid = False
-    if valid:
-        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, pa[4] if degraded else 1.0, pa[5], pa[6])
-        for i in range(6):
-            st[2 + i] = fix[i]
-        st[1] = 1.0
-    else:
-        st[0] += 1.0
-    if st[1] != 0.0:
-        for i in range(6):
-            sig[sl[6 + i]] = st[2 + i]
-    sig[sl[12]] = 1.0 if valid else 0.0
-    sig[sl[13]] = st[0]
-
-
-@njit(cache=True)
-def dropout_hold_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.sensors.filters.DropoutHold` once it holds a value.
-
-    slots: valid, in_0..in_{m-1}, out_0..out_{m-1}, ok, age, dropouts. state: held (m), t_fix,
-    dropouts, last ok. params: m.
-    """
-    m = int(pa[0])
-    valid = sig[sl[0]] != 0.0
-    if valid:
-        for i in range(m):
-            st[i] = sig[sl[1 + i]]
-        st[m] = t
-    if st[m + 2] != 0.0 and not valid:
-        st[m + 1] += 1.0
-    st[m + 2] = 1.0 if valid else 0.0
-    for i in range(m):
-        sig[sl[1 + m + i]] = st[i]
-    sig[sl[1 + 2 * m]] = 1.0 if valid else 0.0
-    sig[sl[2 + 2 * m]] = t - st[m]
-    sig[sl[3 + 2 * m]] = st[m + 1]
 
 
 @njit(cache=True)

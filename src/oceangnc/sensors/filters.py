@@ -136,7 +136,6 @@ class DropoutHold(Block):
         if self.held is None:
             return None
         from ..core.fused import CompiledBlock
-        from ._compiled import dropout_hold_step
 
         outs = list(self.signals)
         st = np.array([*(self.held[o] for o in outs), self.t_fix, self.dropouts, 1.0 if self._ok else 0.0], float)
@@ -167,3 +166,26 @@ class DropoutHold(Block):
         bus[f"{self.out}.ok"] = 1.0 if ok else 0.0
         bus[f"{self.out}.age"] = t - self.t_fix
         bus[f"{self.out}.dropouts"] = float(self.dropouts)
+
+
+@njit(cache=True)
+def dropout_hold_step(t, sig, sl, st, pa):
+    """:class:`oceangnc.sensors.filters.DropoutHold` once it holds a value.
+
+    slots: valid, in_0..in_{m-1}, out_0..out_{m-1}, ok, age, dropouts. state: held (m), t_fix,
+    dropouts, last ok. params: m.
+    """
+    m = int(pa[0])
+    valid = sig[sl[0]] != 0.0
+    if valid:
+        for i in range(m):
+            st[i] = sig[sl[1 + i]]
+        st[m] = t
+    if st[m + 2] != 0.0 and not valid:
+        st[m + 1] += 1.0
+    st[m + 2] = 1.0 if valid else 0.0
+    for i in range(m):
+        sig[sl[1 + m + i]] = st[i]
+    sig[sl[1 + 2 * m]] = 1.0 if valid else 0.0
+    sig[sl[2 + 2 * m]] = t - st[m]
+    sig[sl[3 + 2 * m]] = st[m + 1]

@@ -111,7 +111,6 @@ class USBL(Block):
         import numpy as np
 
         from ..core.fused import CompiledBlock
-        from ._compiled import usbl_step
 
         c, a, b = self.cfg, self.top, self.bottom
         st = np.array([self.lost, 1.0, *self.last], float)
@@ -162,3 +161,37 @@ class USBL(Block):
                 bus[f"usbl.{k}"] = v
         bus["usbl.valid"] = 1.0 if valid else 0.0
         bus["usbl.pings_lost"] = float(self.lost)
+
+
+@njit(cache=True)
+def usbl_step(t, sig, sl, st, pa, rng):
+    """:class:`oceangnc.sensors.usbl.USBL` (003 ch. 6.1.4, dropouts).
+
+    slots: bottom.x, top.x, bottom.y, top.y, ?bottom.z, ?top.z | dn, de, dz, range, hrange, bearing,
+    valid, pings_lost. state: lost, has_last, last (6). params: q_max, p_drop, dropout start,
+    dropout duration, degraded gain, range resolution, angle resolution (rad).
+    """
+    dn = sig[sl[0]] - sig[sl[1]]
+    de = sig[sl[2]] - sig[sl[3]]
+    dz = (sig[sl[4]] if sl[4] >= 0 else 0.0) - (sig[sl[5]] if sl[5] >= 0 else 0.0)
+    h, q = usbl_geometry(dn, de, dz)
+    u0 = rng.uniform(-1.0, 1.0)
+    u1 = rng.uniform(-1.0, 1.0)
+    u2 = rng.uniform(-1.0, 1.0)
+    u3 = rng.uniform(-1.0, 1.0)
+    degraded = q > pa[0]
+    valid = not (pa[2] >= 0 and pa[2] <= t < pa[2] + pa[3])
+    if degraded and u3 * 0.5 + 0.5 < pa[1]:
+        valid = False
+    if valid:
+        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, pa[4] if degraded else 1.0, pa[5], pa[6])
+        for i in range(6):
+            st[2 + i] = fix[i]
+        st[1] = 1.0
+    else:
+        st[0] += 1.0
+    if st[1] != 0.0:
+        for i in range(6):
+            sig[sl[6 + i]] = st[2 + i]
+    sig[sl[12]] = 1.0 if valid else 0.0
+    sig[sl[13]] = st[0]
