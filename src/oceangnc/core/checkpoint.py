@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ConfigError, InputError
+from .files import atomic_write_bytes
 
 VERSION = 1
 FILE = "checkpoint.pkl"
@@ -159,8 +160,6 @@ def restore(sim, blob: bytes) -> None:
 
 def save(path: str | Path, payload: dict) -> None:
     """Pickle ``payload`` (plain data; the simulation inside is already bytes) to ``path`` atomically."""
-    from ..io.logs import atomic_write_bytes
-
     atomic_write_bytes(path, pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL))
 
 

@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from ..errors import ConfigError, InputError
 from .caches import add_sources, package_root, user_code
+from .config import format_validation_error
 
 _KINDS: dict[str, type] = {}
 _ENTRY_POINTS_LOADED = False
@@ -232,8 +233,6 @@ def build_block(choice: BlockChoice, ctx: BlockContext, key: str, base: dict | N
         try:
             params = model.model_validate(params)
         except ValidationError as err:
-            from ..io.config import format_validation_error
-
             msg = format_validation_error(model, err)
             if msg.startswith("config error: unknown key '"):
                 msg = msg.replace("unknown key '", f"unknown key '{key}.", 1)

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pyarrow as pa
@@ -14,19 +13,6 @@ from ..errors import InputError
 PART_FMT = "part-{:06d}.parquet"
 META_ROW0 = b"oceangnc.row0"
 META_ROWS = b"oceangnc.rows"
-
-
-def _fsync_dir(d: Path) -> None:
-    try:
-        fd = os.open(d, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def _part_index(p: Path) -> int | None:

@@ -38,6 +38,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text  # noqa: F401
 from ..errors import InputError
 
 # reading, compaction and repair live in oceangnc.io.log_read; importable from here as before
@@ -46,7 +47,6 @@ from .log_read import (  # noqa: F401
     META_ROWS,
     PART_FMT,
     _dataset_path,
-    _fsync_dir,
     _live_parts,
     list_parts,
     read_log,
@@ -54,23 +54,6 @@ from .log_read import (  # noqa: F401
 )
 
 MEM_CELLS = 20_000_000  #: values (rows x columns) of a log kept in memory for compaction (160 MB)
-
-
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` atomically: a temporary file in the same folder, fsync, rename."""
-    p = Path(path)
-    tmp = p.with_name(f".{p.name}.tmp")
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, p)
-    _fsync_dir(p.parent)
-
-
-def atomic_write_text(path: str | Path, text: str) -> None:
-    """:func:`atomic_write_bytes` for text (UTF-8); ``summary.json`` is written this way."""
-    atomic_write_bytes(path, text.encode("utf-8"))
 
 
 def _f64(a: np.ndarray) -> pa.Array:
