@@ -63,16 +63,19 @@ def test_backstepping_block_and_law_agree():
     assert Vdot < 0.0  # the nominal Lyapunov derivative is negative away from the origin
 
 
-def test_pid_python_and_compiled_steps_agree():
-    """PID.step and the fused pid_step give the same outputs and integrator over a saturating sequence."""
-    from oceangnc.control._compiled import pid_params, pid_state, pid_step
-    from oceangnc.control.pid import PID
+def test_a_pid_view_steps_its_blocks_arrays_with_the_one_law():
+    """A PID is two slices of its block's arrays: stepping the view moves the block's state as the
+    compiled law does on the whole array, and a gain set on the view reaches the law's parameters."""
+    from oceangnc.control.pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
 
-    pid = PID(2.0, 0.5, 0.1, -1.0, 1.0)
-    st, pa = np.array(pid_state(pid)), np.array(pid_params(pid))
+    pa = np.concatenate([[9.0], PID_PARAMS.pack(pid_params(2.0, 0.5, 0.1, -1.0, 1.0))])
+    st, st2 = np.zeros(1 + PID_STATE.size), np.zeros(1 + PID_STATE.size)
+    pid = PID.view(st, 1, pa, 1)
     us = []
     for k, e in enumerate([0.3, 0.9, 1.5, -0.2, -2.0, 0.1]):
         us.append(pid.step(e, 0.1, feedforward=0.05 * k))
-        uc = pid_step(st, 0, pa, 0, e, 0.1, 0.0, False, 0.05 * k, -1.0, 1.0)
-        assert uc == us[-1] and st[0] == pid.integral
+        assert pid_run(st2, 1, pa, 1, e, 0.1, 0.0, False, 0.05 * k, 1.0) == us[-1]
+    assert np.array_equal(st, st2) and st[0] == 0.0 and pid.integral == st[1]
     assert us[2] == 1.0 and us[4] == -1.0  # both limits were met (the back-calculation path ran)
+    pid.kp = 4.0
+    assert pa[1 + PID_PARAMS.at.kp] == 4.0 and pa[1 + PID_PARAMS.at.kw] == 0.25  # K_w = 1/K_p follows

@@ -32,16 +32,13 @@ PENDING: dict[str, str] = {
     "tow.straight": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.heading_pd": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.los": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.pid": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.rate_pid": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.route_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.speed_p": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.backstepping": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.follow_tow": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.leader_follower": "not yet moved onto LawBlock (issue 25 in progress)",
-    "uuv.pid": "not yet moved onto LawBlock (issue 25 in progress)",
     "winch.depth": "not yet moved onto LawBlock (issue 25 in progress)",
 }
 

@@ -1,5 +1,6 @@
-"""What the console does to a scenario's simulation: its adjustable gains, holding the controllers' PIDs
-during an e-stop or failsafe, and gating the scenario's own pilot while the operator's stick drives."""
+"""What the console does to a scenario's simulation: its adjustable gains (an e-stop or failsafe reaches
+the controllers' laws through the ``_estop`` signal: they hold their integrators and give zero thrust,
+and the thrusters ramp back when it clears)."""
 
 from __future__ import annotations
 
@@ -49,33 +50,3 @@ def collect_gains(sim) -> dict[str, dict]:
                         "getter": (lambda o=obj, g=g: getattr(o, g)),
                     }
     return out
-
-
-def _pids(obj, depth=0, seen=None):
-    """PID objects inside a block (attributes, one level of nesting, gated pilots)."""
-    from ..control.pid import PID
-
-    seen = set() if seen is None else seen
-    if id(obj) in seen or depth > 2:
-        return
-    seen.add(id(obj))
-    for v in list(vars(obj).values()) if hasattr(obj, "__dict__") else []:
-        if isinstance(v, PID):
-            if id(v) not in seen:
-                seen.add(id(v))
-                yield v
-        elif hasattr(v, "__dict__") and not isinstance(v, type) and type(v).__module__.startswith("oceangnc."):
-            yield from _pids(v, depth + 1, seen)
-
-
-def hold_controllers(sim, on: bool, ramp_s: float = 2.0) -> int:
-    """Hold (``on``) or release every PID of the simulation's blocks (see
-    :meth:`oceangnc.control.pid.PID.hold`): integrators frozen while stopped, outputs ramped from zero
-    over ``ramp_s`` s on release (no thrust step at Reset). Returns how many PIDs."""
-    n = 0
-    seen: set = set()
-    for b in sim.blocks:
-        for pid in _pids(b, 0, seen):
-            pid.hold(on, ramp_s=ramp_s)
-            n += 1
-    return n

@@ -48,12 +48,12 @@ from ..mavlink.live import builds_live as _builds  # one home: live iff the scen
 from .clients import ClientsMixin
 from .commands import NEUTRAL, CommandsMixin
 from ..mavlink.live import gate_pilots
-from .controls import collect_gains, hold_controllers
+from .controls import collect_gains
 from .runlog import _TeeLog, parquet_bytes
 from .snapshots import SnapshotMixin, _finite
 from .view import infer_view
 
-__all__ = ["NEUTRAL", "Session", "collect_gains", "gate_pilots", "hold_controllers"]
+__all__ = ["NEUTRAL", "Session", "collect_gains", "gate_pilots"]
 
 
 class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
@@ -257,9 +257,6 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
             was_stopped = bool(self.sim.bus.get("_estop", False))
             self._push_bus()
             sim = self.sim
-            if bool(sim.bus["_estop"]) != self._held:
-                self._held = bool(sim.bus["_estop"])
-                hold_controllers(sim, self._held, ramp_s=self.resume_ramp_s)
             if self.sim.bus["_estop"] and not was_stopped:
                 # all thrust to zero at once: fire the blocks now with _estop set, so the actuators'
                 # outputs are zero before the next integration step (not one actuator period later)

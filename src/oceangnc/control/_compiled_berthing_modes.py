@@ -78,14 +78,11 @@ def open_loop_form(block, out):
 
 
 def pid_form(block, out):
-    """The :class:`~oceangnc.core.fused.CompiledBlock` of a berthing PIDController, or None while a
-    PID holds or ramps (the kernel has no hold)."""
+    """The :class:`~oceangnc.core.fused.CompiledBlock` of a berthing PIDController."""
     from ..core.fused import CompiledBlock
     from ._compiled import arr, pid_params, pid_state
 
     pids = (block.pid_n, block.pid_d, block.pid_t)
-    if any(p.held or p._ramp_left > 0.0 for p in pids):
-        return None
     st = arr([v for p in pids for v in pid_state(p)])
     pa = arr([v for p in pids for v in pid_params(p)] + [block.period])
     return CompiledBlock(berthing_pid_step, ["ship.u", "ship.r", "cmd.u_d", "cmd.r_d", "_estop", *out], st, pa)

@@ -34,16 +34,18 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.estop import RESUME_RAMP_S, resume_weight
+from ..core.fused_strings import ENUMS
+from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
-from ..io.config import StrictModel
 from ..units import KGF
-from ._compiled import arr, pid_params, pid_state, pid_step
-from .pid import PID
+from .pid import PID, PID_PARAMS, PID_STATE, pid_clear, pid_params, pid_run, pid_step_w
 
 
 @njit(cache=True)
@@ -66,16 +68,13 @@ def speed_range(t_min, t_max, u_heading):
 def speed_loop(pid: PID, u_d: float, u: float, h: float, d11: float, share: float = 0.5) -> float:
     """The USV surge-speed loop: ``PID(u_d - u)`` (003 eq. 3.10) plus the steady-state feed-forward
     ``share * d11 u_d`` of the linear surge model (003 eq. 2.3: d11 u = T_port + T_stbd), ``share`` =
-    1/2 per thruster or 1 on the total thrust (N). The one home of this law: every USV controller calls it
-    (the compiled kernels take ``share * d11`` as a parameter)."""
+    1/2 per thruster or 1 on the total thrust (N), for a controller holding a :class:`PID` object (the
+    compiled laws call :func:`pid_step` with the feed-forward ``share * d11 * u_d`` the same way)."""
     return pid.step(u_d - u, h, feedforward=share * d11 * u_d)
 
 
-def aw_pid(kp: float, ki: float, kd: float, lo: float, hi: float) -> PID:
-    """PID of eq. 3.10 (U = K_p e + K_I int(e + K_w (sat U - U)) + K_D e', K_w = 1/K_p), the
-    :class:`~oceangnc.control.pid.PID` default: back-calculation rate K_I / K_p (tracking time
-    constant T_t = T_i), so the integrator settles at the limit instead of growing by K_I e per s."""
-    return PID(kp, ki, kd, lo, hi)
+_REMOTE = float(ENUMS["console.mode"].index("remote"))
+_OPEN = float(ENUMS["console.loop"].index("open"))
 
 
 class USVControlConfig(StrictModel):
@@ -95,9 +94,89 @@ class USVControlConfig(StrictModel):
     r_max_degps: float = Field(15.0, gt=0, le=90, description="remote mode: yaw rate at full stick, deg/s")
 
 
+USV_PID_SIGNALS = Signals(
+    u=In("m/s"),
+    psi=In("rad"),
+    r=In("rad/s"),
+    u_d=Opt("m/s"),
+    psi_d=Opt("rad"),
+    estop=Opt("bool"),
+    mode=Ext("str"),
+    surge=Ext("1"),
+    yaw=Ext("1"),
+    port=Out("N"),
+    stbd=Out("N"),
+    u_d_out=Out("m/s"),
+    psi_d_out=Out("rad"),
+    u_speed=Out("N"),
+    u_heading=Out("N"),
+    r_d=Out("rad/s"),
+)
+USV_PID_PARAMS = Layout(
+    ("speed", PID_PARAMS.size),
+    ("heading", PID_PARAMS.size),
+    ("yaw_rate", PID_PARAMS.size),
+    "h",
+    "u_d",
+    "t_max",
+    "t_min",
+    "ff",
+    "u_max",
+    "r_max",
+)
+USV_PID_STATE = Layout(("speed", PID_STATE.size), ("heading", PID_STATE.size), ("yaw_rate", PID_STATE.size), "w")
+_S, _P, _X = USV_PID_SIGNALS.at, USV_PID_PARAMS.at, USV_PID_STATE.at
+
+
+@njit(cache=True)
+def usv_pid_law(t, sig, sl, st, pa):
+    """Speed and heading loops, mixing, and the remote mode (module docstring; 003 eq. 3.10-3.11).
+
+    Autopilot: U_h = PID_2(wrap(psi_d - psi), e_dot = -r) (N), then the speed loop on what the
+    thrusters have left, U_s = PID_1(u_d - u) + ff u_d, T = (U_s + U_h, U_s - U_h) (N). Remote
+    (``console.mode`` = remote): u_d = stick x u_max (astern at half), r_d = stick x r_max and a yaw-rate
+    PI loop in place of the heading loop. While ``_estop`` is set the thrust is zero and no PID moves;
+    after it the PID outputs ramp back (:mod:`oceangnc.core.estop`).
+    """
+    u = sig[sl[_S.u]]
+    psi = sig[sl[_S.psi]]
+    r = sig[sl[_S.r]]
+    h = pa[_P.h]
+    if sl[_S.estop] >= 0 and sig[sl[_S.estop]] != 0.0:
+        st[_X.w] = 0.0
+        sig[sl[_S.port]] = 0.0
+        sig[sl[_S.stbd]] = 0.0
+        sig[sl[_S.u_speed]] = 0.0
+        sig[sl[_S.u_heading]] = 0.0
+        return
+    w = st[_X.w] = resume_weight(st[_X.w], False, h, RESUME_RAMP_S)
+    r_d = 0.0
+    if sig[sl[_S.mode]] == _REMOTE:
+        js = max(-1.0, min(1.0, sig[sl[_S.surge]]))
+        jy = max(-1.0, min(1.0, sig[sl[_S.yaw]]))
+        u_d = js * pa[_P.u_max] if js >= 0 else 0.5 * js * pa[_P.u_max]
+        r_d = jy * pa[_P.r_max]
+        u_h = pid_run(st, _X.yaw_rate, pa, _P.yaw_rate, r_d - r, h, 0.0, False, 0.0, w)
+        psi_d = psi
+    else:
+        u_d = sig[sl[_S.u_d]] if sl[_S.u_d] >= 0 else pa[_P.u_d]
+        psi_d = sig[sl[_S.psi_d]] if sl[_S.psi_d] >= 0 else psi
+        u_h = pid_run(st, _X.heading, pa, _P.heading, wrap(psi_d - psi), h, -r, True, 0.0, w)
+    # heading priority: the speed loop gets what is left of each thruster's range
+    s_min, s_max = speed_range(pa[_P.t_min], pa[_P.t_max], u_h)
+    u_s = pid_step_w(st, _X.speed, pa, _P.speed, u_d - u, h, 0.0, False, pa[_P.ff] * u_d, s_min, s_max, w)
+    sig[sl[_S.port]], sig[sl[_S.stbd]] = mix(u_s, u_h)
+    sig[sl[_S.u_d_out]] = u_d
+    sig[sl[_S.psi_d_out]] = psi_d
+    sig[sl[_S.u_speed]] = u_s
+    sig[sl[_S.u_heading]] = u_h
+    sig[sl[_S.r_d]] = r_d
+
+
 @register_block("usv.pid")
-class USVController(Block):
-    """Speed + heading loops and mixing (module docstring); writes ``usv.thrust_port_cmd``/``_stbd_cmd`` (N).
+class USVController(LawBlock):
+    """Speed + heading loops and mixing (module docstring); writes ``usv.thrust_port_cmd``/``_stbd_cmd`` (N);
+    law :func:`usv_pid_law`. ``speed``, ``heading`` and ``yaw_rate`` are :class:`PID` views of its state.
 
     Parameters
     ----------
@@ -113,40 +192,64 @@ class USVController(Block):
     """
 
     role = "controller"
-
     name = "usv_control"
+    law = staticmethod(usv_pid_law)
+    signals = USV_PID_SIGNALS
+    params_model = USVControlConfig
 
     def __init__(self, cfg: USVControlConfig, usv_cfg, u_d: float, period: float = 0.05, meas=None):
         self.cfg = cfg
         self.period = float(period)
-        self.u_d = float(u_d)
         self.t_max = usv_cfg.max_thrust_kgf * KGF
         self.t_min = -usv_cfg.max_reverse_kgf * KGF
         self.d11 = usv_cfg.d11
         self.meas = {"u": "usv.u", "psi": "usv.psi", "r": "usv.r", **(meas or {})}
+        m = self.meas
+        self.bind(
+            u=m["u"],
+            psi=m["psi"],
+            r=m["r"],
+            u_d="usv.u_d",
+            psi_d="guidance.psi_d",
+            estop="_estop",
+            mode="console.mode",
+            surge="joystick.surge",
+            yaw="joystick.yaw",
+            port="usv.thrust_port_cmd",
+            stbd="usv.thrust_stbd_cmd",
+            u_d_out="usv_ctrl.u_d",
+            psi_d_out="usv_ctrl.psi_d",
+            u_speed="usv_ctrl.u_speed",
+            u_heading="usv_ctrl.u_heading",
+            r_d="usv_ctrl.r_d",
+        )
         hmax = cfg.heading_share * self.t_max
-        self.speed = aw_pid(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)
-        self.heading = aw_pid(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)
-        self.yaw_rate = aw_pid(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)
-        self.inputs = {self.meas["u"]: "m/s", self.meas["psi"]: "rad", self.meas["r"]: "rad/s"}
-        self.optional_inputs = {
-            "console.mode": "str",
-            "joystick.surge": "1",
-            "joystick.yaw": "1",
-            "usv.u_d": "m/s",
-            "guidance.psi_d": "rad",
-        }
-        self.outputs = {
-            "usv.thrust_port_cmd": "N",
-            "usv.thrust_stbd_cmd": "N",
-            "usv_ctrl.u_d": "m/s",
-            "usv_ctrl.psi_d": "rad",
-            "usv_ctrl.u_speed": "N",
-            "usv_ctrl.u_heading": "N",
-            "usv_ctrl.r_d": "rad/s",
-        }
+        self.pa = USV_PID_PARAMS.pack(
+            speed=PID_PARAMS.pack(pid_params(cfg.speed_kp, cfg.speed_ki, cfg.speed_kd, self.t_min, self.t_max)),
+            heading=PID_PARAMS.pack(pid_params(cfg.heading_kp, cfg.heading_ki, cfg.heading_kd, -hmax, hmax)),
+            yaw_rate=PID_PARAMS.pack(pid_params(cfg.yaw_rate_kp, cfg.yaw_rate_ki, 0.0, -hmax, hmax)),
+            h=self.period,
+            u_d=float(u_d),
+            t_max=self.t_max,
+            t_min=self.t_min,
+            ff=0.5 * self.d11 if cfg.speed_ff else 0.0,
+            u_max=cfg.u_max,
+            r_max=math.radians(cfg.r_max_degps),
+        )
+        self.st = np.zeros(USV_PID_STATE.size)
+        self.st[_X.w] = 1.0
+        self.speed = PID.view(self.st, _X.speed, self.pa, _P.speed)
+        self.heading = PID.view(self.st, _X.heading, self.pa, _P.heading)
+        self.yaw_rate = PID.view(self.st, _X.yaw_rate, self.pa, _P.yaw_rate)
 
-    params_model = USVControlConfig
+    @property
+    def u_d(self) -> float:
+        """Surge speed target (m/s) when no block publishes ``usv.u_d``; settable while running."""
+        return float(self.pa[_P.u_d])
+
+    @u_d.setter
+    def u_d(self, value: float) -> None:
+        self.pa[_P.u_d] = float(value)
 
     @classmethod
     def from_context(cls, params: USVControlConfig, ctx) -> USVController:
@@ -156,63 +259,8 @@ class USVController(Block):
         return cls(params, ctx.cfg.usv, ctx.info["surge_speed"], ctx.period, meas=meas)
 
     def reset(self, rng) -> None:
-        self.speed.reset()
-        self.heading.reset()
-        self.yaw_rate.reset()
-
-    def compiled(self):
-        """Compiled form for the fused loop (autopilot mode; :func:`oceangnc.control._compiled.usv_control_step`)."""
-        from ..core.fused import CompiledBlock
-
-        m = self.meas
-        sig = [
-            m["u"],
-            m["psi"],
-            m["r"],
-            "?usv.u_d",
-            "?guidance.psi_d",
-            "usv.thrust_port_cmd",
-            "usv.thrust_stbd_cmd",
-            "usv_ctrl.u_d",
-            "usv_ctrl.psi_d",
-            "usv_ctrl.u_speed",
-            "usv_ctrl.u_heading",
-        ]
-        st = arr(pid_state(self.speed) + pid_state(self.heading))
-        pa = arr(
-            pid_params(self.speed)
-            + pid_params(self.heading)
-            + [self.period, self.u_d, self.t_max, self.t_min, 0.5 * self.d11 if self.cfg.speed_ff else 0.0]
-        )
-        return CompiledBlock(usv_control_step, sig, st, pa)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        h = self.period
-        u = bus[self.meas["u"]]
-        psi = bus[self.meas["psi"]]
-        r = bus[self.meas["r"]]
-        remote = bus.get("console.mode") == "remote"
-        if remote:
-            js = max(-1.0, min(1.0, float(bus["joystick.surge"])))
-            jy = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
-            u_d = js * c.u_max if js >= 0 else 0.5 * js * c.u_max
-            r_d = jy * math.radians(c.r_max_degps)
-            u_h = self.yaw_rate.step(r_d - r, h)
-            bus["usv_ctrl.r_d"] = r_d
-            psi_d = psi
-        else:
-            u_d = float(bus.get("usv.u_d", self.u_d))
-            psi_d = bus.get("guidance.psi_d", psi)
-            u_h = self.heading.step(wrap(psi_d - psi), h, e_dot=-r)
-        # heading priority: the speed loop gets what is left of each thruster's range
-        self.speed.u_min, self.speed.u_max = speed_range(self.t_min, self.t_max, u_h)
-        u_s = speed_loop(self.speed, u_d, u, h, self.d11 if c.speed_ff else 0.0)
-        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_s, u_h)
-        bus["usv_ctrl.u_d"] = u_d
-        bus["usv_ctrl.psi_d"] = psi_d
-        bus["usv_ctrl.u_speed"] = u_s
-        bus["usv_ctrl.u_heading"] = u_h
+        self.st[:] = 0.0
+        self.st[_X.w] = 1.0
 
 
 class RateControlConfig(StrictModel):
@@ -225,9 +273,72 @@ class RateControlConfig(StrictModel):
     yaw_ki: float = Field(200.0, ge=0, le=1e5, description="yaw-rate PID integral gain, N/rad")
 
 
+RATE_SIGNALS = Signals(
+    u_d=In("m/s"),
+    r_d=In("rad/s"),
+    u=In("m/s"),
+    r=In("rad/s"),
+    mode=Ext("str"),
+    loop=Ext("str"),
+    surge=Ext("1"),
+    yaw=Ext("1"),
+    estop=Ext("bool"),
+    port=Out("N"),
+    stbd=Out("N"),
+)
+RATE_PARAMS = Layout(
+    ("speed", PID_PARAMS.size),
+    ("yaw", PID_PARAMS.size),
+    "h",
+    "d11",
+    "d33",
+    "b",
+    "open_ahead",
+    "open_astern",
+    "open_diff",
+    "mode",
+    "loop",
+)
+RATE_STATE = Layout(("speed", PID_STATE.size), ("yaw", PID_STATE.size))
+_RS, _RP, _RX = RATE_SIGNALS.at, RATE_PARAMS.at, RATE_STATE.at
+
+
+@njit(cache=True)
+def rate_pid_law(t, sig, sl, st, pa):
+    """Speed and yaw-rate PIDs with the linear model's feed-forwards (003 eq. 2.3, 3.10) mixed by eq.
+    3.11: U_speed = PID(u_d - u) + d11 u_d / 2, U_heading = PID(r_d - r) + d33 r_d / B (N). In remote
+    mode with the open loop, the stick goes to the thrusters (open-loop thrusts, N). ``_estop``
+    clears both integrators and gives zero thrust. ``console.mode``/``console.loop`` absent (code -1):
+    the block's own defaults."""
+    h = pa[_RP.h]
+    u_d = sig[sl[_RS.u_d]]
+    r_d = sig[sl[_RS.r_d]]
+    mode = sig[sl[_RS.mode]] if sig[sl[_RS.mode]] >= 0.0 else pa[_RP.mode]
+    loop = sig[sl[_RS.loop]] if sig[sl[_RS.loop]] >= 0.0 else pa[_RP.loop]
+    if sig[sl[_RS.estop]] != 0.0:
+        pid_clear(st, _RX.speed)
+        pid_clear(st, _RX.yaw)
+        u_speed = 0.0
+        u_head = 0.0
+    elif mode == _REMOTE and loop == _OPEN:
+        surge = max(-1.0, min(1.0, sig[sl[_RS.surge]]))
+        yaw = max(-1.0, min(1.0, sig[sl[_RS.yaw]]))
+        u_speed = surge * (pa[_RP.open_ahead] if surge >= 0 else pa[_RP.open_astern]) * KGF
+        u_head = yaw * pa[_RP.open_diff] * KGF
+        pid_clear(st, _RX.speed)
+        pid_clear(st, _RX.yaw)
+    else:
+        ff = 0.5 * pa[_RP.d11] * u_d
+        u_speed = pid_run(st, _RX.speed, pa, _RP.speed, u_d - sig[sl[_RS.u]], h, 0.0, False, ff, 1.0)
+        ff = pa[_RP.d33] * r_d / pa[_RP.b]
+        u_head = pid_run(st, _RX.yaw, pa, _RP.yaw, r_d - sig[sl[_RS.r]], h, 0.0, False, ff, 1.0)
+    sig[sl[_RS.port]], sig[sl[_RS.stbd]] = mix(u_speed, u_head)
+
+
 @register_block("usv.rate_pid")
-class USVRateController(Block):
-    """Speed and yaw-rate PIDs with model feed-forwards, mixed by 003 eq. 3.11 (module docstring).
+class USVRateController(LawBlock):
+    """Speed and yaw-rate PIDs with model feed-forwards, mixed by 003 eq. 3.11 (module docstring);
+    law :func:`rate_pid_law`.
 
     Reads ``usv.u_d`` (m/s), ``usv.r_d`` (rad/s), ``usv.u`` (m/s), ``usv.r`` (rad/s); in remote mode
     with ``console.loop == "open"`` the stick goes straight to the thrusters (``U_speed`` =
@@ -248,6 +359,9 @@ class USVRateController(Block):
 
     role = "controller"
     name = "usv_pilot"
+    law = staticmethod(rate_pid_law)
+    signals = RATE_SIGNALS
+    params_model = RateControlConfig
 
     def __init__(self, cfg: RateControlConfig, usv_cfg, stick, mode: str = "auto", loop: str = "closed"):
         self.period = 1.0 / cfg.rate
@@ -256,57 +370,49 @@ class USVRateController(Block):
         self.mode, self.loop = mode, loop
         hi = usv_cfg.max_thrust_kgf * KGF
         lo = usv_cfg.max_reverse_kgf * KGF
-        self.speed_pid = PID(cfg.speed_kp, cfg.speed_ki, 0.0, -lo, hi)
-        self.yaw_pid = PID(cfg.yaw_kp, cfg.yaw_ki, 0.0, -hi, hi)
-        self.inputs = {"usv.u_d": "m/s", "usv.r_d": "rad/s", "usv.u": "m/s", "usv.r": "rad/s"}
-        self.optional_inputs = {
-            "console.mode": "str",
-            "console.loop": "str",
-            "joystick.surge": "1",
-            "joystick.yaw": "1",
-            "_estop": "bool",
-        }
-        self.outputs = {"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
+        self.bind(
+            u_d="usv.u_d",
+            r_d="usv.r_d",
+            u="usv.u",
+            r="usv.r",
+            mode="console.mode",
+            loop="console.loop",
+            surge="joystick.surge",
+            yaw="joystick.yaw",
+            estop="_estop",
+            port="usv.thrust_port_cmd",
+            stbd="usv.thrust_stbd_cmd",
+        )
+        self.pa = RATE_PARAMS.pack(
+            speed=PID_PARAMS.pack(pid_params(cfg.speed_kp, cfg.speed_ki, 0.0, -lo, hi)),
+            yaw=PID_PARAMS.pack(pid_params(cfg.yaw_kp, cfg.yaw_ki, 0.0, -hi, hi)),
+            h=self.period,
+            d11=usv_cfg.d11,
+            d33=usv_cfg.d33,
+            b=usv_cfg.thruster_spacing,
+            open_ahead=stick.open_loop_thrust_kgf,
+            open_astern=stick.open_loop_reverse_kgf,
+            open_diff=stick.open_loop_diff_kgf,
+            mode=ENUMS["console.mode"].index(mode),
+            loop=ENUMS["console.loop"].index(loop),
+        )
+        self.st = np.zeros(RATE_STATE.size)
+        self.speed_pid = PID.view(self.st, _RX.speed, self.pa, _RP.speed)
+        self.yaw_pid = PID.view(self.st, _RX.yaw, self.pa, _RP.yaw)
 
     def gain_specs(self) -> list[dict]:
         """The gains an operator may change while running: name, value, range, unit, description."""
-        return [
-            {
-                "name": "speed_kp",
-                "value": self.speed_pid.kp,
-                "min": 0.0,
-                "max": 5000.0,
-                "unit": "N/(m/s)",
-                "description": "surge-speed PID proportional gain",
-            },
-            {
-                "name": "speed_ki",
-                "value": self.speed_pid.ki,
-                "min": 0.0,
-                "max": 5000.0,
-                "unit": "N/m",
-                "description": "surge-speed PID integral gain",
-            },
-            {
-                "name": "yaw_kp",
-                "value": self.yaw_pid.kp,
-                "min": 0.0,
-                "max": 5000.0,
-                "unit": "N/(rad/s)",
-                "description": "yaw-rate PID proportional gain",
-            },
-            {
-                "name": "yaw_ki",
-                "value": self.yaw_pid.ki,
-                "min": 0.0,
-                "max": 5000.0,
-                "unit": "N/rad",
-                "description": "yaw-rate PID integral gain",
-            },
+        rows = [
+            ("speed_kp", self.speed_pid.kp, "N/(m/s)", "surge-speed PID proportional gain"),
+            ("speed_ki", self.speed_pid.ki, "N/m", "surge-speed PID integral gain"),
+            ("yaw_kp", self.yaw_pid.kp, "N/(rad/s)", "yaw-rate PID proportional gain"),
+            ("yaw_ki", self.yaw_pid.ki, "N/rad", "yaw-rate PID integral gain"),
         ]
+        return [{"name": n, "value": v, "min": 0.0, "max": 5000.0, "unit": u, "description": d} for n, v, u, d in rows]
 
     def set_gain(self, name: str, value: float) -> None:
-        """Set one gain listed by :meth:`gain_specs` (the console validates the range first)."""
+        """Set one gain listed by :meth:`gain_specs` (the console validates the range first); the law
+        reads it from the parameter array at its next step, on either clock."""
         target = {
             "speed_kp": (self.speed_pid, "kp"),
             "speed_ki": (self.speed_pid, "ki"),
@@ -319,72 +425,4 @@ class USVRateController(Block):
         setattr(obj, attr, float(value))
 
     def reset(self, rng) -> None:
-        self.speed_pid.reset()
-        self.yaw_pid.reset()
-
-    def compiled(self):
-        """Compiled form: :func:`oceangnc.control._compiled_rate.rate_control_step` (PIDs without hold/ramp)."""
-        from ..core.fused import CompiledBlock
-        from ..core.fused_strings import ENUMS
-        from ._compiled_rate import rate_control_step
-
-        if any(pid.held or pid._ramp_left > 0.0 for pid in (self.speed_pid, self.yaw_pid)):
-            return None
-        p, st = self.usv_cfg, self.stick
-        # external signals with a slot even when absent (0, or code -1 for the default mode), so that
-        # values injected between runs reach the kernel
-        sigs = ["usv.u_d", "usv.r_d", "usv.u", "usv.r", "console.mode", "console.loop", "joystick.surge"]
-        sigs += ["joystick.yaw", "_estop", "usv.thrust_port_cmd", "usv.thrust_stbd_cmd"]
-        pa = pid_params(self.speed_pid) + pid_params(self.yaw_pid) + [self.period, p.d11, p.d33, p.thruster_spacing]
-        pa += [st.open_loop_thrust_kgf, st.open_loop_reverse_kgf, st.open_loop_diff_kgf, KGF]
-        pa += [ENUMS["console.mode"].index(self.mode), ENUMS["console.loop"].index(self.loop)]
-        return CompiledBlock(rate_control_step, sigs, arr(pid_state(self.speed_pid) + pid_state(self.yaw_pid)), arr(pa))
-
-    def step(self, t: float, bus: dict) -> None:
-        h = self.period
-        p = self.usv_cfg
-        u_d, r_d = bus["usv.u_d"], bus["usv.r_d"]
-        mode = bus.get("console.mode", self.mode)
-        loop = bus.get("console.loop", self.loop)
-        if bus.get("_estop", False):
-            self.speed_pid.reset()
-            self.yaw_pid.reset()
-            u_speed = u_head = 0.0
-        elif mode == "remote" and loop == "open":
-            st = self.stick
-            surge = max(-1.0, min(1.0, float(bus["joystick.surge"])))
-            yaw = max(-1.0, min(1.0, float(bus["joystick.yaw"])))
-            u_speed = surge * (st.open_loop_thrust_kgf if surge >= 0 else st.open_loop_reverse_kgf) * KGF
-            u_head = yaw * st.open_loop_diff_kgf * KGF
-            self.speed_pid.reset()
-            self.yaw_pid.reset()
-        else:
-            u_speed = speed_loop(self.speed_pid, u_d, bus["usv.u"], h, p.d11)
-            u_head = self.yaw_pid.step(r_d - bus["usv.r"], h, feedforward=p.d33 * r_d / p.thruster_spacing)
-        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(u_speed, u_head)
-
-
-@njit(cache=True)
-def usv_control_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.usv_control.USVController` (autopilot mode).
-
-    slots: u, psi, r, ?usv.u_d, ?guidance.psi_d | thrust_port_cmd, thrust_stbd_cmd, usv_ctrl.u_d,
-    usv_ctrl.psi_d, usv_ctrl.u_speed, usv_ctrl.u_heading. state: speed PID, heading PID.
-    params: speed PID, heading PID, h, u_d default, t_max, t_min, 0.5 d11 (or 0: no feed-forward).
-    """
-    h = pa[12]
-    u = sig[sl[0]]
-    psi = sig[sl[1]]
-    r = sig[sl[2]]
-    u_d = sig[sl[3]] if sl[3] >= 0 else pa[13]
-    psi_d = sig[sl[4]] if sl[4] >= 0 else psi
-    u_h = pid_step(st, 5, pa, 6, wrap(psi_d - psi), h, -r, True, 0.0, pa[9], pa[10])
-    t_max = pa[14]
-    t_min = pa[15]
-    s_min, s_max = speed_range(t_min, t_max, u_h)
-    ff = pa[16] * u_d
-    u_s = pid_step(st, 0, pa, 0, u_d - u, h, 0.0, False, ff, s_min, s_max)
-    sig[sl[5]], sig[sl[6]] = mix(u_s, u_h)
-    out = (u_d, psi_d, u_s, u_h)
-    for i in range(4):
-        sig[sl[7 + i]] = out[i]
+        self.st[:] = 0.0

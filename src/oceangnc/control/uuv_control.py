@@ -23,14 +23,17 @@ rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
 
 from __future__ import annotations
 
+import numpy as np
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.estop import RESUME_RAMP_S, resume_weight
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
-from ..io.config import StrictModel
-from ..sensors.filters import LowPass
+from ..sensors.filters import lowpass_coefficient, lowpass_step
 from ..units import KGF
-from .usv_control import aw_pid
+from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
 
 
 class UUVPIDConfig(StrictModel):
@@ -48,19 +51,106 @@ class UUVPIDConfig(StrictModel):
     los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
 
 
+UUV_PID_SIGNALS = Signals(
+    e_x=In("m"),
+    r_uuv=In("rad/s"),
+    outside=In("bool"),
+    rel_err=In("rad"),
+    r_usv=In("rad/s"),
+    psi_usv=In("rad"),
+    los_err=In("rad"),
+    los=In("rad"),
+    estop=Opt("bool"),
+    port=Out("N"),
+    stbd=Out("N"),
+    bow=Out("N"),
+    psi_d=Out("rad"),
+    loop=Out("count"),
+)
+UUV_PID_PARAMS = Layout(
+    ("pos", PID_PARAMS.size), ("ang", PID_PARAMS.size), ("los", PID_PARAMS.size), "h", "a", "angle_only"
+)
+UUV_PID_STATE = Layout(
+    ("pos", PID_STATE.size),
+    ("ang", PID_STATE.size),
+    ("los", PID_STATE.size),
+    "active",
+    "e1_prev",
+    "has_e1",
+    "y",
+    "has_y",
+    "w",
+)
+_S, _P, _X = UUV_PID_SIGNALS.at, UUV_PID_PARAMS.at, UUV_PID_STATE.at
+_HAS_E = PID_STATE.at.has_e_prev
+
+
+@njit(cache=True)
+def uuv_pid_law(t, sig, sl, st, pa):
+    """The UUV's three PIDs (module docstring; 003 eq. 3.12-3.13): U_port = U_stbd = PID_1(e_1) with
+    e_1 = lf.e_x (m) and its low-passed backward difference as the rate; the bow thruster from PID_2
+    (relative angle, e_dot = r_usv - r_uuv) inside the range R, PID_3 (bearing to the USV, e_dot =
+    -r_uuv) outside it, with the integral handed over at a switch. Outputs in N; ``uuv_ctrl.loop`` is
+    2 or 3. While ``_estop`` is set the thrust is zero and no PID moves; after it the outputs
+    ramp back with the resume weight (:mod:`oceangnc.core.estop`)."""
+    h = pa[_P.h]
+    if sl[_S.estop] >= 0 and sig[sl[_S.estop]] != 0.0:
+        st[_X.w] = 0.0
+        sig[sl[_S.port]] = 0.0
+        sig[sl[_S.stbd]] = 0.0
+        sig[sl[_S.bow]] = 0.0
+        return
+    w = st[_X.w] = resume_weight(st[_X.w], False, h, RESUME_RAMP_S)
+    e1 = sig[sl[_S.e_x]]
+    d = 0.0 if st[_X.has_e1] == 0.0 else (e1 - st[_X.e1_prev]) / h
+    st[_X.e1_prev] = e1
+    st[_X.has_e1] = 1.0
+    if st[_X.has_y] == 0.0:
+        st[_X.y] = d
+        st[_X.has_y] = 1.0
+    else:
+        st[_X.y] = lowpass_step(st[_X.y], pa[_P.a], d)
+    u1 = pid_run(st, _X.pos, pa, _P.pos, e1, h, st[_X.y], True, 0.0, w)
+    r_uuv = sig[sl[_S.r_uuv]]
+    outside = sig[sl[_S.outside]] > 0.5 and pa[_P.angle_only] == 0.0
+    loop = 3.0 if outside else 2.0
+    if loop != st[_X.active]:  # bumpless: the loop taking over starts from the other's integral
+        if loop == 3.0:
+            st[_X.los] = st[_X.ang]
+            st[_X.los + _HAS_E] = 0.0
+        else:
+            st[_X.ang] = st[_X.los]
+            st[_X.ang + _HAS_E] = 0.0
+        st[_X.active] = loop
+    if loop == 2.0:
+        ub = pid_run(st, _X.ang, pa, _P.ang, sig[sl[_S.rel_err]], h, sig[sl[_S.r_usv]] - r_uuv, True, 0.0, w)
+        psi_d = sig[sl[_S.psi_usv]]
+    else:
+        ub = pid_run(st, _X.los, pa, _P.los, sig[sl[_S.los_err]], h, -r_uuv, True, 0.0, w)
+        psi_d = sig[sl[_S.los]]
+    sig[sl[_S.port]] = u1
+    sig[sl[_S.stbd]] = u1
+    sig[sl[_S.bow]] = ub
+    sig[sl[_S.psi_d]] = psi_d
+    sig[sl[_S.loop]] = loop
+
+
 @register_block("uuv.pid")
-class UUVPIDController(Block):
-    """PID leader-follower controller of the UUV (module docstring).
+class UUVPIDController(LawBlock):
+    """PID leader-follower controller of the UUV (module docstring); law :func:`uuv_pid_law`.
 
     Reads the leader-follower signals ``lf.*`` (:class:`oceangnc.guidance.leader_follower.LeaderFollower`)
     and the yaw rates (bus keys ``meas["r_usv"]``, ``meas["r_uuv"]``); writes
     ``uuv.thrust_port_cmd``, ``uuv.thrust_stbd_cmd``, ``uuv.thrust_bow_cmd`` (N),
     ``uuv_ctrl.psi_d`` (rad, the heading the active loop follows) and ``uuv_ctrl.loop`` (2 or 3).
+    ``pos``, ``ang`` and ``los`` are :class:`~oceangnc.control.pid.PID` views of its state.
     """
 
     role = "controller"
-
     name = "uuv_control"
+    law = staticmethod(uuv_pid_law)
+    signals = UUV_PID_SIGNALS
+    params_model = UUVPIDConfig
 
     def __init__(
         self, cfg: UUVPIDConfig, uuv_cfg, period: float = 0.05, mode: str = "relative-angle-plus-heading", meas=None
@@ -71,29 +161,36 @@ class UUVPIDController(Block):
         hi = uuv_cfg.max_thrust_kgf * KGF
         lo = -uuv_cfg.max_reverse_kgf * KGF
         self.meas = {"r_usv": "usv.r", "r_uuv": "uuv.r", "psi_usv": "usv.psi", **(meas or {})}
-        self.pos = aw_pid(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)
-        self.ang = aw_pid(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)
-        self.los = aw_pid(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)
         m = self.meas
-        self.inputs = {
-            "lf.e_x": "m",
-            "lf.outside": "bool",
-            "lf.rel_heading_err": "rad",
-            "lf.los_err": "rad",
-            "lf.los": "rad",
-            m["r_usv"]: "rad/s",
-            m["r_uuv"]: "rad/s",
-            m["psi_usv"]: "rad",
-        }
-        self.outputs = {
-            "uuv.thrust_port_cmd": "N",
-            "uuv.thrust_stbd_cmd": "N",
-            "uuv.thrust_bow_cmd": "N",
-            "uuv_ctrl.psi_d": "rad",
-            "uuv_ctrl.loop": "count",
-        }
-
-    params_model = UUVPIDConfig
+        self.bind(
+            e_x="lf.e_x",
+            r_uuv=m["r_uuv"],
+            outside="lf.outside",
+            rel_err="lf.rel_heading_err",
+            r_usv=m["r_usv"],
+            psi_usv=m["psi_usv"],
+            los_err="lf.los_err",
+            los="lf.los",
+            estop="_estop",
+            port="uuv.thrust_port_cmd",
+            stbd="uuv.thrust_stbd_cmd",
+            bow="uuv.thrust_bow_cmd",
+            psi_d="uuv_ctrl.psi_d",
+            loop="uuv_ctrl.loop",
+        )
+        self.pa = UUV_PID_PARAMS.pack(
+            pos=PID_PARAMS.pack(pid_params(cfg.range_kp, cfg.range_ki, cfg.range_kd, lo, hi)),
+            ang=PID_PARAMS.pack(pid_params(cfg.angle_kp, cfg.angle_ki, cfg.angle_kd, lo, hi)),
+            los=PID_PARAMS.pack(pid_params(cfg.los_kp, cfg.los_ki, cfg.los_kd, lo, hi)),
+            h=self.period,
+            a=lowpass_coefficient(cfg.range_d_cutoff_hz, self.period),
+            angle_only=1.0 if mode == "relative-angle" else 0.0,
+        )
+        self.st = np.zeros(UUV_PID_STATE.size)
+        self.st[_X.w] = 1.0
+        self.pos = PID.view(self.st, _X.pos, self.pa, _P.pos)
+        self.ang = PID.view(self.st, _X.ang, self.pa, _P.ang)
+        self.los = PID.view(self.st, _X.los, self.pa, _P.los)
 
     @classmethod
     def from_context(cls, params: UUVPIDConfig, ctx) -> UUVPIDController:
@@ -109,76 +206,6 @@ class UUVPIDController(Block):
         )
 
     def reset(self, rng) -> None:
-        self.pos.reset()
-        self.ang.reset()
-        self.los.reset()
-        self.active = 2
-        self.e1_prev = None
-        self.e1_rate = LowPass(self.cfg.range_d_cutoff_hz, self.period)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.uuv_pid_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import arr, pid_params, pid_state, uuv_pid_step
-
-        m = self.meas
-        sig = [
-            "lf.e_x",
-            m["r_uuv"],
-            "lf.outside",
-            "lf.rel_heading_err",
-            m["r_usv"],
-            m["psi_usv"],
-            "lf.los_err",
-            "lf.los",
-            "uuv.thrust_port_cmd",
-            "uuv.thrust_stbd_cmd",
-            "uuv.thrust_bow_cmd",
-            "uuv_ctrl.psi_d",
-            "uuv_ctrl.loop",
-        ]
-        lp = self.e1_rate
-        st = arr(
-            pid_state(self.pos)
-            + pid_state(self.ang)
-            + pid_state(self.los)
-            + [
-                self.active,
-                self.e1_prev if self.e1_prev is not None else 0.0,
-                0.0 if self.e1_prev is None else 1.0,
-                lp.y if lp.y is not None else 0.0,
-                0.0 if lp.y is None else 1.0,
-            ]
-        )
-        pa = arr(
-            pid_params(self.pos)
-            + pid_params(self.ang)
-            + pid_params(self.los)
-            + [self.period, lp.a, 1.0 if self.mode == "relative-angle" else 0.0]
-        )
-        return CompiledBlock(uuv_pid_step, sig, st, pa)
-
-    def step(self, t: float, bus: dict) -> None:
-        h = self.period
-        e1 = bus["lf.e_x"]
-        d = 0.0 if self.e1_prev is None else (e1 - self.e1_prev) / h
-        self.e1_prev = e1
-        u1 = self.pos.step(e1, h, e_dot=self.e1_rate(d))
-        r_uuv = bus[self.meas["r_uuv"]]
-        outside = bus["lf.outside"] > 0.5 and self.mode != "relative-angle"
-        loop = 3 if outside else 2
-        if loop != self.active:
-            (self.los if loop == 3 else self.ang).integral = (self.ang if loop == 3 else self.los).integral
-            (self.los if loop == 3 else self.ang)._e_prev = None
-            self.active = loop
-        if loop == 2:
-            ub = self.ang.step(bus["lf.rel_heading_err"], h, e_dot=bus[self.meas["r_usv"]] - r_uuv)
-            psi_d = bus[self.meas["psi_usv"]]
-        else:
-            ub = self.los.step(bus["lf.los_err"], h, e_dot=-r_uuv)
-            psi_d = bus["lf.los"]
-        bus["uuv.thrust_port_cmd"] = u1
-        bus["uuv.thrust_stbd_cmd"] = u1
-        bus["uuv.thrust_bow_cmd"] = ub
-        bus["uuv_ctrl.psi_d"] = psi_d
-        bus["uuv_ctrl.loop"] = float(loop)
+        self.st[:] = 0.0
+        self.st[_X.active] = 2.0
+        self.st[_X.w] = 1.0

@@ -40,7 +40,7 @@ from .fused import CompiledBlock
 from .fused_strings import ENUMS
 from .fused_strings import code as _code
 
-IN, OPT, OUT = "in", "opt", "out"
+IN, OPT, EXT, OUT = "in", "opt", "ext", "out"
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,13 @@ def In(unit: str, size: int = 1) -> Role:  # noqa: N802 (a declaration reads lik
 def Opt(unit: str, size: int = 1) -> Role:  # noqa: N802
     """An optional input: slot -1 when nobody writes it (the law uses its own default)."""
     return Role(OPT, unit, size)
+
+
+def Ext(unit: str, size: int = 1) -> Role:  # noqa: N802
+    """An external input (an operator's: ``console.mode``, ``joystick.surge``): optional for the wiring
+    check, but always given a slot, holding 0 (or -1 for an :data:`~oceangnc.core.fused_strings.ENUMS`
+    string) while absent, so that a value injected into the bus later (console, MAVLink) reaches the law."""
+    return Role(EXT, unit, size)
 
 
 def Out(unit: str, size: int = 1) -> Role:  # noqa: N802
@@ -149,7 +156,7 @@ class LawBlock(Block):
         if missing or extra:
             raise ValueError(f"{type(self).__name__}.bind: missing roles {missing}, unknown {extra}")
         wiring: list[tuple[str, str]] = []
-        decl: dict[str, dict[str, str]] = {IN: {}, OPT: {}, OUT: {}}
+        decl: dict[str, dict[str, str]] = {IN: {}, OPT: {}, EXT: {}, OUT: {}}
         for role, r in self.signals.roles.items():
             keys = names[role]
             keys = [keys] if isinstance(keys, str) else list(keys)
@@ -158,7 +165,7 @@ class LawBlock(Block):
             for k in keys:
                 wiring.append((k, r.kind))
                 decl[r.kind][k] = r.unit
-        self.inputs, self.optional_inputs, self.outputs = decl[IN], decl[OPT], decl[OUT]
+        self.inputs, self.optional_inputs, self.outputs = decl[IN], {**decl[OPT], **decl[EXT]}, decl[OUT]
         self._wiring = wiring
         self._sig = np.zeros(max(len(wiring), 1))
         self._sl = np.arange(max(len(wiring), 1), dtype=np.int64)
@@ -196,7 +203,7 @@ class LawBlock(Block):
                 if kind == IN:
                     raise KeyError(k)
                 sl[j] = -1 if kind == OPT else j
-                sig[j] = 0.0
+                sig[j] = _code(k, None)  # an absent external input: 0, or -1 for a string's code
             else:
                 sl[j] = j
                 sig[j] = _code(k, v)
@@ -209,4 +216,4 @@ class LawBlock(Block):
             bus[k] = float(sig[j])
 
 
-__all__ = ["In", "Opt", "Out", "Role", "Layout", "Signals", "LawBlock"]
+__all__ = ["In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]

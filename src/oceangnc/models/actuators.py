@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..core.estop import RESUME_RAMP_S, resume_weight  # noqa: F401 (RESUME_RAMP_S re-exported)
 from ..core.law import In, Layout, LawBlock, Opt, Out, Signals
 from ..units import KGF
 
@@ -114,10 +115,6 @@ def saturate(x, lo, hi):
 
 # -- the thruster bank: one law for the USV's and the UUV's thrusters --------------------------------
 
-#: resume ramp after an emergency stop (s): the thrust returns from zero to the command over this time,
-#: whatever block or front end (console, MAVLink) released the stop
-RESUME_RAMP_S = 2.0
-
 #: parameters and state of :func:`thrusters_law`; the signal slots are ``_estop`` (optional), the m
 #: commands, then the m thrusts (offsets computed from ``m``: the USV has 2 thrusters, the UUV 3)
 THRUSTER_PARAMS = Layout("m", "hi", "lo", "voltage", "ramp_s", "period")
@@ -134,10 +131,7 @@ def thrusters_law(t, sig, sl, st, pa):
     is not affected."""
     m = int(pa[_P.m])
     stop = sl[0] >= 0 and sig[sl[0]] != 0.0
-    if stop:
-        st[_X.w] = 0.0
-    elif st[_X.w] < 1.0:
-        st[_X.w] = 1.0 if pa[_P.ramp_s] <= 0.0 else min(1.0, st[_X.w] + pa[_P.period] / pa[_P.ramp_s])
+    st[_X.w] = resume_weight(st[_X.w], stop, pa[_P.period], pa[_P.ramp_s])
     for i in range(m):
         if stop:
             thrust = 0.0

@@ -50,6 +50,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..core.blocks import Plant
+from ..core.estop import RESUME_RAMP_S, resume_weight
 from ..core.law import In, Layout, LawBlock, Opt, Out, Signals
 from ..core.fused import advance_and_publish, plant_bus_keys, rk4_stepper_imports
 from ..core.csmath import ccos, csin
@@ -326,10 +327,7 @@ def rudder_engine_law(t, sig, sl, st, pa):
     after which the engine ramps back, n = w sat(n_cmd) with w rising 0 -> 1 over ``ramp_s`` (no
     thrust step at Reset; the rudder, no thrust, follows its command at once)."""
     stop = sl[_SA.estop] >= 0 and sig[sl[_SA.estop]] != 0.0
-    if stop:
-        st[_XA.w] = 0.0
-    elif st[_XA.w] < 1.0:
-        st[_XA.w] = 1.0 if pa[_PA.ramp_s] <= 0.0 else min(1.0, st[_XA.w] + pa[_PA.period] / pa[_PA.ramp_s])
+    st[_XA.w] = resume_weight(st[_XA.w], stop, pa[_PA.period], pa[_PA.ramp_s])
     d = 0.0 if stop else sig[sl[_SA.delta_cmd]]
     n = 0.0 if stop else sig[sl[_SA.rpm_cmd]]
     d = min(pa[_PA.dmax], max(-pa[_PA.dmax], d))
@@ -351,7 +349,7 @@ class FirstOrderActuators(LawBlock):
     law = staticmethod(rudder_engine_law)
     signals = ACTUATOR_SIGNALS
 
-    def __init__(self, cfg: FirstOrderConfig, period: float = 0.05, body: str = "usv", ramp_s: float = 2.0):
+    def __init__(self, cfg: FirstOrderConfig, period: float = 0.05, body: str = "usv", ramp_s: float = RESUME_RAMP_S):
         self.period = float(period)
         self.body = body
         self.dmax = math.radians(cfg.rudder_limit_deg)
