@@ -13,8 +13,6 @@ from oceangnc.core.registry import _KINDS, kinds
 #: kinds not yet moved onto LawBlock, each with the reason; the list may only shrink (the test
 #: below fails when a kind listed here has become a LawBlock, or a kind is missing from both)
 PENDING: dict[str, str] = {
-    "command.differential": "not yet moved onto LawBlock (issue 25 in progress)",
-    "command.step": "not yet moved onto LawBlock (issue 25 in progress)",
     "env.current": "not yet moved onto LawBlock (issue 25 in progress)",
     "env.wind": "not yet moved onto LawBlock (issue 25 in progress)",
     "sensor.ahrs": "not yet moved onto LawBlock (issue 25 in progress)",
@@ -28,13 +26,10 @@ PENDING: dict[str, str] = {
     "ship.open": "not yet moved onto LawBlock (issue 25 in progress)",
     "ship.pid": "not yet moved onto LawBlock (issue 25 in progress)",
     "ship.scripted_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
-    "thrusters.off": "not yet moved onto LawBlock (issue 25 in progress)",
     "tow.straight": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.heading_pd": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.los": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.route_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.speed_p": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.backstepping": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.follow_tow": "not yet moved onto LawBlock (issue 25 in progress)",

@@ -88,13 +88,6 @@ def drag_feedforward(x_uu, u_d):
 
 
 @njit(cache=True)
-def thrusters_off_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.actuators.ThrustersOff`: every listed command to 0 N."""
-    for i in range(sl.size):
-        sig[sl[i]] = 0.0
-
-
-@njit(cache=True)
 def _uuv_loops(sig, sl, i, o, st, so, pa, q, u_d, psi_d, h, x_uu):
     """:func:`oceangnc.control.tow.uuv_loops_step`. Reads ``sl[i:i+3]`` (uuv.u, uuv.psi, uuv.r), writes
     ``sl[o:o+3]`` (uuv.thrust_{port,stbd,bow}_cmd); speed PID at ``st[so]``/``pa[q]``, heading PID

@@ -18,7 +18,10 @@ All zero their outputs on an emergency stop (``_estop``, optional input).
 
 from __future__ import annotations
 
-from ..core.blocks import Block
+import numpy as np
+from numba import njit
+
+from ..core.law import LawBlock, Out, Signals
 from ..core.registry import register_block
 from ..models.first_order import FirstOrderActuators
 from ..models.usv import USVThrusters
@@ -55,26 +58,26 @@ class RudderEngineBlock(FirstOrderActuators):
         super().__init__(cfg, period, body)  # declares its signals (oceangnc.core.law.LawBlock.bind)
 
 
+@njit(cache=True)
+def thrusters_off_law(t, sig, sl, st, pa):
+    """Every output (N) is zero."""
+    for i in range(sl.size):
+        sig[sl[i]] = 0.0
+
+
 @register_block("thrusters.off")
-class ThrustersOff(Block):
-    """Zero thrust commands for the listed vehicles (the USV holds station, the UUV is passive)."""
+class ThrustersOff(LawBlock):
+    """Zero thrust commands for the listed vehicles (the USV holds station, the UUV is passive); law
+    :func:`thrusters_off_law`."""
 
     role = "actuator"
     name = "thrusters_off"
+    law = staticmethod(thrusters_off_law)
 
     def __init__(self, keys, period: float = 0.01):
         self.keys = list(keys)
         self.period = period
-        self.inputs = {}
-        self.outputs = {k: "N" for k in self.keys}
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.thrusters_off_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled_tow import thrusters_off_step
-
-        return CompiledBlock(thrusters_off_step, list(self.keys))
-
-    def step(self, t: float, bus: dict) -> None:
-        for k in self.keys:
-            bus[k] = 0.0
+        self.signals = Signals(**{f"off{i}": Out("N") for i in range(len(self.keys))})
+        self.bind(**{f"off{i}": k for i, k in enumerate(self.keys)})
+        self.st = np.zeros(1)
+        self.pa = np.zeros(1)

@@ -18,18 +18,50 @@ pole at ``2 zeta w_n`` as the paper does gives ``K1 = (2 zeta w_n T - 1) / K`` (
 first order with time constant ``1 / (2 zeta w_n)`` and, being proportional only, keeps a steady
 error ``v_c / (2 zeta w_n T)``.
 
-Gains are recomputed at each controller step from a ``coefficients(u) -> (K, T)`` callable, so the
-same blocks serve a fixed identified model or the speed-scheduled model of 000 table 2.
+Gains are recomputed at each controller step from the speed-scheduled coefficients of 000 table 2
+(:func:`oceangnc.models.first_order.schedule`, evaluated inside the law; a fixed identified model is a
+schedule with zero slopes). A design with ``2 zeta w_n T <= 1`` is refused when the scenario is built;
+the law writes NaN if one is met while running, which the loop reports as a divergence.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
-from ..core.blocks import Block
+import numpy as np
+from numba import njit
+
+from ..core.law import In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
+from ..core.rotations import wrap
 from ..errors import ConfigError
+from ..models.first_order import FirstOrderSchedule, schedule
+
+
+@njit(cache=True)
+def pole_placed_k1(K, T, zeta, wn):
+    """K1 = (2 zeta w_n T - 1) / K (000 eq. 26 and 31); NaN when 2 zeta w_n T <= 1 or K = 0."""
+    a = 2.0 * zeta * wn * T
+    if a <= 1.0 or K == 0.0:
+        return math.nan
+    return (a - 1.0) / K
+
+
+@njit(cache=True)
+def heading_pd_control(K, T, zeta, wn, psi_cmd, psi, r):
+    """(delta_S_cmd rad, K1, K2) of the heading PD ``K1 (K2 wrap(psi_c - psi) - r)`` (000 eq. 22, 26, 27)."""
+    a = 2.0 * zeta * wn * T
+    k1 = pole_placed_k1(K, T, zeta, wn)
+    k2 = wn * wn * T / (a - 1.0)
+    e = wrap(psi_cmd - psi)
+    return k1 * (k2 * e - r), k1, k2
+
+
+@njit(cache=True)
+def speed_p_control(K, T, zeta, wn, vc, v):
+    """(delta_T_cmd, K1) of the speed P controller ``K1 (v_c - v)`` (000 eq. 28, 31)."""
+    k1 = pole_placed_k1(K, T, zeta, wn)
+    return k1 * (vc - v), k1
 
 
 def _check(K: float, T: float, zeta: float, wn: float, what: str) -> float:
@@ -48,14 +80,15 @@ def _check(K: float, T: float, zeta: float, wn: float, what: str) -> float:
 
 def heading_gains(K: float, T: float, zeta: float, wn: float) -> tuple[float, float]:
     """(K1, K2) of the heading PD (000 eq. 26, 27): K1 in rad of rudder per rad/s, K2 in 1/s."""
-    a = _check(K, T, zeta, wn, "heading autopilot")
-    return (a - 1.0) / K, wn * wn * T / (a - 1.0)
+    _check(K, T, zeta, wn, "heading autopilot")
+    _, k1, k2 = heading_pd_control(K, T, zeta, wn, 0.0, 0.0, 0.0)
+    return float(k1), float(k2)
 
 
 def speed_gain(K: float, T: float, zeta: float, wn: float) -> float:
     """K1 of the speed P controller (000 eq. 31), in input units (e.g. rpm) per m/s."""
-    a = _check(K, T, zeta, wn, "speed autopilot")
-    return (a - 1.0) / K
+    _check(K, T, zeta, wn, "speed autopilot")
+    return float(pole_placed_k1(K, T, zeta, wn))
 
 
 def predicted_overshoot(zeta: float) -> float:
@@ -65,107 +98,95 @@ def predicted_overshoot(zeta: float) -> float:
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
 
 
-def _design(block, coefficients, zeta: float, wn: float, period: float, body: str) -> None:
-    """The design data both autopilots keep: the coefficient schedule, the poles (zeta, w_n), rate, body."""
+#: the autopilots' parameters: the poles, then the schedule's parameters (000 table 2) from _SCHED on
+AUTOPILOT_HEAD = Layout("zeta", "wn")
+_ZETA, _WN, _SCHED = AUTOPILOT_HEAD.at.zeta, AUTOPILOT_HEAD.at.wn, AUTOPILOT_HEAD.size
+HDG_SIGNALS = Signals(psi_cmd=In("rad"), psi=In("rad"), r=In("rad/s"), u=In("m/s"),
+                      delta=Out("rad"), k1=Out("1"), k2=Out("1/s"))  # fmt: skip
+SPD_SIGNALS = Signals(u_cmd=In("m/s"), u=In("m/s"), rpm=Out("rpm"), k1=Out("1"))
+_HS, _SS = HDG_SIGNALS.at, SPD_SIGNALS.at
+
+
+@njit(cache=True)
+def heading_pd_law(t, sig, sl, st, pa):
+    """Heading PD (000 eq. 22) with gains (26, 27) on the Nomoto (K_r, T_r) scheduled at the speed u:
+    writes delta_S_cmd (rad), K1 and K2."""
+    kv, tv, kr, tr = schedule(sig[sl[_HS.u]], pa[_SCHED:])
+    d, k1, k2 = heading_pd_control(kr, tr, pa[_ZETA], pa[_WN], sig[sl[_HS.psi_cmd]], sig[sl[_HS.psi]], sig[sl[_HS.r]])
+    sig[sl[_HS.delta]] = d
+    sig[sl[_HS.k1]] = k1
+    sig[sl[_HS.k2]] = k2
+
+
+@njit(cache=True)
+def speed_p_law(t, sig, sl, st, pa):
+    """Speed P controller (000 eq. 28) with gain (31) on (K_v, T_v) scheduled at the commanded speed:
+    writes the engine command (rpm) and K1."""
+    vc = sig[sl[_SS.u_cmd]]
+    kv, tv, kr, tr = schedule(vc, pa[_SCHED:])
+    n, k1 = speed_p_control(kv, tv, pa[_ZETA], pa[_WN], vc, sig[sl[_SS.u]])
+    sig[sl[_SS.rpm]] = n
+    sig[sl[_SS.k1]] = k1
+
+
+def _design(block, coefficients: FirstOrderSchedule, zeta: float, wn: float, period: float, body: str) -> None:
+    """The design data both autopilots keep: the coefficient schedule, the poles (zeta, w_n), rate, body,
+    and the law's parameters (zeta, w_n, the schedule's parameters)."""
+    if getattr(coefficients, "schedule_params", None) is None:
+        raise ConfigError(f"{type(block).__name__}: coefficients must be a first-order schedule (FirstOrderSchedule)")
     block.coefficients = coefficients
     block.zeta = float(zeta)
     block.wn = float(wn)
     block.period = float(period)
     block.body = body
+    sched = np.asarray(coefficients.schedule_params, dtype=np.float64)
+    block.pa = np.concatenate([AUTOPILOT_HEAD.pack(zeta=block.zeta, wn=block.wn), sched])
+    block.st = np.zeros(1)
 
 
 @register_block("usv.heading_pd")
-class HeadingAutopilot(Block):
-    """Heading PD (000 eq. 22) with pole-placed gains (26, 27).
+class HeadingAutopilot(LawBlock):
+    """Heading PD (000 eq. 22) with pole-placed gains (26, 27); law :func:`heading_pd_law`.
 
     Reads ``<b>.psi_cmd``, ``<b>.psi`` (rad) and ``<b>.r`` (rad/s) and ``<b>.u`` (m/s, for the
     schedule); writes ``<b>.delta_s_cmd`` (rad) and the gains ``<b>.hdg_k1``, ``<b>.hdg_k2``. The
     heading error is wrapped to (-pi, pi] so that a command across north turns the short way.
 
-    ``coefficients(u)`` returns the Nomoto (K_r [1/s], T_r [s]) at speed u.
+    ``coefficients`` is the Nomoto schedule (:class:`~oceangnc.models.first_order.FirstOrderSchedule`).
     """
 
     role = "controller"
-
     name = "heading_autopilot"
-    coefficients: Callable[[float], tuple[float, float]]
-    zeta: float
-    wn: float
-    body: str
+    law = staticmethod(heading_pd_law)
+    signals = HDG_SIGNALS
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
-        self.inputs = {f"{body}.psi_cmd": "rad", f"{body}.psi": "rad", f"{body}.r": "rad/s", f"{body}.u": "m/s"}
-        self.outputs = {f"{body}.delta_s_cmd": "rad", f"{body}.hdg_k1": "1", f"{body}.hdg_k2": "1/s"}
+        b = body
+        self.bind(psi_cmd=f"{b}.psi_cmd", psi=f"{b}.psi", r=f"{b}.r", u=f"{b}.u",
+                  delta=f"{b}.delta_s_cmd", k1=f"{b}.hdg_k1", k2=f"{b}.hdg_k2")  # fmt: skip
 
     def gains(self, u: float) -> tuple[float, float]:
+        """(K1, K2) at speed u (m/s), 000 eq. 26-27; ConfigError for a design the schedule cannot meet."""
         K, T = self.coefficients(u)
         return heading_gains(K, T, self.zeta, self.wn)
 
-    def step(self, t: float, bus: dict) -> None:
-        from ._compiled_first_order import heading_pd_law
-
-        b = self.body
-        K, T = self.coefficients(bus[f"{b}.u"])
-        _check(K, T, self.zeta, self.wn, "heading autopilot")
-        d, k1, k2 = heading_pd_law(K, T, self.zeta, self.wn, bus[f"{b}.psi_cmd"], bus[f"{b}.psi"], bus[f"{b}.r"])
-        bus[f"{b}.delta_s_cmd"] = d
-        bus[f"{b}.hdg_k1"] = k1
-        bus[f"{b}.hdg_k2"] = k2
-
-    def compiled(self):
-        """Compiled form (:func:`oceangnc.control._compiled_first_order.heading_pd_step`) when the
-        coefficients are the first-order schedule (:class:`~oceangnc.models.first_order.FirstOrderSchedule`)."""
-        return _scheduled_form(self, "nomoto", ["psi_cmd", "psi", "r", "u", "delta_s_cmd", "hdg_k1", "hdg_k2"])
-
 
 @register_block("usv.speed_p")
-class SpeedAutopilot(Block):
-    """Speed P controller (000 eq. 28) with the pole-placed gain (31), designed at the commanded speed.
+class SpeedAutopilot(LawBlock):
+    """Speed P controller (000 eq. 28) with the pole-placed gain (31), designed at the commanded speed;
+    law :func:`speed_p_law`.
 
-    Reads ``<b>.u_cmd`` and ``<b>.u`` (m/s); writes ``<b>.rpm_cmd`` (input units, rpm for the
-    first-order USV) and ``<b>.spd_k1``. ``coefficients(u)`` returns (K_v, T_v) at speed u.
+    Reads ``<b>.u_cmd`` and ``<b>.u`` (m/s); writes ``<b>.rpm_cmd`` (rpm for the first-order USV) and
+    ``<b>.spd_k1``. ``coefficients`` is the speed schedule (K_v, T_v).
     """
 
     role = "controller"
-
     name = "speed_autopilot"
-    coefficients: Callable[[float], tuple[float, float]]
-    zeta: float
-    wn: float
-    body: str
+    law = staticmethod(speed_p_law)
+    signals = SPD_SIGNALS
 
     def __init__(self, coefficients, zeta: float, wn: float, period: float = 0.05, body: str = "usv"):
         _design(self, coefficients, zeta, wn, period, body)
-        self.inputs = {f"{body}.u_cmd": "m/s", f"{body}.u": "m/s"}
-        self.outputs = {f"{body}.rpm_cmd": "rpm", f"{body}.spd_k1": "1"}
-
-    def step(self, t: float, bus: dict) -> None:
-        from ._compiled_first_order import speed_p_law
-
-        b = self.body
-        vc = bus[f"{b}.u_cmd"]
-        K, T = self.coefficients(vc)
-        _check(K, T, self.zeta, self.wn, "speed autopilot")
-        n, k1 = speed_p_law(K, T, self.zeta, self.wn, vc, bus[f"{b}.u"])
-        bus[f"{b}.rpm_cmd"] = n
-        bus[f"{b}.spd_k1"] = k1
-
-    def compiled(self):
-        """Compiled form (:func:`oceangnc.control._compiled_first_order.speed_p_step`) on the first-order schedule."""
-        return _scheduled_form(self, "speed", ["u_cmd", "u", "rpm_cmd", "spd_k1"])
-
-
-def _scheduled_form(block, law: str, signals: list[str]):
-    """The compiled form of an autopilot whose coefficients are the first-order schedule ``law``, else None."""
-    import numpy as np
-
-    from ..core.fused import CompiledBlock
-    from . import _compiled_first_order as kern
-
-    sched = block.coefficients
-    if getattr(sched, "law", None) != law or getattr(sched, "schedule_params", None) is None:
-        return None  # an arbitrary coefficients callable: the Python path
-    kernel = kern.heading_pd_step if law == "nomoto" else kern.speed_p_step
-    params = np.concatenate([[block.zeta, block.wn], np.asarray(sched.schedule_params, dtype=np.float64)])
-    return CompiledBlock(kernel, [f"{block.body}.{k}" for k in signals], params=params)
+        b = body
+        self.bind(u_cmd=f"{b}.u_cmd", u=f"{b}.u", rpm=f"{b}.rpm_cmd", k1=f"{b}.spd_k1")
