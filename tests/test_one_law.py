@@ -31,7 +31,6 @@ PENDING: dict[str, str] = {
     "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.route_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
-    "uuv.backstepping": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.follow_tow": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.leader_follower": "not yet moved onto LawBlock (issue 25 in progress)",
     "winch.depth": "not yet moved onto LawBlock (issue 25 in progress)",

@@ -64,6 +64,7 @@ the block clips them anyway and reports V and V' (``uuv_bs.V``, ``uuv_bs.Vdot``)
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -71,7 +72,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..guidance.leader_follower import target_point
@@ -160,9 +161,14 @@ def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     return cf * dn + sf * de, -sf * dn + cf * de, e_psi
 
 
-#: parameter layout of the compiled law (and of the fused block's parameters)
+#: parameter layout of the compiled law (and of the block's parameters)
 PARAMS = ("period", "a_lp", "cx", "cy", "h", "k1", "k2", "k6", "k7", "m11", "m22", "m33", "Xu", "Yv", "Nr", "Xuu",
           "Yvv", "Nrr", "bow_arm", "sway_from_bow", "hi", "lo")  # fmt: skip
+BS_PARAMS = Layout(*PARAMS)
+#: state of :func:`update`: the leader's velocities at the last firing (u, v, r), 1 once there are some,
+#: the low-passed leader accelerations, and this firing's inputs in the order of :data:`ROLES`
+BS_STATE = Layout(("lv", 3), "has", ("acc", 3), ("inp", 12))
+_P, _X = BS_PARAMS.at, BS_STATE.at
 
 
 def law_params(m: Model3DOF, g: BacksteppingConfig, cx=0.0, cy=0.0, period=0.0, a_lp=0.0, hi=0.0, lo=0.0):
@@ -170,7 +176,7 @@ def law_params(m: Model3DOF, g: BacksteppingConfig, cx=0.0, cy=0.0, period=0.0, 
     v = {"period": period, "a_lp": a_lp, "cx": cx, "cy": cy, "h": g.h, "k1": g.k1, "k2": g.k2, "k6": g.k6}
     v.update(k7=g.k7, m11=m.m11, m22=m.m22, m33=m.m33, Xu=m.Xu, Yv=m.Yv, Nr=m.Nr, Xuu=m.Xuu, Yvv=m.Yvv, Nrr=m.Nrr)
     v.update(bow_arm=m.bow_arm, sway_from_bow=m.sway_from_bow, hi=hi, lo=lo)
-    return np.array([float(v[k]) for k in PARAMS])
+    return BS_PARAMS.pack(v)
 
 
 @njit(cache=True)
@@ -178,9 +184,9 @@ def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
     """Backstepping law (module docstring), parameters ``pa`` (:data:`PARAMS`). Returns (tau_u (N),
     tau_r (N m), V, Vdot (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e,
     alpha_u, alpha_r)."""
-    cx, cy, h = pa[2], pa[3], pa[4]
-    k1, k2, k6, k7 = pa[5], pa[6], pa[7], pa[8]
-    m11, m22, m33 = pa[9], pa[10], pa[11]
+    cx, cy, h = pa[_P.cx], pa[_P.cy], pa[_P.h]
+    k1, k2, k6, k7 = pa[_P.k1], pa[_P.k2], pa[_P.k6], pa[_P.k7]
+    m11, m22, m33 = pa[_P.m11], pa[_P.m22], pa[_P.m33]
     cs, sn = math.cos(e_psi), math.sin(e_psi)
     z1 = -ul + rl * cy
     z2 = -vl - rl * cx
@@ -197,14 +203,14 @@ def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
     alpha_r = (-k2 * eps2 - b - v) / h
     u_e = u - alpha_u
     r_e = r - alpha_r
-    d11 = damping_coefficient(pa[12], pa[15], u)  # as Model3DOF.d11 .. d33
-    d22 = damping_coefficient(pa[13], pa[16], v)
-    d33 = damping_coefficient(pa[14], pa[17], r)
+    d11 = damping_coefficient(pa[_P.Xu], pa[_P.Xuu], u)  # as Model3DOF.d11 .. d33
+    d22 = damping_coefficient(pa[_P.Yv], pa[_P.Yvv], v)
+    d33 = damping_coefficient(pa[_P.Nr], pa[_P.Nrr], r)
     dalpha_u = -k1 * deps1 - da
     tau_u = m11 * (dalpha_u - k6 * u_e - eps1) - m22 * v * r + d11 * u
     dv0 = (-m11 * u * r - d22 * v) / m22  # v' without the bow side force
     dalpha_r0 = (-k2 * deps2 - db - dv0) / h
-    cb = pa[19] / (h * pa[18] * m22)  # alpha_r' = dalpha_r0 - cb * tau_r
+    cb = pa[_P.sway_from_bow] / (h * pa[_P.bow_arm] * m22)  # alpha_r' = dalpha_r0 - cb * tau_r
     tau_r = (dalpha_r0 - k7 * r_e - h * eps2 + ((m22 - m11) * u * v + d33 * r) / m33) / (1.0 / m33 + cb)
     V = 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
     Vdot = -k1 * eps1 * eps1 - k2 * eps2 * eps2 - k6 * u_e * u_e - k7 * r_e * r_e
@@ -218,17 +224,20 @@ def update(st, pa):
     :data:`ROLES`. Runs the acceleration filter, :func:`errors`, :func:`law` and the thruster split (stern
     T = tau_u / 2, bow T_b = tau_r / B_f, clipped to [lo, hi] N). Returns (T_stern, T_bow, V, Vdot, eps1,
     eps2, tau_u, tau_r)."""
-    xl, yl, psil, ul, vl, rl, xf, yf, psif, u, v, r = st[7:19]
+    xl, yl, psil, ul, vl, rl, xf, yf, psif, u, v, r = st[_X.inp : _X.inp + 12]
     lv = (ul, vl, rl)
     for i in range(3):
-        if st[3] != 0.0:
-            st[4 + i] = lowpass_step(st[4 + i], pa[1], (lv[i] - st[i]) / pa[0])
-        st[i] = lv[i]
-    st[3] = 1.0
-    eps1, eps2, e_psi = errors(xl, yl, psil, xf, yf, psif, pa[2], pa[3], pa[4])
-    tau_u, tau_r, V, Vdot, _, _, _, _ = law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, st[4], st[5], st[6])
-    ts = min(pa[20], max(pa[21], 0.5 * tau_u))
-    tb = min(pa[20], max(pa[21], tau_r / pa[18]))
+        if st[_X.has] != 0.0:
+            st[_X.acc + i] = lowpass_step(st[_X.acc + i], pa[_P.a_lp], (lv[i] - st[_X.lv + i]) / pa[_P.period])
+        st[_X.lv + i] = lv[i]
+    st[_X.has] = 1.0
+    eps1, eps2, e_psi = errors(xl, yl, psil, xf, yf, psif, pa[_P.cx], pa[_P.cy], pa[_P.h])
+    acc = _X.acc
+    tau_u, tau_r, V, Vdot, _, _, _, _ = law(
+        pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, st[acc], st[acc + 1], st[acc + 2]
+    )
+    ts = min(pa[_P.hi], max(pa[_P.lo], 0.5 * tau_u))
+    tb = min(pa[_P.hi], max(pa[_P.lo], tau_r / pa[_P.bow_arm]))
     return ts, tb, V, Vdot, eps1, eps2, tau_u, tau_r
 
 
@@ -245,11 +254,6 @@ def control_law(m: Model3DOF, g: BacksteppingConfig, eps1, eps2, e_psi, u, v, r,
     return dict(zip(("tau_u", "tau_r", "V", "Vdot", "u_e", "r_e", "alpha_u", "alpha_r"), out))
 
 
-def lyapunov(eps1, eps2, u_e, r_e) -> float:
-    """V = (eps1^2 + eps2^2 + u_e^2 + r_e^2) / 2 (eq. 3.28 + 3.37 + V_4)."""
-    return 0.5 * (eps1 * eps1 + eps2 * eps2 + u_e * u_e + r_e * r_e)
-
-
 #: the block's inputs by role (leader l = USV, follower f = UUV), in the order :func:`update` takes them
 ROLES = {"xl": "usv.x", "yl": "usv.y", "psil": "usv.psi", "ul": "usv.u", "vl": "usv.v", "rl": "usv.r",
          "xf": "uuv.x", "yf": "uuv.y", "psif": "uuv.psi", "uf": "uuv.u", "vf": "uuv.v", "rf": "uuv.r"}  # fmt: skip
@@ -259,27 +263,41 @@ OUTPUTS = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_b
            "uuv_ctrl.psi_d": "rad"}  # fmt: skip
 
 
+@njit(cache=True)
+def backstepping_law(t, sig, sl, st, pa):
+    """One firing (003 eq. 3.24-3.41, :func:`update`): the twelve leader/follower inputs (0 for an
+    unmeasured one) into the state, then the thrusts T_port = T_stbd = tau_u / 2 and T_bow = tau_r / B_f
+    (N, clipped), V, V', eps1, eps2 (m), tau_u (N), tau_r (N m) and the leader's heading as psi_d (rad)."""
+    for i in range(12):  # the inputs go to the state's scratch part
+        st[_X.inp + i] = sig[sl[i]] if sl[i] >= 0 else 0.0
+    out = update(st, pa)
+    sig[sl[12]] = out[0]
+    sig[sl[13]] = out[0]
+    for i in range(1, 8):
+        sig[sl[13 + i]] = out[i]
+    sig[sl[21]] = st[_X.inp + 2]
+
+
 @register_block("uuv.backstepping")
-class UUVBackstepping(Block):
-    """The backstepping law as a block; writes the UUV thruster commands (N).
+class UUVBackstepping(LawBlock):
+    """The backstepping law as a block; writes the UUV thruster commands (N); law :func:`backstepping_law`.
 
     Stern thrusters share tau_u (U_port = U_stbd = tau_u / 2, as eq. 3.13 shares the range command);
     the bow thruster gives the yaw moment, T_b = tau_r / B_f. Reads leader/follower positions,
-    headings and body velocities from the bus keys in ``keys``; the leader's accelerations are a
-    low-passed difference of its velocities. Publishes ``uuv_bs.V``, ``uuv_bs.Vdot``, ``uuv_bs.eps1``,
-    ``uuv_bs.eps2``, ``uuv_bs.tau_u``, ``uuv_bs.tau_r`` and ``uuv_ctrl.psi_d`` (the leader's heading,
-    the relative-angle target of eq. 3.9).
+    headings and body velocities from the bus keys in ``keys`` (in the order of :data:`ROLES`); the
+    leader's accelerations are a low-passed difference of its velocities. Publishes ``uuv_bs.V``,
+    ``uuv_bs.Vdot``, ``uuv_bs.eps1``, ``uuv_bs.eps2``, ``uuv_bs.tau_u``, ``uuv_bs.tau_r`` and
+    ``uuv_ctrl.psi_d`` (the leader's heading, the relative-angle target of eq. 3.9).
     """
 
     role = "controller"
-
     name = "uuv_control"
+    law = staticmethod(backstepping_law)
+    params_model = BacksteppingConfig
 
     def __init__(self, cfg: BacksteppingConfig, uuv_cfg, l_d: float, lambda_d: float, period: float = 0.05, keys=None):
         self.cfg = cfg
         self.period = float(period)
-        import dataclasses
-
         self.model = dataclasses.replace(model_from_uuv(uuv_cfg), sway_from_bow=1.0 if cfg.bow_side_force else 0.0)
         self.hi = uuv_cfg.max_thrust_kgf * KGF
         self.lo = -uuv_cfg.max_reverse_kgf * KGF
@@ -288,13 +306,13 @@ class UUVBackstepping(Block):
         self.keys = {**ROLES, **(keys or {})}
         unit = {"x": "m", "y": "m", "p": "rad", "u": "m/s", "v": "m/s", "r": "rad/s"}
         # an internal key ("_zero": no measurement, read as 0) is an optional input
-        self.inputs = {key: unit[n[0]] for n, key in self.keys.items() if not key.startswith("_")}
-        self.optional_inputs = {key: unit[n[0]] for n, key in self.keys.items() if key.startswith("_")}
-        self.outputs = dict(OUTPUTS)
+        roles = {n: (Opt if key.startswith("_") else In)(unit[n[0]]) for n, key in self.keys.items()}
+        outs = {f"o{i}": Out(u) for i, u in enumerate(OUTPUTS.values())}
+        self.signals = Signals(**roles, **outs)
+        self.bind(**self.keys, **{f"o{i}": k for i, k in enumerate(OUTPUTS)})
         self.a_lp = 1.0 - math.exp(-2 * math.pi * cfg.accel_cutoff_hz * self.period)
         self.pa = law_params(self.model, cfg, self.cx, self.cy, self.period, self.a_lp, self.hi, self.lo)
-
-    params_model = BacksteppingConfig
+        self.st = np.zeros(BS_STATE.size)
 
     @classmethod
     def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
@@ -304,36 +322,4 @@ class UUVBackstepping(Block):
         return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
 
     def reset(self, rng) -> None:
-        self.st = np.zeros(19)  # see update()
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled.backstepping_step`)."""
-        from ..core.fused import CompiledBlock
-
-        sig = ["?" + self.keys[n] for n in ROLES] + list(OUTPUTS)
-        return CompiledBlock(backstepping_step, sig, self.st.copy(), self.pa.copy())
-
-    def step(self, t: float, bus: dict) -> None:
-        self.st[7:] = [bus[k] if k in self.inputs else bus.get(k, 0.0) for k in (self.keys[n] for n in ROLES)]
-        out = update(self.st, self.pa)
-        bus.update(zip(OUTPUTS, (out[0], out[0], *out[1:], float(self.st[9]))))
-
-
-@njit(cache=True)
-def backstepping_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.backstepping.UUVBackstepping` (:func:`oceangnc.control.backstepping.update`,
-    003 eq. 3.24-3.41).
-
-    slots: xl, yl, psil, ul, vl, rl, xf, yf, psif, uf, vf, rf | uuv.thrust_port_cmd,
-    uuv.thrust_stbd_cmd, uuv.thrust_bow_cmd, uuv_bs.V, uuv_bs.Vdot, uuv_bs.eps1, uuv_bs.eps2,
-    uuv_bs.tau_u, uuv_bs.tau_r, uuv_ctrl.psi_d. state and params: those of
-    :func:`~oceangnc.control.backstepping.update` (:data:`oceangnc.control.backstepping.PARAMS`).
-    """
-    for i in range(12):  # the inputs go to the state's scratch part
-        st[7 + i] = sig[sl[i]] if sl[i] >= 0 else 0.0
-    out = update(st, pa)
-    sig[sl[12]] = out[0]
-    sig[sl[13]] = out[0]
-    for i in range(1, 8):
-        sig[sl[13 + i]] = out[i]
-    sig[sl[21]] = st[9]
+        self.st[:] = 0.0
