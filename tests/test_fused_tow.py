@@ -75,7 +75,7 @@ def test_profile_reference_is_numpy_interp_and_the_segment_slope():
     """The winch's moving target (one compiled home for the Python block and the kernel): equal to
     numpy.interp bit for bit, at and between the breakpoints and outside them, and its rate is the
     slope of the segment starting at or before t (0 outside the profile)."""
-    from oceangnc.control._compiled_tow import profile_reference
+    from oceangnc.control.winch import profile_reference
 
     pt = np.array([0.0, 10.0, 150.0, 190.0, 330.0])
     pz = np.array([1.3, 1.3, 30.0, 30.0, 1.3])
@@ -92,7 +92,7 @@ def test_profile_reference_is_numpy_interp_and_the_segment_slope():
 def test_tension_payout_pays_out_above_the_margin_only():
     """Above T_margin the drum command is raised to K_T (T - T_margin), capped at speed_max; below it
     the loop's command passes unchanged (hauling in included)."""
-    from oceangnc.control._compiled_tow import tension_payout
+    from oceangnc.control.winch import tension_payout
 
     assert tension_payout(-0.3, 700.0, 800.0, 0.005, 0.5) == -0.3
     assert tension_payout(-0.3, 840.0, 800.0, 0.005, 0.5) == pytest.approx(0.2)

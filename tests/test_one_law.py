@@ -26,14 +26,11 @@ PENDING: dict[str, str] = {
     "ship.open": "not yet moved onto LawBlock (issue 25 in progress)",
     "ship.pid": "not yet moved onto LawBlock (issue 25 in progress)",
     "ship.scripted_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
-    "tow.straight": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.los": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.route_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
-    "uuv.follow_tow": "not yet moved onto LawBlock (issue 25 in progress)",
     "uuv.leader_follower": "not yet moved onto LawBlock (issue 25 in progress)",
-    "winch.depth": "not yet moved onto LawBlock (issue 25 in progress)",
 }
 
 

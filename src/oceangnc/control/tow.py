@@ -10,21 +10,32 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.law import In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
-from ..io.config import StrictModel
 from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
 from ..units import KGF
-from ._compiled_tow import bearing_to, drag_feedforward
-from .pid import PID
-from .usv_control import mix, speed_loop
+from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
+from .usv_control import mix
 
-_USV_CMD = ("usv.thrust_port_cmd", "usv.thrust_stbd_cmd")
-_UUV_CMD = ("uuv.thrust_port_cmd", "uuv.thrust_stbd_cmd", "uuv.thrust_bow_cmd")
+
+@njit(cache=True)
+def bearing_to(n_to, e_to, n_from, e_from):
+    """Bearing (rad) from point ``from`` to point ``to`` (NED north, east in m)."""
+    return math.atan2(e_to - e_from, n_to - n_from)
+
+
+@njit(cache=True)
+def drag_feedforward(x_uu, u_d):
+    """Surge thrust (N) that balances the UUV's axial quadratic drag at speed ``u_d`` (m/s):
+    -X_u|u| u_d |u_d|, ``x_uu`` = X_u|u| (kg/m, negative)."""
+    return -x_uu * u_d * abs(u_d)
 
 
 class TowCommand(StrictModel):
@@ -44,28 +55,81 @@ class TowCommand(StrictModel):
     uuv_kd_heading: float = Field(40.0, ge=0, le=1e4, description="UUV heading D gain, N s/rad")
 
 
-def uuv_loops(uuv: UUVConfig, kp_speed: float, ki_speed: float, kp_heading: float, kd_heading: float):
-    """The UUV's tow loops: surge-speed PI on the total stern thrust, limited to twice a thruster's
-    range, and heading PD on the bow thruster (N)."""
+def uuv_loop_params(uuv: UUVConfig, kp_speed: float, ki_speed: float, kp_heading: float, kd_heading: float):
+    """Gains of the UUV's tow loops (:data:`~oceangnc.control.pid.PID_PARAMS` arrays): surge-speed PI on
+    the total stern thrust, limited to twice a thruster's range, and heading PD on the bow thruster (N)."""
     t_max = uuv.max_thrust_kgf * KGF
     r_max = uuv.max_reverse_kgf * KGF
-    return (PID(kp_speed, ki_speed, 0.0, -2 * r_max, 2 * t_max), PID(kp_heading, 0.0, kd_heading, -r_max, t_max))
+    speed = PID_PARAMS.pack(pid_params(kp_speed, ki_speed, 0.0, -2 * r_max, 2 * t_max))
+    head = PID_PARAMS.pack(pid_params(kp_heading, 0.0, kd_heading, -r_max, t_max))
+    return speed, head
 
 
-def uuv_loops_step(bus: dict, uuv: UUVConfig, speed: PID, head: PID, u_d: float, psi_d: float, h: float) -> None:
-    """One step of :func:`uuv_loops`: stern thrust PID(u_d - u) - X_u|u| u_d |u_d| (axial-drag
-    feed-forward) shared by both stern thrusters; bow thrust PD(wrap(psi_d - psi), -r). Writes the
-    ``uuv.thrust_*_cmd`` keys (N)."""
-    ff = float(drag_feedforward(uuv.X_uu_total, u_d))
-    tot = speed.step(u_d - bus["uuv.u"], h, feedforward=ff)
-    bus["uuv.thrust_port_cmd"] = 0.5 * tot
-    bus["uuv.thrust_stbd_cmd"] = 0.5 * tot
-    bus["uuv.thrust_bow_cmd"] = head.step(wrap(psi_d - bus["uuv.psi"]), h, e_dot=-bus["uuv.r"])
+@njit(cache=True)
+def uuv_loops(sig, sl, i, o, st, x_speed, x_head, pa, p_speed, p_head, u_d, psi_d, h, x_uu):
+    """The UUV's tow loops: stern thrust PID(u_d - u) - X_u|u| u_d |u_d| (axial-drag feed-forward,
+    :func:`drag_feedforward`) shared by both stern thrusters; bow thrust PD(wrap(psi_d - psi), -r).
+    Reads ``sl[i:i+3]`` (uuv.u, uuv.psi, uuv.r), writes ``sl[o:o+3]`` (uuv.thrust_{port,stbd,bow}_cmd, N);
+    the PIDs at state offsets ``x_speed``, ``x_head`` and parameter offsets ``p_speed``, ``p_head``."""
+    ff = drag_feedforward(x_uu, u_d)
+    tot = pid_run(st, x_speed, pa, p_speed, u_d - sig[sl[i]], h, 0.0, False, ff, 1.0)
+    sig[sl[o]] = 0.5 * tot
+    sig[sl[o + 1]] = 0.5 * tot
+    e = wrap(psi_d - sig[sl[i + 1]])
+    sig[sl[o + 2]] = pid_run(st, x_head, pa, p_head, e, h, -sig[sl[i + 2]], True, 0.0, 1.0)
+
+
+TOW_SIGNALS = Signals(
+    usv_u=In("m/s"), usv_psi=In("rad"), usv_r=In("rad/s"), uuv_u=In("m/s"), uuv_psi=In("rad"), uuv_r=In("rad/s"),
+    usv_port=Out("N"), usv_stbd=Out("N"), uuv_port=Out("N"), uuv_stbd=Out("N"), uuv_bow=Out("N"),
+)  # fmt: skip
+TOW_PARAMS = Layout(
+    ("usv_speed", PID_PARAMS.size),
+    ("usv_head", PID_PARAMS.size),
+    ("uuv_speed", PID_PARAMS.size),
+    ("uuv_head", PID_PARAMS.size),
+    "h",
+    "psi_d",
+    "start_s",
+    "u_d_usv",
+    "u_d_uuv",
+    "d11",
+    "x_uu",
+)
+TOW_STATE = Layout(
+    ("usv_speed", PID_STATE.size),
+    ("usv_head", PID_STATE.size),
+    ("uuv_speed", PID_STATE.size),
+    ("uuv_head", PID_STATE.size),
+)
+_S, _P, _X = TOW_SIGNALS.at, TOW_PARAMS.at, TOW_STATE.at
+
+
+@njit(cache=True)
+def tow_straight_law(t, sig, sl, st, pa):
+    """Both vehicles' loops of the straight tow (module docstring, 003 ch. 4 a): zero thrust before
+    ``start_s``; then the USV's total thrust PID(u_d - u) + d11 u_d and a differential PD on the
+    heading error, mixed by 003 eq. 3.11, and the UUV's loops (:func:`uuv_loops`). Outputs in N."""
+    h = pa[_P.h]
+    psi_d = pa[_P.psi_d]
+    if t < pa[_P.start_s]:
+        for i in range(_S.usv_port, _S.uuv_bow + 1):
+            sig[sl[i]] = 0.0
+        return
+    u_d = pa[_P.u_d_usv]
+    ff = pa[_P.d11] * u_d
+    tot = pid_run(st, _X.usv_speed, pa, _P.usv_speed, u_d - sig[sl[_S.usv_u]], h, 0.0, False, ff, 1.0)
+    e = wrap(psi_d - sig[sl[_S.usv_psi]])
+    dif = pid_run(st, _X.usv_head, pa, _P.usv_head, e, h, -sig[sl[_S.usv_r]], True, 0.0, 1.0)
+    sig[sl[_S.usv_port]], sig[sl[_S.usv_stbd]] = mix(0.5 * tot, 0.5 * dif)  # the one mixer (003 eq. 3.11)
+    uuv_loops(sig, sl, _S.uuv_u, _S.uuv_port, st, _X.uuv_speed, _X.uuv_head, pa, _P.uuv_speed, _P.uuv_head,
+              pa[_P.u_d_uuv], psi_d, h, pa[_P.x_uu])  # fmt: skip
 
 
 @register_block("tow.straight")
-class TowStraightControl(Block):
-    """Surge-speed and heading loops of both vehicles for the straight tow (003 ch. 4 a).
+class TowStraightControl(LawBlock):
+    """Surge-speed and heading loops of both vehicles for the straight tow (003 ch. 4 a); law
+    :func:`tow_straight_law`.
 
     USV: total thrust = PID(u_d - u) + d11 u_d (feed-forward), split equally, plus a differential
     PD on the heading error (003 eq. 3.11 mixing). UUV: total stern thrust = PID(u_d - u) - X_u|u|
@@ -75,72 +139,50 @@ class TowStraightControl(Block):
 
     role = "controller"
     name = "tow_control"
+    law = staticmethod(tow_straight_law)
+    signals = TOW_SIGNALS
 
     def __init__(self, cmd: TowCommand, usv: USVConfig, uuv: UUVConfig, period: float = 0.01):
         self.cmd = cmd
         self.period = period
         self.usv_cfg = usv
         self.uuv_cfg = uuv
-        self.inputs = {
-            "usv.u": "m/s",
-            "usv.psi": "rad",
-            "usv.r": "rad/s",
-            "uuv.u": "m/s",
-            "uuv.psi": "rad",
-            "uuv.r": "rad/s",
-        }
-        self.outputs = {
-            "usv.thrust_port_cmd": "N",
-            "usv.thrust_stbd_cmd": "N",
-            "uuv.thrust_port_cmd": "N",
-            "uuv.thrust_stbd_cmd": "N",
-            "uuv.thrust_bow_cmd": "N",
-        }
+        self.bind(
+            usv_u="usv.u",
+            usv_psi="usv.psi",
+            usv_r="usv.r",
+            uuv_u="uuv.u",
+            uuv_psi="uuv.psi",
+            uuv_r="uuv.r",
+            usv_port="usv.thrust_port_cmd",
+            usv_stbd="usv.thrust_stbd_cmd",
+            uuv_port="uuv.thrust_port_cmd",
+            uuv_stbd="uuv.thrust_stbd_cmd",
+            uuv_bow="uuv.thrust_bow_cmd",
+        )
+        c = cmd
+        t_usv = usv.max_thrust_kgf * KGF
+        r_usv = usv.max_reverse_kgf * KGF
+        uuv_speed, uuv_head = uuv_loop_params(uuv, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading, c.uuv_kd_heading)
+        self.pa = TOW_PARAMS.pack(
+            usv_speed=PID_PARAMS.pack(pid_params(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)),
+            usv_head=PID_PARAMS.pack(pid_params(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)),
+            uuv_speed=uuv_speed,
+            uuv_head=uuv_head,
+            h=period,
+            psi_d=math.radians(c.heading_deg),
+            start_s=c.start_s,
+            u_d_usv=c.usv_speed,
+            u_d_uuv=c.uuv_speed,
+            d11=usv.d11,
+            x_uu=uuv.X_uu_total,
+        )
+        self.st = np.zeros(TOW_STATE.size)
+        for n in ("usv_speed", "usv_head", "uuv_speed", "uuv_head"):
+            setattr(self, n, PID.view(self.st, getattr(_X, n), self.pa, getattr(_P, n)))
 
     def reset(self, rng) -> None:
-        c = self.cmd
-        t_usv = self.usv_cfg.max_thrust_kgf * KGF
-        r_usv = self.usv_cfg.max_reverse_kgf * KGF
-        self.usv_speed = PID(c.usv_kp_speed, c.usv_ki_speed, 0.0, -2 * r_usv, 2 * t_usv)
-        self.usv_head = PID(c.usv_kp_heading, 0.0, c.usv_kd_heading, -t_usv, t_usv)
-        self.uuv_speed, self.uuv_head = uuv_loops(
-            self.uuv_cfg, c.uuv_kp_speed, c.uuv_ki_speed, c.uuv_kp_heading, c.uuv_kd_heading
-        )
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.tow_straight_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import arr, pid_params, pid_state
-        from ._compiled_tow import tow_straight_step
-
-        c = self.cmd
-        pids = (self.usv_speed, self.usv_head, self.uuv_speed, self.uuv_head)
-        st = arr(sum((pid_state(q) for q in pids), []))
-        pa = sum((pid_params(q) for q in pids), []) + [self.period, math.radians(c.heading_deg), c.start_s]
-        pa += [c.usv_speed, c.uuv_speed, self.usv_cfg.d11, self.uuv_cfg.X_uu_total]
-        sig = ["usv.u", "usv.psi", "usv.r", "uuv.u", "uuv.psi", "uuv.r", *_USV_CMD, *_UUV_CMD]
-        return CompiledBlock(tow_straight_step, sig, st, arr(pa))
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cmd
-        h = self.period
-        psi_d = math.radians(c.heading_deg)
-        if t < c.start_s:
-            for k in (
-                "usv.thrust_port_cmd",
-                "usv.thrust_stbd_cmd",
-                "uuv.thrust_port_cmd",
-                "uuv.thrust_stbd_cmd",
-                "uuv.thrust_bow_cmd",
-            ):
-                bus[k] = 0.0
-            return
-        # USV
-        tot = speed_loop(self.usv_speed, c.usv_speed, bus["usv.u"], h, self.usv_cfg.d11, share=1.0)
-        e = wrap(psi_d - bus["usv.psi"])
-        dif = self.usv_head.step(e, h, e_dot=-bus["usv.r"])
-        bus["usv.thrust_port_cmd"], bus["usv.thrust_stbd_cmd"] = mix(0.5 * tot, 0.5 * dif)
-        uuv_loops_step(bus, self.uuv_cfg, self.uuv_speed, self.uuv_head, c.uuv_speed, psi_d, h)
+        self.st[:] = 0.0
 
 
 class UUVFollowConfig(StrictModel):
@@ -153,32 +195,62 @@ class UUVFollowConfig(StrictModel):
     kd_heading: float = Field(40.0, ge=0, le=1e4, description="heading D gain, N s/rad")
 
 
+FOLLOW_SIGNALS = Signals(
+    usv_x=In("m"), usv_y=In("m"), uuv_x=In("m"), uuv_y=In("m"), uuv_u=In("m/s"), uuv_psi=In("rad"), uuv_r=In("rad/s"),
+    port=Out("N"), stbd=Out("N"), bow=Out("N"),
+)  # fmt: skip
+FOLLOW_PARAMS = Layout(("speed", PID_PARAMS.size), ("head", PID_PARAMS.size), "u_d", "h", "x_uu")
+FOLLOW_STATE = Layout(("speed", PID_STATE.size), ("head", PID_STATE.size))
+_FS, _FP, _FX = FOLLOW_SIGNALS.at, FOLLOW_PARAMS.at, FOLLOW_STATE.at
+
+
+@njit(cache=True)
+def uuv_follow_law(t, sig, sl, st, pa):
+    """The UUV heads for the USV (bearing from the UUV to the USV, :func:`bearing_to`) and holds its
+    surge speed (:func:`uuv_loops`); a speed command of 0 switches its thrusters off (N)."""
+    u_d = pa[_FP.u_d]
+    if u_d <= 0.0:
+        sig[sl[_FS.port]] = 0.0
+        sig[sl[_FS.stbd]] = 0.0
+        sig[sl[_FS.bow]] = 0.0
+        return
+    psi_d = bearing_to(sig[sl[_FS.usv_x]], sig[sl[_FS.usv_y]], sig[sl[_FS.uuv_x]], sig[sl[_FS.uuv_y]])
+    uuv_loops(sig, sl, _FS.uuv_u, _FS.port, st, _FX.speed, _FX.head, pa, _FP.speed, _FP.head, u_d, psi_d,
+              pa[_FP.h], pa[_FP.x_uu])  # fmt: skip
+
+
 @register_block("uuv.follow_tow")
-class UUVFollow(Block):
-    """UUV heading toward the USV (bow thruster PD) and surge speed (stern PID with drag feed-forward)."""
+class UUVFollow(LawBlock):
+    """UUV heading toward the USV (bow thruster PD) and surge speed (stern PID with drag feed-forward);
+    law :func:`uuv_follow_law`."""
 
     role = "controller"
     name = "uuv_follow"
+    law = staticmethod(uuv_follow_law)
+    signals = FOLLOW_SIGNALS
+    params_model = UUVFollowConfig
 
     def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = 0.01):
         self.cfg = cfg
         self.uuv_cfg = uuv
         self.period = period
-        self.inputs = {
-            k: u
-            for k, u in (
-                ("usv.x", "m"),
-                ("usv.y", "m"),
-                ("uuv.x", "m"),
-                ("uuv.y", "m"),
-                ("uuv.psi", "rad"),
-                ("uuv.r", "rad/s"),
-                ("uuv.u", "m/s"),
-            )
-        }
-        self.outputs = {"uuv.thrust_port_cmd": "N", "uuv.thrust_stbd_cmd": "N", "uuv.thrust_bow_cmd": "N"}
-
-    params_model = UUVFollowConfig
+        self.bind(
+            usv_x="usv.x",
+            usv_y="usv.y",
+            uuv_x="uuv.x",
+            uuv_y="uuv.y",
+            uuv_u="uuv.u",
+            uuv_psi="uuv.psi",
+            uuv_r="uuv.r",
+            port="uuv.thrust_port_cmd",
+            stbd="uuv.thrust_stbd_cmd",
+            bow="uuv.thrust_bow_cmd",
+        )
+        speed, head = uuv_loop_params(uuv, cfg.kp_speed, cfg.ki_speed, cfg.kp_heading, cfg.kd_heading)
+        self.pa = FOLLOW_PARAMS.pack(speed=speed, head=head, u_d=cfg.speed, h=period, x_uu=uuv.X_uu_total)
+        self.st = np.zeros(FOLLOW_STATE.size)
+        self.speed = PID.view(self.st, _FX.speed, self.pa, _FP.speed)
+        self.head = PID.view(self.st, _FX.head, self.pa, _FP.head)
 
     @classmethod
     def from_context(cls, params: UUVFollowConfig, ctx) -> UUVFollow:
@@ -186,24 +258,4 @@ class UUVFollow(Block):
         return cls(params, ctx.cfg.uuv, ctx.period)
 
     def reset(self, rng) -> None:
-        c = self.cfg
-        self.speed, self.head = uuv_loops(self.uuv_cfg, c.kp_speed, c.ki_speed, c.kp_heading, c.kd_heading)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.uuv_follow_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import arr, pid_params, pid_state
-        from ._compiled_tow import uuv_follow_step
-
-        sig = ["usv.x", "usv.y", "uuv.x", "uuv.y", "uuv.u", "uuv.psi", "uuv.r", *_UUV_CMD]
-        st = arr(pid_state(self.speed) + pid_state(self.head))
-        pa = pid_params(self.speed) + pid_params(self.head) + [self.cfg.speed, self.period, self.uuv_cfg.X_uu_total]
-        return CompiledBlock(uuv_follow_step, sig, st, arr(pa))
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        if c.speed <= 0.0:
-            bus["uuv.thrust_port_cmd"] = bus["uuv.thrust_stbd_cmd"] = bus["uuv.thrust_bow_cmd"] = 0.0
-            return
-        psi_d = bearing_to(bus["usv.x"], bus["usv.y"], bus["uuv.x"], bus["uuv.y"])
-        uuv_loops_step(bus, self.uuv_cfg, self.speed, self.head, c.speed, psi_d, self.period)
+        self.st[:] = 0.0

@@ -22,13 +22,13 @@ import math
 from typing import Literal
 
 import numpy as np
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
-from ..io.config import StrictModel
-from ._compiled_tow import profile_reference, tension_payout
-from .pid import PID
+from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
 
 
 class WinchControlConfig(StrictModel):
@@ -52,30 +52,127 @@ class WinchControlConfig(StrictModel):
     rate: float = Field(10.0, gt=0, le=1000, description="loop rate, Hz")
 
 
+@njit(cache=True)
+def profile_reference(t, pt, pz):
+    """(z, dz/dt) of the piecewise-linear profile through ``(pt[i], pz[i])`` at ``t`` (m, m/s).
+
+    ``z`` is ``numpy.interp(t, pt, pz)`` operation for operation (held at the end values outside
+    the breakpoints); the rate is the slope of the segment containing ``t`` (0 outside, and at a
+    breakpoint the slope of the segment that starts there): the feed-forward of the depth loop
+    (:class:`oceangnc.control.winch.WinchDepthController`).
+    """
+    n = pt.size
+    # i = numpy.searchsorted(pt, t, side="right"): breakpoints at or before t
+    lo, hi = 0, n
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if pt[mid] <= t:
+            lo = mid + 1
+        else:
+            hi = mid
+    i = lo
+    if t < pt[0]:
+        z = pz[0]
+    elif t > pt[n - 1] or t == pt[n - 1]:
+        z = pz[n - 1]
+    else:
+        j = i - 1
+        if t == pt[j]:
+            z = pz[j]
+        else:
+            slope = (pz[j + 1] - pz[j]) / (pt[j + 1] - pt[j])
+            z = slope * (t - pt[j]) + pz[j]
+            if math.isnan(z):
+                z = slope * (t - pt[j + 1]) + pz[j + 1]
+                if math.isnan(z) and pz[j] == pz[j + 1]:
+                    z = pz[j]
+    rate = 0.0
+    if 0 < i < n:
+        rate = (pz[i] - pz[i - 1]) / (pt[i] - pt[i - 1])
+    return z, rate
+
+
+@njit(cache=True)
+def tension_payout(s, tension, t_margin, gain, s_max):
+    """Winch command ``s`` (m/s) raised to at least ``min(s_max, gain (T - T_margin))`` when the top
+    tension ``T`` (N) is above ``T_margin``: pay out rather than drive the tension to the limit."""
+    if tension > t_margin:
+        s = max(s, min(s_max, gain * (tension - t_margin)))
+    return s
+
+
+WINCH_SIGNALS = Signals(y=In("m"), tension=Opt("N"), cmd=Out("m/s"), target=Out("m"), error=Out("m"))
+#: the winch loop's parameters; the profile's m breakpoint times and depths follow from _WP.pt on
+WINCH_HEAD = Layout(("pid", PID_PARAMS.size), "period", "altitude", "t_margin", "t_gain", "speed_max", "target", "m")
+_WS, _WP = WINCH_SIGNALS.at, WINCH_HEAD.at
+_PT = WINCH_HEAD.size
+
+
+@njit(cache=True)
+def winch_depth_law(t, sig, sl, st, pa):
+    """The depth/altitude-by-winch loop (module docstring): the target (constant, or the profile at t
+    with its rate fed forward in depth mode), e = z_ref - z (depth) or a - a_ref (altitude) in m, the
+    PID's line speed (m/s) raised by :func:`tension_payout` above the tension margin; a non-finite
+    measurement gives 0 m/s. Writes the command, the target and the error."""
+    m = int(pa[_WP.m])
+    if m > 0:
+        ref, rate = profile_reference(t, pa[_PT : _PT + m], pa[_PT + m : _PT + 2 * m])
+    else:
+        ref, rate = pa[_WP.target], 0.0
+    y = sig[sl[_WS.y]]
+    if not math.isfinite(y):
+        sig[sl[_WS.cmd]] = 0.0
+        sig[sl[_WS.target]] = ref
+        sig[sl[_WS.error]] = 0.0
+        return
+    depth = pa[_WP.altitude] == 0.0
+    e = (ref - y) if depth else (y - ref)
+    s = pid_run(st, 0, pa, _WP.pid, e, pa[_WP.period], 0.0, False, rate if depth else 0.0, 1.0)
+    tension = sig[sl[_WS.tension]] if sl[_WS.tension] >= 0 else 0.0
+    sig[sl[_WS.cmd]] = tension_payout(s, tension, pa[_WP.t_margin], pa[_WP.t_gain], pa[_WP.speed_max])
+    sig[sl[_WS.target]] = ref
+    sig[sl[_WS.error]] = e
+
+
 @register_block("winch.depth")
-class WinchDepthController(Block):
-    """Drum speed command for a depth or altitude target (module docstring).
+class WinchDepthController(LawBlock):
+    """Drum speed command for a depth or altitude target (module docstring); law :func:`winch_depth_law`.
 
     Reads ``uuv.z`` or ``uuv.altitude`` (m) and ``cable.top_tension`` (N); writes ``winch.speed_cmd``
     (m/s), ``winch.target`` (m: the current depth or altitude target) and ``winch.error`` (m).
+    ``pid`` is a :class:`~oceangnc.control.pid.PID` view of its state.
     """
 
     name = "winch_control"
+    law = staticmethod(winch_depth_law)
+    signals = WINCH_SIGNALS
 
     def __init__(self, cfg: WinchControlConfig, tension_max: float):
         self.cfg = cfg
         self.period = 1.0 / cfg.rate
         self.tension_max = float(tension_max)
         self.meas = "uuv.z" if cfg.mode == "depth" else "uuv.altitude"
-        self.inputs = {self.meas: "m", "cable.top_tension": "N"}
-        self.outputs = {"winch.speed_cmd": "m/s", "winch.target": "m", "winch.error": "m"}
+        self.bind(y=self.meas, tension="cable.top_tension", cmd="winch.speed_cmd", target="winch.target",
+                  error="winch.error")  # fmt: skip
         prof = np.asarray(cfg.profile, float) if cfg.profile else np.zeros((0, 2))
         self._pt = prof[:, 0] if len(prof) else None
         self._pz = prof[:, 1] if len(prof) else None
-        self.pid = PID(cfg.kp, cfg.ki, cfg.kd, -cfg.speed_max, cfg.speed_max)
+        head = WINCH_HEAD.pack(
+            pid=PID_PARAMS.pack(pid_params(cfg.kp, cfg.ki, cfg.kd, -cfg.speed_max, cfg.speed_max)),
+            period=self.period,
+            altitude=0.0 if cfg.mode == "depth" else 1.0,
+            t_margin=cfg.tension_margin * self.tension_max,
+            t_gain=cfg.tension_gain,
+            speed_max=cfg.speed_max,
+            target=cfg.target,
+            m=len(prof),
+        )
+        self.pa = np.concatenate([head, prof[:, 0], prof[:, 1]])
+        self.st = np.zeros(PID_STATE.size)
+        self.pid = PID.view(self.st, 0, self.pa, _WP.pid)
 
     def reset(self, rng) -> None:
-        self.pid.reset()
+        self.st[:] = 0.0
 
     def reference(self, t: float) -> tuple[float, float]:
         """(target m, its rate m/s) at time ``t``."""
@@ -83,33 +180,3 @@ class WinchDepthController(Block):
             return self.cfg.target, 0.0
         z, rate = profile_reference(float(t), self._pt, self._pz)
         return float(z), float(rate)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_tow.winch_depth_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import arr, pid_params, pid_state
-        from ._compiled_tow import winch_depth_step
-
-        c = self.cfg
-        prof = [] if self._pt is None or self._pz is None else [*self._pt, *self._pz]
-        pa = pid_params(self.pid) + [self.period, 0.0 if c.mode == "depth" else 1.0]
-        pa += [c.tension_margin * self.tension_max, c.tension_gain, c.speed_max, c.target, len(prof) // 2, *prof]
-        sig = [self.meas, "?cable.top_tension", "winch.speed_cmd", "winch.target", "winch.error"]
-        return CompiledBlock(winch_depth_step, sig, arr(pid_state(self.pid)), arr(pa))
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        ref, rate = self.reference(t)
-        y = float(bus.get(self.meas, math.nan))
-        if not math.isfinite(y):
-            bus["winch.speed_cmd"] = 0.0
-            bus["winch.target"] = ref
-            bus["winch.error"] = 0.0
-            return
-        e = (ref - y) if c.mode == "depth" else (y - ref)
-        s = self.pid.step(e, self.period, feedforward=rate if c.mode == "depth" else 0.0)
-        tm = c.tension_margin * self.tension_max
-        T = float(bus.get("cable.top_tension", 0.0))
-        bus["winch.speed_cmd"] = float(tension_payout(s, T, tm, c.tension_gain, c.speed_max))
-        bus["winch.target"] = ref
-        bus["winch.error"] = e
