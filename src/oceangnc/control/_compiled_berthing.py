@@ -1,4 +1,4 @@
-"""Compiled forms of the berthing chain: scripted pilot, joystick, nonlinear controller (001).
+"""Compiled form of the berthing chain's scripted pilot (001).
 
 Kernel convention: :mod:`oceangnc.control._compiled` (the pilot and the joystick also take their
 block's ``numpy.random.Generator``). The arithmetic follows the Python blocks operation for
@@ -14,11 +14,8 @@ import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
-from ..models.ship_lowspeed import hull_forces, rps_for_thrust, rudder_forces
-from ..models.usv import wind_load
 from ..sensors._compiled import ring_slot
 from ..sensors.filters import gauss_markov
-from .allocation import allocate
 
 # pilot parameter layout
 _PP = 32  # route data start
@@ -183,120 +180,3 @@ def pilot_step(t, sig, sl, st, pa, rng):
     sig[sl[12]] = st[2]
     if st[2] != 0.0 and pa[26] != 0.0:
         sig[sl[13]] = 1.0
-
-
-@njit(cache=True)
-def _dead_band(s, d):
-    s = max(-1.0, min(1.0, s))
-    a = abs(s)
-    if a <= d:
-        return 0.0
-    return math.copysign((a - d) / (1.0 - d), s)
-
-
-@njit(cache=True)
-def _read(value, n, noise, rng):
-    x = 0.0
-    for k in range(n):
-        z = value + noise * rng.standard_normal() if noise > 0.0 else value
-        x += (z - x) / (k + 1.0)
-    return x
-
-
-@njit(cache=True)
-def joystick_step(t, sig, sl, st, pa, rng):
-    """:class:`oceangnc.control.joystick.Joystick` (001 eq. 26).
-
-    slots: joystick.surge, joystick.yaw | surge_f, yaw_f, surge_db, yaw_db, cmd.u_d, cmd.r_d.
-    params: samples, noise, dead band, u_max (kn), u_astern (kn), knot (m/s), r_max (rad/s).
-    """
-    n = int(pa[0])
-    s_u = max(-1.0, min(1.0, sig[sl[0]] if sl[0] >= 0 else 0.0))
-    s_r = max(-1.0, min(1.0, sig[sl[1]] if sl[1] >= 0 else 0.0))
-    f_u = _read(s_u, n, pa[1], rng)
-    f_r = _read(s_r, n, pa[1], rng)
-    su = _dead_band(f_u, pa[2])
-    sy = _dead_band(f_r, pa[2])
-    u_d = su * (pa[3] if su >= 0 else pa[4]) * pa[5]
-    r_d = sy * pa[6]
-    sig[sl[2]] = f_u
-    sig[sl[3]] = f_r
-    sig[sl[4]] = _dead_band(f_u, pa[2])
-    sig[sl[5]] = _dead_band(f_r, pa[2])
-    sig[sl[6]] = u_d
-    sig[sl[7]] = r_d
-
-
-@njit(cache=True)
-def nonlinear_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.control.berthing.NonlinearController` (001 eq. 27-38).
-
-    slots: ship.u, v, r, psi, rudder, rpm_prop, rpm_bow, rpm_stern, cmd.u_d, cmd.r_d,
-    ?env.current_n, ?env.current_e, ?env.wind_n, ?env.wind_e, _estop | ship.rudder_cmd,
-    ship.n_prop_cmd, ship.n_bow_cmd, ship.n_stern_cmd, ctrl.e_u, ctrl.e_r, ctrl.u_rd, ctrl.u_d,
-    ctrl.r_d, ctrl.x_pd. state: u_d filter, r_d filter. params: h, t_ref, use_disturbance, lambda1,
-    lambda2, n_limit (rev/s), rate_aware, u_switch, c, d, then the ship's parameter array from 12.
-    """
-    p = pa[12:]
-    h = pa[0]
-    t_ref = pa[1]
-    u = sig[sl[0]]
-    v = sig[sl[1]]
-    r = sig[sl[2]]
-    psi = sig[sl[3]]
-    delta = sig[sl[4]]
-    n = sig[sl[5]] / 60.0
-    u_cmd = sig[sl[8]]
-    r_cmd = sig[sl[9]]
-    if t_ref > 0:
-        a = math.exp(-h / t_ref)
-        ud_dot = (u_cmd - st[0]) / t_ref
-        rd_dot = (r_cmd - st[1]) / t_ref
-        u_d, r_d = st[0], st[1]
-        st[0] = u_cmd + a * (st[0] - u_cmd)
-        st[1] = r_cmd + a * (st[1] - r_cmd)
-    else:
-        u_d, r_d, ud_dot, rd_dot = u_cmd, r_cmd, 0.0, 0.0
-    cn = ce = wn = we = 0.0
-    if pa[2] != 0.0:
-        cn = sig[sl[10]] if sl[10] >= 0 else 0.0
-        ce = sig[sl[11]] if sl[11] >= 0 else 0.0
-        wn = sig[sl[12]] if sl[12] >= 0 else 0.0
-        we = sig[sl[13]] if sl[13] >= 0 else 0.0
-    cps, sps = math.cos(psi), math.sin(psi)
-    uc = cps * cn + sps * ce
-    vc = -sps * cn + cps * ce
-    ur, vr = u - uc, v - vc
-    m, xg = p[3], p[4]
-    Xh, Yh, Nh = hull_forces(ur, vr, r, p)
-    XR, _, _ = rudder_forces(delta, ur, vr, r, n, p)
-    XW, YW, NW = wind_load(u, v, psi, wn, we, p[52], p[53], p[54], p[55], p[56], p[57], p[58])
-    e_u = u - u_d
-    x_pd = p[5] * (ud_dot - pa[3] * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
-    n_c = rps_for_thrust(x_pd, ur, p, pa[5])
-    e_r = r - r_d
-    fy0 = -m * ur * r + Yh + YW
-    fn0 = -m * xg * ur * r + Nh + NW
-    c = pa[8]
-    d = pa[9]
-    u_rd = rd_dot - pa[4] * e_r - c * fy0 - d * fn0
-    if pa[6] != 0.0:
-        reach = p[49] * max(h, p[44])
-        delta_c, nb_c = allocate(u_rd, ur, vr, r, n, c, d, p, pa[7], 21, delta - reach, delta + reach)
-    else:
-        delta_c, nb_c = allocate(u_rd, ur, vr, r, n, c, d, p, pa[7], 71, -p[48], p[48])
-    nn = n_c
-    nb = nb_c
-    ns = -nb_c
-    if sig[sl[14]] != 0.0:
-        delta_c = nn = nb = ns = 0.0
-    sig[sl[15]] = delta_c
-    sig[sl[16]] = nn
-    sig[sl[17]] = nb
-    sig[sl[18]] = ns
-    sig[sl[19]] = e_u
-    sig[sl[20]] = e_r
-    sig[sl[21]] = u_rd
-    sig[sl[22]] = u_d
-    sig[sl[23]] = r_d
-    sig[sl[24]] = x_pd

@@ -41,11 +41,15 @@ from __future__ import annotations
 import math
 from typing import Literal
 
+import numpy as np
+from numba import njit
 from pydantic import Field
 
 from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.estop import RESUME_RAMP_S, resume_weight
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
-from ..io.config import StrictModel
 from ..models.ship_lowspeed import (
     LAYOUT,
     ShipConfig,
@@ -57,7 +61,7 @@ from ..models.ship_lowspeed import (
 )
 from ..models.usv import wind_load
 from .allocation import allocate
-from .pid import PID
+from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
 
 #: offsets of the ship parameters used here, from the model's generated layout
 (
@@ -99,8 +103,6 @@ from .pid import PID
 )
 
 CMD_KEYS = ("ship.rudder_cmd", "ship.n_prop_cmd", "ship.n_bow_cmd", "ship.n_stern_cmd")
-#: the outputs every berthing controller writes, in the order of the compiled kernels' slots
-_OUT = (*CMD_KEYS, "ctrl.e_u", "ctrl.e_r")
 
 
 class ControlConfig(StrictModel):
@@ -139,237 +141,252 @@ class ControlConfig(StrictModel):
     n_limit_rpm: float = Field(100.0, gt=0, le=1000, description="closed loop: propeller command limit, rpm")
 
 
-class _Base(Block):
+#: the commands every berthing controller writes, after its inputs and ``_estop``, in this order
+_CMD_ROLES = {"rudder": Out("rad"), "n_prop": Out("Hz"), "n_bow": Out("Hz"), "n_stern": Out("Hz"),
+              "e_u": Out("m/s"), "e_r": Out("rad/s")}  # fmt: skip
+_CMD_KEYS = {"rudder": "ship.rudder_cmd", "n_prop": "ship.n_prop_cmd", "n_bow": "ship.n_bow_cmd",
+             "n_stern": "ship.n_stern_cmd", "e_u": "ctrl.e_u", "e_r": "ctrl.e_r"}  # fmt: skip
+_BASE_ROLES = {"u": In("m/s"), "r": In("rad/s"), "u_d": In("m/s"), "r_d": In("rad/s")}
+_BASE_KEYS = {"u": "ship.u", "r": "ship.r", "u_d": "cmd.u_d", "r_d": "cmd.r_d", "estop": "_estop"}
+
+
+@njit(cache=True)
+def write_commands(sig, sl, o, stop, delta, n, nb, e_u, e_r):
+    """Write the commands from slot ``o`` on: rudder (rad), propeller, bow and stern thrusters (rev/s,
+    n_S = -n_B), all zero while ``stop``; then the errors e_u (m/s), e_r (rad/s)."""
+    if stop:
+        delta = 0.0
+        n = 0.0
+        nb = 0.0
+    sig[sl[o]] = delta
+    sig[sl[o + 1]] = n
+    sig[sl[o + 2]] = nb
+    sig[sl[o + 3]] = -nb
+    sig[sl[o + 4]] = e_u
+    sig[sl[o + 5]] = e_r
+
+
+class _Base(LawBlock):
     name = "controller"
 
-    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+    def _setup(self, cfg: ControlConfig, ship: ShipConfig, **extra_keys: str) -> None:
         self.cfg = cfg
         self.ship = ship
         self.p = ship.params()
         self.period = float(cfg.period)
-        self.inputs = {"ship.u": "m/s", "ship.r": "rad/s", "cmd.u_d": "m/s", "cmd.r_d": "rad/s"}
-        self.optional_inputs = {"_estop": "bool"}
-        self.outputs = {
-            "ship.rudder_cmd": "rad",
-            "ship.n_prop_cmd": "Hz",
-            "ship.n_bow_cmd": "Hz",
-            "ship.n_stern_cmd": "Hz",
-            "ctrl.e_u": "m/s",
-            "ctrl.e_r": "rad/s",
-        }
+        self.bind(**_BASE_KEYS, **_CMD_KEYS, **extra_keys)
 
-    def _write(self, bus, delta, n, nb, ns, e_u, e_r):
-        if bus.get("_estop", False):
-            delta = n = nb = ns = 0.0
-        bus["ship.rudder_cmd"] = float(delta)
-        bus["ship.n_prop_cmd"] = float(n)
-        bus["ship.n_bow_cmd"] = float(nb)
-        bus["ship.n_stern_cmd"] = float(ns)
-        bus["ctrl.e_u"] = float(e_u)
-        bus["ctrl.e_r"] = float(e_r)
+
+@njit(cache=True)
+def open_loop_control(su, sy, n_open_rpm, rudder_open_stick, delta_open, thruster_open, thruster_rpm_max):
+    """(rudder rad, propeller rev/s, bow thruster rev/s) from the dead-banded stick (001 fig. 3);
+    ``delta_open`` (rad) is reached at ``rudder_open_stick``, the stern thruster runs at minus the bow's."""
+    n = su * n_open_rpm / 60.0
+    delta = max(-1.0, min(1.0, sy / rudder_open_stick)) * delta_open
+    nb = sy * thruster_open * thruster_rpm_max / 60.0
+    return delta, n, nb
+
+
+OPEN_SIGNALS = Signals(**_BASE_ROLES, surge=In("1"), yaw=In("1"), estop=Opt("bool"), **_CMD_ROLES)
+OPEN_PARAMS = Layout("n_open_rpm", "rudder_open_stick", "delta_open", "thruster_open", "thruster_rpm_max")
+_OS, _OP = OPEN_SIGNALS.at, OPEN_PARAMS.at
+
+
+@njit(cache=True)
+def open_loop_law(t, sig, sl, st, pa):
+    """Stick straight to propeller, rudder and thrusters (001 fig. 3, :func:`open_loop_control`)."""
+    delta, n, nb = open_loop_control(sig[sl[_OS.surge]], sig[sl[_OS.yaw]], pa[_OP.n_open_rpm],
+                                     pa[_OP.rudder_open_stick], pa[_OP.delta_open], pa[_OP.thruster_open],
+                                     pa[_OP.thruster_rpm_max])  # fmt: skip
+    stop = sl[_OS.estop] >= 0 and sig[sl[_OS.estop]] != 0.0
+    e_u = sig[sl[_OS.u]] - sig[sl[_OS.u_d]]
+    e_r = sig[sl[_OS.r]] - sig[sl[_OS.r_d]]
+    write_commands(sig, sl, _OS.rudder, stop, delta, n, nb, e_u, e_r)
 
 
 @register_block("ship.open")
 class OpenLoopController(_Base):
-    """Stick straight to propeller, rudder and thrusters (001 fig. 3); see the module docstring."""
+    """Stick straight to propeller, rudder and thrusters (001 fig. 3); see the module docstring; law
+    :func:`open_loop_law`."""
 
     role = "controller"
+    law = staticmethod(open_loop_law)
+    signals = OPEN_SIGNALS
 
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
-        super().__init__(cfg, ship)
-        self.inputs.update({"joystick.surge_db": "1", "joystick.yaw_db": "1"})
+        self._setup(cfg, ship, surge="joystick.surge_db", yaw="joystick.yaw_db")
+        self.pa = OPEN_PARAMS.pack(n_open_rpm=cfg.n_open_rpm, rudder_open_stick=cfg.rudder_open_stick,
+                                   delta_open=math.radians(cfg.delta_open_deg), thruster_open=cfg.thruster_open,
+                                   thruster_rpm_max=ship.thruster_rpm_max)  # fmt: skip
+        self.st = np.zeros(1)
 
-    def _law_params(self) -> list[float]:
-        c = self.cfg
-        return [
-            c.n_open_rpm,
-            c.rudder_open_stick,
-            math.radians(c.delta_open_deg),
-            c.thruster_open,
-            self.ship.thruster_rpm_max,
-        ]
 
-    def step(self, t, bus):
-        from ._compiled_berthing_modes import open_loop_law
+PID_SIGNALS = Signals(**_BASE_ROLES, estop=Opt("bool"), **_CMD_ROLES)
+BERTH_PID_PARAMS = Layout(("n", PID_PARAMS.size), ("d", PID_PARAMS.size), ("t", PID_PARAMS.size), "h")
+BERTH_PID_STATE = Layout(("n", PID_STATE.size), ("d", PID_STATE.size), ("t", PID_STATE.size), "w")
+_PS, _PP, _PX = PID_SIGNALS.at, BERTH_PID_PARAMS.at, BERTH_PID_STATE.at
 
-        delta, n, nb = open_loop_law(
-            float(bus["joystick.surge_db"]), float(bus["joystick.yaw_db"]), *self._law_params()
-        )
-        e_u = bus["ship.u"] - bus["cmd.u_d"]
-        e_r = bus["ship.r"] - bus["cmd.r_d"]
-        self._write(bus, delta, n, nb, -nb, e_u, e_r)
 
-    def compiled(self):
-        """Compiled form: :func:`oceangnc.control._compiled_berthing_modes.open_loop_step`."""
-        from ._compiled_berthing_modes import open_loop_form
-
-        return open_loop_form(self, _OUT)
+@njit(cache=True)
+def berthing_pid_law(t, sig, sl, st, pa):
+    """One PID per actuator (001 eq. 39-42) on e_u = u - u_d and e_r = r - r_d: n_c = PID(-e_u) (rev/s),
+    delta_c = PID(-e_r) (rad), n_B = PID(-e_r) (rev/s), n_S = -n_B. While ``_estop`` is set the commands
+    are zero and no PID moves; after it their outputs ramp back (:mod:`oceangnc.core.estop`)."""
+    h = pa[_PP.h]
+    e_u = sig[sl[_PS.u]] - sig[sl[_PS.u_d]]
+    e_r = sig[sl[_PS.r]] - sig[sl[_PS.r_d]]
+    if sl[_PS.estop] >= 0 and sig[sl[_PS.estop]] != 0.0:
+        st[_PX.w] = 0.0
+        write_commands(sig, sl, _PS.rudder, True, 0.0, 0.0, 0.0, e_u, e_r)
+        return
+    w = st[_PX.w] = resume_weight(st[_PX.w], False, h, RESUME_RAMP_S)
+    n = pid_run(st, _PX.n, pa, _PP.n, -e_u, h, 0.0, False, 0.0, w)
+    delta = pid_run(st, _PX.d, pa, _PP.d, -e_r, h, 0.0, False, 0.0, w)
+    nb = pid_run(st, _PX.t, pa, _PP.t, -e_r, h, 0.0, False, 0.0, w)
+    write_commands(sig, sl, _PS.rudder, False, delta, n, nb, e_u, e_r)
 
 
 @register_block("ship.pid")
 class PIDController(_Base):
-    """PID per actuator, 001 eq. 39-42 (n_S = -n_B)."""
+    """PID per actuator, 001 eq. 39-42 (n_S = -n_B); law :func:`berthing_pid_law`. ``pid_n``,
+    ``pid_d``, ``pid_t`` are :class:`~oceangnc.control.pid.PID` views of its state."""
 
     role = "controller"
+    law = staticmethod(berthing_pid_law)
+    signals = PID_SIGNALS
 
-    def reset(self, rng):
-        c = self.cfg
-        p = self.p
+    def __init__(self, cfg: ControlConfig, ship: ShipConfig):
+        self._setup(cfg, ship)
+        c, p = cfg, self.p
         nlim = c.n_limit_rpm / 60.0
-        self.pid_n = PID(c.kp_prop, c.ki_prop, c.kd_prop, -nlim, nlim)
-        self.pid_d = PID(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[_DELTA_MAX], p[_DELTA_MAX])
-        self.pid_t = PID(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[_NB_MAX], p[_NB_MAX])
+        self.pa = BERTH_PID_PARAMS.pack(
+            n=PID_PARAMS.pack(pid_params(c.kp_prop, c.ki_prop, c.kd_prop, -nlim, nlim)),
+            d=PID_PARAMS.pack(pid_params(c.kp_rudder, c.ki_rudder, c.kd_rudder, -p[_DELTA_MAX], p[_DELTA_MAX])),
+            t=PID_PARAMS.pack(pid_params(c.kp_thruster, c.ki_thruster, c.kd_thruster, -p[_NB_MAX], p[_NB_MAX])),
+            h=self.period,
+        )
+        self.st = np.zeros(BERTH_PID_STATE.size)
+        self.reset(None)
+        self.pid_n = PID.view(self.st, _PX.n, self.pa, _PP.n)
+        self.pid_d = PID.view(self.st, _PX.d, self.pa, _PP.d)
+        self.pid_t = PID.view(self.st, _PX.t, self.pa, _PP.t)
 
-    def step(self, t, bus):
-        h = self.period
-        e_u = bus["ship.u"] - bus["cmd.u_d"]
-        e_r = bus["ship.r"] - bus["cmd.r_d"]
-        # the PID class acts on (reference - measurement) = -e: n_c = -k_P e - k_I int e - k_D e'
-        n = self.pid_n.step(-e_u, h)
-        delta = self.pid_d.step(-e_r, h)
-        nb = self.pid_t.step(-e_r, h)
-        self._write(bus, delta, n, nb, -nb, e_u, e_r)
+    def reset(self, rng) -> None:
+        self.st[:] = 0.0
+        self.st[_PX.w] = 1.0
 
-    def compiled(self):
-        """Compiled form: :func:`oceangnc.control._compiled_berthing_modes.berthing_pid_step`."""
-        from ._compiled_berthing_modes import pid_form
 
-        return pid_form(self, _OUT)
+NL_SIGNALS = Signals(
+    **_BASE_ROLES, v=In("m/s"), psi=In("rad"), rudder_now=In("rad"), rpm_prop=In("rpm"),
+    current_n=Opt("m/s"), current_e=Opt("m/s"), wind_n=Opt("m/s"), wind_e=Opt("m/s"), estop=Opt("bool"),
+    **_CMD_ROLES, u_rd=Out("m/s"), u_d_f=Out("m/s"), r_d_f=Out("rad/s"), x_pd=Out("N"),
+)  # fmt: skip
+NL_HEAD = Layout("h", "t_ref", "use_dist", "lambda1", "lambda2", "n_limit", "rate_aware", "u_switch", "c", "d")
+NL_STATE = Layout("u_d", "r_d", "has")
+_NS, _NP, _NX = NL_SIGNALS.at, NL_HEAD.at, NL_STATE.at
+_SHIP = NL_HEAD.size  #: the ship's parameter array (:data:`oceangnc.models.ship_lowspeed.LAYOUT`) from here on
+
+
+@njit(cache=True)
+def nonlinear_law(t, sig, sl, st, pa):
+    """Feedback-linearising MIMO controller (001 eq. 27-38 with the SPEC corrections; module
+    docstring): set points through the filter T u_d' = u_cmd - u_d (exact discretisation; the first
+    command initialises it), the surge force X_pd of (29)-(31) and the propeller speed giving it,
+    the yaw-rate pseudo-input u_rd of (32)-(34) allocated to rudder and bow thruster, current and wind
+    in the model when ``use_disturbance``. Commands zero while ``_estop`` is set."""
+    p = pa[_SHIP:]
+    h = pa[_NP.h]
+    t_ref = pa[_NP.t_ref]
+    u = sig[sl[_NS.u]]
+    v = sig[sl[_NS.v]]
+    r = sig[sl[_NS.r]]
+    psi = sig[sl[_NS.psi]]
+    delta = sig[sl[_NS.rudder_now]]
+    n = sig[sl[_NS.rpm_prop]] / 60.0
+    u_cmd = sig[sl[_NS.u_d]]
+    r_cmd = sig[sl[_NS.r_d]]
+    if st[_NX.has] == 0.0:
+        st[_NX.u_d] = u_cmd
+        st[_NX.r_d] = r_cmd
+        st[_NX.has] = 1.0
+    if t_ref > 0:
+        a = math.exp(-h / t_ref)
+        ud_dot = (u_cmd - st[_NX.u_d]) / t_ref
+        rd_dot = (r_cmd - st[_NX.r_d]) / t_ref
+        u_d, r_d = st[_NX.u_d], st[_NX.r_d]
+        st[_NX.u_d] = u_cmd + a * (st[_NX.u_d] - u_cmd)
+        st[_NX.r_d] = r_cmd + a * (st[_NX.r_d] - r_cmd)
+    else:
+        u_d, r_d, ud_dot, rd_dot = u_cmd, r_cmd, 0.0, 0.0
+    cn = ce = wn = we = 0.0
+    if pa[_NP.use_dist] != 0.0:
+        cn = sig[sl[_NS.current_n]] if sl[_NS.current_n] >= 0 else 0.0
+        ce = sig[sl[_NS.current_e]] if sl[_NS.current_e] >= 0 else 0.0
+        wn = sig[sl[_NS.wind_n]] if sl[_NS.wind_n] >= 0 else 0.0
+        we = sig[sl[_NS.wind_e]] if sl[_NS.wind_e] >= 0 else 0.0
+    cps, sps = math.cos(psi), math.sin(psi)
+    uc = cps * cn + sps * ce
+    vc = -sps * cn + cps * ce
+    ur, vr = u - uc, v - vc
+    m, xg = p[_M], p[_XG]
+    Xh, Yh, Nh = hull_forces(ur, vr, r, p)
+    XR, _, _ = rudder_forces(delta, ur, vr, r, n, p)
+    XW, YW, NW = wind_load(u, v, psi, wn, we, p[_RHO_AIR], p[_A_F], p[_A_L], p[_L_OA], p[_C_X], p[_C_Y], p[_C_N])
+    # surge (29)-(31)
+    e_u = u - u_d
+    x_pd = p[_M11] * (ud_dot - pa[_NP.lambda1] * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
+    n_c = rps_for_thrust(x_pd, ur, p, pa[_NP.n_limit])
+    # yaw rate (32)-(34)
+    e_r = r - r_d
+    fy0 = -m * ur * r + Yh + YW
+    fn0 = -m * xg * ur * r + Nh + NW
+    c = pa[_NP.c]
+    d = pa[_NP.d]
+    u_rd = rd_dot - pa[_NP.lambda2] * e_r - c * fy0 - d * fn0
+    if pa[_NP.rate_aware] != 0.0:
+        reach = p[_DELTA_RATE] * max(h, p[_TAU_D])
+        delta_c, nb_c = allocate(u_rd, ur, vr, r, n, c, d, p, pa[_NP.u_switch], 21, delta - reach, delta + reach)
+    else:
+        delta_c, nb_c = allocate(u_rd, ur, vr, r, n, c, d, p, pa[_NP.u_switch], 71, -p[_DELTA_MAX], p[_DELTA_MAX])
+    stop = sl[_NS.estop] >= 0 and sig[sl[_NS.estop]] != 0.0
+    write_commands(sig, sl, _NS.rudder, stop, delta_c, n_c, nb_c, e_u, e_r)
+    sig[sl[_NS.u_rd]] = u_rd
+    sig[sl[_NS.u_d_f]] = u_d
+    sig[sl[_NS.r_d_f]] = r_d
+    sig[sl[_NS.x_pd]] = x_pd
 
 
 @register_block("ship.nonlinear")
 class NonlinearController(_Base):
-    """Feedback-linearising MIMO controller, 001 eq. 27-38 (SPEC corrections); module docstring."""
+    """Feedback-linearising MIMO controller, 001 eq. 27-38 (SPEC corrections); module docstring; law
+    :func:`nonlinear_law`."""
 
     role = "controller"
+    law = staticmethod(nonlinear_law)
+    signals = NL_SIGNALS
 
     def __init__(self, cfg: ControlConfig, ship: ShipConfig):
-        super().__init__(cfg, ship)
-        self.inputs.update({"ship.v": "m/s", "ship.psi": "rad", "ship.rudder": "rad", "ship.rpm_prop": "rpm"})
-        self.optional_inputs.update(
-            {"env.current_n": "m/s", "env.current_e": "m/s", "env.wind_n": "m/s", "env.wind_e": "m/s"}
+        self._setup(cfg, ship, v="ship.v", psi="ship.psi", rudder_now="ship.rudder", rpm_prop="ship.rpm_prop",
+                    current_n="env.current_n", current_e="env.current_e", wind_n="env.wind_n", wind_e="env.wind_e",
+                    u_rd="ctrl.u_rd", u_d_f="ctrl.u_d", r_d_f="ctrl.r_d", x_pd="ctrl.x_pd")  # fmt: skip
+        a, b, self.c, self.d = inverse_mass(self.p)
+        head = NL_HEAD.pack(
+            h=self.period,
+            t_ref=cfg.t_ref,
+            use_dist=float(cfg.use_disturbance),
+            lambda1=cfg.lambda1,
+            lambda2=cfg.lambda2,
+            n_limit=cfg.n_limit_rpm / 60.0,
+            rate_aware=float(cfg.rate_aware_rudder),
+            u_switch=cfg.u_switch,
+            c=self.c,
+            d=self.d,
         )
-        self.outputs.update({"ctrl.u_rd": "m/s", "ctrl.u_d": "m/s", "ctrl.r_d": "rad/s", "ctrl.x_pd": "N"})
+        self.pa = np.concatenate([head, self.p])
+        self.st = np.zeros(NL_STATE.size)
 
-    def reset(self, rng):
-        self._ud = None
-        self._rd = None
-        a, b, c, d = inverse_mass(self.p)
-        self.c = c
-        self.d = d
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.nonlinear_step`)."""
-        if self._ud is None:
-            return None
-        import numpy as np
-
-        from ..core.fused import CompiledBlock
-        from ._compiled_berthing import nonlinear_step
-
-        cfg = self.cfg
-        head = [
-            self.period,
-            cfg.t_ref,
-            float(cfg.use_disturbance),
-            cfg.lambda1,
-            cfg.lambda2,
-            cfg.n_limit_rpm / 60.0,
-            float(cfg.rate_aware_rudder),
-            cfg.u_switch,
-            self.c,
-            self.d,
-            0.0,
-            0.0,
-        ]
-        sig = [
-            "ship.u",
-            "ship.v",
-            "ship.r",
-            "ship.psi",
-            "ship.rudder",
-            "ship.rpm_prop",
-            "ship.rpm_bow",
-            "ship.rpm_stern",
-            "cmd.u_d",
-            "cmd.r_d",
-            "?env.current_n",
-            "?env.current_e",
-            "?env.wind_n",
-            "?env.wind_e",
-            "_estop",
-            "ship.rudder_cmd",
-            "ship.n_prop_cmd",
-            "ship.n_bow_cmd",
-            "ship.n_stern_cmd",
-            "ctrl.e_u",
-            "ctrl.e_r",
-            "ctrl.u_rd",
-            "ctrl.u_d",
-            "ctrl.r_d",
-            "ctrl.x_pd",
-        ]
-        return CompiledBlock(nonlinear_step, sig, np.array([self._ud, self._rd], float), np.concatenate([head, self.p]))
-
-    def step(self, t, bus):
-        cfg = self.cfg
-        p = self.p
-        h = self.period
-        u = bus["ship.u"]
-        v = bus["ship.v"]
-        r = bus["ship.r"]
-        psi = bus["ship.psi"]
-        delta = bus["ship.rudder"]
-        n = bus["ship.rpm_prop"] / 60.0
-        # setpoint filter T u_d' = u_cmd - u_d (exact discretisation): smooth u_d(s), r_d(s) and rates
-        u_cmd = bus["cmd.u_d"]
-        r_cmd = bus["cmd.r_d"]
-        if self._ud is None:
-            self._ud, self._rd = u_cmd, r_cmd
-        if cfg.t_ref > 0:
-            a = math.exp(-h / cfg.t_ref)
-            ud_dot = (u_cmd - self._ud) / cfg.t_ref
-            rd_dot = (r_cmd - self._rd) / cfg.t_ref
-            u_d, r_d = self._ud, self._rd
-            self._ud = u_cmd + a * (self._ud - u_cmd)
-            self._rd = r_cmd + a * (self._rd - r_cmd)
-        else:
-            u_d, r_d, ud_dot, rd_dot = u_cmd, r_cmd, 0.0, 0.0
-        cn = ce = wn = we = 0.0
-        if cfg.use_disturbance:
-            cn, ce = bus.get("env.current_n", 0.0), bus.get("env.current_e", 0.0)
-            wn, we = bus.get("env.wind_n", 0.0), bus.get("env.wind_e", 0.0)
-        cps, sps = math.cos(psi), math.sin(psi)
-        uc = cps * cn + sps * ce
-        vc = -sps * cn + cps * ce
-        ur, vr = u - uc, v - vc
-        m, xg = p[_M], p[_XG]
-        Xh, Yh, Nh = hull_forces(ur, vr, r, p)
-        XR, _, _ = rudder_forces(delta, ur, vr, r, n, p)
-        XW, YW, NW = wind_load(u, v, psi, wn, we, p[_RHO_AIR], p[_A_F], p[_A_L], p[_L_OA], p[_C_X], p[_C_Y], p[_C_N])
-        # surge (29)-(31)
-        e_u = u - u_d
-        x_pd = p[_M11] * (ud_dot - cfg.lambda1 * e_u - r * vc) - (m * (vr * r + xg * r * r) + Xh + XR + XW)
-        n_c = rps_for_thrust(x_pd, ur, p, cfg.n_limit_rpm / 60.0)
-        # yaw rate (32)-(34)
-        e_r = r - r_d
-        fy0 = -m * ur * r + Yh + YW
-        fn0 = -m * xg * ur * r + Nh + NW
-        u_rd = rd_dot - cfg.lambda2 * e_r - self.c * fy0 - self.d * fn0
-        if cfg.rate_aware_rudder:
-            reach = p[_DELTA_RATE] * max(h, p[_TAU_D])
-            delta_c, nb_c = allocate(
-                u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 21, delta - reach, delta + reach
-            )
-        else:
-            delta_c, nb_c = allocate(
-                u_rd, ur, vr, r, n, self.c, self.d, p, cfg.u_switch, 71, -p[_DELTA_MAX], p[_DELTA_MAX]
-            )
-        self._write(bus, delta_c, n_c, nb_c, -nb_c, e_u, e_r)
-        bus["ctrl.u_rd"] = float(u_rd)
-        bus["ctrl.u_d"] = float(u_d)
-        bus["ctrl.r_d"] = float(r_d)
-        bus["ctrl.x_pd"] = float(x_pd)
+    def reset(self, rng) -> None:
+        self.st[:] = 0.0
 
 
 def make_controller(cfg: ControlConfig, ship: ShipConfig) -> Block:

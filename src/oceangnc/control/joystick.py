@@ -26,9 +26,9 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.config import StrictModel
+from ..core.law import Ext, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
-from ..io.config import StrictModel
 
 
 class JoystickConfig(StrictModel):
@@ -52,88 +52,92 @@ def recursive_mean(z):
     return x
 
 
-def dead_band(s: float, d: float) -> float:
+@njit(cache=True)
+def dead_band(s, d):
     """Stick value with a dead band ``d`` removed and rescaled to [-1, 1]."""
-    s = max(-1.0, min(1.0, float(s)))
+    s = max(-1.0, min(1.0, s))
     a = abs(s)
     if a <= d:
         return 0.0
     return math.copysign((a - d) / (1.0 - d), s)
 
 
+@njit(cache=True)
+def command_from_stick(su, sy, u_max_kn, u_astern_kn, knot, r_max):
+    """(u_d m/s, r_d rad/s) from the dead-banded axes: ``u_max_kn`` ahead, ``u_astern_kn`` astern (kn;
+    ``knot`` m/s per kn), ``r_max`` (rad/s)."""
+    return su * (u_max_kn if su >= 0 else u_astern_kn) * knot, sy * r_max
+
+
+@njit(cache=True)
+def read_axis(value, n, noise, rng):
+    """One period's reading of an axis: ``n`` samples of ``value`` with white noise (stick units) from
+    ``rng``, averaged by the recursive mean of 001 eq. 26."""
+    x = 0.0
+    for k in range(n):
+        z = value + noise * rng.standard_normal() if noise > 0.0 else value
+        x += (z - x) / (k + 1.0)
+    return x
+
+
 def stick_to_command(surge: float, yaw: float, cfg: JoystickConfig) -> tuple[float, float]:
     """(u_d m/s, r_d rad/s) from the two filtered axes (dead band and scaling)."""
     from ..units import KNOT
 
-    su = dead_band(surge, cfg.dead_band)
-    sy = dead_band(yaw, cfg.dead_band)
-    u_d = su * (cfg.u_max_kn if su >= 0 else cfg.u_astern_kn) * KNOT
-    return u_d, sy * math.radians(cfg.r_max_degps)
+    su = dead_band(float(surge), cfg.dead_band)
+    sy = dead_band(float(yaw), cfg.dead_band)
+    u_d, r_d = command_from_stick(su, sy, cfg.u_max_kn, cfg.u_astern_kn, KNOT, math.radians(cfg.r_max_degps))
+    return float(u_d), float(r_d)
+
+
+JOY_SIGNALS = Signals(surge=Ext("1"), yaw=Ext("1"), surge_f=Out("1"), yaw_f=Out("1"), surge_db=Out("1"),
+                      yaw_db=Out("1"), u_d=Out("m/s"), r_d=Out("rad/s"))  # fmt: skip
+JOY_PARAMS = Layout("samples", "noise", "dead_band", "u_max_kn", "u_astern_kn", "knot", "r_max")
+_S, _P = JOY_SIGNALS.at, JOY_PARAMS.at
+
+
+@njit(cache=True)
+def joystick_law(t, sig, sl, st, pa, rng):
+    """One period (001 sec. 3.1, eq. 26): each axis (centred when nobody writes it) clipped to [-1, 1],
+    read ``samples`` times with noise and averaged, dead-banded and scaled to u_d (m/s), r_d (rad/s)."""
+    n = int(pa[_P.samples])
+    s_u = max(-1.0, min(1.0, sig[sl[_S.surge]]))
+    s_r = max(-1.0, min(1.0, sig[sl[_S.yaw]]))
+    f_u = read_axis(s_u, n, pa[_P.noise], rng)
+    f_r = read_axis(s_r, n, pa[_P.noise], rng)
+    su = dead_band(f_u, pa[_P.dead_band])
+    sy = dead_band(f_r, pa[_P.dead_band])
+    u_d, r_d = command_from_stick(su, sy, pa[_P.u_max_kn], pa[_P.u_astern_kn], pa[_P.knot], pa[_P.r_max])
+    sig[sl[_S.surge_f]] = f_u
+    sig[sl[_S.yaw_f]] = f_r
+    sig[sl[_S.surge_db]] = su
+    sig[sl[_S.yaw_db]] = sy
+    sig[sl[_S.u_d]] = u_d
+    sig[sl[_S.r_d]] = r_d
 
 
 @register_block("ship.joystick")
-class Joystick(Block):
-    """Filter and scale the two stick axes (001 sec. 3.1, eq. 26); see the module docstring."""
+class Joystick(LawBlock):
+    """Filter and scale the two stick axes (001 sec. 3.1, eq. 26); see the module docstring; law
+    :func:`joystick_law`."""
 
     role = "controller"
-
     name = "joystick"
+    law = staticmethod(joystick_law)
+    signals = JOY_SIGNALS
+    draws = True
 
     def __init__(self, cfg: JoystickConfig):
+        from ..units import KNOT
+
         self.cfg = cfg
         self.period = float(cfg.period)
-        self._z = np.zeros(cfg.samples)
-        self.inputs = {}
-        self.optional_inputs = {"joystick.surge": "1", "joystick.yaw": "1"}  # centred stick when absent
-        self.outputs = {
-            "joystick.surge_f": "1",
-            "joystick.yaw_f": "1",
-            "joystick.surge_db": "1",
-            "joystick.yaw_db": "1",
-            "cmd.u_d": "m/s",
-            "cmd.r_d": "rad/s",
-        }
+        self.bind(surge="joystick.surge", yaw="joystick.yaw", surge_f="joystick.surge_f", yaw_f="joystick.yaw_f",
+                  surge_db="joystick.surge_db", yaw_db="joystick.yaw_db", u_d="cmd.u_d", r_d="cmd.r_d")  # fmt: skip
+        self.pa = JOY_PARAMS.pack(samples=cfg.samples, noise=cfg.noise, dead_band=cfg.dead_band,
+                                  u_max_kn=cfg.u_max_kn, u_astern_kn=cfg.u_astern_kn, knot=KNOT,
+                                  r_max=math.radians(cfg.r_max_degps))  # fmt: skip
+        self.st = np.zeros(1)
 
     def reset(self, rng: np.random.Generator) -> None:
         self.rng = rng
-
-    def _read(self, value: float) -> float:
-        n = self.cfg.samples
-        if self.cfg.noise > 0.0:
-            self._z[:] = value + self.cfg.noise * self.rng.standard_normal(n)
-        else:
-            self._z[:] = value
-        return float(recursive_mean(self._z))
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.joystick_step`)."""
-        from ..core.fused import CompiledBlock
-        from ..units import KNOT
-        from ._compiled_berthing import joystick_step
-
-        c = self.cfg
-        pa = np.array([c.samples, c.noise, c.dead_band, c.u_max_kn, c.u_astern_kn, KNOT, math.radians(c.r_max_degps)])
-        sig = [
-            "?joystick.surge",
-            "?joystick.yaw",
-            "joystick.surge_f",
-            "joystick.yaw_f",
-            "joystick.surge_db",
-            "joystick.yaw_db",
-            "cmd.u_d",
-            "cmd.r_d",
-        ]
-        return CompiledBlock(joystick_step, sig, params=pa, rng=self.rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        s_u = max(-1.0, min(1.0, float(bus.get("joystick.surge", 0.0))))
-        s_r = max(-1.0, min(1.0, float(bus.get("joystick.yaw", 0.0))))
-        f_u = self._read(s_u)
-        f_r = self._read(s_r)
-        u_d, r_d = stick_to_command(f_u, f_r, self.cfg)
-        bus["joystick.surge_f"] = f_u
-        bus["joystick.yaw_f"] = f_r
-        bus["joystick.surge_db"] = dead_band(f_u, self.cfg.dead_band)
-        bus["joystick.yaw_db"] = dead_band(f_r, self.cfg.dead_band)
-        bus["cmd.u_d"] = u_d
-        bus["cmd.r_d"] = r_d
