@@ -122,6 +122,27 @@ def new_run_dir(root: str | Path = "runs", name: str = "run") -> Path:
     return out
 
 
+def _prepare_out_dir(out_dir: Path, overwrite: bool) -> bool:
+    """Create the run folder (True when it is new). An existing run folder needs ``overwrite``; a path
+    that is a file, cannot be created or is too long is a one-line InputError."""
+    from .errors import InputError
+
+    try:
+        if out_dir.exists() and not out_dir.is_dir():
+            raise InputError(f"--out {out_dir}: exists and is not a folder")
+        if out_dir.is_dir():
+            holds_run = any((out_dir / f).exists() for f in ("summary.json", "log.parquet", "config.toml"))
+            if holds_run and not overwrite:
+                raise InputError(
+                    f"--out {out_dir}: holds a run already; give --overwrite to replace it, or a new folder"
+                )
+            return False
+        out_dir.mkdir(parents=True)
+    except OSError as e:
+        raise InputError(f"--out {out_dir}: cannot create the folder ({e.strerror or e})") from None
+    return True
+
+
 def _jsonable(v):
     if isinstance(v, (np.floating, float)):
         v = float(v)
@@ -145,6 +166,7 @@ def run(
     checkpoint_every: float | None = None,
     resume: str | Path | None = None,
     model: str | Path | None = None,
+    overwrite: bool = False,
     _post: postproc.PostProcess | None = None,
 ) -> RunResult:
     """Run a scenario and write its outputs.
@@ -187,15 +209,19 @@ def run(
     DivergenceError
         The simulation blew up; ``log.parquet`` up to that point and ``summary.json`` with
         ``status = "diverged"`` are still written (the CLI exits 1).
+    overwrite : bool
+        Allow ``out`` to be a folder that already holds a run (its log, summary and plots are replaced);
+        without it such a folder is refused (one-line InputError), so old plots never sit beside a new log.
     KeyboardInterrupt
         Ctrl-C: the log so far is kept and ``summary.json`` says ``status = "interrupted"``.
     """
     from .core import checkpoint as ckpt
-    from .errors import ConfigError, InputError
+    from .errors import ConfigError, InputError, OceanGNCError
 
     if checkpoint_every is not None and not (math.isfinite(checkpoint_every) and checkpoint_every > 0):
         raise ConfigError(f"--checkpoint-every {checkpoint_every}: must be a finite number of simulated seconds > 0")
     state = None
+    created = False
     if resume is not None:
         if scenario or overrides or config is not None or duration is not None:
             raise InputError(
@@ -220,8 +246,18 @@ def run(
         (out_dir / "summary.json").unlink(missing_ok=True)
     else:
         sc, cfg = resolve_run_config(scenario, config, overrides, duration, model)
+        if checkpoint_every is not None and not sc.single_simulation(cfg):
+            raise ConfigError(
+                f"--checkpoint-every: {sc.name} runs several simulations one after the other with this config; "
+                "checkpoints and --resume support single-simulation runs"
+            )
+        if cfg.sim.duration < cfg.sim.dt:
+            raise ConfigError(
+                f"config error: sim.duration = {cfg.sim.duration:g}: shorter than one physics step "
+                f"(sim.dt = {cfg.sim.dt:g} s); nothing would be simulated"
+            )
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
-        out_dir.mkdir(parents=True, exist_ok=True)
+        created = _prepare_out_dir(out_dir, overwrite)
         for stale in ("summary.json", ckpt.FILE):
             (out_dir / stale).unlink(missing_ok=True)
         old_log = out_dir / "log.parquet"
@@ -263,9 +299,13 @@ def run(
         summary.update({"status": "interrupted", "rows": log.rows_written, "wall_time_s": time.perf_counter() - t0})
         write_summary()
         raise
-    except BaseException:
+    except BaseException as e:
         postproc.cancel(post)
         log.close()
+        if state is None and created and isinstance(e, OceanGNCError) and log.rows_written == 0:
+            import shutil
+
+            shutil.rmtree(out_dir, ignore_errors=True)  # refused before it simulated: leave nothing behind
         raise
     log.close()
     if state is not None and ctx.checkpointer.attached == 0:
@@ -333,7 +373,10 @@ def replot(run_dir: str | Path) -> list[Path]:
         raise InputError(f"{d} is not a run folder: it has no config.toml")
     cfg_dict = load_toml(d / "config.toml")
     sc, cfg = resolve_config(cfg_dict.get("scenario"), cfg_dict)
-    return sc.plot(log_frame(sc, read_table(d / "log.parquet")), cfg, d)
+    table = read_table(d / "log.parquet")
+    if table.num_rows == 0:  # empty figures would replace good ones
+        raise InputError(f"{d}: the log has no rows; nothing to plot (the existing plots are kept)")
+    return sc.plot(log_frame(sc, table), cfg, d)
 
 
 def config_dict(cfg) -> dict:

@@ -113,9 +113,10 @@ def _run(args, overrides: dict, post) -> int:
             verbose=args.verbose,
             checkpoint_every=args.checkpoint_every,
             model=args.model,
+            overwrite=args.overwrite,
             _post=post,
         )
-    if not args.quiet:
+    if not args.quiet and not args.json:  # --json: the one JSON line only
         keys = [k for k in res.summary if k not in ("scenario",)]
         w = max(len(k) for k in keys)
         print(f"scenario {res.summary['scenario']}: wrote {res.out_dir}")
@@ -167,6 +168,7 @@ def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
         help="override a config key, dotted path (repeatable), e.g. environment.current.speed=0.5",
     )
     p.add_argument("--out", help="output folder (default: runs/<scenario>-<time>)")
+    p.add_argument("--overwrite", action="store_true", help="replace the run already in the --out folder")
     p.add_argument("--duration", type=float, help="simulated time, s")
     p.add_argument(
         "--model",

@@ -41,7 +41,7 @@ from pydantic import Field
 from ..core.config import StrictModel
 from ..core.estop import RESUME_RAMP_S, resume_weight
 from ..core.fused_strings import ENUMS
-from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals
+from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..units import KGF
@@ -242,14 +242,7 @@ class USVController(LawBlock):
         self.heading = PID.view(self.st, _X.heading, self.pa, _P.heading)
         self.yaw_rate = PID.view(self.st, _X.yaw_rate, self.pa, _P.yaw_rate)
 
-    @property
-    def u_d(self) -> float:
-        """Surge speed target (m/s) when no block publishes ``usv.u_d``; settable while running."""
-        return float(self.pa[_P.u_d])
-
-    @u_d.setter
-    def u_d(self, value: float) -> None:
-        self.pa[_P.u_d] = float(value)
+    u_d = param(_P.u_d, "surge speed target (m/s) when no block publishes usv.u_d; settable while running")
 
     @classmethod
     def from_context(cls, params: USVControlConfig, ctx) -> USVController:

@@ -37,8 +37,10 @@ def _steps(period: float, dt: float, what: str) -> int:
     k = period / dt
     n = int(round(k))
     if n < 1 or abs(k - n) > 1e-6 * max(1.0, k):
+        divisors = "" if period <= 0 else f"; allowed sim.dt here: {period:g} s divided by a whole number"
         raise ConfigError(
-            f"{what}: period {period:g} s must be a positive integer multiple of the physics step dt={dt:g} s"
+            f"config error: sim.dt = {dt:g}: {what} runs every {period:g} s, which must be a whole number of "
+            f"physics steps{divisors}"
         )
     return n
 

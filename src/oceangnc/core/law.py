@@ -131,6 +131,19 @@ class Signals(Layout):
 _MISSING = object()
 
 
+def param(offset: int, doc: str = "") -> property:
+    """A block attribute that *is* one entry of its parameter array (``hi = param(P.hi, "N")``): reading
+    and setting it reads and sets ``self.pa[offset]``, so a change made while running reaches the law."""
+
+    def fget(self) -> float:
+        return float(self.pa[offset])
+
+    def fset(self, value: float) -> None:
+        self.pa[offset] = float(value)
+
+    return property(fget, fset, doc=doc)
+
+
 class LawBlock(Block):
     """A block whose law is one compiled function (module docstring).
 
@@ -216,4 +229,4 @@ class LawBlock(Block):
             bus[k] = float(sig[j])
 
 
-__all__ = ["In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]
+__all__ = ["param", "In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]

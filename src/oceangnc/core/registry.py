@@ -208,6 +208,25 @@ class BlockChoice(BaseModel):
         full_kind(v, cls.family or None, cls.role)
         return v
 
+    @model_validator(mode="after")
+    def _own_parameters(self):
+        """A parameter belongs to the selected kind: one of another kind is refused, never taken as a
+        reason to switch kinds (issue 26)."""
+        try:
+            cls = _KINDS.get(self.full_kind)
+        except ValueError:
+            return self
+        model = getattr(cls, "params_model", None)
+        if model is None or not self.model_extra:
+            return self
+        unknown = [k for k in self.model_extra if k not in model.model_fields]
+        if unknown:
+            raise ValueError(
+                f"'{unknown[0]}' is not a parameter of kind '{self.kind}' (set kind to the block it belongs to); "
+                f"its parameters: {', '.join(model.model_fields)}"
+            )
+        return self
+
     @property
     def full_kind(self) -> str:
         return full_kind(self.kind, self.family or None, self.role)

@@ -119,9 +119,12 @@ def set_dotted(d: dict, key: str, value: Any) -> None:
 
 
 def deep_merge(base: dict, over: dict) -> dict:
-    """Recursively merge ``over`` into a copy of ``base`` (dicts merge, everything else replaces)."""
+    """Recursively merge ``over`` into a copy of ``base`` (dicts merge, everything else replaces; a block
+    slot written as its kind, ``uuv = "backstepping"``, merges with parameters given for it)."""
     out = copy.deepcopy(base)
     for k, v in over.items():
+        if isinstance(v, dict) and isinstance(out.get(k), str) and "kind" not in v:
+            out[k] = {"kind": out[k]}  # a block slot given by its kind alone: its parameters join that kind
         if isinstance(v, dict) and isinstance(out.get(k), dict):
             out[k] = deep_merge(out[k], v)
         else:

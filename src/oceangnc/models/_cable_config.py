@@ -5,7 +5,7 @@ integrator and the derived per-segment quantities. Re-exported by :mod:`oceangnc
 from __future__ import annotations
 import math
 from typing import Literal
-from pydantic import Field, model_validator
+from pydantic import Field, model_serializer, model_validator
 from ..errors import ConfigError
 from ..io.config import StrictModel
 from ..units import G, RHO_WATER
@@ -83,6 +83,15 @@ class CableConfig(StrictModel):
         elif self.segments is None:
             self.__dict__["segments"] = max(20, math.ceil(self.length / 2.0 - 1e-9))
         return self
+
+    @model_serializer(mode="wrap")
+    def _dump(self, handler):
+        """Written without the segment count derived from ``segment_length`` (the two are alternatives:
+        a run's config.toml must load back, issue 26)."""
+        d = handler(self)
+        if self.segment_length is not None and isinstance(d, dict):
+            d.pop("segments", None)
+        return d
 
     @property
     def cd_n(self) -> float:

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from ..core.estop import RESUME_RAMP_S, resume_weight  # noqa: F401 (RESUME_RAMP_S re-exported)
-from ..core.law import In, Layout, LawBlock, Opt, Out, Signals
+from ..core.law import param, In, Layout, LawBlock, Opt, Out, Signals
 from ..units import KGF
 
 USV_POLY_KGF = np.array([-0.4968, 5.7702, -21.755, 29.0135, -3.3987, -13.081])  # highest power first
@@ -150,13 +150,14 @@ class ThrusterBank(LawBlock):
     """
 
     law = staticmethod(thrusters_law)
+    hi = param(_P.hi, "upper thrust limit, N (settable while running)")
+    lo = param(_P.lo, "lower thrust limit, N (settable while running)")
 
     def __init__(self, body: str, sides, hi: float, lo: float, period: float, voltage: bool = False,
                  ramp_s: float = RESUME_RAMP_S):  # fmt: skip
         m = len(sides)
         self.period = float(period)
         self.body = body
-        self.hi, self.lo = float(hi), float(lo)
         self.mode = "voltage" if voltage else "thrust"
         cmd = In("N", m) if not voltage else Opt("V", m)
         self.signals = Signals(estop=Opt("bool"), cmd=cmd, out=Out("N", m))
@@ -167,6 +168,6 @@ class ThrusterBank(LawBlock):
             out=[f"{body}.thrust_{s}" for s in sides],
         )
         self.pa = THRUSTER_PARAMS.pack(
-            m=m, hi=self.hi, lo=self.lo, voltage=1.0 if voltage else 0.0, ramp_s=ramp_s, period=self.period
+            m=m, hi=float(hi), lo=float(lo), voltage=1.0 if voltage else 0.0, ramp_s=ramp_s, period=self.period
         )
         self.st = THRUSTER_STATE.pack(w=1.0)

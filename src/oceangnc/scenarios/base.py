@@ -76,6 +76,10 @@ class RunContext:
 class Scenario:
     """Base class; see the module docstring."""
 
+    def single_simulation(self, cfg) -> bool:
+        """True when a run of ``cfg`` is one simulation (it can save checkpoints and be resumed)."""
+        return True
+
     name: str = ""
     summary: str = ""
     Config: type[ScenarioConfig] = ScenarioConfig

@@ -192,8 +192,17 @@ class BerthingScenario(Scenario):
                 b.stick_u = s0
         return sim
 
+    def single_simulation(self, cfg) -> bool:
+        """One simulation unless ``runs`` > 1."""
+        return cfg.runs <= 1
+
     def run(self, cfg, ctx) -> dict:
         runs = cfg.runs if self.kind == "channel" else max(1, cfg.runs)
+        if runs == 1:
+            ctx.log.extra["run"] = 0.0
+            sim = self.build(cfg, ctx.rng.spawn(1)[0])
+            ctx.info["t_end"] = float(ctx.simulate(sim, cfg.sim.duration))
+            return {"runs": runs}
         rngs = ctx.rng.spawn(runs)
         t_end = []
         for i in range(runs):

@@ -336,7 +336,7 @@ SCENARIOS = [
     CombinedScenario(
         "combined-survey",
         "USV-cable-UUV through (0,0) (10,10) (20,5) at 0.6 m/s; UUV by PID or backstepping (003 figs 4-7..4-15)",
-        {"sim": {**_SIM, "duration": 150.0}, "cable": _CABLE, "control": {"uuv": "backstepping"}},
+        {"sim": {**_SIM, "duration": 150.0}, "cable": _CABLE, "control": {"uuv": {"kind": "backstepping"}}},
     ),
     CombinedScenario(
         "waypoints-square",
@@ -355,7 +355,7 @@ SCENARIOS = [
             "sim": {**_SIM, "duration": 500.0},
             "cable": _CABLE,
             "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, -50.0), (0.0, -50.0), (0.0, 0.0)]},
-            "control": {"surge_speed": 1.3, "uuv": "pid"},
+            "control": {"surge_speed": 1.3, "uuv": {"kind": "pid"}},
             "sensors": {"enabled": True},
         },
     ),

@@ -101,6 +101,10 @@ def _nomoto_3dof(c, U):
 
 
 class Trials(Scenario):
+    def single_simulation(self, cfg) -> bool:
+        """Several trial simulations one after the other."""
+        return False
+
     name = "trials"
     summary = "Straight/turning/zig-zag trials from a model, logged for 'oceangnc identify first-order' (000 sec. 2.2)"
     Config = TrialsConfig

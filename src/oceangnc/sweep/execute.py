@@ -63,6 +63,7 @@ def run_one(task: dict) -> dict:
             out=out_dir,
             plots=task["plots"],
             progress=False,
+            overwrite=True,  # a run the killed sweep had started is run again from the start
         )
         summary = res.summary
     except DivergenceError as e:
