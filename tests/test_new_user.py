@@ -91,3 +91,26 @@ def test_a_gain_belongs_to_the_selected_controller_and_never_switches_it(capsys)
 def test_a_run_shorter_than_one_step_is_refused(capsys, tmp_path):
     rc, _, err = _run(capsys, "run", "usv-turn", "--duration", "1e-5", "--quiet", "--out", str(tmp_path / "x"))
     assert rc == 2 and "sim.duration" in err and not (tmp_path / "x").exists()
+
+
+def test_a_cable_shorter_than_the_start_gap_is_refused(tmp_path, capsys):
+    """A cable shorter than the distance from the USV's tow point to the UUV at the start would start
+    the run with a snap load (6.9 kN with a 2 m cable): refused in one line naming the keys."""
+    out = tmp_path / "r"
+    rc, _, err = _run(capsys, "run", "combined-survey", "--set", "cable.length=2", "--no-plots", "--out", str(out))
+    assert rc == 2 and err.count("\n") == 1 and "cable.length = 2 m" in err and "uuv.x0/y0/z0" in err
+    assert not out.exists()
+    # the same cable reaches a UUV started within its reach
+    args = ("run", "combined-survey", "--set", "cable.length=2", "--set", "uuv.z0=1.5", "--duration", "2")
+    assert _run(capsys, *args, "--no-plots", "--quiet", "--out", str(out))[0] == 0
+
+
+def test_a_warning_is_one_line_without_a_source_path(tmp_path, capsys):
+    """The first-order USV starts from rest, below the trial ranges of 000 table 2: the user sees one
+    ``warning:`` line, not Python's ``path:line: RuntimeWarning`` with a code line."""
+    args = ("run", "usv-waypoints-7", "--duration", "5", "--no-plots", "--quiet", "--out", str(tmp_path / "r"))
+    rc, _, err = _run(capsys, *args)
+    assert rc == 0
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert lines and all(ln.startswith("warning: ") for ln in lines), err
+    assert ".py" not in err and "RuntimeWarning" not in err

@@ -243,7 +243,7 @@ def main(argv: list[str] | None = None) -> int:
         ap.print_help()
         return 2
     try:
-        rc = int(args.func(args) or 0)
+        rc = _run_command(args)
     except OceanGNCError as e:
         print("error: " + str(e).replace("\n", " "), file=sys.stderr)
         rc = e.exit_code
@@ -259,6 +259,20 @@ def main(argv: list[str] | None = None) -> int:
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
     return rc
+
+
+def _run_command(args) -> int:
+    """Run the chosen command; a warning reaches the user as one line ``warning: ...`` (no source path
+    or code line, as Python's default format prints), once per message."""
+    import warnings
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        print(f"warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = show
+        return int(args.func(args) or 0)
 
 
 def _fast_exit(rc: int) -> None:

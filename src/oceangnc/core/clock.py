@@ -156,7 +156,7 @@ class Simulation:
             if bar is not None:
                 if self.bus.get("_stop", False):  # ended early: close the bar at 100 % with the reason
                     bar.set_description_str("")
-                    bar.n = bar.total
+                    bar.total = bar.n = round(self.t - self._t_start, 3)  # counts to where it ended
                     bar.set_postfix_str(str(self.bus.get("_stop_reason", f"scenario ended at t = {self.t:.1f} s")))
                     bar.leave = True
                 bar.close()

@@ -59,6 +59,13 @@ from .uuv import STATE_NAMES as UUV_STATES
 from .uuv import UUVConfig
 
 
+#: how much longer than the cable the start gap may be (strain): a straight start state stretched by
+#: more than 10 % is beyond the elongation at break of tow cables (steel 1-2 %, polyester and nylon rope
+#: 10-20 %) and starts the run with a snap load (2 m cable to a UUV at 3 m: 44 %, 6.9 kN), issue 26;
+#: ``cable-current`` starts at 4 %, its static stretch under the UUV's submerged weight (EA 3.7 kN)
+START_SLACK = 0.10
+
+
 def _check(cable: CableConfig, uuv: UUVConfig) -> None:
     if cable.segments < 1:
         raise ConfigError(f"cable.segments = {cable.segments}: allowed range 1 <= value")
@@ -167,6 +174,13 @@ def build_arrays(usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: st
     vel = np.zeros(3 * (n + 1))
     _ends(x0, p, n, pos, vel)
     pos = pos.reshape(-1, 3)
+    gap = float(np.linalg.norm(pos[n] - pos[0]))
+    if gap > c.length * (1.0 + START_SLACK):  # a cable stretched at t = 0: a start-up snap load, not a run
+        raise ConfigError(
+            f"cable.length = {c.length:g} m is shorter than the {gap:.2f} m between its attachment points at "
+            f"the start ({100 * (gap / c.length - 1):.0f} % stretch, more than {100 * START_SLACK:.0f} %; USV at ({usv_cfg.x0:g}, {usv_cfg.y0:g}), UUV at uuv.x0/y0/z0 = ({uuv_cfg.x0:g}, "
+            f"{uuv_cfg.y0:g}, {uuv_cfg.z0:g}) m): lengthen the cable or start the UUV within its reach"
+        )
     vel = vel.reshape(-1, 3)
     lt = c.length - (n - 1) * l0
     for i in range(1, n):
