@@ -1,6 +1,6 @@
 """Start-up and end-to-end times of ``oceangnc`` commands in fresh processes (issue 19).
 
-    python benchmarks/bench_startup.py [--repeat N] [--cold]
+    python benchmarks/bench_startup.py [--repeat N] [--cold] [--design]
 
 Each command runs in a new Python process, ``N + 1`` times (default N = 3): the first run, then the
 best and median of the others. "starts simulating" is the time from process start to the first
@@ -13,6 +13,12 @@ into a temporary folder (a fresh copy of ``src/oceangnc``: new mtimes, no numba 
 bytecode compiled, as a non-editable ``pip install`` leaves it) with an empty cache folder; then
 the first run (everything compiled), the second run, and the run after a *reinstall* (the copy
 replaced by a new one, the cache folder kept), without and with plots.
+
+``--design`` measures what each start-up device kept by issue 25 saves on a cached
+``oceangnc run --no-plots`` (the flagship): the column table of ``oceangnc.io.frame`` against pandas
+(the same run with the scenario's ``frame`` set to pandas), and ``caches.lean_loads`` against numba's
+own loading (its source hash made not to match). The issue keeps a device only if it saves more than
+150 ms; each is measured in alternated pairs with its alternative, in the same minutes.
 """
 
 import os
@@ -150,6 +156,48 @@ def cold_table(tmp, repeat):
     measure("after a reinstall, with the 6 plots", base, repeat)
 
 
+DESIGN_ALTERNATIVES = {
+    "`io.frame` columns instead of pandas": (
+        "from oceangnc.scenarios import combined\n"
+        "for c in vars(combined).values():\n"
+        "    if isinstance(c, type) and getattr(c, 'frame', None) == 'columns': c.frame = 'pandas'\n"
+    ),
+    "`caches.lean_loads` instead of numba's cache loading": (
+        "from oceangnc.core import caches\ncaches.LOAD_OVERLOAD_SOURCE = 'not this numba'\n"
+    ),
+}
+
+
+def design_table(env, tmp, repeat):
+    """Each kept start-up device against its alternative: median saving (s) over alternated pairs."""
+    run = ["run", "--no-plots", "--quiet", "--out", os.path.join(tmp, "d"), "--overwrite"]
+    main = "import sys\nfrom oceangnc.cli import main\nsys.exit(main(sys.argv[1:]))\n"
+
+    def wall(prelude):
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", prelude + main, *run], env=env, check=True, capture_output=True)
+        return time.perf_counter() - t0
+
+    wall("")  # warm the caches
+    print("| device | cached flagship run with it, s (median) | without, s | saving, s |")
+    print("|---|---|---|---|")
+    for label, prelude in DESIGN_ALTERNATIVES.items():
+        with_, without = [], []
+        for _ in range(repeat):
+            with_.append(wall(""))
+            without.append(wall(prelude))
+        a, b = statistics.median(with_), statistics.median(without)
+        record(
+            "start-up devices kept by issue 25 (saving on a cached `oceangnc run --no-plots`)",
+            label,
+            b - a,
+            "s",
+            "> 0.15 s to be kept",
+            f"{a:.2f} s with it, {b:.2f} s without; ratio {a / b:.2f}; {repeat} alternated pairs",
+        )
+        print(f"| {label} | {a:.2f} | {b:.2f} | {b - a:.2f} |", flush=True)
+
+
 if __name__ == "__main__":
     repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
     # an installed package has its bytecode compiled; a source tree under PYTHONDONTWRITEBYTECODE=1 (as
@@ -158,6 +206,9 @@ if __name__ == "__main__":
     print(f"{time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}, {os.cpu_count()} cores, {load()}")
     with tempfile.TemporaryDirectory() as tmp:
         warm_table(dict(os.environ), tmp, repeat)
+        if "--design" in sys.argv:
+            print()
+            design_table(dict(os.environ), tmp, max(repeat, 5))
         if "--cold" in sys.argv:
             print()
             cold_table(tmp, repeat)

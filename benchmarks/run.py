@@ -25,7 +25,7 @@ RESULTS = HERE / "results.json"
 
 #: name -> (script, arguments, environment): what each benchmark runs
 BENCHMARKS = {
-    "startup": ("bench_startup.py", ["--repeat", "5", "--cold"], {}),
+    "startup": ("bench_startup.py", ["--repeat", "5", "--cold", "--design"], {}),
     "fused": (
         "bench_combined.py",
         ["combined-survey", "usv-turn", "field-test", "berthing-channel"],
