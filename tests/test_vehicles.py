@@ -53,6 +53,7 @@ def test_kinetic_energy_is_conserved_without_damping_thrust_or_restoring_work(na
     p[P_DU : P_DU + 36] = 0.0
     lay = m.layout
     p[lay.index("linear_restoring")] = 0.0
+    p[lay.index("munk_yaw")] = 1.0  # the full C_A (the Otter's file drops its Munk moment)
     p[lay.index("B")] = p[lay.index("W")]
     p[lay.block("r_b")] = p[lay.block("r_g")]
     x0 = np.zeros(m.nx)
@@ -111,3 +112,68 @@ def test_bad_keys_and_ranges_are_one_line_naming_the_key(tmp_path):
         load_vehicle(_write(tmp_path, _otter_text().replace("mass = 80.0", "mass = 80.0\ncolour = 1")))
     with pytest.raises(ConfigError, match="neither a shipped vehicle"):
         load_vehicle("no-such-vehicle")
+
+
+def test_allocation_meets_the_asked_force_and_scales_into_the_limits():
+    """The weighted pseudo-inverse gives B f = tau on the controlled DOFs with the least-norm thrusts;
+    past a limit the whole vector is scaled (tau's direction kept); an e-stop zeroes every thruster."""
+    from oceangnc.control.thrust_allocation import ThrustAllocation
+
+    vf = load_vehicle("bluerov2-heavy")
+    blk = ThrustAllocation(vf, 0.05, "rov")
+    B = thruster_matrix(vf)
+    keys = [f"rov.tau_{a}" for a in "XYZKMN"]
+
+    def alloc(tau, **extra):
+        bus = dict(zip(keys, tau), **extra)
+        blk.step(0.0, bus)
+        return np.array([bus[k] for k in blk.outputs])
+
+    tau = np.array([10.0, -4.0, 6.0, 0.5, -0.3, 1.2])
+    f = alloc(tau)
+    np.testing.assert_allclose(B @ f, tau, atol=1e-9)
+    f_big = alloc(20 * tau)
+    assert np.abs(f_big).max() == pytest.approx(51.48) or -f_big.min() == pytest.approx(40.21)
+    np.testing.assert_allclose(B @ f_big / np.linalg.norm(B @ f_big), tau / np.linalg.norm(tau), atol=1e-9)
+    assert not alloc(tau, _estop=True).any()
+
+
+def test_the_rov_holds_position_and_depth_in_a_current(tmp_path):
+    from oceangnc.api import run
+
+    r = run("rov-station-keeping", out=tmp_path / "r", plots=False, duration=60)
+    s = r.summary
+    assert s["status"] == "ok" and s["vehicle"] == "bluerov2-heavy"
+    assert s["vehicle.position_error_rms_m"] < 0.1 and s["vehicle.depth_error_rms_m"] < 0.1
+    assert s["vehicle.heading_error_rms_deg"] < 2.0
+    df = r.df
+    assert df["vehicle.z"].iloc[0] == 0.0 and abs(df["vehicle.z"].iloc[-1] - 5.0) < 0.1  # it dived
+
+
+def test_the_otter_flies_its_route(tmp_path):
+    from oceangnc.api import run
+
+    s = run("otter-waypoints", out=tmp_path / "o", plots=False).summary
+    assert s["status"] == "ok" and s["guidance.final_leg"] == 4 and s["duration_s"] < 300  # ended at the last
+    assert s["guidance.cross_track_rms_m"] < 3.0 and abs(s["vehicle.speed_mean_mps"] - 1.5) < 0.2
+
+
+def test_a_vehicle_file_runs_fused_and_on_the_python_clock_alike(tmp_path):
+    from fused_paths import run_both
+
+    run_both("rov-station-keeping", {}, 5.0, tmp_path)
+    run_both("otter-waypoints", {}, 5.0, tmp_path)
+
+
+def test_a_users_vehicle_file_is_a_scenario_choice(tmp_path):
+    """``--set vehicle=path``: a file alone (no Python) is flown; a gain on a DOF it does not control
+    is refused naming the key."""
+    from oceangnc.api import run
+
+    text = _otter_text().replace('name = "otter"', 'name = "my-boat"').replace("mass = 80.0", "mass = 90.0")
+    f = _write(tmp_path, text)
+    s = run("otter-waypoints", out=tmp_path / "m", plots=False, duration=20, overrides={"vehicle": str(f)}).summary
+    assert s["vehicle"] == "my-boat" and s["status"] == "ok"
+    with pytest.raises(ConfigError, match=r"control\.gains\.sway: vehicle 'otter' does not control sway"):
+        run("otter-waypoints", out=tmp_path / "n", plots=False, duration=5,
+            overrides={"control.gains.sway": [1.0, 0.0, 0.0]})  # fmt: skip

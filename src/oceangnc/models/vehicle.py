@@ -13,7 +13,9 @@ nu_r = nu - [R^T v_c; 0]:
   must be symmetric and M_RB + M_A positive definite (checked; a file that is not is refused).
 * C_RB, C_A: Kirchhoff's momentum form C(nu) nu = [w x p1; v x p1 + w x p2], p = M nu (Fossen eq.
   6.43-6.44, :func:`oceangnc.models.rigid_body.kirchhoff`): skew-symmetric, so with damping and
-  thrust off and no restoring work the model conserves 1/2 nu^T M nu (tested).
+  thrust off and no restoring work the model conserves 1/2 nu^T M nu (tested). A file may drop the
+  Munk moment in yaw of C_A (``added_mass.munk_yaw_moment = false``, as Fossen's Otter model does:
+  destabilising, balanced in reality by lift the model lacks); the form then no longer conserves it.
 * D(nu_r) nu_r = D_L nu_r + D_Q |nu_r| nu_r (diagonal) + |u_r| D_U nu_r: linear damping (full or
   diagonal), quadratic drag, and a speed-proportional matrix for body lift and fins (the Prestero
   terms of the 003 UUV). Positive matrices oppose the motion (Fossen's sign convention: D > 0; the
@@ -73,12 +75,13 @@ LAYOUT_HEAD = ParamLayout(
         Param("D_L", "N s/m ...", 36, description="linear damping matrix (positive opposes motion)"),
         Param("D_Q", "kg/m, kg m^2", 6, description="quadratic drag, diagonal"),
         Param("D_U", "kg/m ...", 36, description="speed-proportional damping, times |u_r|"),
+        Param("munk_yaw", "1", description="1: keep the Munk moment in yaw of C_A, 0: neglect it (Fossen's Otter)"),
         Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
     ]
 )
 P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b", "linear_restoring", "G_lin")
-P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_NTHR = LAYOUT_HEAD.indices(
-    "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "n_thrusters"
+P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
+    "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "munk_yaw", "n_thrusters"
 )
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
 T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU = range(NT)
@@ -119,6 +122,8 @@ def vehicle_deriv(t, x, u, p, out):
     wr = w - wcb
     f0, f1, f2, f3, f4, f5 = kirchhoff(p, P_MRB, uu, v, w, pp, q, r)
     a0, a1, a2, a3, a4, a5 = kirchhoff(p, P_MA, ur, vr, wr, pp, q, r)
+    if p[P_MUNK].real == 0.0:  # drop the yaw moment of the translational added momentum (Munk moment)
+        a5 += ur * row6(p, P_MA + 6, ur, vr, wr, 0.0, 0.0, 0.0) - vr * row6(p, P_MA, ur, vr, wr, 0.0, 0.0, 0.0)
     tau = np.zeros(6, dtype=x.dtype)
     tau[0] = f0 + a0
     tau[1] = f1 + a1
@@ -232,6 +237,9 @@ class Hydrostatics(StrictModel):
 class AddedMass(StrictModel):
     M_A: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] = Field(
         description="added mass (positive: -X_udot, -Y_vdot, ...), diagonal or 6 x 6, kg, kg m, kg m^2"
+    )
+    munk_yaw_moment: bool = Field(
+        True, description="keep the destabilising Munk moment in yaw (false: neglected, as Fossen's Otter model)"
     )
 
 
@@ -403,6 +411,7 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "D_L": _matrix6(vf.damping.linear, "damping.linear"),
             "D_Q": vf.damping.quadratic,
             "D_U": np.asarray(vf.damping.speed, float) if vf.damping.speed is not None else np.zeros((6, 6)),
+            "munk_yaw": 1.0 if vf.added_mass.munk_yaw_moment else 0.0,
             "n_thrusters": len(vf.thrusters),
         }
     )
