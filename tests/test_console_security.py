@@ -423,3 +423,109 @@ def test_refused_websocket_handshakes_are_throttled_too(tmp_path):
         clk.t += 30.0
         with c.websocket_connect(WS) as ws:
             assert ws.receive_json()["type"] == "role"
+
+
+# -- the token outside the command line; strong tokens on the network (issue 26) -------------------------------
+
+
+@pytest.mark.parametrize(
+    ("token", "why"),
+    [
+        ("short-token-1", "13 characters, fewer than 16"),
+        ("aaaaaaaaaaaaaaaaaaaaaaaa", "only 1 different characters"),
+        ("abababcdabababcdabab", "only 4 different characters"),
+        ("abcdefghabcdefghabcdefgh", "the 8-character pattern 'abcdefgh' repeated"),
+        ("0123456789abcdefghij", "a run of consecutive characters"),
+        ("ponmlkjihgfedcba", "a run of consecutive characters"),
+    ],
+)
+def test_weak_tokens_are_named(token, why):
+    from oceangnc.console.cli import weak_token
+    from oceangnc.console.server import new_token
+
+    assert weak_token(token) == why
+    assert all(weak_token(new_token()) == "" for _ in range(200))
+    assert weak_token("x7Qp-2mZk_9RvT4a") == ""
+
+
+def _cli(capsys, args, env=None, monkeypatch=None):
+    from oceangnc.cli import main
+
+    if monkeypatch is not None:
+        monkeypatch.delenv("OCEANGNC_CONSOLE_TOKEN", raising=False)
+        for k, v in (env or {}).items():
+            monkeypatch.setenv(k, v)
+    code = main(["console", *args])
+    err = capsys.readouterr().err.strip()
+    return code, err
+
+
+def test_cli_token_from_a_file_or_the_environment_and_strong_on_the_network(capsys, monkeypatch, tmp_path):
+    """``--token`` shows in ``ps``: the token may come from ``--token-file`` or OCEANGNC_CONSOLE_TOKEN;
+    a token the network can try (non-loopback ``--host``) must be strong. Each refusal: one line, exit 2.
+    (``--ssl-certfile`` alone fails after the token checks: it shows that a token was accepted.)"""
+    weak, strong = tmp_path / "weak", tmp_path / "strong"
+    weak.write_text("password12\n")
+    strong.write_text("x7Qp-2mZk_9RvT4a\n")
+    (tmp_path / "empty").write_text("\n")
+    after = ["--ssl-certfile", "/nonexistent.pem"]
+    cases = [
+        # (args, environment, the one line expected)
+        (["--host", "0.0.0.0", "--token", "short-token-1"], {}, "--token: too weak a token for --host 0.0.0.0"),
+        (["--host", "0.0.0.0"], {"OCEANGNC_CONSOLE_TOKEN": "aaaaaaaaaaaaaaaaaaaa"}, "OCEANGNC_CONSOLE_TOKEN: too weak"),
+        (["--host", "0.0.0.0", "--token-file", str(weak)], {}, f"--token-file {weak}: too weak a token"),
+        (["--token-file", str(tmp_path / "none")], {}, f"--token-file {tmp_path / 'none'}: cannot read it"),
+        (["--token-file", str(tmp_path)], {}, f"--token-file {tmp_path}: cannot read it"),
+        (["--token-file", str(tmp_path / "empty")], {}, "the file is empty"),
+        (["--token-file", str(strong), "--token", "abcdefgh12"], {}, "--token and --token-file: give one of them"),
+        ([], {"OCEANGNC_CONSOLE_TOKEN": "short"}, "OCEANGNC_CONSOLE_TOKEN: the token needs at least 8"),
+        (["--host", "0.0.0.0"], {}, "give a shared secret (--token-file PATH, OCEANGNC_CONSOLE_TOKEN, or --token"),
+        # accepted tokens: the command goes on to the next check
+        (["--host", "0.0.0.0", "--token-file", str(strong), *after], {}, "go together"),
+        (["--host", "0.0.0.0", *after], {"OCEANGNC_CONSOLE_TOKEN": "x7Qp-2mZk_9RvT4a"}, "go together"),
+        (["--token", "password12", *after], {}, "go together"),  # loopback: 8 characters suffice
+    ]
+    for args, env, expected in cases:
+        code, err = _cli(capsys, args, env, monkeypatch)
+        assert code == 2 and expected in err and "\n" not in err and "Traceback" not in err, (args, env, err)
+
+
+def test_token_from_a_file_and_the_url_on_the_loopback_address_bound(tmp_path):
+    """``--host 127.0.0.2`` printed a URL on 127.0.0.1, where nothing listens (issue 26); the token of
+    ``--token-file`` is used (over OCEANGNC_CONSOLE_TOKEN) and is not on the command line."""
+    import os
+    import subprocess
+    import sys
+
+    import httpx
+    from console_server import free_port
+
+    port = free_port()
+    tok = tmp_path / "token"
+    tok.write_text(TOKEN + "\n")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--host", "127.0.0.2", "--port", str(port)]
+        + ["--out", str(tmp_path / "runs"), "--token-file", str(tok), "--no-warmup"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1", OCEANGNC_CONSOLE_TOKEN="env-token-not-used-1"),
+    )
+    try:
+        line = ""
+        deadline = time.monotonic() + 90
+        while "open " not in line and time.monotonic() < deadline:
+            line = proc.stdout.readline()
+            assert line or proc.poll() is None, "console exited"
+        url = line.split("open ", 1)[1].strip()
+        assert url == f"http://127.0.0.2:{port}/?token={TOKEN}"
+        r = httpx.get(url.replace("/?", "/api/state?"), timeout=10)
+        assert r.status_code == 200 and r.json()["type"] == "state"
+        assert httpx.get(f"http://127.0.0.2:{port}/api/state?token=env-token-not-used-1", timeout=10).status_code == 401
+        with pytest.raises(httpx.HTTPError):
+            httpx.get(f"http://127.0.0.1:{port}/", timeout=5)  # nothing on 127.0.0.1
+        cmdline = open(f"/proc/{proc.pid}/cmdline", "rb").read().decode() if sys.platform == "linux" else ""
+        assert TOKEN not in cmdline
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)
