@@ -16,7 +16,12 @@ Who can connect (docs/reliability.md)
 -------------------------------------
 * **Token.** Every ``/api/...`` request and every WebSocket must present the session token (query
   ``?token=``, header ``X-Oceangnc-Token`` or ``Authorization: Bearer``); the page takes it from its
-  own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401).
+  own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401). A peer address
+  that failed the check 20 times in a minute gets HTTP 429 for every request needing the token, the
+  right one included, until a try comes back (:class:`oceangnc.console.access.Throttle`).
+* **Refusals** are counted by kind, not logged one by one: at most one summary event per 10 s, in a
+  history of their own (:class:`oceangnc.console.access.AccessLog`), so a flood without the token
+  cannot push an operator's event out.
 * **Origin.** A request that carries an ``Origin`` header must come from the page's own origin
   (scheme, host and port equal to the request's ``Host``), else HTTP 403 (WebSocket: refused at the
   handshake with HTTP 403: a page of another web site cannot open a WebSocket to the console,
