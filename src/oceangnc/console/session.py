@@ -28,6 +28,11 @@ next integration step and in the very next state message (not one actuator perio
 Log. Every logged row goes both to ``log.parquet`` in the run folder (through
 :class:`oceangnc.io.logs.LogWriter`, closed when the run ends) and to column arrays in memory, from
 which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet file the page downloads.
+
+Events. The page's event log (``events``, the last 1,000; summaries of refused requests apart in
+``access_events``) is also appended, event by event, to ``events.jsonl`` in the run folder
+(:class:`oceangnc.core.files.LineAppender`: one ``write`` per line in append mode; alarms and refusal
+summaries fsynced).
 """
 
 from __future__ import annotations
