@@ -529,3 +529,20 @@ def test_token_from_a_file_and_the_url_on_the_loopback_address_bound(tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=20)
+
+
+def test_events_file_appends_lines_and_a_cut_last_line_is_skipped(tmp_path):
+    from oceangnc.core.files import LineAppender
+
+    p = tmp_path / "events.jsonl"
+    f = LineAppender(p)
+    f.write('{"id": 1}')
+    f.write('{"id": 2}', sync=True)
+    f.close()
+    f.write('{"id": 3}')  # closed: ignored
+    g = LineAppender(p)  # a second run of the writer appends, never truncates
+    g.write('{"id": 4}')
+    g.close()
+    with open(p, "a") as h:
+        h.write('{"id": 5, "te')  # a write cut by a kill
+    assert read_json_lines(p) == [{"id": 1}, {"id": 2}, {"id": 4}]
