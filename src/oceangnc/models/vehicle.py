@@ -124,7 +124,7 @@ def vehicle_deriv(t, x, u, p, out):
     a0, a1, a2, a3, a4, a5 = kirchhoff(p, P_MA, ur, vr, wr, pp, q, r)
     if p[P_MUNK].real == 0.0:  # drop the yaw moment of the translational added momentum (Munk moment)
         a5 += ur * row6(p, P_MA + 6, ur, vr, wr, 0.0, 0.0, 0.0) - vr * row6(p, P_MA, ur, vr, wr, 0.0, 0.0, 0.0)
-    tau = np.zeros(6, dtype=x.dtype)
+    tau = out[6:12]  # the generalised force is summed in place, then M^-1 is applied
     tau[0] = f0 + a0
     tau[1] = f1 + a1
     tau[2] = f2 + a2
@@ -189,8 +189,9 @@ def vehicle_deriv(t, x, u, p, out):
         tau[3] += ry * fz - rz * fy
         tau[4] += rz * fx - rx * fz
         tau[5] += rx * fy - ry * fx
+    t0, t1, t2, t3, t4, t5 = tau[0], tau[1], tau[2], tau[3], tau[4], tau[5]
     for i in range(6):
-        out[6 + i] = row6(p, P_MINV + 6 * i, tau[0], tau[1], tau[2], tau[3], tau[4], tau[5])
+        out[6 + i] = row6(p, P_MINV + 6 * i, t0, t1, t2, t3, t4, t5)
 
 
 @njit(cache=True)
