@@ -223,3 +223,27 @@ def _measuring(m, idx):
     outs = [(m.state_names[i], m.state_units[i]) for i in idx]
     return Model(m.name, m.f, list(zip(m.state_names, m.state_units)), list(zip(m.input_names, m.input_units)),
                  m.layout, m.p, h=h, outputs=outs)  # fmt: skip
+
+
+def test_trim_and_linearisation_take_a_vehicle_file():
+    """Analytic check: the Otter running straight at 2 m/s needs a total thrust D_L[0] U (its surge
+    damping is linear, Fossen's X_u = -24.4 g / U_max); the linearised surge pole there is
+    -D_L[0] / (m + X_udot-added mass)."""
+    from oceangnc.core.linearize import linearize, trim
+
+    m = vehicle_model("otter")
+    x0 = np.zeros(m.nx)
+    x0[6] = 2.0
+    x0[12:] = 50.0  # the thruster states (lagged thrusts) are free too
+    u0 = np.array([50.0, 50.0, 0.0, 0.0])
+    tr = trim(m, x0, u0, free=("thrust_left_cmd", "thrust_right_cmd", "thrust_left", "thrust_right"),
+              zero=("u", "r", "thrust_left", "thrust_right"))  # fmt: skip
+    d_l0 = m.p[m.layout.index("D_L[0]")]
+    assert tr.u[0] + tr.u[1] == pytest.approx(d_l0 * 2.0, rel=1e-9)
+    A = linearize(m, tr.x, tr.u).A
+    mrb = m.p[m.layout.index("M_RB[0]")]
+    ma = m.p[m.layout.index("M_A[0]")]
+    minv = m.p[m.layout.block("M_inv")].reshape(6, 6)
+    # d(u')/du at the trim: -(M^-1 D_L)[0, 0] plus the Coriolis terms, which vanish with v = r = 0
+    assert A[6, 6] == pytest.approx(-(minv @ m.p[m.layout.block("D_L")].reshape(6, 6))[0, 0], rel=1e-6)
+    assert A[6, 6] < -0.5 * d_l0 / (mrb + ma)  # of the order of the surge-only pole (CG offset couples)
