@@ -21,7 +21,6 @@ PENDING: dict[str, str] = {
     "sensor.trial": "not yet moved onto LawBlock (issue 25 in progress)",
     "sensor.usbl": "not yet moved onto LawBlock (issue 25 in progress)",
     "sensor.usbl_navigation": "not yet moved onto LawBlock (issue 25 in progress)",
-    "ship.scripted_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
 }
 
