@@ -112,7 +112,7 @@ def route_pursuit(x, y, st, pa):
                 return math.nan, 0.0
             continue
         e, g0, g1 = look_ahead_goal(x, y, a0, a1, b0, b1, pa[P.lookahead], k == n - 1)
-        return pursuit_turn(x, y, 0.0, g0, g1)[0], e
+        return pursuit_turn(x, y, 0.0, g0, g1)[0], e  # the bearing of G (the heading enters only d and R)
 
 
 @njit(cache=True)
@@ -190,7 +190,7 @@ class RoutePilot(LawBlock):
                   yaw="joystick.yaw", gps_x="gps.x", gps_y="gps.y", u_d="usv.u_d", r_d="usv.r_d",
                   psi_d="guidance.psi_d", cross_track="guidance.cross_track", wp_index="guidance.wp_index")  # fmt: skip
         # a route sent while running: given to set_route by send_route (the law reads it from pa)
-        self.optional_inputs["console.waypoints"] = "str"
+        self.optional_inputs = {**(self.optional_inputs or {}), "console.waypoints": "str"}
         self.pa = PARAMS.pack(
             max_speed=stick.max_speed,
             max_reverse_speed=stick.max_reverse_speed,
