@@ -145,7 +145,7 @@ def test_failed_and_diverged_runs_are_recorded_and_the_sweep_goes_on(tmp_path, m
     res = sweep("usv-turn", grid={"sim.dt": [0.001, 0.1]}, duration=1.0, out=tmp_path / "f", workers=0)
     t = res.table.set_index("param.sim.dt")
     assert t.loc[0.001, "status"] == "ok" and t.loc[0.1, "status"] == "failed"
-    assert t.loc[0.1, "error"].startswith("ConfigError:") and "dt=0.1" in t.loc[0.1, "error"]
+    assert t.loc[0.1, "error"].startswith("ConfigError:") and "sim.dt = 0.1" in t.loc[0.1, "error"]
     assert math.isfinite(t.loc[0.001, "usv.turn_radius_m"]) and math.isnan(t.loc[0.1, "usv.turn_radius_m"])
     on_disk = read_results(tmp_path / "f")
     assert list(on_disk["run_id"]) == list(res.table["run_id"])

@@ -126,3 +126,31 @@ def test_plant_declarations_from_units():
     }
     assert p.outputs["usv.speed"] == "m/s" and p.outputs["usv.r"] == "rad/s"
     assert np.isfinite(p.x).all()
+
+
+def test_the_log_schema_comes_from_the_declarations():
+    """The log's columns are the declared outputs (plants and blocks, numbers only); a block that
+    writes a scalar it does not declare is refused at the first tick, naming the signal."""
+    cfg = USVConfig()
+    cmd = FunctionBlock(
+        "command", 0.05, lambda t, bus: bus.update({"usv.thrust_port_cmd": 10.0, "usv.thrust_stbd_cmd": 10.0}),
+        inputs={}, outputs={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"},
+    )  # fmt: skip
+    class Rows(list):
+        def append(self, t, row):  # the log interface of Simulation.run
+            super().append((t, row))
+
+    sim = Simulation([USVPlant(cfg)], [cmd, USVThrusterBlock(cfg, 0.05)], dt=0.01, log_period=0.1)
+    sim.run(0.1, log=Rows())
+    declared = {k for p in [*sim.plants, *sim.blocks] for k, u in p.outputs.items() if u != "str"}
+    assert set(sim.log_signals) == {k for k in declared if not k.startswith("_")}
+
+    def sloppy(t, bus):
+        bus.update({"usv.thrust_port_cmd": 10.0, "usv.thrust_stbd_cmd": 10.0, "debug.note": 1.0})
+
+    cmd2 = FunctionBlock(
+        "command", 0.05, sloppy, inputs={}, outputs={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"}
+    )
+    sim = Simulation([USVPlant(cfg)], [cmd2, USVThrusterBlock(cfg, 0.05)], dt=0.01, log_period=0.1)
+    with pytest.raises(WiringError, match="signal 'debug.note' is on the bus after the first tick but no block"):
+        sim.run(0.1, log=Rows())

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import ConfigError, DivergenceError
 from .blocks import Block, Plant
-from .signals import check_wiring
+from .signals import WiringError, check_wiring
 
 
 def _steps(period: float, dt: float, what: str) -> int:
@@ -96,6 +96,7 @@ class Simulation:
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
         self.tick = math.gcd(self.log_steps, *self.block_steps) if self.block_steps else self.log_steps
         self.bus: dict = {}
+        self._injected: set[str] = set()  # keys written by inject(): front ends' inputs
         self.t = 0.0
         self.k = 0  # physics steps taken
         self.log_signals = list(log_signals) if log_signals is not None else None
@@ -116,15 +117,38 @@ class Simulation:
         self.path = "python"
 
     def inject(self, values: dict) -> None:
-        """Write values onto the bus between runs (console commands, test stimuli)."""
+        """Write values onto the bus between runs (console commands, test stimuli); logged like the
+        declared external inputs when they are numbers."""
         self.bus.update(values)
+        self._injected.update(values)
 
     # -- logging helpers --------------------------------------------------------------------------
     def _row(self) -> dict[str, float]:
         if self.log_signals is None:
-            scalar = (int, float, bool, np.floating, np.integer)
-            self.log_signals = sorted(k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar))
+            self.log_signals = self._log_schema()
         return {k: float(self.bus.get(k, np.nan)) for k in self.log_signals}
+
+    def _log_schema(self) -> list[str]:
+        """The log's columns, after the first tick: the declared outputs of every plant and block (their
+        number units; internal ``_`` signals and strings are not logged) and the external inputs a
+        front end has written (declared, or injected by :meth:`inject`). A scalar on the bus that nothing declares is a wiring
+        error. With an undeclared part (``outputs = None``), the bus at the first tick decides."""
+        scalar = (int, float, bool, np.floating, np.integer)
+        on_bus = {k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar)}
+        if any(getattr(p, "outputs", None) is None for p in [*self.plants, *self.blocks]):
+            return sorted(on_bus)
+        declared = {
+            k
+            for k, unit in self.signal_units.items()
+            if not k.startswith("_") and unit != "str" and (k not in self.external or k in on_bus)
+        } | (self._injected & on_bus)
+        stray = sorted(on_bus - declared)
+        if stray:
+            raise WiringError(
+                f"signal '{stray[0]}' is on the bus after the first tick but no block or plant declares it "
+                "as an output (declare it, or as an external input)"
+            )
+        return sorted(declared)
 
     def run(self, duration: float, log=None, progress: bool = False, wall_limit: float | None = None) -> float:
         """Run for ``duration`` s of simulated time (or until a block sets ``_stop``).
