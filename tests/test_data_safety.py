@@ -88,6 +88,10 @@ def test_a_kill_at_every_step_of_the_final_merge_never_shows_duplicated_rows(tmp
     assert steps[0] == "started" and steps[-1] == "removed"
     if mode == "renames":
         assert "moved aside" in steps and "exchanged" not in steps
+    else:
+        (tmp_path / "p").mkdir(), (tmp_path / "q").mkdir()
+        if logs._exchange(tmp_path / "p", tmp_path / "q"):  # this file system swaps folders in one call
+            assert "exchanged" in steps and "moved aside" not in steps
     ref = pd.read_parquet(tmp_path / "steps" / "log.parquet")
     assert len(ref) == ROWS and len(list_parts(tmp_path / "steps" / "log.parquet")) == 1
     for i, step in enumerate(steps):
