@@ -158,6 +158,26 @@ def test_a_new_run_into_a_folder_removes_leftovers_of_an_old_merge(tmp_path):
     assert len(pd.read_parquet(log)) == len(read_log(out)) == 41
 
 
+def test_a_full_disk_during_the_merge_keeps_the_parts_and_is_one_line(tmp_path, monkeypatch):
+    log = tmp_path / "log.parquet"
+    w = LogWriter(log, flush_period=1.0)
+    for k in range(ROWS):
+        w.append(k * 0.05, {"x": float(k)})
+    w.flush()
+
+    def full(*a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(logs.pq, "write_table", full)
+    with pytest.raises(InputError) as ei:
+        w.close()
+    assert "cannot merge the log" in str(ei.value) and "No space left on device" in str(ei.value)
+    assert "\n" not in str(ei.value)
+    monkeypatch.undo()
+    assert not any(p.exists() for p in merge_folders(log)) and len(list_parts(log)) == 10
+    np.testing.assert_array_equal(pd.read_parquet(log)["x"].to_numpy(), np.arange(float(ROWS)))
+
+
 # -- log repair prints counts ---------------------------------------------------------------------------------
 
 

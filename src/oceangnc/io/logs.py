@@ -455,31 +455,41 @@ def compact_log(folder: str | Path, table: pa.Table | None = None) -> None:
     merging, old = merge_folders(d)
     _rmtree(merging)  # leftovers of an earlier crash (repair_log recovers before it compacts)
     _rmtree(old)
-    merging.mkdir()
-    _step("started")
-    w = LogWriter(merging)
-    w._write_part(table.replace_schema_metadata(None), 0, 0)  # temporary name, fsync, rename
-    _step("built")
-    with open(merging / MERGED_MARK, "wb") as f:
-        os.fsync(f.fileno())
-    _fsync_dir(merging)
-    _fsync_dir(d.parent)
-    _step("marked")
-    if _exchange(d, merging):
-        _step("exchanged")  # log.parquet: the merged file; .merging: the old parts
-        (d / MERGED_MARK).unlink()
+    try:
+        merging.mkdir()
+        _step("started")
+        w = LogWriter(merging)
+        w._write_part(table.replace_schema_metadata(None), 0, 0)  # temporary name, fsync, rename
+        _step("built")
+        with open(merging / MERGED_MARK, "wb") as f:
+            os.fsync(f.fileno())
+        _fsync_dir(merging)
         _fsync_dir(d.parent)
-        _step("unmarked")
-        shutil.rmtree(merging)
-    else:
-        os.rename(d, old)
-        _step("moved aside")  # log.parquet missing; readers of read_log use .merging
-        os.rename(merging, d)
-        _step("renamed")
-        (d / MERGED_MARK).unlink()
-        _fsync_dir(d.parent)
-        _step("unmarked")
-        shutil.rmtree(old)
+        _step("marked")
+    except (OSError, InputError) as e:  # e.g. a full disk: the parts stay as they are
+        _rmtree(merging)
+        why = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        raise InputError(f"cannot merge the log {d}: {why}; its parts are kept, all readable") from None
+    try:
+        if _exchange(d, merging):
+            _step("exchanged")  # log.parquet: the merged file; .merging: the old parts
+            (d / MERGED_MARK).unlink()
+            _fsync_dir(d.parent)
+            _step("unmarked")
+            shutil.rmtree(merging)
+        else:
+            os.rename(d, old)
+            _step("moved aside")  # log.parquet missing; read_log reads .merging
+            os.rename(merging, d)
+            _step("renamed")
+            (d / MERGED_MARK).unlink()
+            _fsync_dir(d.parent)
+            _step("unmarked")
+            shutil.rmtree(old)
+    except OSError as e:
+        raise InputError(
+            f"cannot merge the log {d}: {e.strerror or e}; no row is lost (oceangnc log repair {d.parent} finishes it)"
+        ) from None
     _step("removed")
 
 
