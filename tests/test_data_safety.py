@@ -350,8 +350,24 @@ def test_a_checkpoint_naming_a_class_the_simulation_does_not_hold_is_refused(tmp
     sim.blocks[0].extra = _Holder()
     blob = ckpt.capture(sim)
     sim2 = sc.build(cfg, np.random.default_rng(0))  # no _Holder here: nothing is created from a name
-    with pytest.raises(InputError, match="does not match this simulation"):
+    with pytest.raises(InputError) as ei:
         ckpt.restore(sim2, blob)
+    assert "checkpoint does not match this simulation (block 'current' attribute .extra: no " in str(ei.value)
+    assert "_Holder here" in str(ei.value)
+
+
+def test_a_get_state_returning_an_object_is_refused_at_capture():
+    """A get_state() result is restored with no live object to write into: plain data only."""
+    sc, cfg = api.resolve_config("usv-turn")
+    sim = sc.build(cfg, np.random.default_rng(0))
+    b = sim.blocks[-1]  # the thrusters: a LawBlock, whose get_state() gives arrays and a dict of ints
+    assert ckpt.capture(sim)
+    state = b.get_state()
+    b.get_state = lambda: {**state, "extra": _Holder()}
+    with pytest.raises(ConfigError) as ei:
+        ckpt.capture(sim)
+    assert f"block '{b.name}' attribute get_state()['extra'] holds a test_data_safety._Holder" in str(ei.value)
+    assert "return plain data from get_state" in str(ei.value)
 
 
 # -- SIGTERM ends a run like Ctrl-C ----------------------------------------------------------------------------

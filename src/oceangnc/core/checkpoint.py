@@ -34,7 +34,9 @@ deques, sets and dicts of these, NumPy arrays (not of Python objects) and scalar
 members, references to the simulation's plants and blocks, and plain objects (with a ``__dict__``)
 holding these. Anything else (a socket, a lock, an open file) is refused when the checkpoint is
 taken, with a one-line error naming the block and the attribute; such a block overrides
-``get_state``/``set_state``. ``checkpoint.pkl``, the pickle older versions wrote, is refused
+``get_state``/``set_state``. What an overridden ``get_state`` returns has no live object to be
+written into: it may hold plain data only (no objects, no enum members), also checked when the
+checkpoint is taken. ``checkpoint.pkl``, the pickle older versions wrote, is refused
 without being read (a pickle can run code).
 
 The file is written atomically (temporary file, fsync, rename), every ``--checkpoint-every``
@@ -143,12 +145,14 @@ class _Encoder:
         self._refs.update({id(b): ["block", i] for i, b in enumerate(sim.blocks)})
         self._refs[id(sim)] = ["sim", 0]
         self.owner = "the simulation"
+        self.objects = True  #: objects allowed (False for a get_state() result: nothing to write into)
 
     def refuse(self, path: str, v, why: str = "") -> ConfigError:
         return ConfigError(
             f"checkpoint: {self.owner} attribute {path} holds {why or 'a ' + _qualname(type(v))}, which a "
-            f"checkpoint cannot store (a state may hold {ALLOWED}); override get_state/set_state, "
-            "or run without --checkpoint-every"
+            f"checkpoint cannot store (a state may hold {ALLOWED}); "
+            + ("override get_state/set_state" if self.objects else "return plain data from get_state")
+            + ", or run without --checkpoint-every"
         )
 
     def array(self, a: np.ndarray, path: str) -> str:
@@ -183,6 +187,8 @@ class _Encoder:
                 raise self.refuse(path, v, f"a generator on bit generator {name}")
             return {"$g": name, "state": self.enc(v.bit_generator.state, f"{path}.bit_generator.state", depth + 1)}
         if isinstance(v, enum.Enum):
+            if not self.objects:
+                raise self.refuse(path, v, f"a {_qualname(tp)} (get_state() may return no enum members)")
             return {"$e": _qualname(tp), "name": v.name}
         if tp is list or tp is tuple:
             return {"$l" if tp is list else "$t": [self.enc(x, f"{path}[{i}]", depth + 1) for i, x in enumerate(v)]}
@@ -200,6 +206,8 @@ class _Encoder:
             }
         if _is_code(v) or isinstance(v, (bytes, bytearray, complex)) or not hasattr(v, "__dict__"):
             raise self.refuse(path, v)
+        if not self.objects:  # a get_state() result: restored without a live object to write into
+            raise self.refuse(path, v, f"a {_qualname(tp)} (get_state() may return no objects, only plain data)")
         # an object of the simulation's own classes: its class name and attributes (restored into the
         # live object of that class, never created from the name)
         n = self._objects.get(id(v))
@@ -243,7 +251,9 @@ def capture(sim, meta: dict | None = None) -> bytes:
     for b in sim.blocks:
         e.owner = f"block '{b.name}'"
         if type(b).get_state is not Block.get_state and hasattr(b, "get_state"):
-            blocks.append(["custom", e.enc(b.get_state(), " (its get_state())")])
+            e.objects = False
+            blocks.append(["custom", e.enc(b.get_state(), "get_state()")])
+            e.objects = True
         else:
             blocks.append(["dict", {k: e.enc(v, "." + k) for k, v in vars(b).items() if not _is_code(v)}])
         rngs.append({p: e.enc(g.bit_generator.state, p) for p, g in _generators(b).items()})
@@ -306,9 +316,14 @@ class _Decoder:
         self.arrays = arrays
         self._fresh: dict[str, np.ndarray] = {}
         self._objects: dict[int, Any] = {}
+        self._path = []
+
+    where = ""  #: the plant or block being restored, for messages
+    _path: list[str]
 
     def mismatch(self, why: str) -> InputError:
-        return InputError(f"checkpoint does not match this simulation ({why}); was the config changed?")
+        at = f"{self.where} attribute {''.join(self._path)}: " if self.where and self._path else ""
+        return InputError(f"checkpoint does not match this simulation ({at}{why}); was the config changed?")
 
     def member(self, key) -> np.ndarray:
         if not isinstance(key, str) or key not in self.arrays:
@@ -396,7 +411,9 @@ class _Decoder:
         for k, x in attrs.items():
             if not isinstance(k, str) or k.startswith("__"):
                 raise self.mismatch(f"attribute name {k!r}")
+            self._path.append(f".{k}")
             d[k] = self.dec(x, d.get(k))
+            self._path.pop()
 
 
 def _seq(live, n: int) -> list:
@@ -414,8 +431,10 @@ def restore(sim, blob: bytes) -> None:
     d = _Decoder(sim, arrays)
     try:
         for pl, ps in zip(sim.plants, st["plants"]):
+            d.where = f"plant '{pl.name}'"
             set_plant_state(pl, {k: d.dec(v, getattr(pl, k, None)) for k, v in ps.items()})
         for b, (kind, bs) in zip(sim.blocks, st["blocks"]):
+            d.where = f"block '{b.name}'"
             if kind == "custom":
                 b.set_state(d.dec(bs))
             else:
@@ -425,6 +444,7 @@ def restore(sim, blob: bytes) -> None:
             for p, s in rs.items():
                 if p in gens:
                     gens[p].bit_generator.state = d.dec(s)
+        d.where = "the signal bus"
         bus = d.dec(st["bus"], dict(sim.bus))
     except (KeyError, TypeError, ValueError, IndexError) as e:
         if isinstance(e, InputError):
