@@ -26,7 +26,7 @@ including plain ones (pandas and pyarrow read every visible ``*.parquet`` of the
 merged file must never sit beside the parts it holds). The merge (:func:`compact_log`):
 
 1. builds the complete new folder beside, hidden: ``.log.parquet.merging/part-000000.parquet``
-   (temporary name, fsync, rename), then the marker ``.merging/.merged`` (fsync, and of the folders);
+   (temporary name, fsync, rename), then the marker ``.merged`` in it (each fsynced, and the folders);
 2. swaps the two folders in one step where the system can: ``renameat2(RENAME_EXCHANGE)`` (Linux
    3.15 and later, through ``ctypes``; ``log.parquet`` then holds the merged file and
    ``.log.parquet.merging`` the old parts). Elsewhere, or on a file system that refuses the
@@ -64,7 +64,7 @@ import pyarrow.parquet as pq
 from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text  # noqa: F401
 from ..errors import InputError
 
-# reading, compaction and repair live in oceangnc.io.log_read; importable from here as before
+# reading lives in oceangnc.io.log_read; importable from here as before
 from .log_read import (  # noqa: F401
     MERGED_MARK,
     META_ROW0,
@@ -255,15 +255,12 @@ class LogWriter:
         data = self._chunks[0] if len(self._chunks) == 1 else np.concatenate(self._chunks, axis=1)
         return pa.table({c: _f64(data[j]) for j, c in enumerate(self.columns or [])})
 
-    def _write_part(
-        self, table: pa.Table, index: int, row0: int, final_part: bool = True, folder: Path | None = None
-    ) -> Path:
+    def _write_part(self, table: pa.Table, index: int, row0: int, final_part: bool = True) -> Path:
         meta = dict(table.schema.metadata or {})
         meta.update({META_ROW0: str(row0).encode(), META_ROWS: str(table.num_rows).encode()})
         table = table.replace_schema_metadata(meta)
-        folder = self.path if folder is None else folder
-        final = folder / PART_FMT.format(index)
-        tmp = folder / f".{final.name}.tmp"
+        final = self.path / PART_FMT.format(index)
+        tmp = self.path / f".{final.name}.tmp"
         try:
             with open(tmp, "wb") as f:
                 if final_part:
@@ -280,7 +277,7 @@ class LogWriter:
                 f"{self.rows_written} rows flushed before are kept"
             ) from None
         if final_part:
-            _fsync_dir(folder)
+            _fsync_dir(self.path)
         else:
             self._unsynced.append(final)
         return final
