@@ -50,17 +50,14 @@ def main() -> None:
         t0 = time.perf_counter()
         n = 10
         for _ in range(n):
-            blob = ckpt.capture(sim)
-            ckpt.save(
-                Path(d) / "checkpoint.pkl",
-                {"version": ckpt.VERSION, "t": sim.t, "sim": blob, "log": {"parts": 0, "rows": 0}},
-            )
+            blob = ckpt.capture(sim, {"t": sim.t, "log": {"parts": 0, "rows": 0}})
+            ckpt.save(Path(d) / ckpt.FILE, blob)
         t_save = (time.perf_counter() - t0) / n
         sim2 = sc.build(cfg, np.random.default_rng(0))
         t0 = time.perf_counter()
         ckpt.restore(sim2, blob)
         t_restore = time.perf_counter() - t0
-        size = (Path(d) / "checkpoint.pkl").stat().st_size
+        size = (Path(d) / ckpt.FILE).stat().st_size
         print(
             f"combined-survey checkpoint: {size / 1024:.1f} kB, save {1000 * t_save:.1f} ms, "
             f"restore {1000 * t_restore:.1f} ms"

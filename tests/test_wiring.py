@@ -136,6 +136,7 @@ def test_the_log_schema_comes_from_the_declarations():
         "command", 0.05, lambda t, bus: bus.update({"usv.thrust_port_cmd": 10.0, "usv.thrust_stbd_cmd": 10.0}),
         inputs={}, outputs={"usv.thrust_port_cmd": "N", "usv.thrust_stbd_cmd": "N"},
     )  # fmt: skip
+
     class Rows(list):
         def append(self, t, row):  # the log interface of Simulation.run
             super().append((t, row))

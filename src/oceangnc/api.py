@@ -16,7 +16,7 @@ import numpy as np
 from . import postproc
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
-from .io.logs import LogWriter, atomic_write_text, read_table
+from .io.logs import LogWriter, atomic_write_text, read_table, remove_log
 from .scenario_index import DEFAULT_SCENARIO, FALLBACK_SCENARIO  # noqa: F401  (re-exported)
 from .scenarios.base import RunContext, get_scenario, scenario_summaries
 
@@ -213,10 +213,11 @@ def run(
         Allow ``out`` to be a folder that already holds a run (its log, summary and plots are replaced);
         without it such a folder is refused (one-line InputError), so old plots never sit beside a new log.
     KeyboardInterrupt
-        Ctrl-C: the log so far is kept and ``summary.json`` says ``status = "interrupted"``.
+        Ctrl-C (or SIGTERM under the command line, :class:`~oceangnc.errors.Terminated`): the log so
+        far is kept and closed, and ``summary.json`` says ``status = "interrupted"`` and which signal.
     """
     from .core import checkpoint as ckpt
-    from .errors import ConfigError, InputError, OceanGNCError
+    from .errors import ConfigError, InputError, OceanGNCError, Terminated
 
     if checkpoint_every is not None and not (math.isfinite(checkpoint_every) and checkpoint_every > 0):
         raise ConfigError(f"--checkpoint-every {checkpoint_every}: must be a finite number of simulated seconds > 0")
@@ -258,22 +259,16 @@ def run(
             )
         out_dir = Path(out) if out is not None else new_run_dir("runs", sc.name)
         created = _prepare_out_dir(out_dir, overwrite)
-        for stale in ("summary.json", ckpt.FILE):
+        for stale in ("summary.json", ckpt.FILE, ckpt.OLD_FILE):
             (out_dir / stale).unlink(missing_ok=True)
-        old_log = out_dir / "log.parquet"
-        if old_log.is_dir():
-            import shutil
-
-            shutil.rmtree(old_log)
-        elif old_log.exists():
-            old_log.unlink()
+        remove_log(out_dir / "log.parquet")  # and the hidden folders of an interrupted merge beside it
         dump_toml(cfg, out_dir / "config.toml")
         log = LogWriter.for_run(out_dir, cfg.log)
     ctx = RunContext(
         out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress, verbose=verbose
     )
     if checkpoint_every is not None or state is not None:
-        ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state)
+        ctx.checkpointer = ckpt.Checkpointer(out_dir, checkpoint_every, log, resume_state=state, scenario=sc.name)
     # summary and plots in forked helpers that imported pandas/matplotlib while this process simulated
     # (the command line forks them; a Python caller's later runs reuse its own imports)
     post = _post
@@ -293,10 +288,17 @@ def run(
         )
         write_summary()
         raise
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM through the command line's handler (Terminated)
         postproc.cancel(post)
         log.close()
-        summary.update({"status": "interrupted", "rows": log.rows_written, "wall_time_s": time.perf_counter() - t0})
+        summary.update(
+            {
+                "status": "interrupted",
+                "signal": "SIGTERM" if isinstance(e, Terminated) else "SIGINT",
+                "rows": log.rows_written,
+                "wall_time_s": time.perf_counter() - t0,
+            }
+        )
         write_summary()
         raise
     except BaseException as e:
@@ -350,8 +352,9 @@ def log_frame(sc, table):
 
 def _truncate_log(folder: Path, parts: int) -> None:
     """Drop the log parts written after a checkpoint (and half-written temporaries) before resuming."""
-    from .io.logs import list_parts
+    from .io.logs import list_parts, recover_merge
 
+    recover_merge(folder)  # a run killed during its final merge: finish or roll it back first
     if not folder.is_dir():
         return
     for p in list(folder.iterdir()):

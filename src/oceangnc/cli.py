@@ -14,9 +14,10 @@ import functools
 import importlib
 import json
 import os
+import signal
 import sys
 
-from .errors import OceanGNCError
+from .errors import OceanGNCError, Terminated
 
 PLUGINS = (
     "oceangnc.identification.cli",
@@ -137,11 +138,9 @@ def _cmd_plot(args) -> int:
 
 
 def _cmd_log_repair(args) -> int:
-    from .io.logs import repair_log
+    from .io.logs import repair_log, repair_summary
 
-    r = repair_log(args.dir)
-    removed = ", ".join(r["removed"]) or "nothing"
-    print(f"log repaired: {r['rows']} rows in {r['parts']} part file(s); removed {removed}")
+    print(repair_summary(repair_log(args.dir)))  # counts, not names: a long run leaves thousands of parts
     return 0
 
 
@@ -242,20 +241,29 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         ap.print_help()
         return 2
+    previous = _on_sigterm_like_ctrl_c()
     try:
         rc = _run_command(args)
     except OceanGNCError as e:
         print("error: " + str(e).replace("\n", " "), file=sys.stderr)
         rc = e.exit_code
-    except KeyboardInterrupt:
-        print("interrupted: the log written so far is kept (summary.json status: interrupted)", file=sys.stderr)
-        rc = 130
+    except KeyboardInterrupt as e:
+        term = isinstance(e, Terminated)
+        print(
+            f"{'terminated (SIGTERM)' if term else 'interrupted'}: the log written so far is kept "
+            "(summary.json status: interrupted)",
+            file=sys.stderr,
+        )
+        rc = 143 if term else 130
     except BrokenPipeError:  # the reader of the output went away (``oceangnc list | head``): end quietly
         try:  # so that the interpreter's final flush of stdout does not fail again
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         except (OSError, ValueError):
             pass
         rc = 0
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
     return rc
@@ -273,6 +281,23 @@ def _run_command(args) -> int:
         warnings.simplefilter("default")
         warnings.showwarning = show
         return int(args.func(args) or 0)
+
+
+def _on_sigterm_like_ctrl_c():
+    """Make SIGTERM raise :class:`~oceangnc.errors.Terminated` (a KeyboardInterrupt) in the main
+    thread, so a terminated command ends as Ctrl-C does (a run closes its log and writes
+    ``summary.json``); a second SIGTERM during that clean-up is ignored. Returns the previous handler
+    (``main`` restores it), or None when not in the main thread."""
+
+    def handler(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated()
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread of the interpreter
+        return None
+    return signal.SIG_DFL if previous is None else previous  # (None: a handler not set from Python)
 
 
 def _fast_exit(rc: int) -> None:

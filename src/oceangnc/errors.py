@@ -28,6 +28,11 @@ class InputError(OceanGNCError, ValueError):
     exit_code = 2
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised by the command line's handler (:func:`oceangnc.cli.main`) so that a terminated
+    run ends as Ctrl-C does: log closed, ``summary.json`` with ``status = "interrupted"``; exit 143."""
+
+
 class DivergenceError(OceanGNCError, RuntimeError):
     """A simulation produced a non-finite or absurd state.
 

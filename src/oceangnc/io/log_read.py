@@ -1,5 +1,10 @@
-"""Reading, compacting and repairing the crash-safe Parquet logs written by
-:class:`oceangnc.io.logs.LogWriter` (layout and crash semantics: :mod:`oceangnc.io.logs`)."""
+"""Reading the crash-safe Parquet logs written by :class:`oceangnc.io.logs.LogWriter` (layout, the
+atomic final merge and crash semantics: :mod:`oceangnc.io.logs`, which also compacts and repairs).
+
+Reading never changes the files: a log whose final merge was interrupted between its two renames (no
+``log.parquet``, the old parts in ``.log.parquet.old`` and the complete merged file in
+``.log.parquet.merging``) is read from the merged folder (:func:`readable_dataset`);
+:func:`oceangnc.io.logs.repair_log` finishes the merge on disk."""
 
 from __future__ import annotations
 
@@ -11,6 +16,7 @@ import pyarrow.parquet as pq
 from ..errors import InputError
 
 PART_FMT = "part-{:06d}.parquet"
+MERGED_MARK = ".merged"  #: in a merged folder once its part is whole and on disk (hidden from readers)
 META_ROW0 = b"oceangnc.row0"
 META_ROWS = b"oceangnc.rows"
 
@@ -65,16 +71,37 @@ def _live_parts(folder: Path) -> tuple[list[Path], list[Path]]:
     return keep, drop
 
 
+def merge_folders(d: Path) -> tuple[Path, Path]:
+    """The hidden sibling folders of dataset folder ``d`` used by its final merge:
+    ``(.<name>.merging, .<name>.old)``."""
+    return d.parent / f".{d.name}.merging", d.parent / f".{d.name}.old"
+
+
 def _dataset_path(p: Path) -> Path:
-    if p.is_dir() and p.name != "log.parquet" and (p / "log.parquet").exists():
-        return p / "log.parquet"
+    if p.is_dir() and p.name != "log.parquet":
+        d = p / "log.parquet"
+        if d.exists() or any(q.exists() for q in merge_folders(d)):
+            return d
     return p
+
+
+def readable_dataset(d: Path) -> Path:
+    """Where the rows of dataset folder ``d`` are: ``d`` itself, or, when a final merge was cut
+    between its two renames (``d`` missing), the complete merged folder (else the old parts)."""
+    if d.exists():
+        return d
+    merging, old = merge_folders(d)
+    if (merging / MERGED_MARK).is_file():
+        return merging
+    if old.is_dir():
+        return old
+    return d
 
 
 def read_table(path: str | Path, columns: list[str] | None = None) -> pa.Table:
     """A log as a pyarrow Table: a dataset folder (parts in order, covered parts skipped), a single
     Parquet file, or a run folder holding ``log.parquet``."""
-    p = _dataset_path(Path(path))
+    p = readable_dataset(_dataset_path(Path(path)))
     if p.is_dir():
         keep, _ = _live_parts(p)
         if not keep:
@@ -103,7 +130,7 @@ def read_log(path: str | Path, columns: list[str] | None = None):
     import pandas as pd
 
     p = _dataset_path(Path(path))
-    if not p.exists():
+    if not readable_dataset(p).exists():
         raise InputError(f"log not found: {p}")
     try:
         if p.is_file() and p.suffix.lower() == ".csv":

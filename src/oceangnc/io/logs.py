@@ -20,18 +20,41 @@ skip names that start with ``.``, and open the folder as one table
 :func:`read_log`). Each part records its first row index and row count in its key-value metadata
 (``oceangnc.row0``, ``oceangnc.rows``).
 
-When the run ends (or fails with an error), :meth:`LogWriter.close` compacts the parts into one
-``part-000000.parquet`` (written beside, renamed over part 0, then the other parts are removed). A
-crash in the middle of compaction can leave parts whose rows are also in part 0; :func:`read_log`
-ignores such covered parts, and :func:`repair_log` (``oceangnc log repair DIR``) removes them, as well
-as temporary files and unreadable parts.
+When the run ends (or fails with an error), :meth:`LogWriter.close` merges the parts into one
+``part-000000.parquet``. The switch from the parts to the merged file is atomic for every reader,
+including plain ones (pandas and pyarrow read every visible ``*.parquet`` of the folder, so the
+merged file must never sit beside the parts it holds). The merge (:func:`compact_log`):
+
+1. builds the complete new folder beside, hidden: ``.log.parquet.merging/part-000000.parquet``
+   (temporary name, fsync, rename), then the marker ``.merged`` in it (each fsynced, and the folders);
+2. swaps the two folders in one step where the system can: ``renameat2(RENAME_EXCHANGE)`` (Linux
+   3.15 and later, through ``ctypes``; ``log.parquet`` then holds the merged file and
+   ``.log.parquet.merging`` the old parts). Elsewhere, or on a file system that refuses the
+   exchange, two renames: ``log.parquet`` -> ``.log.parquet.old``, then ``.log.parquet.merging`` ->
+   ``log.parquet``; between them ``log.parquet`` is briefly missing;
+3. removes the marker and the folder of old parts.
+
+A plain reader therefore sees the old parts, the merged file, or (only with the fallback, only
+between its renames) no folder; never both. A kill at any step leaves hidden folders beside the log,
+which :func:`~oceangnc.io.log_read.read_log` reads around without changing anything (it reads the
+complete merged folder when ``log.parquet`` is missing) and :func:`repair_log`
+(``oceangnc log repair DIR``) and a resume clean up (:func:`recover_merge`): a merged folder with its
+marker whose old folder was moved aside is moved into place (rolled forward); a merged folder while
+``log.parquet`` is whole is removed (rolled back: the parts are merged again); a folder of old parts
+is removed. The hidden folders are siblings, not children, of ``log.parquet``, so a reader of the
+folder never sees them. A crash of an older version in the middle of compaction can leave parts
+whose rows are also in part 0; :func:`read_log` ignores such covered parts, and :func:`repair_log`
+removes them, as well as temporary files and unreadable parts.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import shutil
+import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -41,16 +64,20 @@ import pyarrow.parquet as pq
 from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text  # noqa: F401
 from ..errors import InputError
 
-# reading, compaction and repair live in oceangnc.io.log_read; importable from here as before
+# reading lives in oceangnc.io.log_read; importable from here as before
 from .log_read import (  # noqa: F401
+    MERGED_MARK,
     META_ROW0,
     META_ROWS,
     PART_FMT,
     _dataset_path,
     _live_parts,
+    _part_range,
     list_parts,
+    merge_folders,
     read_log,
     read_table,
+    readable_dataset,
 )
 
 MEM_CELLS = 20_000_000  #: values (rows x columns) of a log kept in memory for compaction (160 MB)
@@ -318,13 +345,7 @@ class LogWriter:
         in_mem = self._mem is not None and len(self._mem) == len(parts)
         merged = pa.concat_tables(self._mem) if in_mem and self._mem else None
         if self.compact and len(parts) > 1:
-            if merged is not None:
-                self._write_part(merged, 0, 0)  # atomic rename over part 0, then drop the others
-                for p in parts[1:]:
-                    p.unlink(missing_ok=True)
-                _fsync_dir(self.path)
-            else:
-                compact_log(self.path)
+            compact_log(self.path, merged)  # the atomic folder swap of the module docstring
         self._mem = [merged] if merged is not None else None
 
     def table(self) -> pa.Table | None:
@@ -345,39 +366,157 @@ class LogWriter:
         return False
 
 
-def compact_log(folder: str | Path) -> None:
-    """Merge a dataset's parts into one ``part-000000.parquet`` (crash-safe, see the module docstring)."""
+#: called with a step's name between the steps of the final merge (tests kill the process there)
+_merge_hook: Callable[[str], None] | None = None
+
+
+def _step(name: str) -> None:
+    if _merge_hook is not None:
+        _merge_hook(name)
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (``renameat2`` with ``RENAME_EXCHANGE``); False where the system or
+    the file system cannot (the caller then renames twice)."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+    import errno
+
+    try:
+        fn = ctypes.CDLL(None, use_errno=True).renameat2
+    except (AttributeError, OSError):
+        return False  # a C library without renameat2 (glibc before 2.28)
+    at_fdcwd, rename_exchange = -100, 2
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    if fn(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, errno.EOPNOTSUPP, errno.EPERM, errno.EXDEV):
+        return False
+    raise OSError(err, os.strerror(err), str(a))
+
+
+def _rmtree(p: Path) -> bool:
+    if p.is_dir():
+        shutil.rmtree(p, ignore_errors=True)
+        return True
+    return False
+
+
+def recover_merge(folder: str | Path) -> list[str]:
+    """Finish or roll back a final merge cut by a crash (module docstring); returns what was done,
+    one phrase per hidden folder handled (empty when there was nothing to do)."""
     d = Path(folder)
-    keep, drop = _live_parts(d)
-    if len(keep) <= 1 and not drop:
-        return
-    table = pa.concat_tables([pq.read_table(p) for p in keep]) if keep else None
+    merging, old = merge_folders(d)
+    done = []
+    if not d.exists() and (merging / MERGED_MARK).is_file():
+        os.rename(merging, d)  # cut between the two renames: roll forward
+        (d / MERGED_MARK).unlink(missing_ok=True)
+        _fsync_dir(d.parent)
+        done.append(f"finished the interrupted merge ({merging.name})")
+    elif not d.exists() and old.is_dir():
+        os.rename(old, d)  # (not left by the merge itself: the old parts back in place)
+        _fsync_dir(d.parent)
+        done.append(f"put the parts back from {old.name}")
+    if _rmtree(merging):
+        done.append(f"removed {merging.name}")
+    if _rmtree(old):
+        done.append(f"removed {old.name}")
+    if (d / MERGED_MARK).exists():
+        (d / MERGED_MARK).unlink()
+    return done
+
+
+def remove_log(folder: str | Path) -> None:
+    """Delete a dataset folder (or file) and the hidden folders of an interrupted merge beside it."""
+    d = Path(folder)
+    for p in (d, *merge_folders(d)):
+        if p.is_dir():
+            shutil.rmtree(p)
+        elif p.exists():
+            p.unlink()
+
+
+def compact_log(folder: str | Path, table: pa.Table | None = None) -> None:
+    """Merge a dataset's parts into one ``part-000000.parquet``, switching atomically from the parts to
+    the merged file (module docstring). ``table``: the rows, when the caller holds them (else read)."""
+    d = Path(folder)
     if table is None:
-        return
-    w = LogWriter(d)
-    w._write_part(table.replace_schema_metadata(None), 0, 0)  # atomic rename over part 0
-    for p in [*keep, *drop]:
-        if p.name != PART_FMT.format(0):
-            p.unlink(missing_ok=True)
-    _fsync_dir(d)
+        keep, drop = _live_parts(d)
+        if len(keep) <= 1 and not drop:
+            return
+        if not keep:
+            return
+        table = pa.concat_tables([pq.read_table(p).replace_schema_metadata(None) for p in keep])
+    merging, old = merge_folders(d)
+    _rmtree(merging)  # leftovers of an earlier crash (repair_log recovers before it compacts)
+    _rmtree(old)
+    try:
+        merging.mkdir()
+        _step("started")
+        w = LogWriter(merging)
+        w._write_part(table.replace_schema_metadata(None), 0, 0)  # temporary name, fsync, rename
+        _step("built")
+        with open(merging / MERGED_MARK, "wb") as f:
+            os.fsync(f.fileno())
+        _fsync_dir(merging)
+        _fsync_dir(d.parent)
+        _step("marked")
+    except (OSError, InputError) as e:  # e.g. a full disk: the parts stay as they are
+        _rmtree(merging)
+        why = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        raise InputError(f"cannot merge the log {d}: {why}; its parts are kept, all readable") from None
+    try:
+        if _exchange(d, merging):
+            _step("exchanged")  # log.parquet: the merged file; .merging: the old parts
+            (d / MERGED_MARK).unlink()
+            _fsync_dir(d.parent)
+            _step("unmarked")
+            shutil.rmtree(merging)
+        else:
+            os.rename(d, old)
+            _step("moved aside")  # log.parquet missing; read_log reads .merging
+            os.rename(merging, d)
+            _step("renamed")
+            (d / MERGED_MARK).unlink()
+            _fsync_dir(d.parent)
+            _step("unmarked")
+            shutil.rmtree(old)
+    except OSError as e:
+        raise InputError(
+            f"cannot merge the log {d}: {e.strerror or e}; no row is lost (oceangnc log repair {d.parent} finishes it)"
+        ) from None
+    _step("removed")
+
+
+def _plural(n: int, what: str) -> str:
+    return f"{n:,} {what}{'' if n == 1 else 's'}"
 
 
 def repair_log(path: str | Path) -> dict:
     """Make a log folder (or a run folder holding ``log.parquet``) whole after a crash.
 
-    Removes temporary files of interrupted writes, unreadable parts and parts already covered by a
-    compacted part, then compacts. Returns ``{"parts": kept, "removed": [...], "rows": n}``.
+    Finishes or rolls back an interrupted final merge (:func:`recover_merge`), removes temporary files
+    of interrupted writes, unreadable parts and parts already covered by a compacted part, then
+    compacts. Returns ``{"parts": kept, "rows": n, "removed": [names], "counts": {...}, "merge": [...]}``
+    where ``counts`` has the numbers of ``covered`` and ``unreadable`` parts and ``temporary`` files
+    removed; :func:`repair_summary` says it in one line.
     """
     d = _dataset_path(Path(path))
+    merge = recover_merge(d)
     if not d.is_dir():
         raise InputError(f"log folder not found: {d}")
     removed = []
+    counts = {"covered": 0, "unreadable": 0, "temporary": 0}
     for p in sorted(d.iterdir()):
         if p.name.startswith(".") and p.name.endswith(".tmp"):
             p.unlink()
             removed.append(p.name)
+            counts["temporary"] += 1
     keep, drop = _live_parts(d)
     for p in drop:
+        counts["covered" if _part_range(p) is not None else "unreadable"] += 1
         p.unlink()
         removed.append(p.name)
     if not keep:
@@ -386,4 +525,22 @@ def repair_log(path: str | Path) -> dict:
         compact_log(d)
     parts = list_parts(d)
     rows = sum(pq.read_metadata(p).num_rows for p in parts)
-    return {"parts": len(parts), "removed": removed, "rows": rows}
+    return {"parts": len(parts), "removed": removed, "rows": rows, "counts": counts, "merge": merge}
+
+
+def repair_summary(r: dict) -> str:
+    """One line for :func:`repair_log`'s result: counts, not names (a crashed long run has thousands
+    of parts)."""
+    c = r["counts"]
+    what = [
+        _plural(c["covered"], "covered part"),
+        _plural(c["unreadable"], "unreadable part"),
+        _plural(c["temporary"], "temporary file"),
+    ]
+    what = [w for w, n in zip(what, (c["covered"], c["unreadable"], c["temporary"])) if n]
+    merge = "finished an interrupted merge; " if any(m.startswith("finished") for m in r["merge"]) else ""
+    n_left = sum(m.startswith("removed") for m in r["merge"])
+    if n_left:
+        what.append(_plural(n_left, "folder") + " of an interrupted merge")
+    removed = f"removed {', '.join(what)}" if what else "removed nothing"
+    return f"log repaired: {merge}{removed}; log has {_plural(r['rows'], 'row')} in {_plural(r['parts'], 'part file')}"
