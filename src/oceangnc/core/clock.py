@@ -132,7 +132,8 @@ class Simulation:
         """The log's columns, after the first tick: the declared outputs of every plant and block (their
         number units; internal ``_`` signals and strings are not logged) and the external inputs a
         front end has written (declared, or injected by :meth:`inject`). A scalar on the bus that
-        nothing declares is a wiring error. With an undeclared part (``outputs = None``), the bus at the first tick decides."""
+        nothing declares is a wiring error. With an undeclared part (``outputs = None``), the bus at
+        the first tick decides."""
         scalar = (int, float, bool, np.floating, np.integer)
         on_bus = {k for k, v in self.bus.items() if not k.startswith("_") and isinstance(v, scalar)}
         if any(getattr(p, "outputs", None) is None for p in [*self.plants, *self.blocks]):
