@@ -133,7 +133,9 @@ class VehicleScenario(Scenario):
         sat = (thr >= lim * 0.999) | (thr <= -limr * 0.999)
         out = {"vehicle": vf.name, "vehicle.thrust_max_N": float(np.abs(thr).max())}
         out["vehicle.thrust_saturated_fraction"] = float(sat.any(axis=1).mean())
-        w = df[df["t"] >= cfg.analysis.settle_s]
+        settle = cfg.analysis.settle_s if df["t"].iloc[-1] > cfg.analysis.settle_s else 0.5 * df["t"].iloc[-1]
+        out["vehicle.scored_from_s"] = float(settle)  # a run shorter than settle_s: its second half
+        w = df[df["t"] >= settle]
         if self.route:
             e = w["guidance.e"].to_numpy()
             out["guidance.cross_track_rms_m"] = float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
