@@ -25,7 +25,7 @@ reference point (its bow): then PID gives 0.47 m and 2.80 m but the UUV pitches 
 
 No sensible set of the unprinted parameters gives 0.4 m, 2.77 m and -2..-4 deg together (sweep below: attachment
 point, submerged weight, formation offset, gains, drag); the defaults are unchanged and the depth, margin and
-field-test pitch cases (and the 25-30 s distance growth) are documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
+field-test pitch cases (and the distance growth in the turn) are documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
 
 ![flagship sweep](flagship_sweep.png)"""
 

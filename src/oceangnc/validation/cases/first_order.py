@@ -169,7 +169,8 @@ CASES: list[Case] = in_group(
         "exp(-pi zeta / sqrt(1 - zeta^2))",
         ("abs", 2.0),
         "eq. 24-25 have no zero: the continuous loop is exactly second order; the gap is the 20 Hz discrete "
-        "controller (a zero-order hold adds about half a period of delay) and the speed schedule of K_r, T_r",
+        "controller (a zero-order hold adds about half a period of delay; the overshoot tends to the formula as "
+        "control_rate rises, docs/validation.md)",
         heading_overshoot,
         kind="analytic",
         basis="second-order overshoot of eq. 25",

@@ -95,7 +95,7 @@ def _worst_case(cid, maneuver, fig):
         "largest |estimate/true - 1| of the ten coefficients",
         "%",
         None,
-        f"worst published {w:.2g} % ({name}, {maneuver})",
+        f"worst published {w:.3g} % ({name}, {maneuver})",
         ("max", round(w, 3)),
         _WORST,
         partial(ekf, maneuver),
