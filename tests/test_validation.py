@@ -13,7 +13,7 @@ import pytest
 
 from oceangnc.cli import main
 from oceangnc.models.usv import USVConfig
-from oceangnc.validation import KINDS, Runner, run_case, select
+from oceangnc.validation import KINDS, Case, Runner, run_case, select
 from oceangnc.validation.cases import CASES, TABLE2
 from oceangnc.validation.check import check
 
@@ -93,9 +93,17 @@ def test_every_case_has_a_class_and_the_fitted_ones_say_so():
     generators; every calibration names what was fitted and every round trip its generator."""
     by = {c.id: c for c in CASES}
     for c in CASES:
-        assert c.kind in KINDS, c.id
         if c.kind in ("calibration", "round-trip"):
-            assert c.basis and c.basis in c.class_text(), c.id
+            assert c.basis in c.class_text(), c.id
+    # a case without a class, or a calibration that does not name its fit, is refused when the registry is built
+    args = ("x", "t", "s", "q", "-", None, "p", ("max", 1.0), "w", lambda r: None)
+    with pytest.raises(ValueError, match="kind"):
+        Case(*args)
+    with pytest.raises(ValueError, match="names the parameters fitted"):
+        Case(*args, kind="calibration")
+    with pytest.raises(ValueError, match="names the generator"):
+        Case(*args, kind="round-trip")
+    assert Case(*args, kind="prediction", qualitative=True).class_text() == "prediction, qualitative"
     calib = {i for i, c in by.items() if c.kind == "calibration"}
     assert {"003-fig2-7-usv-speed", "003-fig2-8-turn-radius", "003-fig2-8-yaw-rate", "003-fig4-15-bs-distance"} <= calib
     assert "d11" in by["003-fig2-7-usv-speed"].basis and "d33" in by["003-fig2-8-yaw-rate"].basis
