@@ -43,13 +43,20 @@ def test_combined_survey_reaches_all_waypoints_with_both_controllers(survey):
         assert 2.5 < s["uuv.depth_final_m"] < 3.5  # hangs on its 3 m cable (003: 3 -> ~2.77 m)
 
 
-def test_backstepping_holds_the_relative_distance_better_than_pid(survey):
-    """003 figs 4-15: backstepping keeps the relative distance (~0.4 m there), PID does not: lower
-    mean and max of the true horizontal USV-UUV distance."""
+def test_backstepping_and_pid_hold_the_same_distance_because_the_cable_tows_the_uuv(survey):
+    """003 fig 4-15 says backstepping keeps the relative distance (~0.4 m) and PID does not. The validation
+    report documents the deviation (003-fig4-15-bs-beats-pid): in our survey the two are within 1-2 cm,
+    because the cable tows the UUV (its stern thrusters give 1-2 N each of 75 N) and the formation target is
+    where the towed UUV trails anyway. Both stay inside R (1 m), so neither needs the heading-to-USV loop."""
     pid, bs = survey["pid"][0], survey["backstepping"][0]
-    assert bs["uuv.rel_distance_mean_m"] < pid["uuv.rel_distance_mean_m"]
-    assert bs["uuv.rel_distance_max_m"] < pid["uuv.rel_distance_max_m"]
-    assert bs["uuv.rel_distance_max_m"] < 1.0  # inside R: it never needs the heading-to-USV switch
+    assert abs(pid["uuv.rel_distance_mean_m"] - bs["uuv.rel_distance_mean_m"]) < 0.02
+    assert abs(pid["uuv.rel_distance_max_m"] - bs["uuv.rel_distance_max_m"]) < 0.02
+    for c, (s, df, _) in survey.items():
+        assert s["uuv.rel_distance_max_m"] < 1.0, c
+        moving = df["t"] > 5.0
+        stern = np.abs(df.loc[moving, ["uuv.thrust_port", "uuv.thrust_stbd"]].to_numpy())
+        assert stern.max() < 2.0, c  # N, of 75 N: the cable, not the thrusters, carries the UUV
+        assert (df.loc[moving, "lf.outside"] == 0).all(), c
     V = survey["backstepping"][1]["uuv_bs.V"].to_numpy()
     assert np.isfinite(V).all()
 

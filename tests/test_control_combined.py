@@ -117,15 +117,20 @@ def test_uuv_pid_switches_loops_at_R_and_saturates():
 
 @pytest.mark.parametrize("s0", [[0, 0, 0, -2.0, 1.5, 0.5, 0, 0, 0], [0, 0, 1.0, 1.0, -1.0, -0.8, 0.3, 0.1, -0.2]])
 def test_backstepping_lyapunov_function_decreases(s0):
-    """Along closed-loop trajectories of the 3-DOF model (eq. 3.32) behind a manoeuvring leader,
-    V = V1 + V3 + V4 (eq. 3.28, 3.37) has dV/dt = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2 <= 0;
-    the numerical derivative of V agrees with it (so the derivation is right) and V -> 0."""
+    """Along closed-loop trajectories of the 3-DOF model (eq. 3.32) behind a manoeuvring leader, V = V1 + V3 + V4
+    (eq. 3.28, 3.37) logged every 10 ms never rises: its finite-difference derivative stays below the
+    differences' truncation error, agrees with the re-derived dV/dt = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2,
+    and V -> 0. With a plant 20 % off the controller's model the formula no longer describes the run."""
     run = backstepping_lyapunov(s0)  # the validation suite's closed loop (solve_ivp, rtol 1e-9)
     V, Vd, num = run["V"], run["Vdot"], run["Vdot_num"]
-    assert (Vd <= 0).all()
-    assert np.abs(num - Vd)[2:-2].max() < 0.01 * max(1.0, V[0])
-    assert (np.diff(V) <= 1e-12).all()
+    inner = slice(2, -2)  # the end samples use one-sided differences
+    peak = np.abs(Vd).max()
+    assert run["trunc_max"] < 1e-6 * peak  # the differences are accurate enough for the checks below
+    assert num[inner].max() <= 1e-6 * peak
+    assert np.abs(num - Vd)[inner].max() < 1e-6 * peak
     assert V[-1] < 1e-6 * V[0]
+    bad = backstepping_lyapunov(s0, plant_over={"drag_scale": 1.2})
+    assert np.abs(bad["Vdot_num"] - bad["Vdot"])[inner].max() > 1e-2 * peak
 
 
 def _straight_leader_run(m, g, s0, ul=0.6, t_end=80.0):

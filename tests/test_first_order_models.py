@@ -28,8 +28,10 @@ def test_table2_coefficients_and_clamped_schedule():
     assert k["T_v"] == pytest.approx(1.1737 * 6 - 2.2474)
     assert k["K_r"] == pytest.approx(-0.0113 * 6 + 0.7176)
     assert k["T_r"] == pytest.approx(-0.1534 * 6 + 2.6341)
-    assert 1.1737 * 1.0 - 2.2474 < 0  # the raw law is unstable at 1 m/s ...
-    assert c.coefficients(1.0)["T_v"] == pytest.approx(1.1737 * 4.87 - 2.2474)  # ... the clamped one is not
+    # the raw law is negative (unstable) at 1 m/s: the model refuses a trial range reaching down there ...
+    with pytest.raises(ValueError, match=r"T_v\(1 m/s\) = -1.07"):
+        FirstOrderConfig(straight_lo_mps=1.0)
+    assert c.coefficients(1.0)["T_v"] == pytest.approx(1.1737 * 4.87 - 2.2474)  # ... and holds the law at 4.87
     assert c.coefficients(30.0)["T_r"] == pytest.approx(-0.1534 * 8.74 + 2.6341)
 
 

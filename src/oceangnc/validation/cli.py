@@ -25,7 +25,7 @@ reference point (its bow): then PID gives 0.47 m and 2.80 m but the UUV pitches 
 
 No sensible set of the unprinted parameters gives 0.4 m, 2.77 m and -2..-4 deg together (sweep below: attachment
 point, submerged weight, formation offset, gains, drag); the defaults are unchanged and the depth, margin and
-field-test pitch cases (and the 25-30 s distance growth) are documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
+field-test pitch cases (and the distance growth in the turn) are documented deviations. Details: docs/combined-vehicle.md, 'The flagship result'.
 
 ![flagship sweep](flagship_sweep.png)"""
 
@@ -41,12 +41,13 @@ def cmd_validate(args) -> int:
     from ..cli_options import set_overrides
     from . import Runner, run_cases, select
     from .cases import CASES
-    from .report import summary_counts, write_report
+    from .report import evidence_text, summary_counts, write_report
 
     cases = select(CASES, args.only)
     if args.list:
+        w = max(len(c.id) for c in cases)
         for c in cases:
-            print(f"{c.id:<40} {c.source}")
+            print(f"{c.id:<{w}}  {c.class_text()}  [{c.source}]")
         return 0
     overrides = set_overrides(args)
     out = Path(args.out)
@@ -76,6 +77,7 @@ def cmd_validate(args) -> int:
         f"{len(outcomes)} cases: {c['pass']} pass, {c['fail']} fail, {c['deviation']} documented deviation(s), "
         f"{c['error']} error(s); wrote {md} and {html}"
     )
+    print(evidence_text(outcomes) + ".")
     for o in outcomes:
         if o.status in ("fail", "error"):
             m = o.measured
@@ -104,8 +106,10 @@ def register(subparsers) -> None:
         "validate",
         help="run the validation cases (published figures and physical checks) and write a report",
         description="Run every validation case: each published figure of the seed documents the project "
-        "reproduces and the physical checks, with its tolerance. Writes DIR/report.md and DIR/report.html "
-        "(one plot per case). Exit 1 if a case fails.",
+        "reproduces and the physical checks, with its tolerance. Every case has a class: prediction (no "
+        "parameter fitted to it), calibration target, round trip, analytic check or physical law; only passing "
+        "predictions count as reproductions. Writes DIR/report.md and DIR/report.html (one plot per case). "
+        "Exit 1 if a case fails.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog="examples:\n  oceangnc validate --out runs/validation\n  oceangnc validate --only 003-fig2\n"
         "  oceangnc validate --only 'physics-*' --set usv.d11=120",
@@ -115,7 +119,12 @@ def register(subparsers) -> None:
     )
     p.add_argument("--out", default="validation", metavar="DIR", help="output folder (default: validation)")
     add_set(p, "override a config key in every scenario and model that has it (repeatable)")
-    p.add_argument("--list", action="store_true", help="list the selected cases and exit")
+    p.add_argument(
+        "--list",
+        action="store_true",
+        help="list the selected cases with their class (prediction, calibration target, round trip, analytic "
+        "check, physical law) and source, and exit",
+    )
     p.add_argument("--no-plots", action="store_true", help="skip the per-case PNGs")
     p.add_argument("--quiet", action="store_true", help="no per-case progress lines")
     p.set_defaults(func=cmd_validate)

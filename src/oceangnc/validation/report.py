@@ -14,7 +14,16 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
-from . import Outcome
+from . import KINDS, Outcome
+
+#: what a passing case of each class shows (the report's class table)
+KIND_MEANING = {
+    "prediction": "a published result reproduced with no parameter fitted to it (the only reproductions)",
+    "calibration": "a fit holds: the named parameters were fitted or chosen to it (not a reproduction)",
+    "round-trip": "the method's algebra on data the project generated itself (not a reproduction)",
+    "analytic": "the simulation agrees with a closed-form or independent solution",
+    "law": "a physical law holds whatever the coefficients",
+}
 
 STATUS_MARK = {"pass": "PASS", "fail": "FAIL", "deviation": "DEVIATION (documented)", "error": "ERROR"}
 
@@ -70,6 +79,38 @@ def summary_counts(outcomes: Sequence[Outcome]) -> dict:
     return out
 
 
+def class_counts(outcomes: Sequence[Outcome]) -> dict:
+    """class -> {"cases", "pass", "fail", "deviation", "error"} in :data:`KINDS` order (classes with no case
+    included, with zeros)."""
+    out = {k: {"cases": 0, **{st: 0 for st in STATUS_MARK}} for k in KINDS}
+    for o in outcomes:
+        out[o.case.kind]["cases"] += 1
+        out[o.case.kind][o.status] += 1
+    return out
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else ("es" if word.endswith("ch") else "s"))
+
+
+def evidence_text(outcomes: Sequence[Outcome]) -> str:
+    """One sentence: how many cases of each class, and how many predictions pass (the reproductions)."""
+    k = class_counts(outcomes)
+    p = k["prediction"]
+    parts = [
+        f"{_plural(p['cases'], 'prediction')} ({p['pass']} pass, {p['deviation']} documented deviation(s), "
+        f"{p['fail'] + p['error']} fail/error)",
+        _plural(k["calibration"]["cases"], "calibration target"),
+        _plural(k["round-trip"]["cases"], "round trip"),
+        _plural(k["analytic"]["cases"], "analytic check"),
+        _plural(k["law"]["cases"], "physical law"),
+    ]
+    return (
+        "By class: " + ", ".join(parts) + f". Reproduced published results: {p['pass']} (passing predictions only; "
+        "a calibration target or a round trip passes by construction and is not counted)"
+    )
+
+
 def write_report(
     outcomes: Sequence[Outcome],
     out_dir: Path,
@@ -94,6 +135,11 @@ def write_report(
         f"{c['error']} error(s)"
     )
     over = ", ".join(f"`{k}={v}`" for k, v in (overrides or {}).items()) or "none (the scenarios' defaults)"
+    evidence = evidence_text(outcomes)
+    kc = class_counts(outcomes)
+    class_rows = [
+        (KINDS[k], v["cases"], v["pass"], v["fail"], v["deviation"], v["error"], KIND_MEANING[k]) for k, v in kc.items()
+    ]
 
     md = [
         "# oceangnc validation report",
@@ -103,19 +149,25 @@ def write_report(
         "",
         f"**{head}.**",
         "",
+        f"{evidence}.",
+        "",
+        "| class | cases | pass | fail | deviation | error | what a pass shows |",
+        "|---|---|---|---|---|---|---|",
+        *[f"| {a} | {b} | {c_} | {d} | {e} | {f} | {g} |" for a, b, c_, d, e, f, g in class_rows],
+        "",
         "A case passes when the project's value lies within the tolerance of the published (or analytic) value. "
         "DEVIATION marks a documented disagreement with the source that the physics does not remove; it does not "
         "fail the run. Sources are the seed documents by file name and figure/table/equation.",
         "",
-        "| case | source | quantity | published | tolerance | oceangnc | status |",
-        "|---|---|---|---|---|---|---|",
+        "| case | class | source | quantity | published | tolerance | oceangnc | status |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for o in outcomes:
         k = o.case
         val = "–" if o.measured is None else _fmt(o.measured.value)
         pub = _fmt(o.published) if o.published is not None else k.published_text
         md.append(
-            f"| [{k.id}](#{k.id}) | {k.source} | {k.quantity} ({k.unit}) | {pub} | {k.tolerance_text()} | "
+            f"| [{k.id}](#{k.id}) | {KINDS[k.kind]}{', qualitative' if k.qualitative else ''} | {k.source} | {k.quantity} ({k.unit}) | {pub} | {k.tolerance_text()} | "
             f"{val} | {STATUS_MARK[o.status]} |"
         )
     if flagship_md:
@@ -128,6 +180,7 @@ def write_report(
             "",
             f"**{k.title}.** Source: {k.source}. Quantity: {k.quantity} ({k.unit}).",
             "",
+            f"- class: {k.class_text()}",
             f"- published: {k.published_text}" + (f" = {_fmt(o.published)}" if o.published is not None else ""),
             f"- tolerance: {k.tolerance_text()} (accepted range {_fmt(o.lo)} … {_fmt(o.hi)}); why: {k.why}",
             f"- oceangnc: {'–' if o.measured is None else _fmt(o.measured.value)} → **{STATUS_MARK[o.status]}** "
@@ -153,7 +206,9 @@ def write_report(
         val = "–" if o.measured is None else _fmt(o.measured.value)
         pub = _fmt(o.published) if o.published is not None else k.published_text
         rows.append(
-            f"<tr><td><a href='#{k.id}'>{html.escape(k.id)}</a></td><td>{html.escape(k.source)}</td>"
+            f"<tr><td><a href='#{k.id}'>{html.escape(k.id)}</a></td>"
+            f"<td>{html.escape(KINDS[k.kind] + (', qualitative' if k.qualitative else ''))}</td>"
+            f"<td>{html.escape(k.source)}</td>"
             f"<td>{html.escape(k.quantity)} ({html.escape(k.unit)})</td><td>{html.escape(pub)}</td>"
             f"<td>{html.escape(k.tolerance_text())}</td><td>{html.escape(val)}</td>"
             f"<td class='st' style='color:{colors[o.status]}'>{STATUS_MARK[o.status]}</td></tr>"
@@ -162,6 +217,7 @@ def write_report(
     for o in outcomes:
         k = o.case
         items = [
+            f"<li>class: {html.escape(k.class_text())}</li>",
             f"<li>published: {html.escape(k.published_text)}"
             + (f" = {html.escape(_fmt(o.published))}" if o.published is not None else "")
             + "</li>",
@@ -207,7 +263,12 @@ img{{max-width:560px}}.flag{{background:#fff8c5;padding:0.5em 1em;border-radius:
 <p>Generated {stamp} by <code>oceangnc validate</code>{f" in {wall_s:.0f} s" if wall_s else ""}. Overrides:
 {html.escape(over)}.</p>
 <p id="summary"><b>{html.escape(head)}.</b></p>
-<table id="cases"><tr><th>case</th><th>source</th><th>quantity</th><th>published</th><th>tolerance</th>
+<p id="evidence">{html.escape(evidence)}.</p>
+<table id="classes"><tr><th>class</th><th>cases</th><th>pass</th><th>fail</th><th>deviation</th><th>error</th>
+<th>what a pass shows</th></tr>
+{"".join("<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in row) + "</tr>" for row in class_rows)}
+</table>
+<table id="cases"><tr><th>case</th><th>class</th><th>source</th><th>quantity</th><th>published</th><th>tolerance</th>
 <th>oceangnc</th><th>status</th></tr>
 {"".join(rows)}
 </table>

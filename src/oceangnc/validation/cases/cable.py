@@ -82,6 +82,8 @@ CASES: list[Case] = [
             ("rel", 0.01),
             "statics is exact; 1 % covers the settling residual after 60 s",
             hang_tension,
+            kind="law",
+            basis="statics: the top tension carries the submerged weight",
         ),
     ),
     *in_group(
@@ -97,6 +99,7 @@ CASES: list[Case] = [
             ("rel", 0.05),
             "lumped 20 segments vs continuous cable: discretisation of the drag (measured agreement 5 digits)",
             partial(quasi, "cable.top_tension_N", "top_tension_N", 0.5),
+            kind="analytic",
         ),
         Case(
             "physics-cable-statics-angle",
@@ -109,6 +112,7 @@ CASES: list[Case] = [
             ("abs", 2.0),
             "as above; 2 deg is the tank-test resolution of 003 (0.23-1.3 deg)",
             partial(quasi, "cable.angle_deg", "angle_deg", 0.5),
+            kind="analytic",
         ),
         Case(
             "physics-cable-statics-pitch",
@@ -121,6 +125,7 @@ CASES: list[Case] = [
             ("abs", 2.0),
             "as above",
             partial(quasi, "uuv.pitch_deg", "pitch_deg", 0.5),
+            kind="analytic",
         ),
     ),
     *in_group(
@@ -136,6 +141,8 @@ CASES: list[Case] = [
             ("min", 0.3),
             "the text says 'large' only: at least 10 % of the 3 m depth",
             partial(tow, 0.27),
+            kind="prediction",
+            qualitative=True,
         ),
         Case(
             "003-fig4-4-tow-matched",
@@ -148,6 +155,8 @@ CASES: list[Case] = [
             ("max", 0.1),
             "the text says 'small' only: under 0.1 m (3 %)",
             partial(tow, 0.48),
+            kind="prediction",
+            qualitative=True,
         ),
     ),
 ]

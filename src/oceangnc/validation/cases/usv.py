@@ -79,6 +79,8 @@ CASES: list[Case] = in_group(
         ("abs", 0.05),
         "the text reads the figure as 'about 0.8': ±0.05 m/s is the resolution of that reading",
         usv_speed,
+        kind="calibration",
+        basis="d11 = 2 x 30 kgf / 0.8 m/s by models/usv.py calibrate()",
     ),
     Case(
         "003-fig2-8-turn-radius",
@@ -91,6 +93,8 @@ CASES: list[Case] = in_group(
         ("abs", 0.2),
         "figure read to ±0.2 m (one grid tenth)",
         partial(usv_turn, "usv.turn_radius_m", "U / r [m]", radius_series),
+        kind="calibration",
+        basis="d22, d33 and d11_rr by models/usv.py calibrate() to 1.75 m at 16 deg/s (drift angle 15 deg chosen)",
     ),
     Case(
         "003-fig2-8-yaw-rate",
@@ -103,6 +107,8 @@ CASES: list[Case] = in_group(
         ("abs", 2.0),
         "figure read to ±2 deg/s",
         partial(usv_turn, "usv.yaw_rate_degps", "r [deg/s]", yaw_rate_series),
+        kind="calibration",
+        basis="d22, d33 and d11_rr by models/usv.py calibrate() to 1.75 m at 16 deg/s (drift angle 15 deg chosen)",
     ),
     Case(
         "003-fig2-10-drift-speed",
@@ -115,6 +121,9 @@ CASES: list[Case] = in_group(
         ("rel", 0.1),
         "kinematics: the hull moves with the water, so the drift equals the current; 10 % allows the circle fit",
         partial(current_drift, "usv.drift_speed_mps"),
+        kind="law",
+        basis="kinematics: hydrodynamics in the relative velocity, so the hull drifts with a uniform current "
+        "whatever its coefficients",
     ),
     Case(
         "003-fig2-10-drift-direction",
@@ -127,6 +136,9 @@ CASES: list[Case] = in_group(
         ("abs", 10.0),
         "direction of a 0.1 m/s drift over a 90 s circle fit: ±10 deg",
         partial(current_drift, "usv.drift_direction_deg"),
+        kind="law",
+        basis="kinematics: hydrodynamics in the relative velocity, so the hull drifts with a uniform current "
+        "whatever its coefficients",
     ),
     Case(
         "003-fig2-9-wind-from-0",
@@ -135,6 +147,8 @@ CASES: list[Case] = in_group(
         *_DOWNWIND,
         "the figure shows the drift's direction only qualitatively: within the downwind quadrant",
         partial(wind_drift, 0),
+        kind="prediction",
+        qualitative=True,
     ),
     Case(
         "003-fig2-9-wind-from-90",
@@ -143,5 +157,7 @@ CASES: list[Case] = in_group(
         *_DOWNWIND,
         "as above",
         partial(wind_drift, 90),
+        kind="prediction",
+        qualitative=True,
     ),
 )
