@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -45,14 +46,16 @@ def test_case(case, runner):
 
 
 def test_registry_is_complete_and_well_formed():
-    """Every case names a seed file or a physical law, a tolerance and its reason; the seeds' figures the
+    """Every case names a seed file, a physical law or (a vehicle of a file) the published work, a tolerance and its reason; the seeds' figures the
     issue lists are all there."""
     ids = [c.id for c in CASES]
     assert len(ids) == len(set(ids))
     for c in CASES:
         assert c.source and c.quantity and c.why and c.published_text, c.id
         assert c.check[0] in ("abs", "rel", "max", "min", "range"), c.id
-        assert ("_" in c.source and ".txt" in c.source) or c.id.startswith("physics-"), c.id
+        seed = "_" in c.source and ".txt" in c.source
+        literature = c.id.startswith("vehicle-") and re.search(r"\(\d{4}\)", c.source)  # a work and its year
+        assert seed or literature or c.id.startswith("physics-"), c.id
     for want in (
         "003-fig2-7",
         "003-fig2-8",
