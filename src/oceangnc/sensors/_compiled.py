@@ -11,8 +11,7 @@ import math
 
 from numba import njit
 
-from ..core.rotations import wrap
-from .filters import angle_lowpass_step, gauss_markov
+from .filters import gauss_markov
 
 
 @njit(cache=True)
@@ -84,33 +83,6 @@ def gps_publish(t, sig, sl, st, pa, x, y):
     sig[sl[6]] = 1.0 if valid_cog else 0.0
     sig[sl[7]] = 1.0
     sig[sl[8]] = pa[5]
-
-
-@njit(cache=True)
-def ahrs_step(t, sig, sl, st, pa, rng):
-    """:class:`oceangnc.sensors.ahrs.AHRS` (003 ch. 6.1.2).
-
-    slots: body.psi, body.r, ?body.phi, ?body.theta | psi, r, phi, theta. state: psi_f, mag.
-    params: period, lag, mag time constant, mag sigma (rad), yaw noise (rad), gyro bias (rad/s),
-    gyro noise (rad/s), attitude noise (rad).
-    """
-    psi = sig[sl[0]]
-    if pa[1] > 0:
-        a = 1.0 - math.exp(-pa[0] / pa[1])
-        st[0] = angle_lowpass_step(st[0], a, psi)
-    else:
-        st[0] = psi
-    am = math.exp(-pa[0] / pa[2])
-    w0 = rng.standard_normal()
-    w1 = rng.standard_normal()
-    w2 = rng.standard_normal()
-    w3 = rng.standard_normal()
-    w4 = rng.standard_normal()
-    st[1] = gauss_markov(st[1], am, pa[3], w0)
-    sig[sl[4]] = wrap(st[0] + st[1] + pa[4] * w1)
-    sig[sl[5]] = sig[sl[1]] + pa[5] + pa[6] * w2
-    sig[sl[6]] = _get(sig, sl[2], 0.0) + pa[7] * w3
-    sig[sl[7]] = _get(sig, sl[3], 0.0) + pa[7] * w4
 
 
 @njit(cache=True)
