@@ -14,8 +14,7 @@ import numpy as np
 from numba import njit
 
 from ..core.rotations import wrap
-from ..sensors._compiled import ring_slot
-from ..sensors.filters import gauss_markov
+from ..sensors.filters import gauss_markov, ring_slot
 
 # pilot parameter layout
 _PP = 32  # route data start

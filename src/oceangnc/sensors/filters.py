@@ -59,6 +59,15 @@ def gauss_markov(m, a, sigma, w):
     return a * m + sigma * math.sqrt(1.0 - a * a) * w
 
 
+@njit(cache=True)
+def ring_slot(count, head, cap):
+    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
+    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
+    if count < cap:
+        return (head + count) % cap, count + 1, head
+    return head, count, (head + 1) % cap
+
+
 class LowPass:
     """Scalar first-order low-pass (state: the last output); the first sample initialises it."""
 
