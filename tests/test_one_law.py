@@ -13,7 +13,6 @@ from oceangnc.core.registry import _KINDS, kinds
 #: kinds not yet moved onto LawBlock, each with the reason; the list may only shrink (the test
 #: below fails when a kind listed here has become a LawBlock, or a kind is missing from both)
 PENDING: dict[str, str] = {
-    "sensor.usbl_navigation": "not yet moved onto LawBlock (issue 25 in progress)",
     "ship.scripted_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.los": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
