@@ -12,17 +12,7 @@ from oceangnc.core.registry import _KINDS, kinds
 
 #: kinds not yet moved onto LawBlock, each with the reason; the list may only shrink (the test
 #: below fails when a kind listed here has become a LawBlock, or a kind is missing from both)
-PENDING: dict[str, str] = {
-    "env.current": "not yet moved onto LawBlock (issue 25 in progress)",
-    "env.wind": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.ahrs": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.dropout_hold": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.gps": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.trial": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.usbl": "not yet moved onto LawBlock (issue 25 in progress)",
-    "sensor.usbl_navigation": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
-}
+PENDING: dict[str, str] = {}
 
 
 def _law_kinds():

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from numba import njit
 from pydantic import Field, model_validator
 
-from ..core.blocks import Block
+from ..core.law import LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..io.config import StrictModel
 
@@ -61,47 +61,58 @@ class WindConfig(StrictModel):
         return self
 
 
+SIGNALS = Signals(n=Out("m/s"), e=Out("m/s"), speed=Out("m/s"), direction=Out("deg"))
+#: mean speed (m/s), direction from (deg), gust standard deviation (m/s), period and gust time constant (s)
+PARAMS = Layout("speed", "direction_deg", "gust_sigma", "period", "gust_time_constant")
+STATE = Layout("gust")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+
+
+@njit(cache=True)
+def wind_law(t, sig, sl, st, pa, rng):
+    """The wind (module docstring): with gusts, one exact first-order Gauss-Markov step of the gust
+    (one normal draw); the speed (m/s, >= 0), and the NED velocity of the air, which moves toward
+    the opposite of the direction it blows from (deg)."""
+    if pa[P.gust_sigma] > 0.0:
+        a = math.exp(-pa[P.period] / pa[P.gust_time_constant])
+        st[X.gust] = a * st[X.gust] + pa[P.gust_sigma] * math.sqrt(1 - a * a) * rng.standard_normal()
+    speed = max(0.0, pa[P.speed] + st[X.gust])
+    to = math.radians(pa[P.direction_deg]) + math.pi  # air moves toward the opposite of "from"
+    sig[sl[S.n]] = speed * math.cos(to)
+    sig[sl[S.e]] = speed * math.sin(to)
+    sig[sl[S.speed]] = speed
+    sig[sl[S.direction]] = pa[P.direction_deg]
+
+
 @register_block("env.wind")
-class Wind(Block):
-    """Discrete block publishing the wind's NED velocity (with optional first-order gusts)."""
+class Wind(LawBlock):
+    """Discrete block publishing the wind's NED velocity (with optional first-order gusts); law
+    :func:`wind_law`."""
 
     role = "environment"
-
     name = "wind"
-
-    outputs = {"env.wind_n": "m/s", "env.wind_e": "m/s", "env.wind_speed": "m/s", "env.wind_direction_deg": "deg"}
-    inputs: dict[str, str] = {}
+    law = staticmethod(wind_law)
+    signals = SIGNALS
+    draws = True
 
     def __init__(self, cfg: WindConfig, period: float = 0.1):
         self.cfg = cfg
         self.period = float(period)
-        self.gust = 0.0
-
-    def reset(self, rng: np.random.Generator) -> None:
-        self.rng = rng
-        self.gust = 0.0
-
-    def compiled(self):
-        """Compiled form for the fused loop (steady wind only; see :mod:`oceangnc.core.fused`)."""
-        if self.cfg.gust_sigma > 0.0:
-            return None
-        from ..core.fused import CompiledBlock
-        from ..models._compiled import steady_wind_step
-
-        return CompiledBlock(
-            steady_wind_step,
-            ["env.wind_n", "env.wind_e", "env.wind_speed", "env.wind_direction_deg"],
-            params=np.array([self.cfg.speed, self.cfg.direction_deg]),
+        self.bind(n="env.wind_n", e="env.wind_e", speed="env.wind_speed", direction="env.wind_direction_deg")
+        self.pa = PARAMS.pack(
+            speed=cfg.speed,
+            direction_deg=cfg.direction_deg,
+            gust_sigma=cfg.gust_sigma,
+            period=self.period,
+            gust_time_constant=cfg.gust_time_constant,
         )
+        self.st = STATE.pack(gust=0.0)
 
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        if c.gust_sigma > 0.0:
-            a = math.exp(-self.period / c.gust_time_constant)
-            self.gust = a * self.gust + c.gust_sigma * math.sqrt(1 - a * a) * self.rng.standard_normal()
-        speed = max(0.0, c.speed + self.gust)
-        to = math.radians(c.direction_deg) + math.pi  # air moves toward the opposite of "from"
-        bus["env.wind_n"] = speed * math.cos(to)
-        bus["env.wind_e"] = speed * math.sin(to)
-        bus["env.wind_speed"] = speed
-        bus["env.wind_direction_deg"] = c.direction_deg
+    def reset(self, rng) -> None:
+        self.rng = rng
+        self.st[X.gust] = 0.0
+
+    @property
+    def gust(self) -> float:
+        """The gust now, m/s."""
+        return float(self.st[X.gust])

@@ -47,7 +47,10 @@ from ..core.law import In, LawBlock, Layout, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
-from ..sensors.filters import gauss_markov
+from ..sensors.filters import (
+    gauss_markov,
+    ring_slot,  # the one ring buffer of the project's laws
+)
 from ..units import KNOT
 from .views import entry
 
@@ -164,15 +167,6 @@ class Route:
     def centre_east(self, north):
         """East coordinate of the route at the given north coordinates (route monotonic in north)."""
         return np.interp(north, self.p[:, 0], self.p[:, 1])
-
-
-@njit(cache=True)
-def ring_slot(count, head, cap):
-    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
-    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
-    if count < cap:
-        return (head + count) % cap, count + 1, head
-    return head, count, (head + 1) % cap
 
 
 @njit(cache=True)

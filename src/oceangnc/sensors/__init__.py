@@ -1,6 +1,7 @@
 """Sensors of the combined vehicle (003 ch. 6.1, appendix B): GPS, AHRS, USBL, depth; and filters.
 
-Each sensor is a :class:`~oceangnc.core.blocks.Block` drawing its noise from its own generator.
+Each sensor is a :class:`~oceangnc.core.law.LawBlock` whose one compiled law (in the sensor's own module)
+draws its noise from the block's own generator, on the Python clock and in the fused loop alike.
 """
 
 from .ahrs import AHRS, AHRSConfig

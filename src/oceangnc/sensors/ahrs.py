@@ -16,16 +16,18 @@ tests/test_sensors.py. Roll and pitch (if the body publishes them) get white noi
 table's 0.5-2 deg dynamic accuracy, lower end). The yaw rate is the gyro: true r plus the 0.2 deg/s
 initial bias of table C-2 (a constant drawn once) and white noise.
 
-Outputs ``<name>.psi``, ``<name>.r`` (rad, rad/s), ``<name>.phi``, ``<name>.theta`` (rad).
+Outputs ``<name>.psi``, ``<name>.r`` (rad, rad/s), ``<name>.phi``, ``<name>.theta`` (rad). Law:
+:func:`ahrs_law`.
 """
 
 from __future__ import annotations
 
 import math
 
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
@@ -43,75 +45,99 @@ class AHRSConfig(StrictModel):
     gyro_noise_degps: float = Field(0.1, ge=0, le=10, description="gyro white noise, deg/s")
 
 
+SIGNALS = Signals(
+    psi=In("rad"),
+    r=In("rad/s"),
+    phi=Opt("rad"),  # a surface vessel has no roll/pitch states: level (0) when nobody publishes them
+    theta=Opt("rad"),
+    psi_out=Out("rad"),
+    r_out=Out("rad/s"),
+    phi_out=Out("rad"),
+    theta_out=Out("rad"),
+)
+#: period, lag and magnetic time constants (s); magnetic and yaw noise (rad), gyro bias and noise (rad/s),
+#: roll/pitch noise (rad)
+PARAMS = Layout(
+    "period", "lag", "mag_time_constant", "mag_sigma", "yaw_noise", "gyro_bias", "gyro_noise", "attitude_noise"
+)
+STATE = Layout("psi_f", "has_psi_f", "mag")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+
+
+@njit(cache=True)
+def ahrs_law(t, sig, sl, st, pa, rng):
+    """One AHRS sample (module docstring): the lagged heading (the first sample initialises it), the
+    magnetic disturbance's Gauss-Markov step, then five normal draws in the order magnetic, yaw, gyro,
+    roll, pitch."""
+    psi = sig[sl[S.psi]]
+    if st[X.has_psi_f] == 0.0:
+        st[X.psi_f] = psi
+        st[X.has_psi_f] = 1.0
+    elif pa[P.lag] > 0:
+        a = 1.0 - math.exp(-pa[P.period] / pa[P.lag])
+        st[X.psi_f] = angle_lowpass_step(st[X.psi_f], a, psi)
+    else:
+        st[X.psi_f] = psi
+    am = math.exp(-pa[P.period] / pa[P.mag_time_constant])
+    w0 = rng.standard_normal()
+    w1 = rng.standard_normal()
+    w2 = rng.standard_normal()
+    w3 = rng.standard_normal()
+    w4 = rng.standard_normal()
+    st[X.mag] = gauss_markov(st[X.mag], am, pa[P.mag_sigma], w0)
+    sig[sl[S.psi_out]] = wrap(st[X.psi_f] + st[X.mag] + pa[P.yaw_noise] * w1)
+    sig[sl[S.r_out]] = sig[sl[S.r]] + pa[P.gyro_bias] + pa[P.gyro_noise] * w2
+    phi = sig[sl[S.phi]] if sl[S.phi] >= 0 else 0.0
+    theta = sig[sl[S.theta]] if sl[S.theta] >= 0 else 0.0
+    sig[sl[S.phi_out]] = phi + pa[P.attitude_noise] * w3
+    sig[sl[S.theta_out]] = theta + pa[P.attitude_noise] * w4
+
+
 @register_block("sensor.ahrs")
-class AHRS(Block):
-    """AHRS on body ``body`` (module docstring)."""
+class AHRS(LawBlock):
+    """AHRS on body ``body`` (module docstring); law :func:`ahrs_law`."""
 
     role = "sensor"
+    law = staticmethod(ahrs_law)
+    signals = SIGNALS
+    draws = True
+
+    gyro_bias = param(P.gyro_bias, "the gyro's bias, drawn at reset, rad/s")
 
     def __init__(self, cfg: AHRSConfig, body: str = "usv", name: str | None = None):
         self.cfg = cfg
         self.body = body
         self.name = name or f"{body}_ahrs"
         self.period = 1.0 / cfg.rate
-        self.inputs = {f"{body}.psi": "rad", f"{body}.r": "rad/s"}
-        # a surface vessel has no roll/pitch states: level (0) when nobody publishes them
-        self.optional_inputs = {f"{body}.phi": "rad", f"{body}.theta": "rad"}
-        self.outputs = {
-            f"{self.name}.psi": "rad",
-            f"{self.name}.r": "rad/s",
-            f"{self.name}.phi": "rad",
-            f"{self.name}.theta": "rad",
-        }
+        o = self.name
+        self.bind(psi=f"{body}.psi", r=f"{body}.r", phi=f"{body}.phi", theta=f"{body}.theta", psi_out=f"{o}.psi",
+                  r_out=f"{o}.r", phi_out=f"{o}.phi", theta_out=f"{o}.theta")  # fmt: skip
+        self.pa = PARAMS.pack(
+            period=self.period,
+            lag=cfg.lag,
+            mag_time_constant=cfg.mag_time_constant,
+            mag_sigma=math.radians(cfg.mag_sigma_deg),
+            yaw_noise=math.radians(cfg.yaw_noise_deg),
+            gyro_bias=0.0,
+            gyro_noise=math.radians(cfg.gyro_noise_degps),
+            attitude_noise=math.radians(cfg.attitude_noise_deg),
+        )
+        self.st = STATE.pack(psi_f=0.0, has_psi_f=0.0, mag=0.0)
 
     def reset(self, rng) -> None:
+        """Clear the lag, draw the magnetic disturbance's initial value and the gyro's bias."""
         self.rng = rng
         c = self.cfg
-        self.psi_f = None
-        self.mag = math.radians(c.mag_sigma_deg) * rng.standard_normal()
-        self.gyro_bias = math.radians(c.gyro_bias_degps) * rng.uniform(-1.0, 1.0)
+        self.st[:] = 0.0
+        self.st[X.mag] = math.radians(c.mag_sigma_deg) * rng.standard_normal()
+        self.pa[P.gyro_bias] = math.radians(c.gyro_bias_degps) * rng.uniform(-1.0, 1.0)
 
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.ahrs_step`)."""
-        if self.psi_f is None:
-            return None
-        import numpy as np
+    @property
+    def psi_f(self) -> float | None:
+        """The lagged heading (rad), None before the first sample."""
+        return float(self.st[X.psi_f]) if self.st[X.has_psi_f] else None
 
-        from ..core.fused import CompiledBlock
-        from ._compiled import ahrs_step
-
-        c, b, o = self.cfg, self.body, self.name
-        pa = np.array(
-            [
-                self.period,
-                c.lag,
-                c.mag_time_constant,
-                math.radians(c.mag_sigma_deg),
-                math.radians(c.yaw_noise_deg),
-                self.gyro_bias,
-                math.radians(c.gyro_noise_degps),
-                math.radians(c.attitude_noise_deg),
-            ]
-        )
-        sig = [f"{b}.psi", f"{b}.r", f"?{b}.phi", f"?{b}.theta", f"{o}.psi", f"{o}.r", f"{o}.phi", f"{o}.theta"]
-        return CompiledBlock(ahrs_step, sig, np.array([self.psi_f, self.mag]), pa, rng=self.rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        b = self.body
-        psi = bus[f"{b}.psi"]
-        if self.psi_f is None:
-            self.psi_f = psi
-        elif c.lag > 0:
-            a = 1.0 - math.exp(-self.period / c.lag)
-            self.psi_f = float(angle_lowpass_step(self.psi_f, a, psi))
-        else:
-            self.psi_f = psi
-        am = math.exp(-self.period / c.mag_time_constant)
-        w = self.rng.standard_normal(5)
-        self.mag = float(gauss_markov(self.mag, am, math.radians(c.mag_sigma_deg), w[0]))
-        bus[f"{self.name}.psi"] = wrap(self.psi_f + self.mag + math.radians(c.yaw_noise_deg) * w[1])
-        bus[f"{self.name}.r"] = bus[f"{b}.r"] + self.gyro_bias + math.radians(c.gyro_noise_degps) * w[2]
-        sa = math.radians(c.attitude_noise_deg)
-        bus[f"{self.name}.phi"] = bus.get(f"{b}.phi", 0.0) + sa * w[3]
-        bus[f"{self.name}.theta"] = bus.get(f"{b}.theta", 0.0) + sa * w[4]
+    @property
+    def mag(self) -> float:
+        """The magnetic disturbance now, rad."""
+        return float(self.st[X.mag])

@@ -9,7 +9,7 @@
 * :class:`DropoutHold` - a Block that copies measured signals to navigation signals while the sensor's
   ``valid`` flag is set, holds the last valid value while it is not, publishes a flag
   (``<out>.ok``, 1/0) and the age of the held value (``<out>.age``, s), and resumes as soon as fixes
-  come back. This is how the guidance and control survive a USBL dropout.
+  come back. This is how the guidance and control survive a USBL dropout. Law: :func:`dropout_hold_law`.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
 
@@ -59,6 +59,15 @@ def gauss_markov(m, a, sigma, w):
     return a * m + sigma * math.sqrt(1.0 - a * a) * w
 
 
+@njit(cache=True)
+def ring_slot(count, head, cap):
+    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
+    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
+    if count < cap:
+        return (head + count) % cap, count + 1, head
+    return head, count, (head + 1) % cap
+
+
 class LowPass:
     """Scalar first-order low-pass (state: the last output); the first sample initialises it."""
 
@@ -85,9 +94,42 @@ class AngleLowPass(LowPass):
         return self.y
 
 
+#: the hold's fixed signals; the m inputs (``in0`` ...) and the m held outputs (``out0`` ...) follow
+HOLD_SIGNALS = Signals(valid=In("bool"), ok=Out("bool"), age=Out("s"), dropouts=Out("count"))
+HOLD_PARAMS = Layout("m")
+#: time of the last valid fix (s), dropouts so far, the last sample's validity, whether a value is
+#: held; then the m held values
+HOLD_STATE = Layout("t_fix", "dropouts", "ok", "has_held")
+_HS, _HP, _HX = HOLD_SIGNALS.at, HOLD_PARAMS.at, HOLD_STATE.at
+_IN, _HELD = HOLD_SIGNALS.size, HOLD_STATE.size
+
+
+@njit(cache=True)
+def dropout_hold_law(t, sig, sl, st, pa):
+    """Hold the last valid value (module docstring): copy the m inputs while ``valid`` is set (and at
+    the first sample), count a dropout when a valid sample is followed by an invalid one, publish the
+    held values, the flag, the age of the held value (s) and the dropouts."""
+    m = int(pa[_HP.m])
+    valid = sig[sl[_HS.valid]] != 0.0
+    if valid or st[_HX.has_held] == 0.0:
+        for i in range(m):
+            st[_HELD + i] = sig[sl[_IN + i]]
+        st[_HX.has_held] = 1.0
+        if valid:
+            st[_HX.t_fix] = t
+    if st[_HX.ok] != 0.0 and not valid:
+        st[_HX.dropouts] += 1.0
+    st[_HX.ok] = 1.0 if valid else 0.0
+    for i in range(m):
+        sig[sl[_IN + m + i]] = st[_HELD + i]
+    sig[sl[_HS.ok]] = 1.0 if valid else 0.0
+    sig[sl[_HS.age]] = t - st[_HX.t_fix]
+    sig[sl[_HS.dropouts]] = st[_HX.dropouts]
+
+
 @register_block("sensor.dropout_hold")
-class DropoutHold(Block):
-    """Hold-last-value dropout handling (module docstring).
+class DropoutHold(LawBlock):
+    """Hold-last-value dropout handling (module docstring); law :func:`dropout_hold_law`.
 
     Parameters
     ----------
@@ -98,7 +140,7 @@ class DropoutHold(Block):
     valid_key : str
         Bus key of the sensor's validity flag (nonzero = fresh valid fix).
     signals : dict
-        Output signal name -> input bus key.
+        Output signal name -> input bus key (kept as ``sources``).
     out_prefix : str
         Prefix of the output keys.
     units : dict, optional
@@ -106,6 +148,7 @@ class DropoutHold(Block):
     """
 
     role = "sensor"
+    law = staticmethod(dropout_hold_law)
 
     def __init__(
         self, name: str, period: float, valid_key: str, signals: dict, out_prefix: str, units: dict | None = None
@@ -113,79 +156,44 @@ class DropoutHold(Block):
         self.name = name
         self.period = float(period)
         self.valid_key = valid_key
-        self.signals = dict(signals)
+        self.sources = dict(signals)
         self.out = out_prefix
         units = units or {}
-        self.inputs = {valid_key: "bool", **{k: units.get(o, "1") for o, k in self.signals.items()}}
-        self.outputs = {
-            **{f"{out_prefix}.{o}": units.get(o, "1") for o in self.signals},
-            f"{out_prefix}.ok": "bool",
-            f"{out_prefix}.age": "s",
-            f"{out_prefix}.dropouts": "count",
-        }
+        outs = list(self.sources)
+        self.signals = Signals(
+            **HOLD_SIGNALS.roles,
+            **{f"in{i}": In(units.get(o, "1")) for i, o in enumerate(outs)},
+            **{f"out{i}": Out(units.get(o, "1")) for i, o in enumerate(outs)},
+        )
+        self.bind(
+            valid=valid_key,
+            ok=f"{out_prefix}.ok",
+            age=f"{out_prefix}.age",
+            dropouts=f"{out_prefix}.dropouts",
+            **{f"in{i}": self.sources[o] for i, o in enumerate(outs)},
+            **{f"out{i}": f"{out_prefix}.{o}" for i, o in enumerate(outs)},
+        )
+        self.pa = HOLD_PARAMS.pack(m=len(outs))
+        self.st = np.zeros(HOLD_STATE.size + len(outs))
         self.reset(None)
 
     def reset(self, rng) -> None:
-        self.held: dict | None = None
-        self.t_fix = 0.0
-        self.dropouts = 0
-        self._ok = True
+        self.st[:] = 0.0
+        self.st[_HX.ok] = 1.0
 
-    def compiled(self):
-        """Compiled form once a value is held (:func:`oceangnc.sensors._compiled.dropout_hold_step`)."""
-        if self.held is None:
+    @property
+    def held(self) -> dict | None:
+        """The held values by output name, None before the first sample."""
+        if not self.st[_HX.has_held]:
             return None
-        from ..core.fused import CompiledBlock
+        return {o: float(self.st[_HELD + i]) for i, o in enumerate(self.sources)}
 
-        outs = list(self.signals)
-        st = np.array([*(self.held[o] for o in outs), self.t_fix, self.dropouts, 1.0 if self._ok else 0.0], float)
-        sig = [
-            self.valid_key,
-            *(self.signals[o] for o in outs),
-            *(f"{self.out}.{o}" for o in outs),
-            f"{self.out}.ok",
-            f"{self.out}.age",
-            f"{self.out}.dropouts",
-        ]
-        return CompiledBlock(dropout_hold_step, sig, st, np.array([float(len(outs))]))
+    @property
+    def t_fix(self) -> float:
+        """Time of the last valid fix, s."""
+        return float(self.st[_HX.t_fix])
 
-    def step(self, t: float, bus: dict) -> None:
-        valid = bool(bus[self.valid_key])
-        if valid or self.held is None:
-            if all(k in bus for k in self.signals.values()):
-                self.held = {o: float(bus[k]) for o, k in self.signals.items()}
-                if valid:
-                    self.t_fix = t
-        ok = valid
-        if self._ok and not ok:
-            self.dropouts += 1
-        self._ok = ok
-        if self.held is not None:
-            for o, v in self.held.items():
-                bus[f"{self.out}.{o}"] = v
-        bus[f"{self.out}.ok"] = 1.0 if ok else 0.0
-        bus[f"{self.out}.age"] = t - self.t_fix
-        bus[f"{self.out}.dropouts"] = float(self.dropouts)
-
-
-@njit(cache=True)
-def dropout_hold_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.sensors.filters.DropoutHold` once it holds a value.
-
-    slots: valid, in_0..in_{m-1}, out_0..out_{m-1}, ok, age, dropouts. state: held (m), t_fix,
-    dropouts, last ok. params: m.
-    """
-    m = int(pa[0])
-    valid = sig[sl[0]] != 0.0
-    if valid:
-        for i in range(m):
-            st[i] = sig[sl[1 + i]]
-        st[m] = t
-    if st[m + 2] != 0.0 and not valid:
-        st[m + 1] += 1.0
-    st[m + 2] = 1.0 if valid else 0.0
-    for i in range(m):
-        sig[sl[1 + m + i]] = st[i]
-    sig[sl[1 + 2 * m]] = 1.0 if valid else 0.0
-    sig[sl[2 + 2 * m]] = t - st[m]
-    sig[sl[3 + 2 * m]] = st[m + 1]
+    @property
+    def dropouts(self) -> int:
+        """Dropouts so far (valid -> invalid transitions)."""
+        return int(self.st[_HX.dropouts])

@@ -21,20 +21,23 @@ over ground comes from the same difference. Outputs: ``gps.x``, ``gps.y`` (m, NE
 Two error models (``error_model``): ``"gauss-markov"`` (above, the default) and ``"white"``: the
 fix is the true position plus independent N(0, sigma^2) noise per axis (the console's USV, 003
 ch. 6.1: cm-level when still). Outage windows (``outages``, both models): no fix inside them
-(``gps.valid`` = 0), the last fix is held and course/speed are not updated.
+(``gps.valid`` = 0), the last fix is held and course/speed are not updated (an outage before the
+first fix publishes the true position as that first fix). Law: :func:`gps_law`.
 """
 
 from __future__ import annotations
 
-import collections
 import math
 from typing import Literal
 
+import numpy as np
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..io.config import StrictModel
+from .filters import gauss_markov, ring_slot
 
 
 class GPSConfig(StrictModel):
@@ -52,114 +55,138 @@ class GPSConfig(StrictModel):
     outages: list[tuple[float, float]] = Field([], max_length=100, description="(start, end) windows without a fix, s")
 
 
+SIGNALS = Signals(
+    x=In("m"),
+    y=In("m"),
+    psi=In("rad"),
+    x_out=Out("m"),
+    y_out=Out("m"),
+    sog=Out("m/s"),
+    cog=Out("rad"),
+    cog_valid=Out("bool"),
+    valid=Out("bool"),
+    hdop=Out("1"),
+)
+#: period and bias time constant (s), bias sigma_b, jitter and min_track (m), HDOP, track entries n,
+#: white model (1/0) and its sigma (m), m outage windows; then the m windows (start, end), s
+PARAMS = Layout(
+    "period", "bias_time_constant", "sigma_b", "jitter", "min_track", "hdop", "n", "white", "sigma", "m"
+)  # fmt: skip
+#: bias (m, N and E), course (rad) and whether one is set, whether anything was published, the track
+#: ring's count and head; then the ring of n fixes (t, x, y)
+STATE = Layout("bias_n", "bias_e", "cog", "has_cog", "published", "count", "head")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+_WIN, _RING = PARAMS.size, STATE.size
+
+
+@njit(cache=True)
+def gps_fix(sig, sl, st, pa, rng):
+    """One position fix (m, NED) with the configured error model: white, two normal draws (none when
+    sigma = 0); or the Gauss-Markov bias and white jitter, four draws (bias N, E, jitter N, E)."""
+    if pa[P.white] != 0.0:
+        s = pa[P.sigma]
+        nx = rng.normal(0.0, s) if s > 0 else 0.0
+        ny = rng.normal(0.0, s) if s > 0 else 0.0
+        return sig[sl[S.x]] + nx, sig[sl[S.y]] + ny
+    a = math.exp(-pa[P.period] / pa[P.bias_time_constant])
+    w0 = rng.standard_normal()
+    w1 = rng.standard_normal()
+    w2 = rng.standard_normal()
+    w3 = rng.standard_normal()
+    st[X.bias_n] = gauss_markov(st[X.bias_n], a, pa[P.sigma_b], w0)
+    st[X.bias_e] = gauss_markov(st[X.bias_e], a, pa[P.sigma_b], w1)
+    return sig[sl[S.x]] + st[X.bias_n] + pa[P.jitter] * w2, sig[sl[S.y]] + st[X.bias_e] + pa[P.jitter] * w3
+
+
+@njit(cache=True)
+def gps_law(t, sig, sl, st, pa, rng):
+    """One GPS sample (module docstring): nothing but ``valid`` = 0 inside an outage (the truth as the
+    first fix if none was published yet); else a fix (:func:`gps_fix`) into the track ring, the
+    course over ground (valid past min_track; the body's heading until a first course) and the speed
+    over ground from the ring's oldest entry."""
+    for i in range(int(pa[P.m])):
+        if pa[_WIN + 2 * i] <= t < pa[_WIN + 2 * i + 1]:
+            sig[sl[S.valid]] = 0.0
+            if st[X.published] == 0.0:  # no fix yet: the first one is the truth, then held
+                sig[sl[S.x_out]] = sig[sl[S.x]]
+                sig[sl[S.y_out]] = sig[sl[S.y]]
+                sig[sl[S.sog]] = 0.0
+                sig[sl[S.cog]] = sig[sl[S.psi]]
+                sig[sl[S.cog_valid]] = 0.0
+                sig[sl[S.hdop]] = pa[P.hdop]
+                st[X.published] = 1.0
+            return
+    x, y = gps_fix(sig, sl, st, pa, rng)
+    j, count, head = ring_slot(int(st[X.count]), int(st[X.head]), int(pa[P.n]))
+    st[_RING + 3 * j] = t
+    st[_RING + 3 * j + 1] = x
+    st[_RING + 3 * j + 2] = y
+    st[X.count] = count
+    st[X.head] = head
+    t0 = st[_RING + 3 * head]
+    dn, de = x - st[_RING + 3 * head + 1], y - st[_RING + 3 * head + 2]
+    dist = math.hypot(dn, de)
+    span = t - t0
+    valid_cog = dist > pa[P.min_track] and span > 0
+    if valid_cog:
+        st[X.cog] = math.atan2(de, dn)
+        st[X.has_cog] = 1.0
+    if st[X.has_cog] == 0.0:
+        st[X.cog] = sig[sl[S.psi]]
+        st[X.has_cog] = 1.0
+    st[X.published] = 1.0
+    sig[sl[S.x_out]] = x
+    sig[sl[S.y_out]] = y
+    sig[sl[S.sog]] = dist / span if span > 0 else 0.0
+    sig[sl[S.cog]] = st[X.cog]
+    sig[sl[S.cog_valid]] = 1.0 if valid_cog else 0.0
+    sig[sl[S.valid]] = 1.0
+    sig[sl[S.hdop]] = pa[P.hdop]
+
+
 @register_block("sensor.gps")
-class GPS(Block):
-    """GPS on body ``body`` (module docstring)."""
+class GPS(LawBlock):
+    """GPS on body ``body`` (module docstring); law :func:`gps_law`."""
 
     role = "sensor"
+    law = staticmethod(gps_law)
+    signals = SIGNALS
+    draws = True
 
     def __init__(self, cfg: GPSConfig, body: str = "usv", name: str = "gps"):
         self.cfg = cfg
         self.body = body
         self.name = name
         self.period = 1.0 / cfg.rate
-        self.inputs = {f"{body}.x": "m", f"{body}.y": "m", f"{body}.psi": "rad"}
-        self.outputs = {
-            f"{name}.x": "m",
-            f"{name}.y": "m",
-            f"{name}.sog": "m/s",
-            f"{name}.cog": "rad",
-            f"{name}.cog_valid": "bool",
-            f"{name}.valid": "bool",
-            f"{name}.hdop": "1",
-        }
+        self.bind(x=f"{body}.x", y=f"{body}.y", psi=f"{body}.psi", x_out=f"{name}.x", y_out=f"{name}.y",
+                  sog=f"{name}.sog", cog=f"{name}.cog", cog_valid=f"{name}.cog_valid", valid=f"{name}.valid",
+                  hdop=f"{name}.hdop")  # fmt: skip
+        n = max(2, int(round(cfg.track_window / self.period)) + 1)  # fixes in the track window
+        head = PARAMS.pack(
+            period=self.period,
+            bias_time_constant=cfg.bias_time_constant,
+            sigma_b=cfg.hdop * cfg.uere / math.sqrt(2.0),
+            jitter=cfg.jitter,
+            min_track=cfg.min_track,
+            hdop=cfg.hdop,
+            n=n,
+            white=1.0 if cfg.error_model == "white" else 0.0,
+            sigma=cfg.sigma,
+            m=len(cfg.outages),
+        )
+        self.pa = np.concatenate([head, np.asarray(cfg.outages, float).reshape(-1)])
+        self.st = np.zeros(STATE.size + 3 * n)
+
+    @property
+    def sigma_b(self) -> float:
+        """Standard deviation of the position bias per axis, m."""
+        return float(self.pa[P.sigma_b])
 
     def reset(self, rng) -> None:
-        c = self.cfg
+        """Clear the track and the course; draw the bias's initial value (Gauss-Markov model)."""
         self.rng = rng
-        s = c.hdop * c.uere / math.sqrt(2.0)
-        self.sigma_b = s
-        # the white model draws nothing here (its stream is the fixes' noise only)
-        self.bias = [0.0, 0.0] if c.error_model == "white" else [s * rng.standard_normal(), s * rng.standard_normal()]
-        n = max(2, int(round(c.track_window / self.period)) + 1)
-        self.hist = collections.deque(maxlen=n)
-        self.cog = None
-
-    def _fix(self, bus: dict) -> tuple[float, float]:
-        """One position fix (m) with the configured error model."""
-        c = self.cfg
-        xt, yt = bus[f"{self.body}.x"], bus[f"{self.body}.y"]
-        if c.error_model == "white":
-            n = self.rng.normal(0.0, c.sigma, 2) if c.sigma > 0 else (0.0, 0.0)
-            return xt + float(n[0]), yt + float(n[1])
-        a = math.exp(-self.period / c.bias_time_constant)
-        q = self.sigma_b * math.sqrt(1.0 - a * a)
-        w = self.rng.standard_normal(4)
-        self.bias[0] = a * self.bias[0] + q * w[0]
-        self.bias[1] = a * self.bias[1] + q * w[1]
-        return xt + self.bias[0] + c.jitter * w[2], yt + self.bias[1] + c.jitter * w[3]
-
-    def compiled(self):
-        """Compiled form for the fused loop: Gauss-Markov errors without outages
-        (:func:`oceangnc.sensors._compiled.gps_step`), else :func:`oceangnc.sensors._compiled_gps.gps_fix_step`."""
-        c = self.cfg
-        if self.cog is None:
-            return None
-        import numpy as np
-
-        from ..core.fused import CompiledBlock
-        from ._compiled import gps_step
-        from ._compiled_gps import gps_fix_step
-
-        n = self.hist.maxlen
-        ring = np.zeros(3 * n)
-        for j, row in enumerate(self.hist):
-            ring[3 * j : 3 * j + 3] = row
-        st = np.concatenate([[self.bias[0], self.bias[1], self.cog, len(self.hist), 0.0], ring])
-        pa = np.array([self.period, c.bias_time_constant, self.sigma_b, c.jitter, c.min_track, c.hdop, n], float)
-        b, o = self.body, self.name
-        sig = [
-            f"{b}.x",
-            f"{b}.y",
-            f"{o}.x",
-            f"{o}.y",
-            f"{o}.sog",
-            f"{o}.cog",
-            f"{o}.cog_valid",
-            f"{o}.valid",
-            f"{o}.hdop",
-        ]
-        if c.error_model == "white" or c.outages:  # white noise, outages: _compiled_gps.gps_fix_step
-            win = [v for w in c.outages for v in w]
-            extra = [1.0 if c.error_model == "white" else 0.0, c.sigma, len(c.outages), *win]
-            return CompiledBlock(gps_fix_step, sig, st, np.concatenate([pa, extra]), rng=self.rng)
-        return CompiledBlock(gps_step, sig, st, pa, rng=self.rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        n = self.name
-        if c.outages and any(a <= t < b for a, b in c.outages):
-            bus[f"{n}.valid"] = 0.0
-            if f"{n}.x" not in bus:  # no fix yet: the first one is the truth, then held
-                bus[f"{n}.x"], bus[f"{n}.y"] = bus[f"{self.body}.x"], bus[f"{self.body}.y"]
-                bus[f"{n}.sog"], bus[f"{n}.cog"] = 0.0, bus[f"{self.body}.psi"]
-                bus[f"{n}.cog_valid"], bus[f"{n}.hdop"] = 0.0, c.hdop
-            return
-        x, y = self._fix(bus)
-        self.hist.append((t, x, y))
-        t0, x0, y0 = self.hist[0]
-        dn, de = x - x0, y - y0
-        dist = math.hypot(dn, de)
-        span = t - t0
-        valid_cog = dist > c.min_track and span > 0
-        if valid_cog:
-            self.cog = math.atan2(de, dn)
-        if self.cog is None:
-            self.cog = bus[f"{self.body}.psi"]
-        bus[f"{self.name}.x"] = x
-        bus[f"{self.name}.y"] = y
-        bus[f"{self.name}.sog"] = dist / span if span > 0 else 0.0
-        bus[f"{self.name}.cog"] = self.cog
-        bus[f"{self.name}.cog_valid"] = 1.0 if valid_cog else 0.0
-        bus[f"{self.name}.valid"] = 1.0
-        bus[f"{self.name}.hdop"] = c.hdop
+        self.st[:] = 0.0
+        if self.cfg.error_model != "white":  # the white model draws nothing here (its stream is the fixes' noise)
+            s = self.sigma_b
+            self.st[X.bias_n] = s * rng.standard_normal()
+            self.st[X.bias_e] = s * rng.standard_normal()

@@ -6,54 +6,59 @@ USV's fix plus the USBL's relative position held through dropouts
 
     nav.usv_x, nav.usv_y = gps.x, gps.y;   nav.usv_u = gps.sog
     nav.uuv_x = nav.usv_x + nav.usbl.dn;   nav.uuv_y = nav.usv_y + nav.usbl.de      (m, m/s, NED)
+
+Law: :func:`navigation_law`.
 """
 
 from __future__ import annotations
 
-from ..core.blocks import Block
+import numpy as np
+from numba import njit
+
+from ..core.law import In, LawBlock, Opt, Out, Signals
 from ..core.registry import register_block
+
+SIGNALS = Signals(
+    gps_x=In("m"),
+    gps_y=In("m"),
+    usbl_dn=Opt("m"),  # 0 until the first USBL fix
+    usbl_de=Opt("m"),
+    gps_sog=In("m/s"),
+    usv_x=Out("m"),
+    usv_y=Out("m"),
+    uuv_x=Out("m"),
+    uuv_y=Out("m"),
+    usv_u=Out("m/s"),
+)
+S = SIGNALS.at
+
+
+@njit(cache=True)
+def navigation_law(t, sig, sl, st, pa):
+    """The USV from the GPS, the UUV = USV + the held USBL offset (module docstring)."""
+    x = sig[sl[S.gps_x]]
+    y = sig[sl[S.gps_y]]
+    sig[sl[S.usv_x]] = x
+    sig[sl[S.usv_y]] = y
+    sig[sl[S.uuv_x]] = x + (sig[sl[S.usbl_dn]] if sl[S.usbl_dn] >= 0 else 0.0)
+    sig[sl[S.uuv_y]] = y + (sig[sl[S.usbl_de]] if sl[S.usbl_de] >= 0 else 0.0)
+    sig[sl[S.usv_u]] = sig[sl[S.gps_sog]]
 
 
 @register_block("sensor.usbl_navigation")
-class USBLNavigation(Block):
-    """GPS + held USBL -> ``nav.*`` positions and the USV speed (module docstring)."""
+class USBLNavigation(LawBlock):
+    """GPS + held USBL -> ``nav.*`` positions and the USV speed (module docstring); law :func:`navigation_law`."""
 
     role = "sensor"
     name = "nav"
+    law = staticmethod(navigation_law)
+    signals = SIGNALS
 
     def __init__(self, period: float, gps: str = "gps", usbl: str = "nav.usbl"):
         self.period = float(period)
         self.gps, self.usbl = gps, usbl
-        self.inputs = {f"{gps}.x": "m", f"{gps}.y": "m", f"{gps}.sog": "m/s"}
-        self.optional_inputs = {f"{usbl}.dn": "m", f"{usbl}.de": "m"}  # 0 until the first USBL fix
-        self.outputs = {"nav.usv_x": "m", "nav.usv_y": "m", "nav.uuv_x": "m", "nav.uuv_y": "m", "nav.usv_u": "m/s"}
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.nav_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import nav_step
-
-        g, u = self.gps, self.usbl
-        return CompiledBlock(
-            nav_step,
-            [
-                f"{g}.x",
-                f"{g}.y",
-                f"?{u}.dn",
-                f"?{u}.de",
-                f"{g}.sog",
-                "nav.usv_x",
-                "nav.usv_y",
-                "nav.uuv_x",
-                "nav.uuv_y",
-                "nav.usv_u",
-            ],
-        )
-
-    def step(self, t: float, bus: dict) -> None:
-        g, u = self.gps, self.usbl
-        bus["nav.usv_x"] = bus[f"{g}.x"]
-        bus["nav.usv_y"] = bus[f"{g}.y"]
-        bus["nav.uuv_x"] = bus["nav.usv_x"] + bus.get(f"{u}.dn", 0.0)
-        bus["nav.uuv_y"] = bus["nav.usv_y"] + bus.get(f"{u}.de", 0.0)
-        bus["nav.usv_u"] = bus[f"{g}.sog"]
+        self.bind(gps_x=f"{gps}.x", gps_y=f"{gps}.y", usbl_dn=f"{usbl}.dn", usbl_de=f"{usbl}.de",
+                  gps_sog=f"{gps}.sog", usv_x="nav.usv_x", usv_y="nav.usv_y", uuv_x="nav.uuv_x",
+                  uuv_y="nav.uuv_y", usv_u="nav.usv_u")  # fmt: skip
+        self.pa = np.zeros(1)
+        self.st = np.zeros(1)

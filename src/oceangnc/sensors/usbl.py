@@ -19,18 +19,19 @@ at 2.4 m to 10/16.5 cm at 4.4 m, five to ten times). Degraded and intermittent, 
 A forced dropout window [``dropout_start``, ``dropout_start + dropout_duration``) loses every ping
 (for tests and what-if runs). Outputs: ``usbl.dn``, ``usbl.de``, ``usbl.dz`` (m), ``usbl.range``
 (slant, m), ``usbl.hrange`` (m), ``usbl.bearing`` (rad), ``usbl.valid`` (1 when the last ping gave a
-fix; the values are then fresh, else they keep the last fix and downstream blocks must hold),
-``usbl.pings_lost`` (count).
+fix; the values are then fresh, else they keep the last fix and downstream blocks must hold; 0
+before the first fix), ``usbl.pings_lost`` (count). Law: :func:`usbl_law`.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..io.config import StrictModel
 
@@ -69,129 +70,111 @@ def usbl_fix(h, dn, de, dz, u0, u1, u2, g, range_res, angle_res):
     return hm * math.cos(beta), hm * math.sin(beta), rho * math.sin(gam), rho, hm, beta
 
 
+SIGNALS = Signals(
+    bottom_x=In("m"),
+    top_x=In("m"),
+    bottom_y=In("m"),
+    top_y=In("m"),
+    bottom_z=In("m"),
+    top_z=Opt("m"),  # a surface vessel: z = 0
+    dn=Out("m"),
+    de=Out("m"),
+    dz=Out("m"),
+    range=Out("m"),
+    hrange=Out("m"),
+    bearing=Out("rad"),
+    valid=Out("bool"),
+    pings_lost=Out("count"),
+)
+#: q_max, p_drop, forced dropout start and duration (s), degraded gain, range (m) and angle (rad) resolutions
+PARAMS = Layout("q_max", "p_drop", "dropout_start", "dropout_duration", "degraded_gain", "range_res", "angle_res")
+#: pings lost, whether a fix was made, and the last fix (dn, de, dz, range, hrange, bearing: m, rad)
+STATE = Layout("lost", "has_last", ("last", 6))
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+
+
+@njit(cache=True)
+def usbl_law(t, sig, sl, st, pa, rng):
+    """One ping (module docstring): four uniform draws in [-1, 1] (range, bearing, elevation errors,
+    then the drop), the ping lost inside the forced window or, beyond q_max, with probability p_drop;
+    a fix (:func:`usbl_fix`, errors scaled by the degraded gain beyond q_max) or one more lost ping.
+    The last fix is published (from the first fix on) with ``valid`` and the count of lost pings."""
+    dn = sig[sl[S.bottom_x]] - sig[sl[S.top_x]]
+    de = sig[sl[S.bottom_y]] - sig[sl[S.top_y]]
+    dz = sig[sl[S.bottom_z]] - (sig[sl[S.top_z]] if sl[S.top_z] >= 0 else 0.0)
+    h, q = usbl_geometry(dn, de, dz)
+    u0 = rng.uniform(-1.0, 1.0)
+    u1 = rng.uniform(-1.0, 1.0)
+    u2 = rng.uniform(-1.0, 1.0)
+    u3 = rng.uniform(-1.0, 1.0)
+    degraded = q > pa[P.q_max]
+    start = pa[P.dropout_start]
+    valid = not (start >= 0 and start <= t < start + pa[P.dropout_duration])
+    if degraded and u3 * 0.5 + 0.5 < pa[P.p_drop]:
+        valid = False
+    if valid:
+        g = pa[P.degraded_gain] if degraded else 1.0
+        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, g, pa[P.range_res], pa[P.angle_res])
+        for i in range(6):
+            st[X.last + i] = fix[i]
+        st[X.has_last] = 1.0
+    else:
+        st[X.lost] += 1.0
+    if st[X.has_last] != 0.0:
+        sig[sl[S.dn]] = st[X.last]
+        sig[sl[S.de]] = st[X.last + 1]
+        sig[sl[S.dz]] = st[X.last + 2]
+        sig[sl[S.range]] = st[X.last + 3]
+        sig[sl[S.hrange]] = st[X.last + 4]
+        sig[sl[S.bearing]] = st[X.last + 5]
+    sig[sl[S.valid]] = 1.0 if valid else 0.0
+    sig[sl[S.pings_lost]] = st[X.lost]
+
+
 @register_block("sensor.usbl")
-class USBL(Block):
-    """USBL between bodies ``top`` and ``bottom`` (module docstring)."""
+class USBL(LawBlock):
+    """USBL between bodies ``top`` and ``bottom`` (module docstring); law :func:`usbl_law`."""
 
     role = "sensor"
-
     name = "usbl"
+    law = staticmethod(usbl_law)
+    signals = SIGNALS
+    draws = True
 
     def __init__(self, cfg: USBLConfig, top: str = "usv", bottom: str = "uuv"):
         self.cfg = cfg
         self.period = 1.0 / cfg.rate
         self.top = top
         self.bottom = bottom
-        self.inputs = {f"{top}.x": "m", f"{top}.y": "m", f"{bottom}.x": "m", f"{bottom}.y": "m", f"{bottom}.z": "m"}
-        self.optional_inputs = {f"{top}.z": "m"}  # a surface vessel: z = 0
-        self.outputs = {
-            "usbl.dn": "m",
-            "usbl.de": "m",
-            "usbl.dz": "m",
-            "usbl.range": "m",
-            "usbl.hrange": "m",
-            "usbl.bearing": "rad",
-            "usbl.valid": "bool",
-            "usbl.pings_lost": "count",
-        }
+        a, b = top, bottom
+        outs = {k: f"usbl.{k}" for k in ("dn", "de", "dz", "range", "hrange", "bearing", "valid", "pings_lost")}
+        self.bind(bottom_x=f"{b}.x", top_x=f"{a}.x", bottom_y=f"{b}.y", top_y=f"{a}.y", bottom_z=f"{b}.z",
+                  top_z=f"{a}.z", **outs)  # fmt: skip
+        self.pa = PARAMS.pack(
+            q_max=cfg.q_max,
+            p_drop=cfg.p_drop,
+            dropout_start=cfg.dropout_start,
+            dropout_duration=cfg.dropout_duration,
+            degraded_gain=cfg.degraded_gain,
+            range_res=cfg.range_resolution,
+            angle_res=math.radians(cfg.angle_resolution_deg),
+        )
+        self.st = np.zeros(STATE.size)
 
     def reset(self, rng) -> None:
         self.rng = rng
-        self.lost = 0
-        self.last = None
+        self.st[:] = 0.0
 
     def in_forced_dropout(self, t: float) -> bool:
         c = self.cfg
         return c.dropout_start >= 0 and c.dropout_start <= t < c.dropout_start + c.dropout_duration
 
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.sensors._compiled.usbl_step`)."""
-        if self.last is None:
-            return None
-        import numpy as np
+    @property
+    def lost(self) -> int:
+        """Pings lost so far."""
+        return int(self.st[X.lost])
 
-        from ..core.fused import CompiledBlock
-
-        c, a, b = self.cfg, self.top, self.bottom
-        st = np.array([self.lost, 1.0, *self.last], float)
-        pa = np.array(
-            [
-                c.q_max,
-                c.p_drop,
-                c.dropout_start,
-                c.dropout_duration,
-                c.degraded_gain,
-                c.range_resolution,
-                math.radians(c.angle_resolution_deg),
-            ]
-        )
-        sig = [
-            f"{b}.x",
-            f"{a}.x",
-            f"{b}.y",
-            f"{a}.y",
-            f"?{b}.z",
-            f"?{a}.z",
-            *(f"usbl.{k}" for k in ("dn", "de", "dz", "range", "hrange", "bearing")),
-            "usbl.valid",
-            "usbl.pings_lost",
-        ]
-        return CompiledBlock(usbl_step, sig, st, pa, rng=self.rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        a, b = self.top, self.bottom
-        dn = bus[f"{b}.x"] - bus[f"{a}.x"]
-        de = bus[f"{b}.y"] - bus[f"{a}.y"]
-        dz = bus[f"{b}.z"] - bus.get(f"{a}.z", 0.0)
-        h, q = usbl_geometry(dn, de, dz)
-        u = self.rng.uniform(-1.0, 1.0, 4)
-        degraded = q > c.q_max
-        valid = not self.in_forced_dropout(t)
-        if degraded and u[3] * 0.5 + 0.5 < c.p_drop:
-            valid = False
-        if valid:
-            g = c.degraded_gain if degraded else 1.0
-            ares = math.radians(c.angle_resolution_deg)
-            self.last = usbl_fix(h, dn, de, dz, u[0], u[1], u[2], g, c.range_resolution, ares)
-        else:
-            self.lost += 1
-        if self.last is not None:
-            for k, v in zip(("dn", "de", "dz", "range", "hrange", "bearing"), self.last):
-                bus[f"usbl.{k}"] = v
-        bus["usbl.valid"] = 1.0 if valid else 0.0
-        bus["usbl.pings_lost"] = float(self.lost)
-
-
-@njit(cache=True)
-def usbl_step(t, sig, sl, st, pa, rng):
-    """:class:`oceangnc.sensors.usbl.USBL` (003 ch. 6.1.4, dropouts).
-
-    slots: bottom.x, top.x, bottom.y, top.y, ?bottom.z, ?top.z | dn, de, dz, range, hrange, bearing,
-    valid, pings_lost. state: lost, has_last, last (6). params: q_max, p_drop, dropout start,
-    dropout duration, degraded gain, range resolution, angle resolution (rad).
-    """
-    dn = sig[sl[0]] - sig[sl[1]]
-    de = sig[sl[2]] - sig[sl[3]]
-    dz = (sig[sl[4]] if sl[4] >= 0 else 0.0) - (sig[sl[5]] if sl[5] >= 0 else 0.0)
-    h, q = usbl_geometry(dn, de, dz)
-    u0 = rng.uniform(-1.0, 1.0)
-    u1 = rng.uniform(-1.0, 1.0)
-    u2 = rng.uniform(-1.0, 1.0)
-    u3 = rng.uniform(-1.0, 1.0)
-    degraded = q > pa[0]
-    valid = not (pa[2] >= 0 and pa[2] <= t < pa[2] + pa[3])
-    if degraded and u3 * 0.5 + 0.5 < pa[1]:
-        valid = False
-    if valid:
-        fix = usbl_fix(h, dn, de, dz, u0, u1, u2, pa[4] if degraded else 1.0, pa[5], pa[6])
-        for i in range(6):
-            st[2 + i] = fix[i]
-        st[1] = 1.0
-    else:
-        st[0] += 1.0
-    if st[1] != 0.0:
-        for i in range(6):
-            sig[sl[6 + i]] = st[2 + i]
-    sig[sl[12]] = 1.0 if valid else 0.0
-    sig[sl[13]] = st[0]
+    @property
+    def last(self) -> tuple | None:
+        """The last fix (dn, de, dz, range, hrange, bearing; m, rad), None before the first."""
+        return tuple(float(v) for v in self.st[X.last : X.last + 6]) if self.st[X.has_last] else None
