@@ -29,7 +29,7 @@ on the Python clock; ``oceangnc run --verbose`` says why.
 from __future__ import annotations
 
 from collections import namedtuple
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -131,17 +131,23 @@ class Signals(Layout):
 _MISSING = object()
 
 
-def param(offset: int, doc: str = "") -> property:
-    """A block attribute that *is* one entry of its parameter array (``hi = param(P.hi, "N")``): reading
-    and setting it reads and sets ``self.pa[offset]``, so a change made while running reaches the law."""
+def entry(array: str, offset: int, cast: Callable = float, doc: str = "") -> property:
+    """A block attribute that *is* ``self.<array>[offset]`` (``array`` "st" for the state, "pa" for the
+    parameters), read as ``cast`` (``float``, ``int`` or ``bool``) and stored as a float (a bool as 1.0
+    / 0.0): a change made while running reaches the law, on the Python clock and in the fused loop."""
 
-    def fget(self) -> float:
-        return float(self.pa[offset])
+    def fget(self):
+        return cast(getattr(self, array)[offset])
 
-    def fset(self, value: float) -> None:
-        self.pa[offset] = float(value)
+    def fset(self, value) -> None:
+        getattr(self, array)[offset] = float(value)
 
     return property(fget, fset, doc=doc)
+
+
+def param(offset: int, doc: str = "") -> property:
+    """A float attribute that *is* one entry of the block's parameter array (``hi = param(P.hi, "N")``)."""
+    return entry("pa", offset, float, doc)
 
 
 class LawBlock(Block):
@@ -229,4 +235,4 @@ class LawBlock(Block):
             bus[k] = float(sig[j])
 
 
-__all__ = ["param", "In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]
+__all__ = ["entry", "param", "In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]

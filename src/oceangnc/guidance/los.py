@@ -34,10 +34,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.law import In, LawBlock, Layout, Out, Signals, param
+from ..core.law import In, LawBlock, Layout, Out, Signals, entry, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
-from .views import entry
 
 BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
 

@@ -30,12 +30,11 @@ from numba import njit
 from pydantic import Field
 
 from ..core.fused_strings import ENUMS
-from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals, param
+from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals, entry, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
 from .pure_pursuit import leg_offsets, look_ahead_goal, pursuit_turn
-from .views import entry
 
 
 class RouteConfig(StrictModel):

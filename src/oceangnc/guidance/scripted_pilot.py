@@ -43,7 +43,7 @@ import numpy as np
 from numba import njit
 from pydantic import Field
 
-from ..core.law import In, LawBlock, Layout, Out, Signals, param
+from ..core.law import In, LawBlock, Layout, Out, Signals, entry, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
@@ -52,7 +52,6 @@ from ..sensors.filters import (
     ring_slot,  # the one ring buffer of the project's laws
 )
 from ..units import KNOT
-from .views import entry
 
 
 class PilotConfig(StrictModel):
