@@ -37,11 +37,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.law import In, LawBlock, Layout, Out, Signals, param
+from ..core.law import In, LawBlock, Layout, Out, Signals, entry, param
 from ..core.registry import register_block
 from ..core.rotations import hypot
 from ..errors import ConfigError
-from .views import entry
 
 
 @njit(cache=True)
