@@ -155,10 +155,11 @@ def write_ulog(path, df, tmax_n, trev_n):
 # -- ROS 2 bag ----------------------------------------------------------------------------------------------
 
 
-def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=None):
+def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=None, storage="sqlite3"):
     """Odometry (ENU / FLU, REP 103), Imu and a Float64MultiArray actuator topic, via rosbags' Writer;
-    with ``fix_origin`` = (lat, lon) a NavSatFix topic ``/fix`` instead of the odometry."""
-    from rosbags.rosbag2 import Writer
+    with ``fix_origin`` = (lat, lon) a NavSatFix topic ``/fix`` instead of the odometry; ``storage``
+    sqlite3 (.db3) or mcap."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
     ts = get_typestore(Stores.ROS2_HUMBLE)
@@ -178,7 +179,7 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=
     Fix = ts.types["sensor_msgs/msg/NavSatFix"]
     FixStatus = ts.types["sensor_msgs/msg/NavSatStatus"]
     cov = np.zeros(36)
-    with Writer(path, version=8) as w:
+    with Writer(path, version=8, storage_plugin=getattr(StoragePlugin, storage.upper())) as w:
         co = w.add_connection(odom_topic, Odometry.__msgtype__, typestore=ts) if fix_origin is None else None
         cf = w.add_connection("/fix", Fix.__msgtype__, typestore=ts) if fix_origin is not None else None
         ci = w.add_connection("/imu", Imu.__msgtype__, typestore=ts)
@@ -232,3 +233,45 @@ def write_rosbag(path: Path, df, tmax_n, trev_n, odom_topic="/odom", fix_origin=
                 data=np.array([tp / (tmax_n if tp >= 0 else trev_n), tsb / (tmax_n if tsb >= 0 else trev_n)]),
             )
             w.write(ca, ns, ts.serialize_cdr(a, F64.__msgtype__))
+
+
+def as_pre_iron_bag(path: Path, distro: str = "humble") -> None:
+    """Turn a sqlite3 bag written by rosbags' Writer into the layout rosbag2 of Foxy / Galactic / Humble
+    writes: no ``message_definitions`` table (and no ``type_description_hash``), metadata.yaml version 5
+    (Humble; 4 for Foxy) without ``ros_distro``; Humble (rosbag2 0.15.4 on) keeps its distro in the
+    ``schema`` table (version 3), Foxy and Galactic have no ``schema`` table."""
+    import io
+    import sqlite3
+
+    from ruamel.yaml import YAML
+
+    (db,) = path.glob("*.db3")
+    con = sqlite3.connect(db)
+    con.executescript(
+        """
+        DROP TABLE message_definitions;
+        DROP TABLE metadata;
+        CREATE TABLE topics_old(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,
+          serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);
+        INSERT INTO topics_old SELECT id, name, type, serialization_format, offered_qos_profiles FROM topics;
+        DROP TABLE topics;
+        ALTER TABLE topics_old RENAME TO topics;
+        """
+    )
+    if distro == "humble":
+        con.execute("UPDATE schema SET schema_version = 3, ros_distro = ?", (distro,))
+    else:
+        con.execute("DROP TABLE schema")
+    con.commit()
+    con.close()
+    yaml = YAML(typ="safe")
+    meta = yaml.load((path / "metadata.yaml").read_text())
+    info = meta["rosbag2_bagfile_information"]
+    info["version"] = 5 if distro == "humble" else 4
+    for k in ("ros_distro", "custom_data"):
+        info.pop(k, None)
+    for t in info["topics_with_message_count"]:
+        t["topic_metadata"].pop("type_description_hash", None)
+    buf = io.StringIO()
+    yaml.dump(meta, buf)
+    (path / "metadata.yaml").write_text(buf.getvalue())

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from log_writers import write_dataflash, write_rosbag, write_ulog
+from log_writers import as_pre_iron_bag, write_dataflash, write_rosbag, write_ulog
 from oceangnc.cli import main
 from oceangnc.io.importers import import_log, read_any
 from oceangnc.mavlink.geo import ned_to_latlon
@@ -96,6 +96,57 @@ def test_rosbag_round_trip_and_unknown_topic(truth, tmp_path):
     with pytest.raises(Exception) as e:
         import_log(p, topics={"odometry": "/nope"})
     assert "no topic /nope (odometry)" in str(e.value) and str(p) in str(e.value)
+
+
+@pytest.mark.parametrize("distro", ["humble", "foxy"])
+def test_pre_iron_sqlite3_bag_without_definitions(truth, tmp_path, distro, capsys):
+    """A bag as Foxy / Humble's rosbag2 writes it (sqlite3, no message definitions): rosbags alone refuses
+    it; the import reads it with the distro's typestore, says which, and matches the truth."""
+    from rosbags.highlevel import AnyReader
+
+    df, tmax, trev = truth
+    p = tmp_path / "bag"
+    write_rosbag(p, df, tmax, trev)
+    as_pre_iron_bag(p, distro)
+    with pytest.raises(Exception, match="no type definitions"):  # the failure the issue reports
+        with AnyReader([p]):
+            pass
+    res = import_log(p, rate=10.0)
+    assert res.report["ros_distro"] == distro and f"ros2_{distro} typestore" in res.report["typestore"]
+    assert ("schema table" if distro == "humble" else "metadata.yaml version 4") in res.report["typestore"]
+    _compare(res, df, t_shift=100.0)
+    # --ros-distro overrides, the CLI prints which typestore it used; a bad name is one line, exit 2
+    assert main(["import", str(p), "--out", str(tmp_path / "o"), "--ros-distro", "galactic"]) == 0
+    assert "ros2_galactic typestore" in capsys.readouterr().out
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o2"), "--ros-distro", "hydro"])
+    assert "--ros-distro hydro" in err and "humble" in err
+
+
+def test_mcap_bag_folder_and_bare_storage_files(truth, tmp_path):
+    """An MCAP bag written by rosbags' Writer (folder with metadata.yaml), the bare .mcap file alone, and a
+    bare Humble-style .db3 file: all import and match the truth."""
+    import shutil
+
+    df, tmax, trev = truth
+    m = tmp_path / "mc"
+    write_rosbag(m, df, tmax, trev, storage="mcap")
+    (mc,) = m.glob("*.mcap")
+    res = import_log(m, rate=10.0)
+    assert res.format == "rosbag2" and res.report["typestore"] == "the bag's own message definitions"
+    _compare(res, df, t_shift=100.0)
+    bare = tmp_path / "alone" / "flight.mcap"
+    bare.parent.mkdir()
+    shutil.copy(mc, bare)
+    _compare(import_log(bare, rate=10.0), df, t_shift=100.0)
+    h = tmp_path / "h"
+    write_rosbag(h, df, tmax, trev)
+    as_pre_iron_bag(h, "humble")
+    (db,) = h.glob("*.db3")
+    bare_db = tmp_path / "alone" / "flight.db3"
+    shutil.copy(db, bare_db)
+    res = import_log(bare_db, rate=10.0)
+    assert "ros2_humble" in res.report["typestore"]
+    _compare(res, df, t_shift=100.0)
 
 
 def test_rosbag_navsatfix_and_imu_without_odometry(truth, tmp_path):

@@ -26,6 +26,12 @@ def add_source_options(p) -> None:
         help="ROS 2 topic of a role (odometry, imu, navsat, actuators), e.g. odometry=/boat/odom",
     )
     g.add_argument(
+        "--ros-distro",
+        metavar="DISTRO",
+        help="ROS 2 distribution whose message types read a bag without definitions (Foxy, Galactic, Humble "
+        "sqlite3); default: the bag's ros_distro, else humble",
+    )
+    g.add_argument(
         "--servos",
         choices=["skid", "rudder"],
         default="skid",
@@ -71,6 +77,8 @@ def source_options(args) -> dict:
         opts["column_map"] = args.map
     if topics:
         opts["topics"] = topics
+    if getattr(args, "ros_distro", None):
+        opts["ros_distro"] = args.ros_distro
     if args.system is not None:
         opts["system"] = args.system
     if args.origin:

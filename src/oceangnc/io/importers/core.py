@@ -225,6 +225,7 @@ def import_log(
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))
+    report["notes"] = list(meta.pop("notes", []))
     cols = derive(cols, report)
     if body != "usv":  # e.g. the UUV of a .tlog (--system 2 --body uuv)
         if not body.isidentifier():

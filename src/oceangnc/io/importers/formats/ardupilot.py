@@ -182,18 +182,21 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
     except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read DataFlash log: {e}") from None
     rows: dict[str, list] = {}
-    while True:
-        try:
-            m = log.recv_msg()
-        except Exception as e:  # noqa: BLE001
-            raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
-        if m is None:
-            break
-        kind = m.get_type()
-        if kind in ("GPS", "ATT", "IMU", "RCOU"):
-            d = m.to_dict()
-            if "TimeUS" in d:
-                rows.setdefault(kind, []).append(d)
+    try:
+        while True:
+            try:
+                m = log.recv_msg()
+            except Exception as e:  # noqa: BLE001
+                raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
+            if m is None:
+                break
+            kind = m.get_type()
+            if kind in ("GPS", "ATT", "IMU", "RCOU"):
+                d = m.to_dict()
+                if "TimeUS" in d:
+                    rows.setdefault(kind, []).append(d)
+    finally:
+        log.close()
     out: dict = {}
 
     def col(kind, f, scale=1.0):
