@@ -317,3 +317,107 @@ def test_ekf_reads_a_field_csv_through_the_importer(tmp_path):
         truth = getattr(res.config.vehicle, k)
         assert est[k]["initial"] == pytest.approx(0.5 * truth)
         assert est[k]["estimate"] == pytest.approx(truth, rel=0.01)
+
+
+# -- identification that refuses what it cannot fit (issue 28) ----------------------------------------------
+
+
+def _zigzag_without_lag(K=0.3, amp_deg=10.0, h=0.1, t_end=80.0):
+    """A 10/10 zig-zag whose heading follows the rudder with no lag at all (r = K delta): what a vehicle
+    that is not a Nomoto boat gives; the fitted T runs to its lower bound."""
+    t = np.arange(0.0, t_end, h)
+    d = np.zeros_like(t)
+    psi = np.zeros_like(t)
+    sign = 1.0
+    for i in range(1, t.size):
+        if psi[i - 1] >= math.radians(amp_deg):
+            sign = -1.0
+        elif psi[i - 1] <= -math.radians(amp_deg):
+            sign = 1.0
+        d[i - 1] = sign * math.radians(amp_deg) if t[i - 1] >= 5.0 else 0.0
+        psi[i] = psi[i - 1] + K * d[i - 1] * h
+    d[-1] = d[-2]
+    return pd.DataFrame(
+        {"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": K * d, "trial.speed": np.full(t.size, 6.0)}
+    )
+
+
+def test_estimate_at_its_bound_exits_2_naming_the_check(tmp_path, capsys):
+    p = tmp_path / "nolag.csv"
+    _zigzag_without_lag().to_csv(p, index=False)
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert str(p) in err and "trial 0 (zigzag): bound check failed" in err and "lower bound 0.001 s" in err
+    assert not (tmp_path / "o").exists()  # nothing written for a refused fit
+    # accepted knowingly: --skip-check for each failed check -> exit 0, a warning, the checks in the JSON
+    argv = ["identify", "first-order", str(p), "--out", str(tmp_path / "o2")]
+    for c in ("bound", "condition", "fit", "whiteness"):
+        argv += ["--skip-check", c]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "warning: trial 0 (zigzag): bound check failed (skipped by --skip-check)" in out
+    rep = json.loads((tmp_path / "o2" / "identification.json").read_text())
+    (z,) = rep["zigzag"]
+    assert z["T"] == pytest.approx(1e-3, rel=0.02) and "bound" in z["checks"]["failed"]
+    assert rep["failed_checks"][0]["check"] == "bound" and rep["failed_checks"][0]["skipped"]
+
+
+def test_step_without_lag_is_below_the_sample_interval(tmp_path, capsys):
+    """The integral method has no optimiser bound: a yaw rate that jumps with the rudder gives T ~ 0, below
+    one sample interval, and is refused as a time constant at its bound."""
+    t = np.arange(0, 40, 0.1)
+    d = np.where(t >= 5, 0.17, 0.0)
+    rng = np.random.default_rng(1)
+    r = 0.1 * (t >= 5.05) + rng.normal(0, 1e-3, t.size)  # the response lands with the first sample after the step
+    psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))])
+    p = tmp_path / "instant.csv"
+    pd.DataFrame({"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r, "trial.speed": 6.0}).to_csv(
+        p, index=False
+    )
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "trial 0 (turn): bound check failed" in err and "below one sample interval (0.1 s)" in err
+
+
+def test_second_order_yaw_fails_the_whiteness_check(tmp_path, capsys):
+    """A yaw response with two lags (1 s and 4 s) and a little sensor noise: a first-order model follows it
+    (fit above 50 %) but its residual keeps the structure it misses, and Ljung-Box refuses it."""
+    h = 0.05
+    t = np.arange(0, 60, h)
+    d = np.where(t >= 5, 0.17, 0.0)
+    a1, a2 = math.exp(-h / 1.0), math.exp(-h / 4.0)
+    x1 = np.zeros_like(t)
+    r = np.zeros_like(t)
+    for i in range(t.size - 1):
+        x1[i + 1] = a1 * x1[i] + (1 - a1) * 0.6 * d[i]
+        r[i + 1] = a2 * r[i] + (1 - a2) * x1[i]
+    rng = np.random.default_rng(2)
+    r_meas = r + rng.normal(0, 2e-4, t.size)
+    psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))]) + rng.normal(0, 1e-4, t.size)
+    p = tmp_path / "two_lags.csv"
+    pd.DataFrame({"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r_meas, "trial.speed": 6.0}).to_csv(
+        p, index=False
+    )
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "trial 0 (turn): whiteness check failed: residual not white: Ljung-Box p = " in err
+
+
+def test_condition_and_fit_checks_on_their_own():
+    """The condition number of the equilibrated information matrix is (1 + |rho|) / (1 - |rho|) for two
+    parameters; judge() fails a fit above 1e6 or below 50 %, and splits 5 % over the trials."""
+    from oceangnc.identification.first_order_checks import equilibrated_condition, judge, ljung_box
+
+    rho = 0.99
+    J = np.array([[1.0, rho], [0.0, math.sqrt(1 - rho**2)]]) * [3.0, 1e-4]  # column scales do not matter
+    assert equilibrated_condition(J) == pytest.approx((1 + rho) / (1 - rho), rel=1e-9)
+    assert equilibrated_condition(np.array([[1.0, 0.0], [2.0, 0.0]])) == math.inf
+    good = {"condition": 2.0, "fit_pct": 95.0, "whiteness_p": 0.03, "lags": 10, "samples": 100}
+    assert judge([("a", dict(good))]) != [] and judge([("a", dict(good)), ("b", dict(good))]) == []
+    bad = judge([("a", {**good, "condition": 2e6, "fit_pct": 40.0, "whiteness_p": 0.5})])
+    assert [f["check"] for f in bad] == ["condition", "fit"] and "2e+06" in bad[0]["message"]
+    e = np.random.default_rng(0).normal(size=400)
+    assert ljung_box(e)[1] > 0.05 and ljung_box(np.cumsum(e))[1] < 1e-6

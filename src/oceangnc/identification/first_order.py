@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from .first_order_checks import judge
 from .first_order_results import Columns, LinearFit, Report, StepFit, ZigzagFit
 from .integral_method import _trapz_cum, detect_points, fit_vs_speed, identify_step, integral_estimate, noise_std
 from .nomoto_zigzag import fit_nomoto_zigzag
@@ -142,6 +143,7 @@ def identify_log(
     seed: int = 0,
     options: dict | None = None,
     method: str = "joint",
+    skip_checks=(),
 ) -> Report:
     """Identify every trial of a log and fit the coefficients against speed.
 
@@ -149,6 +151,8 @@ def identify_log(
     taken from ``cols.kind`` (0 straight, 1 turn, 2 zig-zag) or detected from the inputs. Steer and
     heading/yaw rate may be given in degrees (``steer_deg``, ``heading_deg``); they are converted to
     rad, so K_r is reported in 1/s (rad/s per rad). K_v is reported per unit of the thrust column.
+    Every fit is checked (:mod:`.first_order_checks`: bound, condition, fit, whiteness); the failures are
+    listed in ``Report.failures`` (``skip_checks`` marks those of the named checks as skipped).
     """
     cols = cols or Columns()
     have = check_log(df, cols, options)
@@ -201,6 +205,9 @@ def identify_log(
             u = [s.speed for s in st]
             rep.fits[names[0]] = fit_vs_speed(names[0], u, [s.K for s in st])
             rep.fits[names[1]] = fit_vs_speed(names[1], u, [s.T for s in st])
+    every = sorted(rep.steps + rep.zigzags, key=lambda s: s.trial)
+    fits = [(f"trial {s.trial} ({getattr(s, 'kind', 'zigzag')})", s.checks) for s in every]
+    rep.failures = judge(fits, skip=skip_checks)
     rep.units = {
         "K_v": "speed unit per thrust-column unit (m/s per rpm for the first-order USV)",
         "K_r": "rad/s of yaw rate per steer-column unit (1/s with the steer in rad or --steer-deg)",
