@@ -2,7 +2,8 @@
 
 * DataFlash (.bin): ArduPilot's self-describing format, as ``pymavlink.DFReader`` reads it: every record
   is ``0xA3 0x95 <type>`` + payload; type 128 (FMT) defines a type: Type B, Length B (whole record),
-  Name 4s, Format 16s, Columns 64s (format chars: Q uint64, B uint8, H uint16, f float, L int32 x 1e-7 deg).
+  Name 4s, Format 16s, Columns 64s (format chars: Q uint64, B uint8, b int8, H uint16, h int16, f float,
+  L int32 x 1e-7 deg, N char[16], Z char[64]).
   pymavlink ships no DataFlash writer, so we write the FMT/GPS/ATT/IMU/RCOU records ourselves.
 * ULog (.ulg): PX4's format (docs.px4.io "ULog File Format"): 16-byte header ``ULog\\x01\\x12\\x35``,
   version, start time (us); then messages ``uint16 size, uint8 type`` + body: 'B' flag bits (40 bytes),
@@ -24,7 +25,7 @@ KGF = 9.80665
 
 # -- DataFlash ---------------------------------------------------------------------------------------------
 
-_DF_STRUCT = {"Q": "Q", "B": "B", "H": "H", "f": "f", "L": "i", "I": "I"}
+_DF_STRUCT = {"Q": "Q", "B": "B", "H": "H", "f": "f", "L": "i", "I": "I", "b": "b", "h": "h", "N": "16s", "Z": "64s"}
 
 
 class DataFlashWriter:
@@ -44,6 +45,7 @@ class DataFlashWriter:
 
     def write(self, name, *values):
         typ, fmt = self.types[name]
+        values = [v.encode() if isinstance(v, str) else v for v in values]  # N (char[16]), Z (char[64])
         self.f.write(b"\xa3\x95" + bytes([typ]) + struct.pack("<" + "".join(_DF_STRUCT[c] for c in fmt), *values))
 
     def close(self):
@@ -55,9 +57,17 @@ def pwm_of(T, full_fwd, full_rev):
     return np.round(1500 + 400 * np.clip(T / full, -1, 1)).astype(int)
 
 
-def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
-    """GPS at 5 Hz, ATT / IMU / RCOU at 10 Hz from a simulated run's truth ``df`` (t, usv.*)."""
+def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n, firmware=None, params=None, outputs=(1, 3), reverse=()):
+    """GPS at 5 Hz, ATT / IMU / RCOU at 10 Hz from a simulated run's truth ``df`` (t, usv.*); ``firmware`` (a MSG
+    such as "ArduRover V4.5.7 (abc)") and ``params`` (PARM records) first, as ArduPilot writes them; the
+    port / starboard thrust on the RCOU ``outputs``, PWM mirrored about 1500 on those in ``reverse``."""
     w = DataFlashWriter(path)
+    w.define(129, "PARM", "QNf", "TimeUS,Name,Value")
+    w.define(134, "MSG", "QZ", "TimeUS,Message")
+    if firmware:
+        w.write("MSG", 1000, firmware)
+    for k, v in (params or {}).items():
+        w.write("PARM", 1000, k, float(v))
     w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")  # GPS week and ms, as ArduPilot
     w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
     w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
@@ -84,13 +94,16 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n):
             )
         w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
         w.write("IMU", us, df["usv.r"].iat[i])
-        w.write("RCOU", us, int(pl[i]), 1500, int(pr[i]), 1500)
+        ch = [1500, 1500, 1500, 1500]
+        for n, v in zip(outputs, (int(pl[i]), int(pr[i]))):
+            ch[n - 1] = 3000 - v if n in reverse else v
+        w.write("RCOU", us, *ch)
     w.close()
 
 
 # -- ULog --------------------------------------------------------------------------------------------------
 
-_UL_TYPES = {"uint64_t": "Q", "float": "f", "double": "d", "uint8_t": "B"}
+_UL_TYPES = {"uint64_t": "Q", "float": "f", "double": "d", "uint8_t": "B", "int32_t": "i", "bool": "?"}
 
 
 class ULogWriter:
@@ -115,6 +128,12 @@ class ULogWriter:
         msg_id = len(self.topics)
         self.topics[name] = (msg_id, st)
 
+    def param(self, name, value):
+        """A parameter ('P': uint8 key length, key "int32_t NAME" or "float NAME", value) in the definitions."""
+        typ = "int32_t" if isinstance(value, int) else "float"
+        key = f"{typ} {name}".encode()
+        self._msg("P", bytes([len(key)]) + key + struct.pack("<" + _UL_TYPES[typ], value))
+
     def write(self, name, t_us, *values):
         if not self._subscribed:  # the definitions section ends with the first 'A' message
             self._subscribed = True
@@ -127,8 +146,10 @@ class ULogWriter:
         self.f.close()
 
 
-def write_ulog(path, df, tmax_n, trev_n):
+def write_ulog(path, df, tmax_n, trev_n, params=None):
     w = ULogWriter(path)
+    for k, v in (params or {}).items():
+        w.param(k, v)
     w.topic(
         "vehicle_local_position",
         [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy"), ("float", "vz")],
@@ -275,3 +296,44 @@ def as_pre_iron_bag(path: Path, distro: str = "humble") -> None:
     buf = io.StringIO()
     yaml.dump(meta, buf)
     (path / "metadata.yaml").write_text(buf.getvalue())
+
+
+# -- MAVLink telemetry log (.tlog) -------------------------------------------------------------------------
+
+
+def write_tlog(path, df, lat0, lon0, mav_type, params=None, tmax_n=1.0, trev_n=1.0):
+    """A telemetry log as a ground station records it, with pymavlink's own encoder and log file: records of an
+    8-byte big-endian time (us) and one MAVLink 2 frame. System 1 sends HEARTBEAT (``mav_type``) at 1 Hz,
+    PARAM_VALUE for each of ``params`` once, then GLOBAL_POSITION_INT, ATTITUDE and SERVO_OUTPUT_RAW (port
+    thrust on output 1, starboard on 3) at 10 Hz."""
+    from pymavlink import mavutil
+    from pymavlink.dialects.v20 import ardupilotmega as mav2
+
+    f = mavutil.mavlogfile(str(path), write=True)
+    enc = mav2.MAVLink(None, srcSystem=1, srcComponent=1)
+    t0 = 1_700_000_000_000_000
+
+    def rec(t_s, msg):
+        f.write(struct.pack(">Q", t0 + round(t_s * 1e6)) + msg.pack(enc))
+
+    for i, (k, v) in enumerate((params or {}).items()):
+        rec(0.0, enc.param_value_encode(k.encode(), float(v), mav2.MAV_PARAM_TYPE_REAL32, len(params), i))
+    t = df["t"].to_numpy()
+    psi = df["usv.psi"].to_numpy()
+    pl = pwm_of(df["usv.thrust_port"].to_numpy(), tmax_n, trev_n) if "usv.thrust_port" in df else None
+    pr = pwm_of(df["usv.thrust_stbd"].to_numpy(), tmax_n, trev_n) if "usv.thrust_stbd" in df else None
+    for i in range(len(df)):
+        ms = round(t[i] * 1000) + 1000
+        if i % 10 == 0:
+            rec(ms / 1000, enc.heartbeat_encode(mav_type, mav2.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0, 0))
+        lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
+        c, sn = math.cos(psi[i]), math.sin(psi[i])
+        vn = df["usv.u"].iat[i] * c - df["usv.v"].iat[i] * sn
+        ve = df["usv.u"].iat[i] * sn + df["usv.v"].iat[i] * c
+        vx, vy = round(vn * 100), round(ve * 100)  # cm/s
+        rec(ms / 1000, enc.global_position_int_encode(ms, round(lat * 1e7), round(lon * 1e7), 0, 0, vx, vy, 0, 0))
+        rec(ms / 1000, enc.attitude_encode(ms, 0.0, 0.0, float(psi[i]), 0.0, 0.0, float(df["usv.r"].iat[i])))
+        a = int(pl[i]) if pl is not None else 1500
+        b = int(pr[i]) if pr is not None else 1500
+        rec(ms / 1000, enc.servo_output_raw_encode(ms * 1000, 0, a, 1500, b, 1500, 1500, 1500, 1500, 1500))
+    f.close()

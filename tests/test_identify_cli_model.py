@@ -210,24 +210,24 @@ def test_first_order_reads_a_field_log_with_a_column_map(identified, tmp_path, c
     assert doc["parameters"]["usv.kr_slope"] == 0.0 and math.isfinite(doc["parameters"]["usv.kr_intercept"])
 
 
-def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
-    """One turning trial of a rudder boat as an ArduPilot DataFlash log (GPS, ATT, IMU, RCOU with C1
-    steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
-    of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
+def _turn_bin(path, one, usv, firmware=None, params=None):
+    """One turning trial of a rudder boat as an ArduPilot DataFlash log: MSG (firmware) and PARM records first,
+    then GPS, ATT, IMU, RCOU with C1 steering and C3 throttle PWM."""
     from log_writers import DataFlashWriter
     from oceangnc.mavlink.geo import ned_to_latlon
 
-    _d, res = identified
-    df = res.df
-    tid = df.loc[df["trial.kind"] == 1.0, "trial.id"].iloc[2]
-    one = df[df["trial.id"] == tid].reset_index(drop=True)
-    usv = res.config.usv
     lim = math.radians(usv.rudder_limit_deg)
-    w = DataFlashWriter(tmp_path / "turn.bin")
+    w = DataFlashWriter(path)
+    w.define(129, "PARM", "QNf", "TimeUS,Name,Value")
+    w.define(134, "MSG", "QZ", "TimeUS,Message")
     w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")
     w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
     w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
     w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
+    if firmware:
+        w.write("MSG", 1000, firmware)
+    for k, v in (params or {}).items():
+        w.write("PARM", 1000, k, float(v))
     t0 = one["t"].iloc[0]
     for i in range(len(one)):
         us = round((one["t"].iat[i] - t0) * 1e6) + 2_000_000
@@ -255,6 +255,22 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
             1500,
         )
     w.close()
+    return lim
+
+
+def _one_turn(res, k=2):
+    df = res.df
+    tid = df.loc[df["trial.kind"] == 1.0, "trial.id"].iloc[k]
+    return df[df["trial.id"] == tid].reset_index(drop=True)
+
+
+def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
+    """One turning trial of a rudder boat as an ArduPilot DataFlash log (GPS, ATT, IMU, RCOU with C1
+    steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
+    of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
+    _d, res = identified
+    one = _one_turn(res)
+    lim = _turn_bin(tmp_path / "turn.bin", one, res.config.usv)
     assert (
         main(
             [
@@ -276,6 +292,32 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
     assert tr["kind"] == "turn" and rep["columns"]["steer"] == "act.steer"
     assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
     assert tr["T"] == pytest.approx(one["trial.true_t"].iloc[0], rel=0.05)
+
+
+def test_servo_functions_and_vehicle_type_from_the_bin(identified, tmp_path, capsys):
+    """The same trial logged by ArduRover (FRAME_CLASS 2, a boat) with SERVO1_FUNCTION 26 (steering) and
+    SERVO3_FUNCTION 70 (throttle): no --servos needed. Logged by ArduCopter it is refused in one line, and
+    identified with --force-vehicle."""
+    _d, res = identified
+    one = _one_turn(res)
+    rudder = {"SERVO1_FUNCTION": 26, "SERVO3_FUNCTION": 70}
+    boat = tmp_path / "boat.bin"
+    lim = _turn_bin(boat, one, res.config.usv, "ArduRover V4.5.7 (e1b2c3d4)", {"FRAME_CLASS": 2, **rudder})
+    assert main(["identify", "first-order", str(boat), "--rate", "20", "--out", str(tmp_path / "o")]) == 0
+    (tr,) = json.loads((tmp_path / "o" / "identification.json").read_text())["trials"]
+    assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
+    quad = tmp_path / "quad.bin"
+    _turn_bin(quad, one, res.config.usv, "ArduCopter V4.5.7 (2a3dc4b7)", rudder)
+    capsys.readouterr()
+    assert main(["identify", "first-order", str(quad), "--rate", "20", "--out", str(tmp_path / "q")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(quad) in err
+    assert "the log is of a multirotor (MSG 'ArduCopter V4.5.7 (2a3dc4b7)'), not a boat" in err
+    assert not (tmp_path / "q").exists()
+    argv = ["identify", "first-order", str(quad), "--rate", "20", "--force-vehicle", "--out", str(tmp_path / "f")]
+    assert main(argv) == 0
+    (tr,) = json.loads((tmp_path / "f" / "identification.json").read_text())["trials"]
+    assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
 
 
 def test_ekf_reads_a_field_csv_through_the_importer(tmp_path):

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from log_writers import as_pre_iron_bag, write_dataflash, write_rosbag, write_ulog
+from log_writers import as_pre_iron_bag, write_dataflash, write_rosbag, write_tlog, write_ulog
 from oceangnc.cli import main
 from oceangnc.io.importers import import_log, read_any
 from oceangnc.mavlink.geo import ned_to_latlon
@@ -301,3 +301,88 @@ def test_csv_missing_column_and_unknown_topic_exit_2(truth, tmp_path, capsys):
     write_rosbag(b, df.iloc[:50], tmax, trev)
     err = _cli_error(capsys, ["import", str(b), "--out", str(tmp_path / "o5"), "--topic", "odometry=/missing"])
     assert str(b) in err and "/missing" in err
+
+
+# -- vehicle type and thruster mapping (issue 28) ----------------------------------------------------------
+
+
+def _want_thrust(df, res, shift, col, tmax, trev):
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - shift
+    idx = np.clip(np.searchsorted(df["t"].to_numpy(), t_truth + 1e-9, side="right") - 1, 0, len(df) - 1)
+    tp = df[col].to_numpy()[idx]
+    return np.where(tp >= 0, tp / tmax, tp / trev)
+
+
+def test_servo_functions_map_the_thrusters_and_the_firmware_names_the_boat(truth, tmp_path):
+    """ArduRover boat (FRAME_CLASS 2) whose thrusters are on outputs 2 and 4 (SERVO2_FUNCTION 73 ThrottleLeft,
+    SERVO4_FUNCTION 74 ThrottleRight, output 4 reversed): read from the PARM records, not outputs 1 and 3."""
+    df, tmax, trev = truth
+    p = tmp_path / "boat.bin"
+    params = {"FRAME_CLASS": 2, "SERVO2_FUNCTION": 73, "SERVO4_FUNCTION": 74, "SERVO4_REVERSED": 1}
+    write_dataflash(p, df, LAT0, LON0, tmax, trev, "ArduRover V4.5.7 (e1b2c3d4)", params, outputs=(2, 4), reverse=(4,))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    v = res.report["vehicle"]
+    assert v["type"] == "boat" and v["marine"] and "ArduRover V4.5.7" in v["from"] and "FRAME_CLASS=2" in v["from"]
+    assert res.report["servo_map"] == {"act.left": 2, "act.right": 4}
+    assert any("SERVO2_FUNCTION=73 (ThrottleLeft) -> act.left" in n for n in res.report["notes"])
+    assert np.max(np.abs(res.df["act.left"] - _want_thrust(df, res, 1.0, "usv.thrust_port", tmax, trev))) < 0.003
+    assert np.max(np.abs(res.df["act.right"] - _want_thrust(df, res, 1.0, "usv.thrust_stbd", tmax, trev))) < 0.003
+    # --servos overrides the parameters, and says the log disagrees
+    res2 = import_log(p, rate=10.0, servos="skid")
+    assert res2.report["servo_map"] == {"act.left": 1, "act.right": 3}
+    assert any("--servos wins" in n for n in res2.report["notes"])
+    # a ground rover (FRAME_CLASS 1) is no boat
+    g = tmp_path / "rover.bin"
+    write_dataflash(g, df.iloc[:100], LAT0, LON0, tmax, trev, "ArduRover V4.5.7 (e1b2c3d4)", {"FRAME_CLASS": 1})
+    assert import_log(g).report["vehicle"] == {
+        "type": "ground rover",
+        "from": "MSG 'ArduRover V4.5.7 (e1b2c3d4)', FRAME_CLASS=1",
+        "marine": False,
+    }
+
+
+def test_multirotor_logs_are_named_and_their_motors_are_not_thrusters(truth, tmp_path, capsys):
+    """A quadcopter's .bin (MSG ArduCopter, SERVO1-4_FUNCTION 33-36 motors), .tlog (HEARTBEAT
+    MAV_TYPE_QUADROTOR, no parameters) and .ulg (parameter MAV_TYPE 2): the vehicle is read from the log, the
+    motors do not become left / right thrusters, and boat identification refuses each in one line."""
+    df, tmax, trev = truth
+    part = df.iloc[:300]
+    b = tmp_path / "quad.bin"
+    motors = {f"SERVO{n}_FUNCTION": 32 + n for n in range(1, 5)}
+    write_dataflash(b, part, LAT0, LON0, tmax, trev, "ArduCopter V4.5.7 (2a3dc4b7)", {"FRAME_CLASS": 1, **motors})
+    tl = tmp_path / "quad.tlog"
+    write_tlog(tl, part, LAT0, LON0, mav_type=2, tmax_n=tmax, trev_n=trev)
+    ul = tmp_path / "quad.ulg"
+    write_ulog(ul, part, tmax, trev, params={"MAV_TYPE": 2, "SYS_AUTOSTART": 4001})
+    for p, src in (
+        (b, "MSG 'ArduCopter V4.5.7"),
+        (tl, "HEARTBEAT type 2 (MAV_TYPE_QUADROTOR)"),
+        (ul, "parameter MAV_TYPE=2"),
+    ):
+        res = import_log(p, rate=10.0)
+        v = res.report["vehicle"]
+        assert v["type"] == "multirotor" and v["marine"] is False and v["from"].startswith(src), v
+        assert not any(c.startswith("act.") for c in res.df.columns), res.df.columns
+        assert any(n.startswith("no actuators imported") for n in res.report["notes"])
+        err = _cli_error(capsys, ["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+        assert str(p) in err and "the log is of a multirotor" in err and "--force-vehicle" in err
+    # the import itself works and says so; identifying its run folder is refused the same way
+    assert main(["import", str(b), "--out", str(tmp_path / "imp")]) == 0
+    out = capsys.readouterr().out
+    assert "vehicle: multirotor (MSG 'ArduCopter V4.5.7 (2a3dc4b7)', FRAME_CLASS=1): not a boat" in out
+    err = _cli_error(capsys, ["identify", "first-order", str(tmp_path / "imp"), "--out", str(tmp_path / "o")])
+    assert f"imported from {b}, a multirotor" in err
+
+
+def test_tlog_boat_with_servo_parameters(truth, tmp_path):
+    """A boat's tlog (HEARTBEAT MAV_TYPE_SURFACE_BOAT) with the parameters a ground station downloaded
+    (PARAM_VALUE SERVO1_FUNCTION 73, SERVO3_FUNCTION 74): boat, thrusters on 1 and 3 from the parameters."""
+    df, tmax, trev = truth
+    p = tmp_path / "boat.tlog"
+    write_tlog(
+        p, df, LAT0, LON0, mav_type=11, params={"SERVO1_FUNCTION": 73, "SERVO3_FUNCTION": 74}, tmax_n=tmax, trev_n=trev
+    )
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert res.report["vehicle"]["type"] == "boat" and res.report["servo_map"] == {"act.left": 1, "act.right": 3}
+    assert any("from the log's parameters" in n for n in res.report["notes"])
+    _compare(res, df, t_shift=1.0, pos_tol=0.02)

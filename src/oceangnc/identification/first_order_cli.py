@@ -84,6 +84,11 @@ def register(methods) -> None:
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the uncertainty replicas")
     p.add_argument(
+        "--force-vehicle",
+        action="store_true",
+        help="identify a field log whose vehicle is not a boat or submarine (e.g. a multirotor), refused otherwise",
+    )
+    p.add_argument(
         "--skip-check",
         action="append",
         choices=CHECKS,
@@ -166,7 +171,7 @@ def _handler(args) -> int:
     from ..io.importers.cli import source_options
 
     src = Path(args.log)
-    df = read_any(args.log, **source_options(args))
+    df = read_any(args.log, require_marine=not args.force_vehicle, **source_options(args))
     if len(df) == 0:
         raise InputError(f"{src}: the log has 0 rows; nothing to identify")
     std = [k for k, v in _DEFAULTS.items() if getattr(args, k) == v and v not in df.columns and STANDARD[k] in df]

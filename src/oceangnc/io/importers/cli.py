@@ -34,9 +34,9 @@ def add_source_options(p) -> None:
     g.add_argument(
         "--servos",
         choices=["skid", "rudder"],
-        default="skid",
-        help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
-        "thrusters (default), rudder = steering / throttle",
+        help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW) as skid = left / right "
+        "thrusters or rudder = steering / throttle (default: the log's SERVOn_FUNCTION parameters, "
+        "73/74 left/right, 26 steering, 70 throttle; without them skid)",
     )
     g.add_argument("--body", default="usv", help="prefix of the vehicle's signals (default usv; uuv for a UUV)")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
@@ -107,6 +107,9 @@ def _cmd(args) -> int:
     res = import_log(args.log, **opts)
     path = write_run(res, args.out)
     print(res.summary_line())
+    v = res.report.get("vehicle", {})
+    not_boat = ": not a boat (identify refuses it unless --force-vehicle)" if v.get("marine") is False else ""
+    print(f"  vehicle: {v.get('type', 'unknown')} ({v.get('from', '')}){not_boat}")
     for g in res.report.get("gaps", [])[:10]:
         print(f"  gap in {g['signal']}: {g['from_s']:.2f}-{g['to_s']:.2f} s ({g['rows_left_nan']} rows left NaN)")
     for j in res.report.get("jumps", [])[:10]:

@@ -200,6 +200,7 @@ def import_log(
     gap_s: float | None = None,
     allow_truncated: bool = False,
     body: str = "usv",
+    require_marine: bool = False,
     **opts,
 ) -> ImportResult:
     """Read a field log (any of :data:`FORMATS`) into a resampled DataFrame with standard signals.
@@ -207,9 +208,15 @@ def import_log(
     ``body`` names the vehicle's signals (``usv.*`` by default, ``uuv`` for a UUV's log). ``opts`` go
     to the format's reader: ``system`` (MAVLink system id, tlog), ``origin`` ((lat, lon)
     deg, default the first fix), ``topics`` (ROS 2: role -> topic), ``column_map`` (CSV:
-    signal -> "column[:unit]").
+    signal -> "column[:unit]"), ``servos`` (ArduPilot: outputs 1 and 3 as "skid" or "rudder" instead of
+    the log's SERVOn_FUNCTION), ``ros_distro`` (ROS 2 bag without message definitions).
+
+    The report's ``vehicle`` says what the log is of (``type``, ``from`` where it was read, ``marine``);
+    ``require_marine`` (boat identification) refuses a log whose vehicle is known to be neither a boat nor
+    a submarine.
     """
     from . import formats
+    from .formats._common import vehicle
 
     p = Path(path)
     if not p.exists():
@@ -222,6 +229,12 @@ def import_log(
         series, meta = reader(p, allow_truncated=allow_truncated, **opts)
     except ModuleNotFoundError as e:
         raise InputError(needs_package(f"{p}: reading a {kind} log", e.name, "field")) from None
+    veh = meta.setdefault("vehicle", vehicle(None, f"a {kind} log does not say"))
+    if require_marine and veh["marine"] is False:
+        raise InputError(
+            f"{p}: the log is of a {veh['type']} ({veh['from']}), not a boat; refused for boat identification "
+            "(--force-vehicle to identify it anyway)"
+        )
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
     cols, report = resample(series, rate, gap_s, source=str(p))
@@ -245,8 +258,25 @@ def read_any(path, **opts):
         raise InputError(f"log not found: {p}")
     kind = detect_format(p, opts.pop("fmt", None))
     if kind == "parquet" or (kind == "csv" and not opts.get("column_map")):
+        if kind == "parquet" and opts.get("require_marine"):
+            _imported_vehicle(p)
         return read_log(p)
     return import_log(p, **opts).df
+
+
+def _imported_vehicle(p: Path) -> None:
+    """A run folder written by ``oceangnc import`` keeps the log's vehicle in import.json: refuse a non-boat."""
+    folder = p if p.is_dir() else p.parent
+    try:
+        rep = json.loads((folder / "import.json").read_text())
+    except (OSError, ValueError):
+        return  # a simulated run, or no import record: nothing says it is not a boat
+    v = rep.get("vehicle") or {}
+    if v.get("marine") is False:
+        raise InputError(
+            f"{p}: imported from {rep.get('source', 'a field log')}, a {v.get('type')} ({v.get('from')}), not a "
+            "boat; refused for boat identification (--force-vehicle to identify it anyway)"
+        )
 
 
 def write_run(res: ImportResult, out_dir) -> Path:

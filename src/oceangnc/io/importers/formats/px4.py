@@ -6,10 +6,54 @@ from pathlib import Path
 
 
 from ....errors import InputError
-from ._common import north_east, quat_euler, truncated
+from ._common import mav_type_class, mav_type_name, north_east, quat_euler, truncated, vehicle
 
 
 # -- PX4 ULog ------------------------------------------------------------------------------------------------
+
+#: SYS_AUTOSTART ranges of PX4's airframe families (docs.px4.io "Airframes Reference") -> vehicle class
+AUTOSTART = (
+    ((4000, 12999), "multirotor"),
+    ((13000, 13999), "VTOL"),
+    ((14000, 15999), "multirotor"),
+    ((16000, 16999), "helicopter"),
+    ((24000, 24999), "multirotor"),
+    ((50000, 59999), "rover (boat or ground)"),
+    ((60000, 60999), "submarine"),
+)
+#: vehicle_status.vehicle_type
+_VEHICLE_TYPE = {1: "multirotor", 2: "fixed-wing", 3: "rover (boat or ground)", 4: "airship"}
+
+
+def px4_vehicle(ul, topics) -> dict:
+    """The vehicle class of a PX4 log: parameter MAV_TYPE (set by the airframe), vehicle_status.system_type
+    (older logs), SYS_AUTOSTART (the airframe family), vehicle_status.vehicle_type / is_vtol."""
+    p = getattr(ul, "initial_parameters", {}) or {}
+    vs = topics.get("vehicle_status")
+    if "MAV_TYPE" in p and mav_type_class(p["MAV_TYPE"]):
+        mt = int(p["MAV_TYPE"])
+        return vehicle(mav_type_class(mt), f"parameter MAV_TYPE={mt} ({mav_type_name(mt)})")
+    if vs is not None and "system_type" in vs.data and len(vs.data["system_type"]):
+        mt = int(vs.data["system_type"][-1])
+        if mav_type_class(mt):
+            return vehicle(mav_type_class(mt), f"vehicle_status.system_type={mt} ({mav_type_name(mt)})")
+    sa = int(p.get("SYS_AUTOSTART", 0) or 0)
+    for (lo, hi), kind in AUTOSTART:
+        if lo <= sa <= hi:
+            return _px4_kind(kind, f"SYS_AUTOSTART={sa}")
+    if vs is not None and "vehicle_type" in vs.data and len(vs.data["vehicle_type"]):
+        vt = int(vs.data["vehicle_type"][-1])
+        vtol = "is_vtol" in vs.data and bool(vs.data["is_vtol"][-1])
+        kind = "VTOL" if vtol else _VEHICLE_TYPE.get(vt)
+        if kind:
+            return _px4_kind(kind, f"vehicle_status.vehicle_type={vt}" + (", is_vtol" if vtol else ""))
+    return vehicle(None, "no MAV_TYPE, SYS_AUTOSTART or vehicle_status in the log")
+
+
+def _px4_kind(kind: str, src: str) -> dict:
+    if kind.startswith("rover"):  # a rover or a boat: not told apart here
+        return {**vehicle(None, src), "type": kind}
+    return vehicle(kind, src)
 
 
 def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
@@ -69,8 +113,13 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
     av = topics.get("vehicle_angular_velocity")
     if av is not None and "xyz[2]" in av.data:
         out["usv.r"] = (ts(av), av.data["xyz[2]"].astype(float))
+    meta["vehicle"] = px4_vehicle(ul, topics)
+    kind = meta["vehicle"]["type"]
     am = topics.get("actuator_motors")
-    if am is not None and "control[1]" in am.data:
+    aerial = meta["vehicle"]["marine"] is False and not kind.startswith(("rover", "ground"))
+    if am is not None and aerial:
+        meta["notes"] = [f"no actuators imported: actuator_motors of a {kind} are not a boat's thrusters"]
+    elif am is not None and "control[1]" in am.data:
         out["act.left"] = (ts(am), am.data["control[0]"].astype(float))
         out["act.right"] = (ts(am), am.data["control[1]"].astype(float))
     if "usv.x" not in out and "usv.psi" not in out:
