@@ -463,3 +463,49 @@ def test_condition_and_fit_checks_on_their_own():
     assert [f["check"] for f in bad] == ["condition", "fit"] and "2e+06" in bad[0]["message"]
     e = np.random.default_rng(0).normal(size=400)
     assert ljung_box(e)[1] > 0.05 and ljung_box(np.cumsum(e))[1] < 1e-6
+
+
+def test_nan_at_the_start_is_trimmed_and_start_end_pick_a_stretch(identified, tmp_path, capsys):
+    """A log whose signals start at different times (NaN in the first rows) is identified, the dropped rows
+    reported; a gap inside is refused naming the longest stretch without NaN, which --start/--end then pick."""
+    _d, res = identified
+    one = _one_turn(res).copy()
+    t0 = one["t"].iloc[0]
+    cols = ["t", "trial.steer", "trial.heading", "trial.yaw_rate", "trial.speed"]
+    one = one[cols].assign(t=one["t"] - t0)
+    lead = one.copy()
+    lead.loc[:19, "trial.heading"] = np.nan  # the heading stream starts 1 s late (20 Hz)
+    p = tmp_path / "late.parquet"
+    lead.to_parquet(p)
+    assert main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "note: dropped 20 row(s) at the start (t 0.00-0.95 s) where trial.heading had no value" in out
+    (tr,) = json.loads((tmp_path / "o" / "identification.json").read_text())["trials"]
+    assert tr["T"] == pytest.approx(_one_turn(res)["trial.true_t"].iloc[0], rel=0.05)
+    # a gap in the middle of the steady interval: refused, with the stretch that has no NaN
+    gap = one.copy()
+    gap.loc[700:710, "trial.yaw_rate"] = np.nan
+    q = tmp_path / "gap.parquet"
+    gap.to_parquet(q)
+    assert main(["identify", "first-order", str(q), "--out", str(tmp_path / "o2")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "column 'trial.yaw_rate' has 11 NaN" in err
+    assert "longest stretch without NaN is 0.00-34.95 s (--start 0.00 --end 34.95)" in err
+    argv = ["identify", "first-order", str(q), "--start", "0", "--end", "34.95", "--out", str(tmp_path / "o3")]
+    assert main(argv) == 0, capsys.readouterr().err
+    (tr,) = json.loads((tmp_path / "o3" / "identification.json").read_text())["trials"]
+    assert tr["t3"] <= 34.95 + 1e-9
+
+
+def test_start_end_select_trials_of_a_multi_trial_log(identified, tmp_path):
+    """--start/--end on a simulated trials log keep the trials inside the window (here one turning trial)."""
+    d, res = identified
+    df = res.df
+    one = _one_turn(res, 0)
+    a, b = float(one["t"].iloc[0]), float(one["t"].iloc[-1])
+    log = str(d / "trials" / "log.parquet")
+    argv = ["identify", "first-order", log, "--start", str(a), "--end", str(b), "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    rep = json.loads((tmp_path / "o" / "identification.json").read_text())
+    assert [t["trial"] for t in rep["trials"]] == [int(one["trial.id"].iloc[0])] and rep["zigzag"] == []
+    assert len(df["trial.id"].unique()) > 10

@@ -4,6 +4,8 @@ with the truth; and the bad-input errors (one line naming the file and what is m
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -386,3 +388,64 @@ def test_tlog_boat_with_servo_parameters(truth, tmp_path):
     assert res.report["vehicle"]["type"] == "boat" and res.report["servo_map"] == {"act.left": 1, "act.right": 3}
     assert any("from the log's parameters" in n for n in res.report["notes"])
     _compare(res, df, t_shift=1.0, pos_tol=0.02)
+
+
+# -- trims and plausibility (issue 28) ----------------------------------------------------------------------
+
+
+def test_start_end_trim_keeps_the_time_axis(truth, tmp_path, capsys):
+    df, tmax, trev = truth
+    p = tmp_path / "log.ulg"
+    write_ulog(p, df, tmax, trev)
+    full = import_log(p, rate=10.0)
+    part = import_log(p, rate=10.0, start=10.0, end=40.0)
+    t = part.df["t"].to_numpy()
+    assert (
+        abs(t[0] - 10.0) < 0.11 and abs(t[-1] - 40.0) < 0.11 and part.report["trim"] == {"start_s": 10.0, "end_s": 40.0}
+    )
+    same = full.df.set_index(full.df["t"].round(6)).loc[np.round(t, 6)]  # the same instants, the same values
+    for c in ("usv.x", "usv.psi", "act.left"):
+        assert np.allclose(same[c].to_numpy(), part.df[c].to_numpy(), atol=1e-9), c
+    assert part.report["t0_source_s"] == full.report["t0_source_s"]
+    assert main(["import", str(p), "--out", str(tmp_path / "o"), "--start", "5", "--end", "15"]) == 0
+    out = pd.read_parquet(tmp_path / "o" / "log.parquet")
+    assert out["t"].min() >= 5.0 - 1e-9 and out["t"].max() <= 15.0 + 1e-9
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o2"), "--start", "500"])
+    assert str(p) in err and "nothing between --start 500" in err
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o3"), "--start", "20", "--end", "10"])
+    assert "the start must come before the end" in err
+
+
+def test_implausible_heights_are_refused_naming_file_and_column(truth, tmp_path, capsys):
+    """A height that leaps to -584 m in one sample (the issue's log), and one below the deepest ocean: one line,
+    exit 2, the file and the column named; --end before the leap imports the rest."""
+    df, tmax, trev = truth
+    part = df.iloc[:400]
+    import log_writers
+
+    def ulog_with_z(path, z_of_i):
+        w = log_writers.ULogWriter(path)
+        w.topic(
+            "vehicle_local_position", [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy")]
+        )
+        w.topic("vehicle_attitude", [("float[4]", "q")])
+        for i in range(len(part)):
+            us = round(part["t"].iat[i] * 1e6) + 500_000
+            w.write("vehicle_local_position", us, part["usv.x"].iat[i], part["usv.y"].iat[i], z_of_i(i), 1.0, 0.0)
+            w.write("vehicle_attitude", us, 1.0, 0.0, 0.0, 0.0)
+        w.close()
+
+    leap = tmp_path / "leap.ulg"
+    ulog_with_z(leap, lambda i: 584.0 if i >= 300 else 0.1 * math.sin(i / 10))  # z down: height -584 m
+    err = _cli_error(capsys, ["import", str(leap), "--out", str(tmp_path / "o")])
+    assert str(leap) in err and "column usv.z" in err and "-584.0 m" in err and "implausible" in err
+    assert "at t = 14.95 s" in err
+    assert main(["import", str(leap), "--out", str(tmp_path / "o2"), "--end", "14"]) == 0
+    deep = tmp_path / "deep.ulg"
+    ulog_with_z(deep, lambda i: 12_000.0 + i * 0.01)
+    err = _cli_error(capsys, ["import", str(deep), "--out", str(tmp_path / "o3")])
+    assert str(deep) in err and "column usv.z: height -12000.0 m" in err and "-11000 to 10000 m" in err
+    # a slow, steady descent is plausible (a UUV diving at 1 m/s)
+    dive = tmp_path / "dive.ulg"
+    ulog_with_z(dive, lambda i: 0.05 * i)
+    assert import_log(dive).df["usv.z"].max() > 15

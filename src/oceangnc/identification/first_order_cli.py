@@ -161,7 +161,8 @@ def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
 
 
 def _handler(args) -> int:
-    from .first_order import identify_log
+    from ..io.importers.core import trim_rows
+    from .first_order import identify_log, trim_nan_edges
 
     if not (0 < args.settle_tol < 0.5):
         raise InputError(f"--settle-tol {args.settle_tol}: allowed range 0 < value < 0.5")
@@ -177,6 +178,11 @@ def _handler(args) -> int:
     std = [k for k, v in _DEFAULTS.items() if getattr(args, k) == v and v not in df.columns and STANDARD[k] in df]
     for k in std:  # an imported field log: its standard signal names
         setattr(args, k, STANDARD[k])
+    if args.time != "t":  # read_any trims on t; a log with another time column is trimmed here
+        df = trim_rows(df, args.time, args.start, args.end, str(src))
+    df, note = trim_nan_edges(df, Columns(**{k: getattr(args, k) for k in _COLUMN_HELP}))
+    if note:
+        print(f"note: {note}")
     if args.trial in df.columns:
         if args.select_trial is not None:
             df = df[df[args.trial] == args.select_trial]

@@ -54,6 +54,13 @@ def add_source_options(p) -> None:
         "(default max(1, 5/rate)); longer ones are gaps (NaN rows)",
     )
     g.add_argument("--allow-truncated", action="store_true", help="import the complete records of a truncated log")
+    g.add_argument(
+        "--start",
+        type=float,
+        metavar="S",
+        help="keep the log from this time, s (the imported time axis: 0 where every signal has started)",
+    )
+    g.add_argument("--end", type=float, metavar="S", help="keep the log up to this time, s (same axis as --start)")
 
 
 def source_options(args) -> dict:
@@ -77,6 +84,9 @@ def source_options(args) -> dict:
         opts["column_map"] = args.map
     if topics:
         opts["topics"] = topics
+    for k in ("start", "end"):
+        if getattr(args, k, None) is not None:
+            opts[k] = getattr(args, k)
     if getattr(args, "ros_distro", None):
         opts["ros_distro"] = args.ros_distro
     if args.system is not None:
