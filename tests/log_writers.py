@@ -57,10 +57,26 @@ def pwm_of(T, full_fwd, full_rev):
     return np.round(1500 + 400 * np.clip(T / full, -1, 1)).astype(int)
 
 
-def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n, firmware=None, params=None, outputs=(1, 3), reverse=()):
+def write_dataflash(
+    path,
+    df,
+    lat0,
+    lon0,
+    tmax_n,
+    trev_n,
+    firmware=None,
+    params=None,
+    outputs=(1, 3),
+    reverse=(),
+    instances=1,
+    no_fix_s=0.0,
+):
     """GPS at 5 Hz, ATT / IMU / RCOU at 10 Hz from a simulated run's truth ``df`` (t, usv.*); ``firmware`` (a MSG
     such as "ArduRover V4.5.7 (abc)") and ``params`` (PARM records) first, as ArduPilot writes them; the
-    port / starboard thrust on the RCOU ``outputs``, PWM mirrored about 1500 on those in ``reverse``."""
+    port / starboard thrust on the RCOU ``outputs``, PWM mirrored about 1500 on those in ``reverse``.
+    ``instances`` > 1: IMU and GPS with ArduPilot 4's instance field I, every instance at the same TimeUS
+    (instance k reads a yaw rate k x 0.05 rad/s high and a position k x 3 m north); for the first
+    ``no_fix_s`` s every GPS has no fix (Status 1) and reports a position 500 m off."""
     w = DataFlashWriter(path)
     w.define(129, "PARM", "QNf", "TimeUS,Name,Value")
     w.define(134, "MSG", "QZ", "TimeUS,Message")
@@ -68,10 +84,15 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n, firmware=None, params=
         w.write("MSG", 1000, firmware)
     for k, v in (params or {}).items():
         w.write("PARM", 1000, k, float(v))
-    w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")  # GPS week and ms, as ArduPilot
+    if instances > 1:
+        w.define(130, "GPS", "QBBIHLLff", "TimeUS,I,Status,GMS,GWk,Lat,Lng,Spd,GCrs")
+        w.define(132, "IMU", "QBf", "TimeUS,I,GyrZ")
+    else:
+        w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")  # GPS week and ms, as ArduPilot
+        w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
     w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
-    w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
     w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
+    inst = [(k,) for k in range(instances)] if instances > 1 else [()]
     t = df["t"].to_numpy()
     vn = df["usv.u"] * np.cos(df["usv.psi"]) - df["usv.v"] * np.sin(df["usv.psi"])
     ve = df["usv.u"] * np.sin(df["usv.psi"]) + df["usv.v"] * np.cos(df["usv.psi"])
@@ -80,20 +101,25 @@ def write_dataflash(path, df, lat0, lon0, tmax_n, trev_n, firmware=None, params=
     for i in range(len(df)):
         us = round(t[i] * 1e6) + 1_000_000
         if i % 2 == 0:
-            lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
-            w.write(
-                "GPS",
-                us,
-                3,
-                302_400_000 + us // 1000,
-                2390,
-                round(lat * 1e7),
-                round(lon * 1e7),
-                math.hypot(vn.iat[i], ve.iat[i]),
-                math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360,
-            )
+            fix = t[i] >= no_fix_s
+            for k in inst:
+                dn = 3.0 * (k[0] if k else 0) + (0.0 if fix else 500.0)
+                lat, lon = ned_to_latlon(df["usv.x"].iat[i] + dn, df["usv.y"].iat[i], lat0, lon0)
+                w.write(
+                    "GPS",
+                    us,
+                    *k,
+                    3 if fix else 1,
+                    302_400_000 + us // 1000,
+                    2390,
+                    round(lat * 1e7),
+                    round(lon * 1e7),
+                    math.hypot(vn.iat[i], ve.iat[i]),
+                    math.degrees(math.atan2(ve.iat[i], vn.iat[i])) % 360,
+                )
         w.write("ATT", us, 0.0, 0.0, math.degrees(df["usv.psi"].iat[i]) % 360)
-        w.write("IMU", us, df["usv.r"].iat[i])
+        for k in inst:
+            w.write("IMU", us, *k, df["usv.r"].iat[i] + 0.05 * (k[0] if k else 0))
         ch = [1500, 1500, 1500, 1500]
         for n, v in zip(outputs, (int(pl[i]), int(pr[i]))):
             ch[n - 1] = 3000 - v if n in reverse else v

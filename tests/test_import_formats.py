@@ -449,3 +449,66 @@ def test_implausible_heights_are_refused_naming_file_and_column(truth, tmp_path,
     dive = tmp_path / "dive.ulg"
     ulog_with_z(dive, lambda i: 0.05 * i)
     assert import_log(dive).df["usv.z"].max() > 15
+
+
+# -- sensor instances and GPS fix (issue 28) ----------------------------------------------------------------
+
+
+def test_two_imus_and_two_gps_pick_one_instance_and_drop_no_fix(truth, tmp_path, capsys):
+    """A board with two IMUs and two GPS (ArduPilot 4's instance field I, both instances at the same TimeUS)
+    and no GPS fix for the first 5 s: no false time jump, no sample lost, instance 0 (the primary) used and
+    reported, the no-fix samples dropped and counted; --instance picks the other."""
+    df, tmax, trev = truth
+    p = tmp_path / "two.bin"
+    write_dataflash(p, df, LAT0, LON0, tmax, trev, instances=2, no_fix_s=5.0)
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    rep = res.report
+    assert rep["time_jumps"] == 0 and rep["dropped_samples"] == {}, rep["jumps"]
+    assert rep["instances"] == {"imu": {"used": 0, "present": [0, 1]}, "gps": {"used": 0, "present": [0, 1]}}
+    assert rep["signals"]["usv.r"]["samples"] == len(df)  # every sample of the one instance
+    assert rep["gps_no_fix_dropped"] == 50  # 5 s of 5 Hz GPS without a 3D fix
+    assert any("IMU: instance 0 of 0, 1" in n for n in rep["notes"])
+    assert any("without a 3D fix (Status < 3) dropped" in n for n in rep["notes"])
+    assert res.df["t"].iloc[0] + rep["t0_source_s"] - 1.0 >= 5.0 - 0.21  # the log starts at the first 3D fix
+    _compare(res, df, t_shift=1.0)
+    other = import_log(p, rate=10.0, origin=(LAT0, LON0), instances={"imu": 1, "gps": 1})
+    assert other.report["instances"]["imu"]["used"] == 1
+    assert np.median(other.df["usv.r"] - res.df["usv.r"]) == pytest.approx(0.05, abs=1e-6)
+    assert np.median(other.df["usv.x"] - res.df["usv.x"]) == pytest.approx(3.0, abs=0.02)
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o"), "--instance", "imu=2"])
+    assert str(p) in err and "no such IMU instance; the log has 0, 1" in err
+    assert main(["import", str(p), "--out", str(tmp_path / "o2"), "--instance", "gps=1"]) == 0
+    assert "note: GPS: instance 1 of 0, 1 (--instance" in capsys.readouterr().out
+
+
+def test_navsatfix_without_a_fix_is_dropped(truth, tmp_path):
+    """sensor_msgs/NavSatFix with status -1 (no fix) are dropped and counted."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    df, _, _ = truth
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    Fix, St = ts.types["sensor_msgs/msg/NavSatFix"], ts.types["sensor_msgs/msg/NavSatStatus"]
+    Hdr, Time = ts.types["std_msgs/msg/Header"], ts.types["builtin_interfaces/msg/Time"]
+    p = tmp_path / "fix"
+    with Writer(p, version=8) as w:
+        c = w.add_connection("/fix", Fix.__msgtype__, typestore=ts)
+        for i in range(0, 400):
+            t = 100.0 + float(df["t"].iat[i])
+            lat, lon = ned_to_latlon(float(df["usv.x"].iat[i]), float(df["usv.y"].iat[i]), LAT0, LON0)
+            no_fix = i < 40
+            m = Fix(
+                header=Hdr(stamp=Time(sec=int(t), nanosec=round((t - int(t)) * 1e9)), frame_id="gps"),
+                status=St(status=-1 if no_fix else 0, service=1),
+                latitude=0.0 if no_fix else lat,
+                longitude=0.0 if no_fix else lon,
+                altitude=0.0,
+                position_covariance=np.zeros(9),
+                position_covariance_type=0,
+            )
+            w.write(c, round(t * 1e9), ts.serialize_cdr(m, Fix.__msgtype__))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert any("40 of 400 NavSatFix messages without a fix (status -1) dropped" in n for n in res.report["notes"])
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - 100.0
+    assert t_truth[0] == pytest.approx(df["t"].iat[40], abs=1e-6)
+    assert np.max(np.abs(res.df["usv.x"] - np.interp(t_truth, df["t"], df["usv.x"]))) < 0.05

@@ -38,6 +38,13 @@ def add_source_options(p) -> None:
         "thrusters or rudder = steering / throttle (default: the log's SERVOn_FUNCTION parameters, "
         "73/74 left/right, 26 steering, 70 throttle; without them skid)",
     )
+    g.add_argument(
+        "--instance",
+        action="append",
+        metavar="SENSOR=N",
+        help="ArduPilot .bin sensor instance to read, imu=N or gps=N (repeatable; default the first, the "
+        "primary, and the import says which)",
+    )
     g.add_argument("--body", default="usv", help="prefix of the vehicle's signals (default usv; uuv for a UUV)")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
     g.add_argument(
@@ -72,6 +79,12 @@ def source_options(args) -> dict:
             raise InputError(f"--topic {it!r}: expected ROLE=TOPIC, e.g. odometry=/odom")
         k, v = it.split("=", 1)
         topics[k.strip()] = v.strip()
+    instances = {}
+    for it in getattr(args, "instance", None) or []:
+        k, sep, v = it.partition("=")
+        if not sep or not v.strip().isdigit():
+            raise InputError(f"--instance {it!r}: expected SENSOR=N, e.g. imu=1 or gps=0")
+        instances[k.strip().lower()] = int(v)
     opts = {
         "rate": args.rate,
         "fmt": args.log_format,
@@ -84,6 +97,8 @@ def source_options(args) -> dict:
         opts["column_map"] = args.map
     if topics:
         opts["topics"] = topics
+    if instances:
+        opts["instances"] = instances
     for k in ("start", "end"):
         if getattr(args, k, None) is not None:
             opts[k] = getattr(args, k)

@@ -223,10 +223,53 @@ def ardupilot_vehicle(firmware: str | None, params: dict, where: str) -> dict:
     return vehicle(kind, src)
 
 
-def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servos: str | None = None, **_):
-    """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Lat, Lng deg, Spd m/s, GCrs deg), ATT
-    (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1..C14 PWM us, mapped by the SERVOn_FUNCTION
-    parameters, see :func:`servo_map`); PARM (parameters), MSG / VER (firmware: the vehicle type); time TimeUS."""
+#: sensors with instances: the log's message names (ArduPilot 4 writes one message with an instance field I;
+#: older logs GPS2, IMU2, IMU3) -> sensor
+_INSTANCED = {"GPS": ("gps", 0), "GPS2": ("gps", 1), "IMU": ("imu", 0), "IMU2": ("imu", 1), "IMU3": ("imu", 2)}
+#: GPS Status (fix type) from which a fix is used: 3 = 3D (4 DGPS, 5 RTK float, 6 RTK fixed)
+GPS_FIX_3D = 3
+
+
+def pick_instances(rows: dict, instances: dict | None, path: Path, meta: dict) -> dict:
+    """One instance of each sensor (``{"imu": [rows], "gps": [rows]}``): ``instances[sensor]`` or the
+    lowest (the primary); records which in ``meta["instances"]`` and a note when there is a choice."""
+    want = dict(instances or {})
+    bad = [k for k in want if k not in ("imu", "gps")]
+    if bad:
+        raise InputError(f"--instance {bad[0]}=...: unknown sensor; sensors with instances: imu, gps")
+    out = {}
+    for sensor in ("imu", "gps"):
+        have = rows.get(sensor, {})
+        if not have:
+            if sensor in want:
+                raise InputError(f"{path}: --instance {sensor}={want[sensor]}: the log has no {sensor.upper()} records")
+            continue
+        present = sorted(have)
+        use = int(want.get(sensor, present[0]))
+        if use not in have:
+            raise InputError(
+                f"{path}: --instance {sensor}={use}: no such {sensor.upper()} instance; the log has "
+                f"{', '.join(map(str, present))}"
+            )
+        out[sensor] = have[use]
+        meta.setdefault("instances", {})[sensor] = {"used": use, "present": present}
+        if len(present) > 1:
+            how = "--instance" if sensor in want else "the first (primary)"
+            meta.setdefault("notes", []).append(
+                f"{sensor.upper()}: instance {use} of {', '.join(map(str, present))} ({how}; "
+                f"--instance {sensor}=N for another)"
+            )
+    return out
+
+
+def read_dataflash(
+    path: Path, allow_truncated: bool = False, origin=None, servos: str | None = None, instances=None, **_
+):
+    """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Status fix type, Lat, Lng deg, Spd m/s, GCrs
+    deg), ATT (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1..C14 PWM us, mapped by the SERVOn_FUNCTION
+    parameters, see :func:`servo_map`); PARM (parameters), MSG / VER (firmware: the vehicle type); time
+    TimeUS. GPS and IMU: one instance (field I, or GPS2 / IMU2 / IMU3), :func:`pick_instances`; GPS samples
+    without a 3D fix (Status < 3) are dropped and counted."""
     from pymavlink import DFReader
 
     data = path.read_bytes()
@@ -239,6 +282,7 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
     except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read DataFlash log: {e}") from None
     rows: dict[str, list] = {}
+    sensors: dict[str, dict] = {}
     params: dict = {}
     firmware = None
     try:
@@ -250,10 +294,15 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
             if m is None:
                 break
             kind = m.get_type()
-            if kind in ("GPS", "ATT", "IMU", "RCOU"):
+            if kind in ("ATT", "RCOU"):
                 d = m.to_dict()
                 if "TimeUS" in d:
                     rows.setdefault(kind, []).append(d)
+            elif kind in _INSTANCED:
+                d = m.to_dict()
+                if "TimeUS" in d:
+                    sensor, i = _INSTANCED[kind]
+                    sensors.setdefault(sensor, {}).setdefault(int(d.get("I", i)), []).append(d)
             elif kind == "PARM":
                 params[str(m.Name)] = float(m.Value)
             elif kind == "MSG" and firmware is None:
@@ -280,7 +329,18 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
             return np.array([x["TimeUS"] * 1e-6 for x in r]), np.array([x[f] for x in r], float) * scale
         return None
 
-    g = rows.get("GPS", [])
+    picked = pick_instances(sensors, instances, path, meta)
+    rows["IMU"] = picked.get("imu", [])
+    g = picked.get("gps", [])
+    if g and "Status" in g[0]:
+        n = len(g)
+        g = [r for r in g if r["Status"] >= GPS_FIX_3D]
+        if len(g) < n:
+            use = meta["instances"]["gps"]["used"]
+            meta.setdefault("notes", []).append(
+                f"GPS instance {use}: {n - len(g)} of {n} samples without a 3D fix (Status < {GPS_FIX_3D}) dropped"
+            )
+            meta["gps_no_fix_dropped"] = n - len(g)
     if g:
         t = np.array([x["TimeUS"] * 1e-6 for x in g])
         x, y, o = north_east([r["Lat"] for r in g], [r["Lng"] for r in g], origin)
@@ -302,12 +362,12 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
     logged = [n for n in range(1, 33) if rc and f"C{n}" in rc[0]]
     smap, notes = servo_map(params, servos, logged, _aerial(meta))
     meta["servo_map"] = {k: v[0] for k, v in smap.items()}
-    meta["notes"] = notes
+    meta["notes"] = notes + meta.get("notes", [])
     for sig, (n, trim, lo, hi, rev) in smap.items():
         c = col("RCOU", f"C{n}")
         if c is not None:
             out[sig] = (c[0], servo_norm(c[1], trim, lo, hi, rev))
-    meta["messages"] = sorted(rows)
+    meta["messages"] = sorted(k for k, v in rows.items() if v)
     if "usv.x" not in out and "usv.psi" not in out:
         raise InputError(
             f"{path}: DataFlash log has no GPS or ATT records (it has: {', '.join(sorted(log.name_to_id)[:15])})"

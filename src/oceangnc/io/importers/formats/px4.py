@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 
 from ....errors import InputError
 from ._common import mav_type_class, mav_type_name, north_east, quat_euler, truncated, vehicle
@@ -85,8 +87,13 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
         raise InputError(f"{path}: cannot read ULog: {type(e).__name__}: {e}") from None
     if getattr(ul, "file_corruption", False):
         truncated(path, "pyulog found a corrupt or incomplete message", allow_truncated, meta)
-    topics = {d.name: d for d in ul.data_list if d.multi_id == 0}
+    topics = {d.name: d for d in ul.data_list if d.multi_id == 0}  # instance 0 of each topic: the primary
     meta["topics"] = sorted(topics)
+    multi = sorted({d.name for d in ul.data_list if d.multi_id > 0})
+    if multi:
+        meta["instances"] = {
+            n: {"used": 0, "present": sorted(d.multi_id for d in ul.data_list if d.name == n)} for n in multi
+        }
     out: dict = {}
 
     def ts(d):
@@ -102,9 +109,18 @@ def read_ulog(path: Path, allow_truncated: bool = False, origin=None, **_):
         g = topics["vehicle_gps_position"]
         lat = g.data["latitude_deg"] if "latitude_deg" in g.data else g.data["lat"] * 1e-7
         lon = g.data["longitude_deg"] if "longitude_deg" in g.data else g.data["lon"] * 1e-7
+        tg = ts(g)
+        if "fix_type" in g.data:  # 3 = 3D fix and better; the rest dropped and counted
+            fix = np.asarray(g.data["fix_type"]) >= 3
+            if not fix.all():
+                meta.setdefault("notes", []).append(
+                    f"vehicle_gps_position: {int((~fix).sum())} of {fix.size} samples without a 3D fix "
+                    "(fix_type < 3) dropped"
+                )
+            lat, lon, tg = np.asarray(lat)[fix], np.asarray(lon)[fix], tg[fix]
         x, y, o = north_east(lat, lon, origin)
         if x is not None:
-            out["usv.x"], out["usv.y"] = (ts(g), x), (ts(g), y)
+            out["usv.x"], out["usv.y"] = (tg, x), (tg, y)
             meta["origin_deg"] = list(o)
     at = topics.get("vehicle_attitude")
     if at is not None and "q[0]" in at.data:

@@ -192,6 +192,13 @@ def read_rosbag2(
             out["usv.psi"] = (t, (np.pi / 2 - yaw + np.pi) % (2 * np.pi) - np.pi)
     if rows.get("navsat") and "usv.x" not in out:
         nf = rows["navsat"]
+        fixed = [(a, m) for a, m in nf if m.status.status >= 0]  # NavSatStatus.STATUS_NO_FIX = -1
+        if len(fixed) < len(nf):
+            meta.setdefault("notes", []).append(
+                f"{want['navsat']}: {len(nf) - len(fixed)} of {len(nf)} NavSatFix messages without a fix "
+                "(status -1) dropped"
+            )
+        nf = fixed
         t = np.array([stamp(a, m) for a, m in nf])
         x, y, o = north_east([m.latitude for _, m in nf], [m.longitude for _, m in nf], origin)
         if x is not None:
