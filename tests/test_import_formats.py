@@ -411,7 +411,7 @@ def test_start_end_trim_keeps_the_time_axis(truth, tmp_path, capsys):
     out = pd.read_parquet(tmp_path / "o" / "log.parquet")
     assert out["t"].min() >= 5.0 - 1e-9 and out["t"].max() <= 15.0 + 1e-9
     err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o2"), "--start", "500"])
-    assert str(p) in err and "nothing between --start 500" in err
+    assert str(p) in err and "nothing after --start 500 s (the log runs from 0 to 60.0 s" in err
     err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o3"), "--start", "20", "--end", "10"])
     assert "the start must come before the end" in err
 
@@ -475,6 +475,8 @@ def test_two_imus_and_two_gps_pick_one_instance_and_drop_no_fix(truth, tmp_path,
     assert other.report["instances"]["imu"]["used"] == 1
     assert np.median(other.df["usv.r"] - res.df["usv.r"]) == pytest.approx(0.05, abs=1e-6)
     assert np.median(other.df["usv.x"] - res.df["usv.x"]) == pytest.approx(3.0, abs=0.02)
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o0"), "--instance", "imu"])
+    assert "--instance 'imu': expected SENSOR=N" in err
     err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o"), "--instance", "imu=2"])
     assert str(p) in err and "no such IMU instance; the log has 0, 1" in err
     assert main(["import", str(p), "--out", str(tmp_path / "o2"), "--instance", "gps=1"]) == 0

@@ -176,6 +176,12 @@ def span_start(series: dict) -> float | None:
     return max(firsts) if firsts else None
 
 
+def _window(start, end) -> str:
+    if start is not None and end is not None:
+        return f"between --start {start:g} and --end {end:g} s"
+    return f"after --start {start:g} s" if start is not None else f"before --end {end:g} s"
+
+
 def trim(series: dict, t0: float, start: float | None, end: float | None, source: str) -> dict:
     """The samples between ``start`` and ``end`` (s on the imported time axis: source time - ``t0``)."""
     lo = -math.inf if start is None else float(start)
@@ -193,8 +199,8 @@ def trim(series: dict, t0: float, start: float | None, end: float | None, source
     if not any(t.size >= 2 for t, _ in out.values()):
         ends = [float(np.nanmax(np.asarray(t, float))) - t0 for t, _ in series.values() if len(t)]
         raise InputError(
-            f"{source}: nothing between --start {start} and --end {end} s (the log runs from 0 to "
-            f"{max(ends):.1f} s on the imported time axis)"
+            f"{source}: nothing {_window(start, end)} (the log runs from 0 to {max(ends):.1f} s on the imported "
+            "time axis)"
         )
     return out
 
@@ -321,6 +327,8 @@ def import_log(
     kind = detect_format(p, fmt)
     if kind == "parquet":
         raise InputError(f"{p}: already a Parquet log; identification reads it directly")
+    if opts.get("instances") and kind != "dataflash":
+        raise InputError(f"{p}: --instance picks a sensor of an ArduPilot .bin log; this is a {kind} log")
     reader = getattr(formats, f"read_{kind}")
     try:
         series, meta = reader(p, allow_truncated=allow_truncated, **opts)
@@ -378,7 +386,7 @@ def trim_rows(df, time_col: str, start=None, end=None, source: str = "log"):
     keep = (t >= lo - 1e-9) & (t <= hi + 1e-9)
     if keep.sum() < 2:
         span = f"{np.nanmin(t):.1f} to {np.nanmax(t):.1f} s" if t.size else "no rows"
-        raise InputError(f"{source}: nothing between --start {start} and --end {end} s (its {time_col} runs {span})")
+        raise InputError(f"{source}: nothing {_window(start, end)} (its {time_col} runs {span})")
     return df[keep].reset_index(drop=True)
 
 
