@@ -175,6 +175,12 @@ def _handler(args) -> int:
     df = read_any(args.log, require_marine=not args.force_vehicle, **source_options(args))
     if len(df) == 0:
         raise InputError(f"{src}: the log has 0 rows; nothing to identify")
+    imp = df.attrs.get("import") or {}
+    if imp.get("vehicle"):
+        v = imp["vehicle"]
+        print(f"vehicle: {v.get('type')} ({v.get('from')})")
+    for n in imp.get("notes") or []:
+        print(f"note: {n}")
     std = [k for k, v in _DEFAULTS.items() if getattr(args, k) == v and v not in df.columns and STANDARD[k] in df]
     for k in std:  # an imported field log: its standard signal names
         setattr(args, k, STANDARD[k])

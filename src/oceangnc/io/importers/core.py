@@ -360,7 +360,8 @@ def import_log(
 
 def read_any(path, **opts):
     """A log of any supported format as a DataFrame: Parquet / CSV logs as they are, field logs
-    (.bin, .tlog, .ulg, ROS 2 bag, or CSV with ``column_map``) imported with :func:`import_log`."""
+    (.bin, .tlog, .ulg, ROS 2 bag, or CSV with ``column_map``) imported with :func:`import_log` (its
+    vehicle, notes, typestore and instances in ``df.attrs["import"]``)."""
     from ..logs import read_log
 
     p = Path(path)
@@ -371,7 +372,9 @@ def read_any(path, **opts):
         if kind == "parquet" and opts.get("require_marine"):
             _imported_vehicle(p)
         return trim_rows(read_log(p), "t", opts.get("start"), opts.get("end"), str(p))
-    return import_log(p, **opts).df
+    res = import_log(p, **opts)
+    res.df.attrs["import"] = {k: res.report.get(k) for k in ("vehicle", "notes", "typestore", "instances")}
+    return res.df
 
 
 def trim_rows(df, time_col: str, start=None, end=None, source: str = "log"):
