@@ -265,3 +265,23 @@ def test_cli_points_need_one_trial(clean, tmp_path, capsys):
     (tr,) = data["trials"]
     assert tr["trial"] == tid and tr["t2"] == pytest.approx(t2, abs=0.03)
     assert tr["T"] == pytest.approx(df.loc[df["trial.id"] == tid, "trial.true_t"].iloc[0], rel=1e-3)
+
+
+def test_clean_and_noisy_trials_pass_every_check(clean, noisy, tmp_path, capsys):
+    """Issue 28: the checks that refuse an unfittable log pass the trials' own logs: noise-free (exact fits,
+    whiteness not tested) and noisy (white residuals, fit above 50 %), the CLI exits 0 and says so."""
+    log = str(clean.out_dir / "log.parquet")
+    assert main(["identify", "first-order", log, "--out", str(tmp_path / "c")]) == 0
+    out = capsys.readouterr().out
+    assert "checks: all 8 fit(s) pass bound, condition, fit, whiteness" in out
+    data = json.loads((tmp_path / "c" / "identification.json").read_text())
+    assert data["failed_checks"] == []
+    for tr in data["trials"] + data["zigzag"]:
+        c = tr["checks"]
+        assert c["failed"] == [] and c["condition"] < 100 and c["fit_pct"] > 99.99
+        assert "not tested" in c["whiteness_note"]
+    rep = identify_log(noisy.df, Columns(), n_mc=10)
+    assert rep.failures == []
+    tested = [st.checks for st in rep.steps + rep.zigzags if st.checks["whiteness_p"] is not None]
+    assert len(tested) >= 6  # the noisy fits are tested, and pass
+    assert all(c["whiteness_p"] > c["whiteness_level"] and 60 < c["fit_pct"] < 99 for c in tested)

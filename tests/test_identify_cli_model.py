@@ -210,24 +210,24 @@ def test_first_order_reads_a_field_log_with_a_column_map(identified, tmp_path, c
     assert doc["parameters"]["usv.kr_slope"] == 0.0 and math.isfinite(doc["parameters"]["usv.kr_intercept"])
 
 
-def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
-    """One turning trial of a rudder boat as an ArduPilot DataFlash log (GPS, ATT, IMU, RCOU with C1
-    steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
-    of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
+def _turn_bin(path, one, usv, firmware=None, params=None):
+    """One turning trial of a rudder boat as an ArduPilot DataFlash log: MSG (firmware) and PARM records first,
+    then GPS, ATT, IMU, RCOU with C1 steering and C3 throttle PWM."""
     from log_writers import DataFlashWriter
     from oceangnc.mavlink.geo import ned_to_latlon
 
-    _d, res = identified
-    df = res.df
-    tid = df.loc[df["trial.kind"] == 1.0, "trial.id"].iloc[2]
-    one = df[df["trial.id"] == tid].reset_index(drop=True)
-    usv = res.config.usv
     lim = math.radians(usv.rudder_limit_deg)
-    w = DataFlashWriter(tmp_path / "turn.bin")
+    w = DataFlashWriter(path)
+    w.define(129, "PARM", "QNf", "TimeUS,Name,Value")
+    w.define(134, "MSG", "QZ", "TimeUS,Message")
     w.define(130, "GPS", "QBIHLLff", "TimeUS,Status,GMS,GWk,Lat,Lng,Spd,GCrs")
     w.define(131, "ATT", "Qfff", "TimeUS,Roll,Pitch,Yaw")
     w.define(132, "IMU", "Qf", "TimeUS,GyrZ")
     w.define(133, "RCOU", "QHHHH", "TimeUS,C1,C2,C3,C4")
+    if firmware:
+        w.write("MSG", 1000, firmware)
+    for k, v in (params or {}).items():
+        w.write("PARM", 1000, k, float(v))
     t0 = one["t"].iloc[0]
     for i in range(len(one)):
         us = round((one["t"].iat[i] - t0) * 1e6) + 2_000_000
@@ -255,6 +255,22 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
             1500,
         )
     w.close()
+    return lim
+
+
+def _one_turn(res, k=2):
+    df = res.df
+    tid = df.loc[df["trial.kind"] == 1.0, "trial.id"].iloc[k]
+    return df[df["trial.id"] == tid].reset_index(drop=True)
+
+
+def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
+    """One turning trial of a rudder boat as an ArduPilot DataFlash log (GPS, ATT, IMU, RCOU with C1
+    steering and C3 throttle PWM), identified straight from the .bin (``--servos rudder``): K per unit
+    of normalised steer = K_r x rudder limit within 2 %, T_r within 5 %."""
+    _d, res = identified
+    one = _one_turn(res)
+    lim = _turn_bin(tmp_path / "turn.bin", one, res.config.usv)
     assert (
         main(
             [
@@ -276,6 +292,32 @@ def test_first_order_reads_an_ardupilot_bin_directly(identified, tmp_path):
     assert tr["kind"] == "turn" and rep["columns"]["steer"] == "act.steer"
     assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
     assert tr["T"] == pytest.approx(one["trial.true_t"].iloc[0], rel=0.05)
+
+
+def test_servo_functions_and_vehicle_type_from_the_bin(identified, tmp_path, capsys):
+    """The same trial logged by ArduRover (FRAME_CLASS 2, a boat) with SERVO1_FUNCTION 26 (steering) and
+    SERVO3_FUNCTION 70 (throttle): no --servos needed. Logged by ArduCopter it is refused in one line, and
+    identified with --force-vehicle."""
+    _d, res = identified
+    one = _one_turn(res)
+    rudder = {"SERVO1_FUNCTION": 26, "SERVO3_FUNCTION": 70}
+    boat = tmp_path / "boat.bin"
+    lim = _turn_bin(boat, one, res.config.usv, "ArduRover V4.5.7 (e1b2c3d4)", {"FRAME_CLASS": 2, **rudder})
+    assert main(["identify", "first-order", str(boat), "--rate", "20", "--out", str(tmp_path / "o")]) == 0
+    (tr,) = json.loads((tmp_path / "o" / "identification.json").read_text())["trials"]
+    assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
+    quad = tmp_path / "quad.bin"
+    _turn_bin(quad, one, res.config.usv, "ArduCopter V4.5.7 (2a3dc4b7)", rudder)
+    capsys.readouterr()
+    assert main(["identify", "first-order", str(quad), "--rate", "20", "--out", str(tmp_path / "q")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(quad) in err
+    assert "the log is of a multirotor (MSG 'ArduCopter V4.5.7 (2a3dc4b7)'), not a boat" in err
+    assert not (tmp_path / "q").exists()
+    argv = ["identify", "first-order", str(quad), "--rate", "20", "--force-vehicle", "--out", str(tmp_path / "f")]
+    assert main(argv) == 0
+    (tr,) = json.loads((tmp_path / "f" / "identification.json").read_text())["trials"]
+    assert tr["K"] == pytest.approx(one["trial.true_k"].iloc[0] * lim, rel=0.02)
 
 
 def test_ekf_reads_a_field_csv_through_the_importer(tmp_path):
@@ -317,3 +359,153 @@ def test_ekf_reads_a_field_csv_through_the_importer(tmp_path):
         truth = getattr(res.config.vehicle, k)
         assert est[k]["initial"] == pytest.approx(0.5 * truth)
         assert est[k]["estimate"] == pytest.approx(truth, rel=0.01)
+
+
+# -- identification that refuses what it cannot fit (issue 28) ----------------------------------------------
+
+
+def _zigzag_without_lag(K=0.3, amp_deg=10.0, h=0.1, t_end=80.0):
+    """A 10/10 zig-zag whose heading follows the rudder with no lag at all (r = K delta): what a vehicle
+    that is not a Nomoto boat gives; the fitted T runs to its lower bound."""
+    t = np.arange(0.0, t_end, h)
+    d = np.zeros_like(t)
+    psi = np.zeros_like(t)
+    sign = 1.0
+    for i in range(1, t.size):
+        if psi[i - 1] >= math.radians(amp_deg):
+            sign = -1.0
+        elif psi[i - 1] <= -math.radians(amp_deg):
+            sign = 1.0
+        d[i - 1] = sign * math.radians(amp_deg) if t[i - 1] >= 5.0 else 0.0
+        psi[i] = psi[i - 1] + K * d[i - 1] * h
+    d[-1] = d[-2]
+    return pd.DataFrame(
+        {"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": K * d, "trial.speed": np.full(t.size, 6.0)}
+    )
+
+
+def test_estimate_at_its_bound_exits_2_naming_the_check(tmp_path, capsys):
+    p = tmp_path / "nolag.csv"
+    _zigzag_without_lag().to_csv(p, index=False)
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert str(p) in err and "trial 0 (zigzag): bound check failed" in err and "lower bound 0.001 s" in err
+    assert not (tmp_path / "o").exists()  # nothing written for a refused fit
+    # accepted knowingly: --skip-check for each failed check -> exit 0, a warning, the checks in the JSON
+    argv = ["identify", "first-order", str(p), "--out", str(tmp_path / "o2")]
+    for c in ("bound", "condition", "fit", "whiteness"):
+        argv += ["--skip-check", c]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "warning: trial 0 (zigzag): bound check failed (skipped by --skip-check)" in out
+    rep = json.loads((tmp_path / "o2" / "identification.json").read_text())
+    (z,) = rep["zigzag"]
+    assert z["T"] == pytest.approx(1e-3, rel=0.02) and "bound" in z["checks"]["failed"]
+    assert rep["failed_checks"][0]["check"] == "bound" and rep["failed_checks"][0]["skipped"]
+
+
+def test_step_without_lag_is_below_the_sample_interval(tmp_path, capsys):
+    """The integral method has no optimiser bound: a yaw rate that jumps with the rudder gives T ~ 0, below
+    one sample interval, and is refused as a time constant at its bound."""
+    t = np.arange(0, 40, 0.1)
+    d = np.where(t >= 5, 0.17, 0.0)
+    rng = np.random.default_rng(1)
+    r = 0.1 * (t >= 5.05) + rng.normal(0, 1e-3, t.size)  # the response lands with the first sample after the step
+    psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))])
+    p = tmp_path / "instant.csv"
+    pd.DataFrame({"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r, "trial.speed": 6.0}).to_csv(
+        p, index=False
+    )
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "trial 0 (turn): bound check failed" in err and "below one sample interval (0.1 s)" in err
+
+
+def test_second_order_yaw_fails_the_whiteness_check(tmp_path, capsys):
+    """A yaw response with two lags (1 s and 4 s) and a little sensor noise: a first-order model follows it
+    (fit above 50 %) but its residual keeps the structure it misses, and Ljung-Box refuses it."""
+    h = 0.05
+    t = np.arange(0, 60, h)
+    d = np.where(t >= 5, 0.17, 0.0)
+    a1, a2 = math.exp(-h / 1.0), math.exp(-h / 4.0)
+    x1 = np.zeros_like(t)
+    r = np.zeros_like(t)
+    for i in range(t.size - 1):
+        x1[i + 1] = a1 * x1[i] + (1 - a1) * 0.6 * d[i]
+        r[i + 1] = a2 * r[i] + (1 - a2) * x1[i]
+    rng = np.random.default_rng(2)
+    r_meas = r + rng.normal(0, 2e-4, t.size)
+    psi = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (r[1:] + r[:-1]))]) + rng.normal(0, 1e-4, t.size)
+    p = tmp_path / "two_lags.csv"
+    pd.DataFrame({"t": t, "trial.steer": d, "trial.heading": psi, "trial.yaw_rate": r_meas, "trial.speed": 6.0}).to_csv(
+        p, index=False
+    )
+    code = main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "trial 0 (turn): whiteness check failed: residual not white: Ljung-Box p = " in err
+
+
+def test_condition_and_fit_checks_on_their_own():
+    """The condition number of the equilibrated information matrix is (1 + |rho|) / (1 - |rho|) for two
+    parameters; judge() fails a fit above 1e6 or below 50 %, and splits 5 % over the trials."""
+    from oceangnc.identification.first_order_checks import equilibrated_condition, judge, ljung_box
+
+    rho = 0.99
+    J = np.array([[1.0, rho], [0.0, math.sqrt(1 - rho**2)]]) * [3.0, 1e-4]  # column scales do not matter
+    assert equilibrated_condition(J) == pytest.approx((1 + rho) / (1 - rho), rel=1e-9)
+    assert equilibrated_condition(np.array([[1.0, 0.0], [2.0, 0.0]])) == math.inf
+    good = {"condition": 2.0, "fit_pct": 95.0, "whiteness_p": 0.03, "lags": 10, "samples": 100}
+    assert judge([("a", dict(good))]) != [] and judge([("a", dict(good)), ("b", dict(good))]) == []
+    bad = judge([("a", {**good, "condition": 2e6, "fit_pct": 40.0, "whiteness_p": 0.5})])
+    assert [f["check"] for f in bad] == ["condition", "fit"] and "2e+06" in bad[0]["message"]
+    e = np.random.default_rng(0).normal(size=400)
+    assert ljung_box(e)[1] > 0.05 and ljung_box(np.cumsum(e))[1] < 1e-6
+
+
+def test_nan_at_the_start_is_trimmed_and_start_end_pick_a_stretch(identified, tmp_path, capsys):
+    """A log whose signals start at different times (NaN in the first rows) is identified, the dropped rows
+    reported; a gap inside is refused naming the longest stretch without NaN, which --start/--end then pick."""
+    _d, res = identified
+    one = _one_turn(res).copy()
+    t0 = one["t"].iloc[0]
+    cols = ["t", "trial.steer", "trial.heading", "trial.yaw_rate", "trial.speed"]
+    one = one[cols].assign(t=one["t"] - t0)
+    lead = one.copy()
+    lead.loc[:19, "trial.heading"] = np.nan  # the heading stream starts 1 s late (20 Hz)
+    p = tmp_path / "late.parquet"
+    lead.to_parquet(p)
+    assert main(["identify", "first-order", str(p), "--out", str(tmp_path / "o")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "note: dropped 20 row(s) at the start (t 0.00-0.95 s) where trial.heading had no value" in out
+    (tr,) = json.loads((tmp_path / "o" / "identification.json").read_text())["trials"]
+    assert tr["T"] == pytest.approx(_one_turn(res)["trial.true_t"].iloc[0], rel=0.05)
+    # a gap in the middle of the steady interval: refused, with the stretch that has no NaN
+    gap = one.copy()
+    gap.loc[700:710, "trial.yaw_rate"] = np.nan
+    q = tmp_path / "gap.parquet"
+    gap.to_parquet(q)
+    assert main(["identify", "first-order", str(q), "--out", str(tmp_path / "o2")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "column 'trial.yaw_rate' has 11 NaN" in err
+    assert "longest stretch without NaN is 0.00-34.95 s (--start 0.00 --end 34.95)" in err
+    argv = ["identify", "first-order", str(q), "--start", "0", "--end", "34.95", "--out", str(tmp_path / "o3")]
+    assert main(argv) == 0, capsys.readouterr().err
+    (tr,) = json.loads((tmp_path / "o3" / "identification.json").read_text())["trials"]
+    assert tr["t3"] <= 34.95 + 1e-9
+
+
+def test_start_end_select_trials_of_a_multi_trial_log(identified, tmp_path):
+    """--start/--end on a simulated trials log keep the trials inside the window (here one turning trial)."""
+    d, res = identified
+    df = res.df
+    one = _one_turn(res, 0)
+    a, b = float(one["t"].iloc[0]), float(one["t"].iloc[-1])
+    log = str(d / "trials" / "log.parquet")
+    argv = ["identify", "first-order", log, "--start", str(a), "--end", str(b), "--out", str(tmp_path / "o")]
+    assert main(argv) == 0
+    rep = json.loads((tmp_path / "o" / "identification.json").read_text())
+    assert [t["trial"] for t in rep["trials"]] == [int(one["trial.id"].iloc[0])] and rep["zigzag"] == []
+    assert len(df["trial.id"].unique()) > 10

@@ -4,11 +4,13 @@ with the truth; and the bad-input errors (one line naming the file and what is m
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
 
-from log_writers import write_dataflash, write_rosbag, write_ulog
+from log_writers import as_pre_iron_bag, write_dataflash, write_rosbag, write_tlog, write_ulog
 from oceangnc.cli import main
 from oceangnc.io.importers import import_log, read_any
 from oceangnc.mavlink.geo import ned_to_latlon
@@ -96,6 +98,57 @@ def test_rosbag_round_trip_and_unknown_topic(truth, tmp_path):
     with pytest.raises(Exception) as e:
         import_log(p, topics={"odometry": "/nope"})
     assert "no topic /nope (odometry)" in str(e.value) and str(p) in str(e.value)
+
+
+@pytest.mark.parametrize("distro", ["humble", "foxy"])
+def test_pre_iron_sqlite3_bag_without_definitions(truth, tmp_path, distro, capsys):
+    """A bag as Foxy / Humble's rosbag2 writes it (sqlite3, no message definitions): rosbags alone refuses
+    it; the import reads it with the distro's typestore, says which, and matches the truth."""
+    from rosbags.highlevel import AnyReader
+
+    df, tmax, trev = truth
+    p = tmp_path / "bag"
+    write_rosbag(p, df, tmax, trev)
+    as_pre_iron_bag(p, distro)
+    with pytest.raises(Exception, match="no type definitions"):  # the failure the issue reports
+        with AnyReader([p]):
+            pass
+    res = import_log(p, rate=10.0)
+    assert res.report["ros_distro"] == distro and f"ros2_{distro} typestore" in res.report["typestore"]
+    assert ("schema table" if distro == "humble" else "metadata.yaml version 4") in res.report["typestore"]
+    _compare(res, df, t_shift=100.0)
+    # --ros-distro overrides, the CLI prints which typestore it used; a bad name is one line, exit 2
+    assert main(["import", str(p), "--out", str(tmp_path / "o"), "--ros-distro", "galactic"]) == 0
+    assert "ros2_galactic typestore" in capsys.readouterr().out
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o2"), "--ros-distro", "hydro"])
+    assert "--ros-distro hydro" in err and "humble" in err
+
+
+def test_mcap_bag_folder_and_bare_storage_files(truth, tmp_path):
+    """An MCAP bag written by rosbags' Writer (folder with metadata.yaml), the bare .mcap file alone, and a
+    bare Humble-style .db3 file: all import and match the truth."""
+    import shutil
+
+    df, tmax, trev = truth
+    m = tmp_path / "mc"
+    write_rosbag(m, df, tmax, trev, storage="mcap")
+    (mc,) = m.glob("*.mcap")
+    res = import_log(m, rate=10.0)
+    assert res.format == "rosbag2" and res.report["typestore"] == "the bag's own message definitions"
+    _compare(res, df, t_shift=100.0)
+    bare = tmp_path / "alone" / "flight.mcap"
+    bare.parent.mkdir()
+    shutil.copy(mc, bare)
+    _compare(import_log(bare, rate=10.0), df, t_shift=100.0)
+    h = tmp_path / "h"
+    write_rosbag(h, df, tmax, trev)
+    as_pre_iron_bag(h, "humble")
+    (db,) = h.glob("*.db3")
+    bare_db = tmp_path / "alone" / "flight.db3"
+    shutil.copy(db, bare_db)
+    res = import_log(bare_db, rate=10.0)
+    assert "ros2_humble" in res.report["typestore"]
+    _compare(res, df, t_shift=100.0)
 
 
 def test_rosbag_navsatfix_and_imu_without_odometry(truth, tmp_path):
@@ -250,3 +303,214 @@ def test_csv_missing_column_and_unknown_topic_exit_2(truth, tmp_path, capsys):
     write_rosbag(b, df.iloc[:50], tmax, trev)
     err = _cli_error(capsys, ["import", str(b), "--out", str(tmp_path / "o5"), "--topic", "odometry=/missing"])
     assert str(b) in err and "/missing" in err
+
+
+# -- vehicle type and thruster mapping (issue 28) ----------------------------------------------------------
+
+
+def _want_thrust(df, res, shift, col, tmax, trev):
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - shift
+    idx = np.clip(np.searchsorted(df["t"].to_numpy(), t_truth + 1e-9, side="right") - 1, 0, len(df) - 1)
+    tp = df[col].to_numpy()[idx]
+    return np.where(tp >= 0, tp / tmax, tp / trev)
+
+
+def test_servo_functions_map_the_thrusters_and_the_firmware_names_the_boat(truth, tmp_path):
+    """ArduRover boat (FRAME_CLASS 2) whose thrusters are on outputs 2 and 4 (SERVO2_FUNCTION 73 ThrottleLeft,
+    SERVO4_FUNCTION 74 ThrottleRight, output 4 reversed): read from the PARM records, not outputs 1 and 3."""
+    df, tmax, trev = truth
+    p = tmp_path / "boat.bin"
+    params = {"FRAME_CLASS": 2, "SERVO2_FUNCTION": 73, "SERVO4_FUNCTION": 74, "SERVO4_REVERSED": 1}
+    write_dataflash(p, df, LAT0, LON0, tmax, trev, "ArduRover V4.5.7 (e1b2c3d4)", params, outputs=(2, 4), reverse=(4,))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    v = res.report["vehicle"]
+    assert v["type"] == "boat" and v["marine"] and "ArduRover V4.5.7" in v["from"] and "FRAME_CLASS=2" in v["from"]
+    assert res.report["servo_map"] == {"act.left": 2, "act.right": 4}
+    assert any("SERVO2_FUNCTION=73 (ThrottleLeft) -> act.left" in n for n in res.report["notes"])
+    assert np.max(np.abs(res.df["act.left"] - _want_thrust(df, res, 1.0, "usv.thrust_port", tmax, trev))) < 0.003
+    assert np.max(np.abs(res.df["act.right"] - _want_thrust(df, res, 1.0, "usv.thrust_stbd", tmax, trev))) < 0.003
+    # --servos overrides the parameters, and says the log disagrees
+    res2 = import_log(p, rate=10.0, servos="skid")
+    assert res2.report["servo_map"] == {"act.left": 1, "act.right": 3}
+    assert any("--servos wins" in n for n in res2.report["notes"])
+    # a ground rover (FRAME_CLASS 1) is no boat
+    g = tmp_path / "rover.bin"
+    write_dataflash(g, df.iloc[:100], LAT0, LON0, tmax, trev, "ArduRover V4.5.7 (e1b2c3d4)", {"FRAME_CLASS": 1})
+    assert import_log(g).report["vehicle"] == {
+        "type": "ground rover",
+        "from": "MSG 'ArduRover V4.5.7 (e1b2c3d4)', FRAME_CLASS=1",
+        "marine": False,
+    }
+
+
+def test_multirotor_logs_are_named_and_their_motors_are_not_thrusters(truth, tmp_path, capsys):
+    """A quadcopter's .bin (MSG ArduCopter, SERVO1-4_FUNCTION 33-36 motors), .tlog (HEARTBEAT
+    MAV_TYPE_QUADROTOR, no parameters) and .ulg (parameter MAV_TYPE 2): the vehicle is read from the log, the
+    motors do not become left / right thrusters, and boat identification refuses each in one line."""
+    df, tmax, trev = truth
+    part = df.iloc[:300]
+    b = tmp_path / "quad.bin"
+    motors = {f"SERVO{n}_FUNCTION": 32 + n for n in range(1, 5)}
+    write_dataflash(b, part, LAT0, LON0, tmax, trev, "ArduCopter V4.5.7 (2a3dc4b7)", {"FRAME_CLASS": 1, **motors})
+    tl = tmp_path / "quad.tlog"
+    write_tlog(tl, part, LAT0, LON0, mav_type=2, tmax_n=tmax, trev_n=trev)
+    ul = tmp_path / "quad.ulg"
+    write_ulog(ul, part, tmax, trev, params={"MAV_TYPE": 2, "SYS_AUTOSTART": 4001})
+    for p, src in (
+        (b, "MSG 'ArduCopter V4.5.7"),
+        (tl, "HEARTBEAT type 2 (MAV_TYPE_QUADROTOR)"),
+        (ul, "parameter MAV_TYPE=2"),
+    ):
+        res = import_log(p, rate=10.0)
+        v = res.report["vehicle"]
+        assert v["type"] == "multirotor" and v["marine"] is False and v["from"].startswith(src), v
+        assert not any(c.startswith("act.") for c in res.df.columns), res.df.columns
+        assert any(n.startswith("no actuators imported") for n in res.report["notes"])
+        err = _cli_error(capsys, ["identify", "first-order", str(p), "--out", str(tmp_path / "o")])
+        assert str(p) in err and "the log is of a multirotor" in err and "--force-vehicle" in err
+    # the import itself works and says so; identifying its run folder is refused the same way
+    assert main(["import", str(b), "--out", str(tmp_path / "imp")]) == 0
+    out = capsys.readouterr().out
+    assert "vehicle: multirotor (MSG 'ArduCopter V4.5.7 (2a3dc4b7)', FRAME_CLASS=1): not a boat" in out
+    err = _cli_error(capsys, ["identify", "first-order", str(tmp_path / "imp"), "--out", str(tmp_path / "o")])
+    assert f"imported from {b}, a multirotor" in err
+
+
+def test_tlog_boat_with_servo_parameters(truth, tmp_path):
+    """A boat's tlog (HEARTBEAT MAV_TYPE_SURFACE_BOAT) with the parameters a ground station downloaded
+    (PARAM_VALUE SERVO1_FUNCTION 73, SERVO3_FUNCTION 74): boat, thrusters on 1 and 3 from the parameters."""
+    df, tmax, trev = truth
+    p = tmp_path / "boat.tlog"
+    write_tlog(
+        p, df, LAT0, LON0, mav_type=11, params={"SERVO1_FUNCTION": 73, "SERVO3_FUNCTION": 74}, tmax_n=tmax, trev_n=trev
+    )
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert res.report["vehicle"]["type"] == "boat" and res.report["servo_map"] == {"act.left": 1, "act.right": 3}
+    assert any("from the log's parameters" in n for n in res.report["notes"])
+    _compare(res, df, t_shift=1.0, pos_tol=0.02)
+
+
+# -- trims and plausibility (issue 28) ----------------------------------------------------------------------
+
+
+def test_start_end_trim_keeps_the_time_axis(truth, tmp_path, capsys):
+    df, tmax, trev = truth
+    p = tmp_path / "log.ulg"
+    write_ulog(p, df, tmax, trev)
+    full = import_log(p, rate=10.0)
+    part = import_log(p, rate=10.0, start=10.0, end=40.0)
+    t = part.df["t"].to_numpy()
+    assert (
+        abs(t[0] - 10.0) < 0.11 and abs(t[-1] - 40.0) < 0.11 and part.report["trim"] == {"start_s": 10.0, "end_s": 40.0}
+    )
+    same = full.df.set_index(full.df["t"].round(6)).loc[np.round(t, 6)]  # the same instants, the same values
+    for c in ("usv.x", "usv.psi", "act.left"):
+        assert np.allclose(same[c].to_numpy(), part.df[c].to_numpy(), atol=1e-9), c
+    assert part.report["t0_source_s"] == full.report["t0_source_s"]
+    assert main(["import", str(p), "--out", str(tmp_path / "o"), "--start", "5", "--end", "15"]) == 0
+    out = pd.read_parquet(tmp_path / "o" / "log.parquet")
+    assert out["t"].min() >= 5.0 - 1e-9 and out["t"].max() <= 15.0 + 1e-9
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o2"), "--start", "500"])
+    assert str(p) in err and "nothing after --start 500 s (the log runs from 0 to 60.0 s" in err
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o3"), "--start", "20", "--end", "10"])
+    assert "the start must come before the end" in err
+
+
+def test_implausible_heights_are_refused_naming_file_and_column(truth, tmp_path, capsys):
+    """A height that leaps to -584 m in one sample (the issue's log), and one below the deepest ocean: one line,
+    exit 2, the file and the column named; --end before the leap imports the rest."""
+    df, tmax, trev = truth
+    part = df.iloc[:400]
+    import log_writers
+
+    def ulog_with_z(path, z_of_i):
+        w = log_writers.ULogWriter(path)
+        w.topic(
+            "vehicle_local_position", [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy")]
+        )
+        w.topic("vehicle_attitude", [("float[4]", "q")])
+        for i in range(len(part)):
+            us = round(part["t"].iat[i] * 1e6) + 500_000
+            w.write("vehicle_local_position", us, part["usv.x"].iat[i], part["usv.y"].iat[i], z_of_i(i), 1.0, 0.0)
+            w.write("vehicle_attitude", us, 1.0, 0.0, 0.0, 0.0)
+        w.close()
+
+    leap = tmp_path / "leap.ulg"
+    ulog_with_z(leap, lambda i: 584.0 if i >= 300 else 0.1 * math.sin(i / 10))  # z down: height -584 m
+    err = _cli_error(capsys, ["import", str(leap), "--out", str(tmp_path / "o")])
+    assert str(leap) in err and "column usv.z" in err and "-584.0 m" in err and "implausible" in err
+    assert "at t = 14.95 s" in err
+    assert main(["import", str(leap), "--out", str(tmp_path / "o2"), "--end", "14"]) == 0
+    deep = tmp_path / "deep.ulg"
+    ulog_with_z(deep, lambda i: 12_000.0 + i * 0.01)
+    err = _cli_error(capsys, ["import", str(deep), "--out", str(tmp_path / "o3")])
+    assert str(deep) in err and "column usv.z: height -12000.0 m" in err and "-11000 to 10000 m" in err
+    # a slow, steady descent is plausible (a UUV diving at 1 m/s)
+    dive = tmp_path / "dive.ulg"
+    ulog_with_z(dive, lambda i: 0.05 * i)
+    assert import_log(dive).df["usv.z"].max() > 15
+
+
+# -- sensor instances and GPS fix (issue 28) ----------------------------------------------------------------
+
+
+def test_two_imus_and_two_gps_pick_one_instance_and_drop_no_fix(truth, tmp_path, capsys):
+    """A board with two IMUs and two GPS (ArduPilot 4's instance field I, both instances at the same TimeUS)
+    and no GPS fix for the first 5 s: no false time jump, no sample lost, instance 0 (the primary) used and
+    reported, the no-fix samples dropped and counted; --instance picks the other."""
+    df, tmax, trev = truth
+    p = tmp_path / "two.bin"
+    write_dataflash(p, df, LAT0, LON0, tmax, trev, instances=2, no_fix_s=5.0)
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    rep = res.report
+    assert rep["time_jumps"] == 0 and rep["dropped_samples"] == {}, rep["jumps"]
+    assert rep["instances"] == {"imu": {"used": 0, "present": [0, 1]}, "gps": {"used": 0, "present": [0, 1]}}
+    assert rep["signals"]["usv.r"]["samples"] == len(df)  # every sample of the one instance
+    assert rep["gps_no_fix_dropped"] == 50  # 5 s of 5 Hz GPS without a 3D fix
+    assert any("IMU: instance 0 of 0, 1" in n for n in rep["notes"])
+    assert any("without a 3D fix (Status < 3) dropped" in n for n in rep["notes"])
+    assert res.df["t"].iloc[0] + rep["t0_source_s"] - 1.0 >= 5.0 - 0.21  # the log starts at the first 3D fix
+    _compare(res, df, t_shift=1.0)
+    other = import_log(p, rate=10.0, origin=(LAT0, LON0), instances={"imu": 1, "gps": 1})
+    assert other.report["instances"]["imu"]["used"] == 1
+    assert np.median(other.df["usv.r"] - res.df["usv.r"]) == pytest.approx(0.05, abs=1e-6)
+    assert np.median(other.df["usv.x"] - res.df["usv.x"]) == pytest.approx(3.0, abs=0.02)
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o0"), "--instance", "imu"])
+    assert "--instance 'imu': expected SENSOR=N" in err
+    err = _cli_error(capsys, ["import", str(p), "--out", str(tmp_path / "o"), "--instance", "imu=2"])
+    assert str(p) in err and "no such IMU instance; the log has 0, 1" in err
+    assert main(["import", str(p), "--out", str(tmp_path / "o2"), "--instance", "gps=1"]) == 0
+    assert "note: GPS: instance 1 of 0, 1 (--instance" in capsys.readouterr().out
+
+
+def test_navsatfix_without_a_fix_is_dropped(truth, tmp_path):
+    """sensor_msgs/NavSatFix with status -1 (no fix) are dropped and counted."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    df, _, _ = truth
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    Fix, St = ts.types["sensor_msgs/msg/NavSatFix"], ts.types["sensor_msgs/msg/NavSatStatus"]
+    Hdr, Time = ts.types["std_msgs/msg/Header"], ts.types["builtin_interfaces/msg/Time"]
+    p = tmp_path / "fix"
+    with Writer(p, version=8) as w:
+        c = w.add_connection("/fix", Fix.__msgtype__, typestore=ts)
+        for i in range(0, 400):
+            t = 100.0 + float(df["t"].iat[i])
+            lat, lon = ned_to_latlon(float(df["usv.x"].iat[i]), float(df["usv.y"].iat[i]), LAT0, LON0)
+            no_fix = i < 40
+            m = Fix(
+                header=Hdr(stamp=Time(sec=int(t), nanosec=round((t - int(t)) * 1e9)), frame_id="gps"),
+                status=St(status=-1 if no_fix else 0, service=1),
+                latitude=0.0 if no_fix else lat,
+                longitude=0.0 if no_fix else lon,
+                altitude=0.0,
+                position_covariance=np.zeros(9),
+                position_covariance_type=0,
+            )
+            w.write(c, round(t * 1e9), ts.serialize_cdr(m, Fix.__msgtype__))
+    res = import_log(p, rate=10.0, origin=(LAT0, LON0))
+    assert any("40 of 400 NavSatFix messages without a fix (status -1) dropped" in n for n in res.report["notes"])
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - 100.0
+    assert t_truth[0] == pytest.approx(df["t"].iat[40], abs=1e-6)
+    assert np.max(np.abs(res.df["usv.x"] - np.interp(t_truth, df["t"], df["usv.x"]))) < 0.05

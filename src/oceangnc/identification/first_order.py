@@ -44,6 +44,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from .first_order_checks import judge
 from .first_order_results import Columns, LinearFit, Report, StepFit, ZigzagFit
 from .integral_method import _trapz_cum, detect_points, fit_vs_speed, identify_step, integral_estimate, noise_std
 from .nomoto_zigzag import fit_nomoto_zigzag
@@ -56,6 +57,7 @@ __all__ = [
     "StepFit",
     "ZigzagFit",
     "check_log",
+    "trim_nan_edges",
     "detect_points",
     "fit_nomoto_zigzag",
     "fit_vs_speed",
@@ -120,7 +122,15 @@ def check_log(df, cols: Columns, options: dict | None = None):
         if bad.any():
             i = int(np.argmax(bad))
             where = f"row {i}" + (f", t={t[i]:.3f} s" if c != cols.time and np.isfinite(t[i]) else "")
-            raise InputError(f"column '{c}' has {int(bad.sum())} NaN/inf value(s), first at {where}")
+            hint = ""
+            if c != cols.time:
+                a, b = _longest_finite(df[used].to_numpy(float))
+                if b > a and np.isfinite(t[a]) and np.isfinite(t[b]):
+                    hint = (
+                        f"; the longest stretch without NaN is {t[a]:.2f}-{t[b]:.2f} s "
+                        f"(--start {t[a]:.2f} --end {t[b]:.2f})"
+                    )
+            raise InputError(f"column '{c}' has {int(bad.sum())} NaN/inf value(s), first at {where}{hint}")
     dt = np.diff(t)
     if np.any(dt <= 0):
         i = int(np.argmax(dt <= 0)) + 1
@@ -128,6 +138,50 @@ def check_log(df, cols: Columns, options: dict | None = None):
             f"time column '{cols.time}' is not increasing at row {i} (t={t[i - 1]:.6g} s then {t[i]:.6g} s)"
         )
     return have
+
+
+def _longest_finite(a) -> tuple[int, int]:
+    """First and last row of the longest run of rows finite in every column of ``a``."""
+    ok = np.all(np.isfinite(a), axis=1)
+    best, cur = (0, -1), None
+    for i, k in enumerate(ok):
+        if k:
+            cur = i if cur is None else cur
+            if i - cur > best[1] - best[0]:
+                best = (cur, i)
+        else:
+            cur = None
+    return best
+
+
+def _used_columns(df, cols: Columns) -> list[str]:
+    names = [getattr(cols, k) for k in ("steer", "thrust", "speed", "heading", "yaw_rate")]
+    return [c for c in names if c in df.columns]
+
+
+def trim_nan_edges(df, cols: Columns):
+    """Drop the rows at the start and end of a log where a signal identification uses is NaN (not yet
+    started, or stopped: typical of a field log whose streams start at different times). Returns the log
+    and a note saying what was dropped (None if nothing)."""
+    used = _used_columns(df, cols)
+    if not used or len(df) == 0:
+        return df, None
+    ok = np.all(np.isfinite(df[used].to_numpy(float)), axis=1)
+    if ok.all() or not ok.any():
+        return df, None
+    a = int(np.argmax(ok))
+    b = int(len(ok) - 1 - np.argmax(ok[::-1]))
+    if a == 0 and b == len(ok) - 1:
+        return df, None
+    t = df[cols.time].to_numpy(float) if cols.time in df.columns else np.arange(len(df), dtype=float)
+    parts = []
+    if a > 0:
+        parts.append(f"{a} row(s) at the start (t {t[0]:.2f}-{t[a - 1]:.2f} s)")
+    if b < len(ok) - 1:
+        parts.append(f"{len(ok) - 1 - b} row(s) at the end (t {t[b + 1]:.2f}-{t[-1]:.2f} s)")
+    nan_cols = [c for c in used if not np.isfinite(df[c].to_numpy(float)[np.r_[0:a, b + 1 : len(ok)]]).all()]
+    note = f"dropped {' and '.join(parts)} where {', '.join(nan_cols)} had no value"
+    return df.iloc[a : b + 1].reset_index(drop=True), note
 
 
 def identify_log(
@@ -142,6 +196,7 @@ def identify_log(
     seed: int = 0,
     options: dict | None = None,
     method: str = "joint",
+    skip_checks=(),
 ) -> Report:
     """Identify every trial of a log and fit the coefficients against speed.
 
@@ -149,6 +204,8 @@ def identify_log(
     taken from ``cols.kind`` (0 straight, 1 turn, 2 zig-zag) or detected from the inputs. Steer and
     heading/yaw rate may be given in degrees (``steer_deg``, ``heading_deg``); they are converted to
     rad, so K_r is reported in 1/s (rad/s per rad). K_v is reported per unit of the thrust column.
+    Every fit is checked (:mod:`.first_order_checks`: bound, condition, fit, whiteness); the failures are
+    listed in ``Report.failures`` (``skip_checks`` marks those of the named checks as skipped).
     """
     cols = cols or Columns()
     have = check_log(df, cols, options)
@@ -201,6 +258,9 @@ def identify_log(
             u = [s.speed for s in st]
             rep.fits[names[0]] = fit_vs_speed(names[0], u, [s.K for s in st])
             rep.fits[names[1]] = fit_vs_speed(names[1], u, [s.T for s in st])
+    every = sorted(rep.steps + rep.zigzags, key=lambda s: s.trial)
+    fits = [(f"trial {s.trial} ({getattr(s, 'kind', 'zigzag')})", s.checks) for s in every]
+    rep.failures = judge(fits, skip=skip_checks)
     rep.units = {
         "K_v": "speed unit per thrust-column unit (m/s per rpm for the first-order USV)",
         "K_r": "rad/s of yaw rate per steer-column unit (1/s with the steer in rad or --steer-deg)",

@@ -11,7 +11,10 @@ by ``--trial``), fits the coefficients against speed, prints the tables and writ
 
 The integral method is closed-form and the zig-zag fit starts from a grid search over T: neither starts
 from a guess of the answer, and the output says so. A log with zero rows, or without a manoeuvre
-(no input step), is refused with exit 2 and a one-line error naming the file.
+(no input step), is refused with exit 2 and a one-line error naming the file; so is a fit that fails
+one of the checks of :mod:`oceangnc.identification.first_order_checks` (a time constant at its bound, a
+near-singular information matrix, a poor fit, residuals that are not white), the line naming the
+trial, the check and its value (``--skip-check CHECK`` accepts it with a warning).
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import math
 from pathlib import Path
 
 from ..errors import InputError
+from .first_order_checks import CHECKS
 from .first_order_results import Columns
 
 #: the log's column options (``--yaw-rate`` for ``Columns.yaw_rate``); their defaults are :class:`Columns`' own
@@ -79,6 +83,20 @@ def register(methods) -> None:
         help="run folder for identification.json and identified.toml (default: runs/identify-first-order-<time>)",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the uncertainty replicas")
+    p.add_argument(
+        "--force-vehicle",
+        action="store_true",
+        help="identify a field log whose vehicle is not a boat or submarine (e.g. a multirotor), refused otherwise",
+    )
+    p.add_argument(
+        "--skip-check",
+        action="append",
+        choices=CHECKS,
+        default=[],
+        metavar="CHECK",
+        help="accept a fit that fails this check (bound, condition, fit, whiteness; repeatable) with a "
+        "warning instead of exit 2",
+    )
     from ..io.importers.cli import add_source_options
 
     add_source_options(p)
@@ -143,7 +161,8 @@ def model_parameters(rep, cols) -> tuple[dict, dict, list[str]]:
 
 
 def _handler(args) -> int:
-    from .first_order import identify_log
+    from ..io.importers.core import trim_rows
+    from .first_order import identify_log, trim_nan_edges
 
     if not (0 < args.settle_tol < 0.5):
         raise InputError(f"--settle-tol {args.settle_tol}: allowed range 0 < value < 0.5")
@@ -153,12 +172,23 @@ def _handler(args) -> int:
     from ..io.importers.cli import source_options
 
     src = Path(args.log)
-    df = read_any(args.log, **source_options(args))
+    df = read_any(args.log, require_marine=not args.force_vehicle, **source_options(args))
     if len(df) == 0:
         raise InputError(f"{src}: the log has 0 rows; nothing to identify")
+    imp = df.attrs.get("import") or {}
+    if imp.get("vehicle"):
+        v = imp["vehicle"]
+        print(f"vehicle: {v.get('type')} ({v.get('from')})")
+    for n in imp.get("notes") or []:
+        print(f"note: {n}")
     std = [k for k, v in _DEFAULTS.items() if getattr(args, k) == v and v not in df.columns and STANDARD[k] in df]
     for k in std:  # an imported field log: its standard signal names
         setattr(args, k, STANDARD[k])
+    if args.time != "t":  # read_any trims on t; a log with another time column is trimmed here
+        df = trim_rows(df, args.time, args.start, args.end, str(src))
+    df, note = trim_nan_edges(df, Columns(**{k: getattr(args, k) for k in _COLUMN_HELP}))
+    if note:
+        print(f"note: {note}")
     if args.trial in df.columns:
         if args.select_trial is not None:
             df = df[df[args.trial] == args.select_trial]
@@ -184,16 +214,35 @@ def _handler(args) -> int:
             seed=args.seed,
             options=_OPTS,
             method=args.method,
+            skip_checks=tuple(args.skip_check),
         )
     except InputError as e:
         raise InputError(f"{src}: {e}") from None
     if not (rep.steps or rep.zigzags):
         raise InputError(f"{src}: no usable manoeuvre (no input step or zig-zag found)")
+    refused = [f for f in rep.failures if not f["skipped"]]
+    if refused:
+        f = refused[0]
+        more = (
+            f"; also {', '.join(g['label'] + ' ' + g['check'] for g in refused[1:4])}"
+            + (f" and {len(refused) - 4} more" if len(refused) > 4 else "")
+            if len(refused) > 1
+            else ""
+        )
+        raise InputError(
+            f"{src}: {f['label']}: {f['check']} check failed: {f['message']}{more}; "
+            f"not identified (--skip-check {f['check']} to accept it)"
+        )
     print(
         "starting point: none needed - the integral method is closed-form (000 eq. 11-21) and the zig-zag fit "
         "starts from a grid search over T, not from a guess of the answer"
     )
     print(rep.table())
+    n_fit = len(rep.steps) + len(rep.zigzags)
+    for f in rep.failures:
+        print(f"warning: {f['label']}: {f['check']} check failed (skipped by --skip-check): {f['message']}")
+    if not rep.failures:
+        print(f"checks: all {n_fit} fit(s) pass {', '.join(CHECKS)} (docs/mavlink-and-logs.md)")
     from ..api import new_run_dir
     from .model_file import write_model
 

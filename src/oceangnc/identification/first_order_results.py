@@ -35,6 +35,7 @@ class StepFit:
     t2: float
     t3: float
     noise_std: float  # estimated output noise (y units)
+    checks: dict = field(default_factory=dict)  # first_order_checks: bound, condition, fit, whiteness
 
 
 @dataclass
@@ -65,6 +66,7 @@ class ZigzagFit:
     K_std: float
     T_std: float
     heading_rms_deg: float
+    checks: dict = field(default_factory=dict)  # first_order_checks: bound, condition, fit, whiteness
 
 
 @dataclass
@@ -75,10 +77,12 @@ class Report:
     fits: dict = field(default_factory=dict)
     zigzags: list = field(default_factory=list)
     units: dict = field(default_factory=dict)
+    failures: list = field(default_factory=list)  # failed checks (first_order_checks.judge)
 
     def to_dict(self) -> dict:
         return {
             "units": self.units,
+            "failed_checks": self.failures,
             "trials": [asdict(s) for s in self.steps],
             "speed_fits": {k: asdict(v) for k, v in self.fits.items()},
             "zigzag": [asdict(z) for z in self.zigzags],

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ..errors import InputError
+from .first_order_checks import assess, equilibrated_condition, first_order_response
 from .first_order_results import LinearFit, StepFit
 
 
@@ -96,14 +97,8 @@ def _local(t, y, i, win):
     return float(c[1])
 
 
-def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint"):
-    """(K, T) from the integral relations over the intervals (1, 2) and (2, 3) (000 eq. 11-14, 18-21).
-
-    ``method="paper"`` uses eq. 12/19 and 14/21 as printed, i.e. sets y_3 - y_2 = 0 in eq. 11/18;
-    ``method="joint"`` (default) solves eq. 11 and 13 (18 and 20) together as a 2x2 linear system,
-    which is exact for a first-order system even when the output is still creeping at point 2,
-    and reduces to the paper's formulas when y_3 = y_2.
-    """
+def _system(t, w, y, Y, i1, i2, i3, m: int = 1):
+    """The 2x2 system ``A (K, T) = b`` of eq. 11 + 13 (18 + 20), and the output's value y_1 at point 1."""
     iw23 = _zoh_integral(t, w, i2, i3)
     iw12 = _zoh_integral(t, w, i1, i2)
     if iw23 == 0.0:
@@ -116,12 +111,24 @@ def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint")
     Y1, Y2, Y3 = (_local(t, Y, i, w) for i, w in ((i1, w1), (i2, w2), (i3, w3)))
     if y2 == y1:
         raise InputError("the output does not change over the transient interval; cannot compute T (eq. 14/21)")
-    if method == "paper":
-        K = (Y3 - Y2) / iw23
-        T = (K * iw12 - (Y2 - Y1)) / (y2 - y1)
-        return float(K), float(T)
     A = np.array([[iw23, -(y3 - y2)], [iw12, -(y2 - y1)]])
     b = np.array([Y3 - Y2, Y2 - Y1])
+    return A, b, y1
+
+
+def integral_estimate(t, w, y, Y, i1, i2, i3, m: int = 1, method: str = "joint"):
+    """(K, T) from the integral relations over the intervals (1, 2) and (2, 3) (000 eq. 11-14, 18-21).
+
+    ``method="paper"`` uses eq. 12/19 and 14/21 as printed, i.e. sets y_3 - y_2 = 0 in eq. 11/18;
+    ``method="joint"`` (default) solves eq. 11 and 13 (18 and 20) together as a 2x2 linear system,
+    which is exact for a first-order system even when the output is still creeping at point 2,
+    and reduces to the paper's formulas when y_3 = y_2.
+    """
+    A, b, _ = _system(t, w, y, Y, i1, i2, i3, m)
+    if method == "paper":
+        K = b[0] / A[0, 0]
+        T = (K * A[1, 0] - b[1]) / -A[1, 1]
+        return float(K), float(T)
     K, T = np.linalg.solve(A, b)
     return float(K), float(T)
 
@@ -187,6 +194,11 @@ def identify_step(
         K_std, T_std = float(np.std(ks)), float(np.std(ts))
     sp = y if speed is None else np.asarray(speed, float)
     k_sp = max(i2, i3 + 1 - max(3, t.size // 5))  # the trial's speed: mean over the end of the steady interval
+    # what the checks need: the system's conditioning and the residual of the model over t1..t3
+    A, _, y1 = _system(t, w, y, Yc, i1, i2, i3, m)
+    seg = slice(i1, i3 + 1)
+    e = y[seg] - first_order_response(t[seg], w[seg], K, T, y1)
+    checks = assess(t[seg], y[seg], e, K, T, equilibrated_condition(A), float(np.median(np.diff(t))))
     return StepFit(
         trial,
         kind,
@@ -199,6 +211,7 @@ def identify_step(
         float(t[i2]),
         float(t[i3]),
         sig,
+        checks,
     )
 
 

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from .first_order_checks import T_BOUNDS, assess, equilibrated_condition
 from .first_order_results import ZigzagFit
 
 
@@ -63,7 +64,8 @@ def fit_nomoto_zigzag(t, delta, psi, r0: float = 0.0, trial: int = 0, speed: flo
         g, q = _nomoto_basis(t, delta, p[1], r0)
         return p[0] * g + q - y
 
-    sol = least_squares(resid, [K0, T0], bounds=([-np.inf, 1e-3], [np.inf, 1e3]), x_scale="jac")
+    lo, hi = T_BOUNDS
+    sol = least_squares(resid, [K0, T0], bounds=([-np.inf, lo], [np.inf, hi]), x_scale="jac")
     J = sol.jac
     res = sol.fun
     dof = max(1, res.size - 2)
@@ -77,6 +79,12 @@ def fit_nomoto_zigzag(t, delta, psi, r0: float = 0.0, trial: int = 0, speed: flo
     rev = np.nonzero(np.diff(np.sign(delta)) != 0)[0] + 1
     rev = rev[np.abs(delta[rev - 1]) > 0]
     amp = math.degrees(float(np.mean(np.abs(y[rev])))) if rev.size else float("nan")
+    T = float(sol.x[1])
+    at_bound = None
+    if T <= lo * 1.01 or T >= hi * 0.99:
+        side, b = ("lower", lo) if T <= lo * 1.01 else ("upper", hi)
+        at_bound = f"T = {T:.4g} s at its {side} bound {b:g} s"
+    checks = assess(t, y, res, float(sol.x[0]), T, equilibrated_condition(J), float(np.mean(np.diff(t))), at_bound)
     return ZigzagFit(
         trial,
         speed,
@@ -87,4 +95,5 @@ def fit_nomoto_zigzag(t, delta, psi, r0: float = 0.0, trial: int = 0, speed: flo
         ks,
         ts,
         math.degrees(math.sqrt(float(np.mean(res**2)))),
+        checks,
     )

@@ -26,11 +26,24 @@ def add_source_options(p) -> None:
         help="ROS 2 topic of a role (odometry, imu, navsat, actuators), e.g. odometry=/boat/odom",
     )
     g.add_argument(
+        "--ros-distro",
+        metavar="DISTRO",
+        help="ROS 2 distribution whose message types read a bag without definitions (Foxy, Galactic, Humble "
+        "sqlite3); default: the bag's ros_distro, else humble",
+    )
+    g.add_argument(
         "--servos",
         choices=["skid", "rudder"],
-        default="skid",
-        help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW): skid = left / right "
-        "thrusters (default), rudder = steering / throttle",
+        help="ArduPilot servo outputs 1 and 3 (.bin RCOU, .tlog SERVO_OUTPUT_RAW) as skid = left / right "
+        "thrusters or rudder = steering / throttle (default: the log's SERVOn_FUNCTION parameters, "
+        "73/74 left/right, 26 steering, 70 throttle; without them skid)",
+    )
+    g.add_argument(
+        "--instance",
+        action="append",
+        metavar="SENSOR=N",
+        help="ArduPilot .bin sensor instance to read, imu=N or gps=N (repeatable; default the first, the "
+        "primary, and the import says which)",
     )
     g.add_argument("--body", default="usv", help="prefix of the vehicle's signals (default usv; uuv for a UUV)")
     g.add_argument("--system", type=int, help="MAVLink system id to read from a .tlog (default: the first vehicle)")
@@ -48,6 +61,13 @@ def add_source_options(p) -> None:
         "(default max(1, 5/rate)); longer ones are gaps (NaN rows)",
     )
     g.add_argument("--allow-truncated", action="store_true", help="import the complete records of a truncated log")
+    g.add_argument(
+        "--start",
+        type=float,
+        metavar="S",
+        help="keep the log from this time, s (the imported time axis: 0 where every signal has started)",
+    )
+    g.add_argument("--end", type=float, metavar="S", help="keep the log up to this time, s (same axis as --start)")
 
 
 def source_options(args) -> dict:
@@ -59,6 +79,12 @@ def source_options(args) -> dict:
             raise InputError(f"--topic {it!r}: expected ROLE=TOPIC, e.g. odometry=/odom")
         k, v = it.split("=", 1)
         topics[k.strip()] = v.strip()
+    instances = {}
+    for it in getattr(args, "instance", None) or []:
+        k, sep, v = it.partition("=")
+        if not sep or not v.strip().isdigit():
+            raise InputError(f"--instance {it!r}: expected SENSOR=N, e.g. imu=1 or gps=0")
+        instances[k.strip().lower()] = int(v)
     opts = {
         "rate": args.rate,
         "fmt": args.log_format,
@@ -71,6 +97,13 @@ def source_options(args) -> dict:
         opts["column_map"] = args.map
     if topics:
         opts["topics"] = topics
+    if instances:
+        opts["instances"] = instances
+    for k in ("start", "end"):
+        if getattr(args, k, None) is not None:
+            opts[k] = getattr(args, k)
+    if getattr(args, "ros_distro", None):
+        opts["ros_distro"] = args.ros_distro
     if args.system is not None:
         opts["system"] = args.system
     if args.origin:
@@ -99,6 +132,9 @@ def _cmd(args) -> int:
     res = import_log(args.log, **opts)
     path = write_run(res, args.out)
     print(res.summary_line())
+    v = res.report.get("vehicle", {})
+    not_boat = ": not a boat (identify refuses it unless --force-vehicle)" if v.get("marine") is False else ""
+    print(f"  vehicle: {v.get('type', 'unknown')} ({v.get('from', '')}){not_boat}")
     for g in res.report.get("gaps", [])[:10]:
         print(f"  gap in {g['signal']}: {g['from_s']:.2f}-{g['to_s']:.2f} s ({g['rows_left_nan']} rows left NaN)")
     for j in res.report.get("jumps", [])[:10]:

@@ -91,9 +91,12 @@ def _monotone(t: np.ndarray, v: np.ndarray, jump_s: float):
     return t, v, int((~keep).sum()), jumps
 
 
-def resample(series: dict, rate: float, gap_s: float | None = None, source: str = "log") -> tuple[dict, dict]:
+def resample(
+    series: dict, rate: float, gap_s: float | None = None, source: str = "log", t_origin: float | None = None
+) -> tuple[dict, dict]:
     """Put raw series ``{name: (t, v)}`` on one grid at ``rate`` Hz over their common span.
 
+    The time column ``t`` counts from ``t_origin`` (source time, s; default the start of the common span).
     Angles are unwrapped before and wrapped after linear interpolation; ``act.*`` commands are held
     (zero-order). A grid point with no sample within ``gap_s`` (default max(1 s, 5 / rate)) on either
     side stays NaN and the gap is reported. Returns (columns dict with ``t``, report dict).
@@ -126,7 +129,8 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
         spans = ", ".join(f"{k} {t[0]:.1f}-{t[-1]:.1f} s" for k, (t, _) in clean.items())
         raise InputError(f"{source}: the signals do not overlap in time ({spans})")
     grid = t0 + np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
-    out = {"t": grid - t0}
+    origin = t0 if t_origin is None else float(t_origin)
+    out = {"t": grid - origin}
     for k, (t, v) in clean.items():
         if k in ANGLES:
             v = np.unwrap(v)
@@ -145,8 +149,8 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
                 report["gaps"].append(
                     {
                         "signal": k,
-                        "from_s": float(grid[a] - t0),
-                        "to_s": float(grid[b - 1] - t0),
+                        "from_s": float(grid[a] - origin),
+                        "to_s": float(grid[b - 1] - origin),
                         "rows_left_nan": int(b - a),
                     }
                 )
@@ -154,11 +158,106 @@ def resample(series: dict, rate: float, gap_s: float | None = None, source: str 
             g = (g + np.pi) % (2 * np.pi) - np.pi
         out[k] = g
     report["time_jumps"] = len(report["jumps"])
-    report["t0_source_s"] = float(t0)
+    report["t0_source_s"] = float(origin)
     report["duration_s"] = float(t1 - t0)
     report["rate_hz"] = float(rate)
     report["gap_s"] = float(gap_s)
     return out, report
+
+
+def span_start(series: dict) -> float | None:
+    """Source time at which every signal has started (what :func:`resample` counts ``t`` from)."""
+    firsts = []
+    for t, v in series.values():
+        t = np.asarray(t, float)
+        ok = np.isfinite(t) & np.isfinite(np.asarray(v, float))
+        if ok.sum() >= 2:
+            firsts.append(float(t[ok][0]))
+    return max(firsts) if firsts else None
+
+
+def _window(start, end) -> str:
+    if start is not None and end is not None:
+        return f"between --start {start:g} and --end {end:g} s"
+    return f"after --start {start:g} s" if start is not None else f"before --end {end:g} s"
+
+
+def trim(series: dict, t0: float, start: float | None, end: float | None, source: str) -> dict:
+    """The samples between ``start`` and ``end`` (s on the imported time axis: source time - ``t0``)."""
+    lo = -math.inf if start is None else float(start)
+    hi = math.inf if end is None else float(end)
+    for name, v in (("--start", start), ("--end", end)):
+        if v is not None and not math.isfinite(float(v)):
+            raise InputError(f"{name} {v}: must be a finite time, s")
+    if not lo < hi:
+        raise InputError(f"--start {start} --end {end}: the start must come before the end")
+    out = {}
+    for k, (t, v) in series.items():
+        t = np.asarray(t, float)
+        keep = (t - t0 >= lo - 1e-9) & (t - t0 <= hi + 1e-9)
+        out[k] = (t[keep], np.asarray(v, float)[keep])
+    if not any(t.size >= 2 for t, _ in out.values()):
+        ends = [float(np.nanmax(np.asarray(t, float))) - t0 for t, _ in series.values() if len(t)]
+        raise InputError(
+            f"{source}: nothing {_window(start, end)} (the log runs from 0 to {max(ends):.1f} s on the imported "
+            "time axis)"
+        )
+    return out
+
+
+#: plausible height (up, m) of a vehicle: the deepest ocean to the ceiling of anything the project logs
+HEIGHT_LIMITS_M = (-11000.0, 10000.0)
+#: a height step between two samples is a jump when it exceeds HEIGHT_STEP_M + (HEIGHT_RATE_MPS + speed) dt
+HEIGHT_STEP_M, HEIGHT_RATE_MPS = 2.0, 5.0
+
+
+def check_heights(series: dict, source: str, t0: float | None = None) -> None:
+    """Refuse an implausible height or depth (signals ``*.z``, down positive): outside
+    :data:`HEIGHT_LIMITS_M`, or a step between two samples that no motion at the logged speed explains.
+    Times in the message are on the imported axis (source time - ``t0``)."""
+    speed = None
+    if "usv.vn" in series and "usv.ve" in series:
+        (tn, vn), (te, ve) = series["usv.vn"], series["usv.ve"]
+        if len(tn) == len(te) and len(tn) and np.array_equal(np.asarray(tn, float), np.asarray(te, float)):
+            speed = (np.asarray(tn, float), np.hypot(np.asarray(vn, float), np.asarray(ve, float)))
+    for k, (t, z) in series.items():
+        if not k.endswith(".z"):
+            continue
+        t = np.asarray(t, float)
+        z = np.asarray(z, float)
+        ok = np.isfinite(t) & np.isfinite(z)
+        t, z = t[ok], z[ok]
+        if not t.size:
+            continue
+        o = t[0] if t0 is None else t0
+        h = -z
+        lo, hi = HEIGHT_LIMITS_M
+        bad = np.flatnonzero((h < lo) | (h > hi))
+        if bad.size:
+            i = int(bad[0])
+            raise InputError(
+                f"{source}: column {k}: height {h[i]:.1f} m at t = {t[i] - o:.2f} s is outside the "
+                f"plausible {lo:.0f} to {hi:.0f} m ({bad.size} sample(s))"
+            )
+        if t.size < 2:
+            continue
+        dt = np.diff(t)
+        dz = np.abs(np.diff(z))
+        v = np.zeros(dt.size)
+        if speed is not None and speed[0].size:
+            st, sv = speed
+            ok2 = np.isfinite(sv)
+            if ok2.any():
+                v = np.maximum(np.interp(t[:-1], st[ok2], sv[ok2]), np.interp(t[1:], st[ok2], sv[ok2]))
+        allowed = HEIGHT_STEP_M + (HEIGHT_RATE_MPS + v) * np.maximum(dt, 0.0)
+        jump = np.flatnonzero(dz > allowed)
+        if jump.size:
+            i = int(jump[0])
+            raise InputError(
+                f"{source}: column {k}: height jumps from {-z[i]:.1f} m to {-z[i + 1]:.1f} m in {dt[i]:.2f} s at "
+                f"t = {t[i] - o:.2f} s (speed {v[i]:.1f} m/s allows {allowed[i]:.1f} m): "
+                f"implausible; --start/--end to leave it out"
+            )
 
 
 def derive(cols: dict, report: dict) -> dict:
@@ -200,6 +299,9 @@ def import_log(
     gap_s: float | None = None,
     allow_truncated: bool = False,
     body: str = "usv",
+    require_marine: bool = False,
+    start: float | None = None,
+    end: float | None = None,
     **opts,
 ) -> ImportResult:
     """Read a field log (any of :data:`FORMATS`) into a resampled DataFrame with standard signals.
@@ -207,9 +309,17 @@ def import_log(
     ``body`` names the vehicle's signals (``usv.*`` by default, ``uuv`` for a UUV's log). ``opts`` go
     to the format's reader: ``system`` (MAVLink system id, tlog), ``origin`` ((lat, lon)
     deg, default the first fix), ``topics`` (ROS 2: role -> topic), ``column_map`` (CSV:
-    signal -> "column[:unit]").
+    signal -> "column[:unit]"), ``servos`` (ArduPilot: outputs 1 and 3 as "skid" or "rudder" instead of
+    the log's SERVOn_FUNCTION), ``ros_distro`` (ROS 2 bag without message definitions).
+
+    The report's ``vehicle`` says what the log is of (``type``, ``from`` where it was read, ``marine``);
+    ``require_marine`` (boat identification) refuses a log whose vehicle is known to be neither a boat nor
+    a submarine. ``start`` / ``end`` (s) keep a stretch of the log, on the time axis of the untrimmed import
+    (0 where every signal has started); the trimmed log keeps that axis. Heights and depths are checked
+    (:func:`check_heights`) on the samples kept.
     """
     from . import formats
+    from .formats._common import vehicle
 
     p = Path(path)
     if not p.exists():
@@ -217,14 +327,28 @@ def import_log(
     kind = detect_format(p, fmt)
     if kind == "parquet":
         raise InputError(f"{p}: already a Parquet log; identification reads it directly")
+    if opts.get("instances") and kind != "dataflash":
+        raise InputError(f"{p}: --instance picks a sensor of an ArduPilot .bin log; this is a {kind} log")
     reader = getattr(formats, f"read_{kind}")
     try:
         series, meta = reader(p, allow_truncated=allow_truncated, **opts)
     except ModuleNotFoundError as e:
         raise InputError(needs_package(f"{p}: reading a {kind} log", e.name, "field")) from None
+    veh = meta.setdefault("vehicle", vehicle(None, f"a {kind} log does not say"))
+    if require_marine and veh["marine"] is False:
+        raise InputError(
+            f"{p}: the log is of a {veh['type']} ({veh['from']}), not a boat; refused for boat identification "
+            "(--force-vehicle to identify it anyway)"
+        )
     if not series:
         raise InputError(f"{p}: no usable signal (no position, attitude or actuator messages)")
-    cols, report = resample(series, rate, gap_s, source=str(p))
+    t0 = span_start(series)
+    if t0 is not None and (start is not None or end is not None):
+        series = trim(series, t0, start, end, str(p))
+        meta["trim"] = {"start_s": start, "end_s": end}
+    check_heights(series, str(p), t0)
+    cols, report = resample(series, rate, gap_s, source=str(p), t_origin=t0)
+    report["notes"] = list(meta.pop("notes", []))
     cols = derive(cols, report)
     if body != "usv":  # e.g. the UUV of a .tlog (--system 2 --body uuv)
         if not body.isidentifier():
@@ -236,7 +360,8 @@ def import_log(
 
 def read_any(path, **opts):
     """A log of any supported format as a DataFrame: Parquet / CSV logs as they are, field logs
-    (.bin, .tlog, .ulg, ROS 2 bag, or CSV with ``column_map``) imported with :func:`import_log`."""
+    (.bin, .tlog, .ulg, ROS 2 bag, or CSV with ``column_map``) imported with :func:`import_log` (its
+    vehicle, notes, typestore and instances in ``df.attrs["import"]``)."""
     from ..logs import read_log
 
     p = Path(path)
@@ -244,8 +369,43 @@ def read_any(path, **opts):
         raise InputError(f"log not found: {p}")
     kind = detect_format(p, opts.pop("fmt", None))
     if kind == "parquet" or (kind == "csv" and not opts.get("column_map")):
-        return read_log(p)
-    return import_log(p, **opts).df
+        if kind == "parquet" and opts.get("require_marine"):
+            _imported_vehicle(p)
+        return trim_rows(read_log(p), "t", opts.get("start"), opts.get("end"), str(p))
+    res = import_log(p, **opts)
+    res.df.attrs["import"] = {k: res.report.get(k) for k in ("vehicle", "notes", "typestore", "instances")}
+    return res.df
+
+
+def trim_rows(df, time_col: str, start=None, end=None, source: str = "log"):
+    """The rows of a log between ``start`` and ``end`` (s, its own time column); refused if none is left."""
+    if (start is None and end is None) or time_col not in df.columns:
+        return df
+    t = df[time_col].to_numpy(float)
+    lo = -math.inf if start is None else float(start)
+    hi = math.inf if end is None else float(end)
+    if not lo < hi:
+        raise InputError(f"--start {start} --end {end}: the start must come before the end")
+    keep = (t >= lo - 1e-9) & (t <= hi + 1e-9)
+    if keep.sum() < 2:
+        span = f"{np.nanmin(t):.1f} to {np.nanmax(t):.1f} s" if t.size else "no rows"
+        raise InputError(f"{source}: nothing {_window(start, end)} (its {time_col} runs {span})")
+    return df[keep].reset_index(drop=True)
+
+
+def _imported_vehicle(p: Path) -> None:
+    """A run folder written by ``oceangnc import`` keeps the log's vehicle in import.json: refuse a non-boat."""
+    folder = p if p.is_dir() else p.parent
+    try:
+        rep = json.loads((folder / "import.json").read_text())
+    except (OSError, ValueError):
+        return  # a simulated run, or no import record: nothing says it is not a boat
+    v = rep.get("vehicle") or {}
+    if v.get("marine") is False:
+        raise InputError(
+            f"{p}: imported from {rep.get('source', 'a field log')}, a {v.get('type')} ({v.get('from')}), not a "
+            "boat; refused for boat identification (--force-vehicle to identify it anyway)"
+        )
 
 
 def write_run(res: ImportResult, out_dir) -> Path:

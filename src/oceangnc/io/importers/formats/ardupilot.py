@@ -9,14 +9,14 @@ from pathlib import Path
 import numpy as np
 
 from ....errors import InputError
-from ._common import north_east, pwm, servo_names, truncated
+from ._common import mav_type_class, mav_type_name, north_east, servo_map, servo_norm, truncated, vehicle
 
 
 # -- MAVLink telemetry log (.tlog) ------------------------------------------------------------------------
 
 
 def read_tlog(
-    path: Path, allow_truncated: bool = False, system: int | None = None, origin=None, servos: str = "skid", **_
+    path: Path, allow_truncated: bool = False, system: int | None = None, origin=None, servos: str | None = None, **_
 ):
     """MAVLink telemetry log: records of an 8-byte big-endian UNIX time (us) and one MAVLink frame.
 
@@ -113,12 +113,24 @@ def read_tlog(
     put("usv.phi", att, lambda m: m.roll)
     put("usv.theta", att, lambda m: m.pitch)
     put("usv.r", att, lambda m: m.yawspeed)
+    params = {}
+    for _, m in get("PARAM_VALUE"):
+        params[str(m.param_id).rstrip("\x00")] = float(m.param_value)
+    hb = [m for _, m in get("HEARTBEAT")]
+    if hb:
+        mt = int(hb[0].type)
+        meta["vehicle"] = vehicle(mav_type_class(mt), f"HEARTBEAT type {mt} ({mav_type_name(mt)})")
+    else:
+        meta["vehicle"] = vehicle(None, f"no HEARTBEAT from system {sysid}")
     so = get("SERVO_OUTPUT_RAW")
+    logged = [n for n in range(1, 17) if so and hasattr(so[0][1], f"servo{n}_raw")]
+    smap, notes = servo_map(params, servos, logged, _aerial(meta))
+    meta["servo_map"] = {k: v[0] for k, v in smap.items()}
+    meta["notes"] = notes
     if so:
         t = np.array([t_of(s, m) for s, m in so])
-        s1, s3 = servo_names(servos)
-        out[s1] = (t, pwm([m.servo1_raw for _, m in so]))
-        out[s3] = (t, pwm([m.servo3_raw for _, m in so]))
+        for sig, (n, trim, lo, hi, rev) in smap.items():
+            out[sig] = (t, servo_norm([getattr(m, f"servo{n}_raw") for _, m in so], trim, lo, hi, rev))
     nv = get("NAMED_VALUE_FLOAT")
     for name, sig in (("cable_T", "cable.top_tension"), ("uuv_depth", "uuv.z")):
         rows = [(s, m) for s, m in nv if m.name.rstrip("\x00") == name]
@@ -167,9 +179,97 @@ def _scan_dataflash(path: Path, data: bytes, allow: bool, meta: dict) -> None:
     meta["records"] = n
 
 
-def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servos: str = "skid", **_):
-    """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Lat, Lng deg, Spd m/s, GCrs deg), ATT
-    (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1 left, C3 right, PWM us); time TimeUS."""
+#: ArduPilot firmware (the MSG / VER firmware string) -> vehicle class; Rover and Copter refined by FRAME_CLASS
+FIRMWARE = {
+    "ArduRover": "rover",
+    "ArduCopter": "multirotor",
+    "ArduPlane": "fixed-wing",
+    "ArduSub": "submarine",
+    "AntennaTracker": "antenna tracker",
+    "Blimp": "airship",
+}
+#: VER.BU (APM_BUILD_DIRECTORY) -> firmware
+_BUILD = {
+    1: "ArduRover",
+    2: "ArduCopter",
+    3: "ArduPlane",
+    4: "AntennaTracker",
+    7: "ArduSub",
+    12: "Blimp",
+    13: "ArduCopter",
+}
+
+
+def ardupilot_vehicle(firmware: str | None, params: dict, where: str) -> dict:
+    """The vehicle class of an ArduPilot log from its firmware string and FRAME_CLASS (Rover: 1 rover, 2 boat,
+    3 balance bot; Copter: 6, 11, 13 helicopters)."""
+    if not firmware:
+        return vehicle(None, "no firmware string (MSG / VER) in the log")
+    name = next((k for k in FIRMWARE if firmware.startswith(k)), None)
+    if name is None:
+        return vehicle(None, f"{where} '{firmware}' (not a known ArduPilot firmware)")
+    kind = FIRMWARE[name]
+    fc = params.get("FRAME_CLASS")
+    src = f"{where} '{firmware}'"
+    if fc is not None:
+        fc = int(round(float(fc)))
+        src += f", FRAME_CLASS={fc}"
+    if name == "ArduRover":
+        kind = {1: "ground rover", 2: "boat", 3: "ground rover"}.get(fc) if fc is not None else None
+        if kind is None:
+            return {**vehicle(None, src), "type": "rover (boat or ground: FRAME_CLASS not logged)"}
+    elif name == "ArduCopter" and fc in (6, 11, 13):
+        kind = "helicopter"
+    return vehicle(kind, src)
+
+
+#: sensors with instances: the log's message names (ArduPilot 4 writes one message with an instance field I;
+#: older logs GPS2, IMU2, IMU3) -> sensor
+_INSTANCED = {"GPS": ("gps", 0), "GPS2": ("gps", 1), "IMU": ("imu", 0), "IMU2": ("imu", 1), "IMU3": ("imu", 2)}
+#: GPS Status (fix type) from which a fix is used: 3 = 3D (4 DGPS, 5 RTK float, 6 RTK fixed)
+GPS_FIX_3D = 3
+
+
+def pick_instances(rows: dict, instances: dict | None, path: Path, meta: dict) -> dict:
+    """One instance of each sensor (``{"imu": [rows], "gps": [rows]}``): ``instances[sensor]`` or the
+    lowest (the primary); records which in ``meta["instances"]`` and a note when there is a choice."""
+    want = dict(instances or {})
+    bad = [k for k in want if k not in ("imu", "gps")]
+    if bad:
+        raise InputError(f"--instance {bad[0]}=...: unknown sensor; sensors with instances: imu, gps")
+    out = {}
+    for sensor in ("imu", "gps"):
+        have = rows.get(sensor, {})
+        if not have:
+            if sensor in want:
+                raise InputError(f"{path}: --instance {sensor}={want[sensor]}: the log has no {sensor.upper()} records")
+            continue
+        present = sorted(have)
+        use = int(want.get(sensor, present[0]))
+        if use not in have:
+            raise InputError(
+                f"{path}: --instance {sensor}={use}: no such {sensor.upper()} instance; the log has "
+                f"{', '.join(map(str, present))}"
+            )
+        out[sensor] = have[use]
+        meta.setdefault("instances", {})[sensor] = {"used": use, "present": present}
+        if len(present) > 1:
+            how = "--instance" if sensor in want else "the first (primary)"
+            meta.setdefault("notes", []).append(
+                f"{sensor.upper()}: instance {use} of {', '.join(map(str, present))} ({how}; "
+                f"--instance {sensor}=N for another)"
+            )
+    return out
+
+
+def read_dataflash(
+    path: Path, allow_truncated: bool = False, origin=None, servos: str | None = None, instances=None, **_
+):
+    """ArduPilot DataFlash log via ``pymavlink.DFReader``: GPS (Status fix type, Lat, Lng deg, Spd m/s, GCrs
+    deg), ATT (Roll, Pitch, Yaw deg), IMU (GyrZ rad/s), RCOU (C1..C14 PWM us, mapped by the SERVOn_FUNCTION
+    parameters, see :func:`servo_map`); PARM (parameters), MSG / VER (firmware: the vehicle type); time
+    TimeUS. GPS and IMU: one instance (field I, or GPS2 / IMU2 / IMU3), :func:`pick_instances`; GPS samples
+    without a 3D fix (Status < 3) are dropped and counted."""
     from pymavlink import DFReader
 
     data = path.read_bytes()
@@ -182,18 +282,45 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
     except Exception as e:  # noqa: BLE001
         raise InputError(f"{path}: cannot read DataFlash log: {e}") from None
     rows: dict[str, list] = {}
-    while True:
-        try:
-            m = log.recv_msg()
-        except Exception as e:  # noqa: BLE001
-            raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
-        if m is None:
-            break
-        kind = m.get_type()
-        if kind in ("GPS", "ATT", "IMU", "RCOU"):
-            d = m.to_dict()
-            if "TimeUS" in d:
-                rows.setdefault(kind, []).append(d)
+    sensors: dict[str, dict] = {}
+    params: dict = {}
+    firmware = None
+    try:
+        while True:
+            try:
+                m = log.recv_msg()
+            except Exception as e:  # noqa: BLE001
+                raise InputError(f"{path}: corrupt DataFlash log: {e}") from None
+            if m is None:
+                break
+            kind = m.get_type()
+            if kind in ("ATT", "RCOU"):
+                d = m.to_dict()
+                if "TimeUS" in d:
+                    rows.setdefault(kind, []).append(d)
+            elif kind in _INSTANCED:
+                d = m.to_dict()
+                if "TimeUS" in d:
+                    sensor, i = _INSTANCED[kind]
+                    sensors.setdefault(sensor, {}).setdefault(int(d.get("I", i)), []).append(d)
+            elif kind == "PARM":
+                params[str(m.Name)] = float(m.Value)
+            elif kind == "MSG" and firmware is None:
+                text = str(getattr(m, "Message", ""))
+                if any(text.startswith(k) for k in FIRMWARE):
+                    firmware, where = text.strip(), "MSG"
+            elif kind == "VER" and firmware is None:
+                fws = str(getattr(m, "FWS", "") or "").strip()
+                if fws:
+                    firmware, where = fws, "VER.FWS"
+                elif getattr(m, "BU", None) in _BUILD:
+                    firmware, where = _BUILD[m.BU], f"VER.BU={m.BU}"
+    finally:
+        log.close()
+    meta["vehicle"] = ardupilot_vehicle(firmware, params, where if firmware else "")
+    if firmware:
+        meta["firmware"] = firmware
+    meta["parameters"] = len(params)
     out: dict = {}
 
     def col(kind, f, scale=1.0):
@@ -202,7 +329,18 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
             return np.array([x["TimeUS"] * 1e-6 for x in r]), np.array([x[f] for x in r], float) * scale
         return None
 
-    g = rows.get("GPS", [])
+    picked = pick_instances(sensors, instances, path, meta)
+    rows["IMU"] = picked.get("imu", [])
+    g = picked.get("gps", [])
+    if g and "Status" in g[0]:
+        n = len(g)
+        g = [r for r in g if r["Status"] >= GPS_FIX_3D]
+        if len(g) < n:
+            use = meta["instances"]["gps"]["used"]
+            meta.setdefault("notes", []).append(
+                f"GPS instance {use}: {n - len(g)} of {n} samples without a 3D fix (Status < {GPS_FIX_3D}) dropped"
+            )
+            meta["gps_no_fix_dropped"] = n - len(g)
     if g:
         t = np.array([x["TimeUS"] * 1e-6 for x in g])
         x, y, o = north_east([r["Lat"] for r in g], [r["Lng"] for r in g], origin)
@@ -220,13 +358,24 @@ def read_dataflash(path: Path, allow_truncated: bool = False, origin=None, servo
     c = col("IMU", "GyrZ")
     if c is not None:
         out["usv.r"] = c
-    for f, sig in zip(("C1", "C3"), servo_names(servos)):
-        c = col("RCOU", f)
+    rc = rows.get("RCOU", [])
+    logged = [n for n in range(1, 33) if rc and f"C{n}" in rc[0]]
+    smap, notes = servo_map(params, servos, logged, _aerial(meta))
+    meta["servo_map"] = {k: v[0] for k, v in smap.items()}
+    meta["notes"] = notes + meta.get("notes", [])
+    for sig, (n, trim, lo, hi, rev) in smap.items():
+        c = col("RCOU", f"C{n}")
         if c is not None:
-            out[sig] = (c[0], pwm(c[1]))
-    meta["messages"] = sorted(rows)
+            out[sig] = (c[0], servo_norm(c[1], trim, lo, hi, rev))
+    meta["messages"] = sorted(k for k, v in rows.items() if v)
     if "usv.x" not in out and "usv.psi" not in out:
         raise InputError(
             f"{path}: DataFlash log has no GPS or ATT records (it has: {', '.join(sorted(log.name_to_id)[:15])})"
         )
     return out, meta
+
+
+def _aerial(meta: dict) -> str | None:
+    """The vehicle class when it is known to be no boat (its outputs are then no thrusters), else None."""
+    v = meta.get("vehicle") or {}
+    return v.get("type") if v.get("marine") is False else None

@@ -14,23 +14,113 @@ from ._common import north_east, quat_euler
 
 DEFAULT_TOPICS = {"odometry": "/odom", "imu": "/imu", "navsat": "/fix", "actuators": "/actuators"}
 
+#: ROS 2 distribution (``ros_distro`` of the bag) -> rosbags' built-in typestore; bags written before Iron
+#: (Foxy, Galactic, Humble sqlite3) hold no message definitions, so the types come from the distro's store
+DISTRO_STORES = {
+    "dashing": "ROS2_DASHING",
+    "eloquent": "ROS2_ELOQUENT",
+    "foxy": "ROS2_FOXY",
+    "galactic": "ROS2_GALACTIC",
+    "humble": "ROS2_HUMBLE",
+    "iron": "ROS2_IRON",
+    "jazzy": "ROS2_JAZZY",
+    "kilted": "ROS2_KILTED",
+    "rolling": "LATEST",
+}
+#: the store tried when the bag does not say which distribution wrote it
+FALLBACK_DISTRO = "humble"
 
-def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None = None, origin=None, **_):
-    """ROS 2 bag (sqlite3 or mcap) via ``rosbags``: nav_msgs/Odometry, sensor_msgs/Imu, sensor_msgs/NavSatFix
-    and an actuator topic (std_msgs Float32/64MultiArray: data[0] left, data[1] right, -1..1), topics
-    configurable (``topics={"odometry": "/my/odom", ...}``); a topic named explicitly must exist."""
+
+def bag_distro(bag: Path) -> tuple[str | None, str]:
+    """The ROS 2 distribution that wrote a bag, and where it was read: ``ros_distro`` of metadata.yaml
+    (rosbag2 metadata version 8, Jazzy on) or of the sqlite3 ``schema`` table (Humble 0.15.4 on)."""
+    import sqlite3
+
+    folder = bag if bag.is_dir() else bag.parent
+    info: dict = {}
+    meta = folder / "metadata.yaml"
+    if meta.is_file():
+        try:
+            from ruamel.yaml import YAML  # rosbags' own YAML library
+
+            info = (YAML(typ="safe").load(meta.read_text()) or {}).get("rosbag2_bagfile_information", {}) or {}
+        except Exception:  # noqa: BLE001 - rosbags reports an unreadable metadata.yaml itself
+            info = {}
+        d = str(info.get("ros_distro") or "").strip().lower()
+        if d in DISTRO_STORES:
+            return d, "ros_distro in metadata.yaml"
+    dbs = [bag] if bag.suffix == ".db3" else sorted(folder.glob("*.db3"))
+    for db in dbs[:1]:
+        try:
+            con = sqlite3.connect(f"file:{db}?mode=ro", uri=True)
+            try:
+                row = con.execute("SELECT ros_distro FROM schema").fetchone()
+            finally:
+                con.close()
+        except sqlite3.Error:
+            continue
+        d = str(row[0] if row else "").strip().lower()
+        if d in DISTRO_STORES:
+            return d, f"ros_distro in the schema table of {db.name}"
+    if meta.is_file() and info.get("version") == 4:
+        return "foxy", "metadata.yaml version 4 (written by Foxy)"
+    return None, "the bag does not name its distro"
+
+
+def _open_reader(bag: Path, ros_distro: str | None, meta: dict):
+    """An open rosbags AnyReader: the bag's own message definitions when it has them (Iron on, MCAP),
+    else the typestore of the distribution that wrote it (``ros_distro`` given, or read from the bag, or
+    humble); ``meta["typestore"]`` says which was used."""
     from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
 
+    if ros_distro is not None:
+        key = ros_distro.strip().lower()
+        if key not in DISTRO_STORES:
+            raise InputError(f"--ros-distro {ros_distro}: allowed {', '.join(DISTRO_STORES)}")
+    reader = AnyReader([bag])
+    try:
+        reader.open()
+        meta["typestore"] = "the bag's own message definitions"
+        return reader
+    except Exception as e:  # noqa: BLE001
+        if "no type definitions" not in str(e):
+            raise
+    if ros_distro is not None:
+        distro, where = ros_distro.strip().lower(), f"--ros-distro {ros_distro}"
+    else:
+        distro, where = bag_distro(bag)
+        if distro is None:
+            distro, where = FALLBACK_DISTRO, f"{where}: {FALLBACK_DISTRO} assumed, --ros-distro to choose"
+    store = DISTRO_STORES[distro]
+    reader = AnyReader([bag], default_typestore=get_typestore(getattr(Stores, store)))
+    reader.open()
+    meta["typestore"] = f"{store.lower()} typestore (the bag has no message definitions; {where})"
+    meta["ros_distro"] = distro
+    meta.setdefault("notes", []).append(f"message types from the {meta['typestore']}")
+    return reader
+
+
+def read_rosbag2(
+    path: Path, allow_truncated: bool = False, topics: dict | None = None, origin=None, ros_distro=None, **_
+):
+    """ROS 2 bag (sqlite3 or mcap, a bag folder or one storage file) via ``rosbags``: nav_msgs/Odometry,
+    sensor_msgs/Imu, sensor_msgs/NavSatFix and an actuator topic (std_msgs Float32/64MultiArray: data[0]
+    left, data[1] right, -1..1), topics configurable (``topics={"odometry": "/my/odom", ...}``); a topic
+    named explicitly must exist. Bags without message definitions (Foxy, Galactic, Humble sqlite3) are
+    read with the typestore of the distribution that wrote them (:func:`bag_distro`, default humble)."""
     given = dict(topics or {})
     unknown_roles = [k for k in given if k not in DEFAULT_TOPICS]
     if unknown_roles:
         raise InputError(f"--topic {unknown_roles[0]}=...: unknown role; roles: {', '.join(DEFAULT_TOPICS)}")
     want = {**DEFAULT_TOPICS, **given}
-    bag = path if path.is_dir() else path.parent
+    # a bag folder; a storage file inside one (its folder, with metadata.yaml); or a bare .db3 / .mcap file
+    bag = path if path.is_dir() or not (path.parent / "metadata.yaml").is_file() else path.parent
     meta: dict = {}
     out: dict = {}
     try:
-        with AnyReader([bag]) as reader:
+        reader = _open_reader(bag, ros_distro, meta)
+        try:
             have = {c.topic: c for c in reader.connections}
             meta["topics"] = sorted(have)
             for role, topic in given.items():
@@ -42,14 +132,24 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
                     f"{path}: none of the topics {', '.join(want.values())}; the bag has: "
                     f"{', '.join(sorted(have))}; name them with --topic odometry=/my/odom"
                 )
+            known = set(reader.typestore.fielddefs)
+            for role, c in conns.items():
+                if c.msgtype not in known:
+                    raise InputError(
+                        f"{path}: topic {c.topic} ({role}) has type {c.msgtype}, unknown to the "
+                        f"{meta.get('typestore', 'typestore')}"
+                    )
             rows: dict[str, list] = {r: [] for r in conns}
             by_id = {c.id: r for r, c in conns.items()}
             for c, t_ns, raw in reader.messages(connections=list(conns.values())):
                 rows[by_id[c.id]].append((t_ns * 1e-9, reader.deserialize(raw, c.msgtype)))
+        finally:
+            reader.close()
     except InputError:
         raise
     except Exception as e:  # noqa: BLE001
-        raise InputError(f"{path}: cannot read ROS 2 bag: {type(e).__name__}: {e}") from None
+        how = f" with the {meta['typestore']}" if "ros_distro" in meta else ""
+        raise InputError(f"{path}: cannot read ROS 2 bag{how}: {type(e).__name__}: {e}") from None
 
     def stamp(tr, m):
         h = getattr(m, "header", None)
@@ -92,6 +192,13 @@ def read_rosbag2(path: Path, allow_truncated: bool = False, topics: dict | None 
             out["usv.psi"] = (t, (np.pi / 2 - yaw + np.pi) % (2 * np.pi) - np.pi)
     if rows.get("navsat") and "usv.x" not in out:
         nf = rows["navsat"]
+        fixed = [(a, m) for a, m in nf if m.status.status >= 0]  # NavSatStatus.STATUS_NO_FIX = -1
+        if len(fixed) < len(nf):
+            meta.setdefault("notes", []).append(
+                f"{want['navsat']}: {len(nf) - len(fixed)} of {len(nf)} NavSatFix messages without a fix "
+                "(status -1) dropped"
+            )
+        nf = fixed
         t = np.array([stamp(a, m) for a, m in nf])
         x, y, o = north_east([m.latitude for _, m in nf], [m.longitude for _, m in nf], origin)
         if x is not None:
