@@ -256,25 +256,3 @@ class CommandsMixin:
         """A stick message in a stick mode: the stream is flowing (its loss is the stick failsafe)."""
         self.t_stick = self.clock()
         self.stick_flowing = True
-
-    def _on_param_request_list(self, m) -> None:
-        params = self._params()
-        for i, (k, v) in enumerate(params.items()):
-            self._send(self.mav.param_value_encode(k.encode(), v, M.MAV_PARAM_TYPE_REAL32, len(params), i))
-
-    def _on_param_request_read(self, m) -> None:
-        params = self._params()
-        names = list(params)
-        pid = m.param_id.decode() if isinstance(m.param_id, bytes) else str(m.param_id)
-        idx = m.param_index if 0 <= m.param_index < len(names) else (names.index(pid) if pid in names else -1)
-        if idx >= 0:
-            k = names[idx]
-            self._send(self.mav.param_value_encode(k.encode(), params[k], M.MAV_PARAM_TYPE_REAL32, len(names), idx))
-
-    def _params(self) -> dict[str, float]:
-        return {
-            "FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s),
-            "FS_TIMEOUT": float(self.cfg_mav.stick_timeout_s),
-            "SYSID_THISMAV": float(self.cfg_mav.system_id),
-            "SIM_SPEEDUP": float(self.speed),
-        }

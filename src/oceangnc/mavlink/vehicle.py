@@ -63,6 +63,7 @@ from .live import RouteHook, builds_live, live_scenarios, reads_stick
 from .live import gate_pilots as _gate_pilots
 from .live import warm_up as _warm_up
 from .mission import MissionMixin
+from .params import ParamsMixin, build_params, read_param_file
 from .protocol import AUTO, HOLD, MANUAL, STICK_MODES, TELEMETRY, mavlink, mode_name
 from .telemetry import TelemetryMixin
 
@@ -79,7 +80,7 @@ __all__ = [
 M = mavlink
 
 
-class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
+class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, MissionMixin, TelemetryMixin):
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
     Parameters
@@ -101,6 +102,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         Folder for the run's log (None: no log).
     duration : float or None
         End the run after this much simulated time (None: until stopped).
+    params : dict, path or None
+        Parameter values to start with (``{NAME: value}``, or a ``params.json`` / ``.param`` file; see
+        :mod:`oceangnc.mavlink.params`); an unknown name or a refused value is an InputError.
     """
 
     def __init__(
@@ -119,6 +123,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         verbose: bool = False,
         tlog: str | Path | None = None,
         tlog_epoch: float = 1.7e9,
+        params: dict | str | Path | None = None,
     ):
         from ..api import new_run_dir, resolve_config
         from ..io.config import dump_toml, validate
@@ -133,6 +138,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self.clock = clock
         self.verbose = verbose
         host, port = parse_endpoint(listen)  # cheap checks first
+        start_params = params if isinstance(params, dict) or params is None else read_param_file(params)
         fixed = [parse_endpoint(g) for g in (gcs or [])]
         sc, cfg = resolve_config(scenario or "usv-remote", overrides=overrides)
         if not builds_live(sc):
@@ -175,6 +181,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self._progress = 0
         self._upload: dict | None = None
         self._set_initial_mission()
+        self.params = build_params(self)
+        self.run_dir = None
+        self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
         # -- network
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
@@ -203,6 +212,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             self.run_dir = new_run_dir(out_root, f"mavlink-{sc.name}")
             self.run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, self.run_dir / "config.toml")
+            self.save_params()
             self.writer = LogWriter(self.run_dir / "log.parquet")
         if self._tlog_name is not None:
             tp = Path(self._tlog_name)
@@ -223,6 +233,11 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             + (f" + UUV system {c.uuv_system_id}" if self.has_uuv else "")
             + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD"
         )
+
+    def _set_speedup(self, speed: float) -> None:
+        """SIM_SPEEDUP: simulated seconds per wall second from now on (the pacing is re-anchored)."""
+        self.speed = float(speed)
+        self._anchor = (self.clock(), self.sim.t)
 
     # -- events ------------------------------------------------------------------------------------------
     def event(self, text: str, severity: int = M.MAV_SEVERITY_INFO) -> None:
