@@ -4,10 +4,26 @@ from __future__ import annotations
 
 import math
 
-from .protocol import AUTO, ROVER_MODES, ROVER_OTHER, STICK_MODES, mavlink, mode_name
+from .protocol import AUTO, NAV_MODES, ROVER_MODES, ROVER_OTHER, RTL, STICK_MODES, mavlink, mode_name
 
 M = mavlink
 INT16_MAX = 32767
+#: commands of the navigation modes (oceangnc.mavlink.nav)
+_NAV_COMMANDS = {
+    M.MAV_CMD_DO_REPOSITION,
+    M.MAV_CMD_DO_CHANGE_SPEED,
+    M.MAV_CMD_DO_SET_HOME,
+    M.MAV_CMD_NAV_RETURN_TO_LAUNCH,
+    M.MAV_CMD_NAV_LOITER_UNLIM,
+}
+_GLOBAL_FRAMES = (
+    M.MAV_FRAME_GLOBAL,
+    M.MAV_FRAME_GLOBAL_INT,
+    M.MAV_FRAME_GLOBAL_RELATIVE_ALT,
+    M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+    M.MAV_FRAME_GLOBAL_TERRAIN_ALT,
+    M.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT,
+)
 _GCS_TYPES = (M.MAV_TYPE_GCS,)
 #: messages that command the vehicle: their sender holds control (the GCS failsafe follows its link)
 _COMMANDING = {
@@ -19,6 +35,8 @@ _COMMANDING = {
     "MISSION_COUNT",
     "MISSION_CLEAR_ALL",
     "MISSION_SET_CURRENT",
+    "SET_POSITION_TARGET_GLOBAL_INT",
+    "PARAM_SET",
 }
 
 
@@ -93,9 +111,11 @@ class CommandsMixin:
     def _ack(self, command: int, result: int) -> None:
         self._send(self.mav.command_ack_encode(command, result))
 
-    def _param_error(self, cmd: int, params, x=None, y=None) -> str | None:
-        """Why a command's parameters are refused (non-finite, or out of the command's range), or None."""
-        if not _finite(*params):
+    def _param_error(self, cmd: int, params, nan_ok=()) -> str | None:
+        """Why a command's parameters are refused (non-finite, or out of the command's range), or None.
+        ``nan_ok``: indices of ``params`` where NaN means "unchanged" (MAVLink's convention for the yaw and
+        the altitude of DO_REPOSITION / DO_SET_HOME, which QGroundControl sends)."""
+        if not _finite(*(v for i, v in enumerate(params) if not (i in nan_ok and math.isnan(v)))):
             return "a non-finite parameter"
         p1, p2 = params[0], params[1]
         n = len(self.mission)
@@ -115,7 +135,8 @@ class CommandsMixin:
 
     def _on_command_long(self, m) -> None:
         cmd = m.command
-        why = self._param_error(cmd, (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7))
+        nan_ok = (2, 3, 6) if cmd in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) else ()
+        why = self._param_error(cmd, (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7), nan_ok)
         if why is not None:  # refused with an answer, and nothing changes
             self._oor(f"COMMAND_LONG {cmd}: {why}")
             self._ack(cmd, M.MAV_RESULT_DENIED)
@@ -133,6 +154,8 @@ class CommandsMixin:
             self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
         elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
             self._ack(cmd, self._set_current(round(m.param1)))
+        elif cmd in _NAV_COMMANDS:
+            self._ack(cmd, self._nav_command(cmd, m.param1, m.param2, m.param5, m.param6))
         elif cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, M.MAV_CMD_GET_HOME_POSITION):
             send = self._requested(cmd, m.param1)
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED if send is None else M.MAV_RESULT_ACCEPTED)
@@ -153,16 +176,66 @@ class CommandsMixin:
         return None
 
     def _on_command_int(self, m) -> None:
-        why = self._param_error(m.command, (m.param1, m.param2, m.param3, m.param4, m.z))
+        nan_ok = (2, 3, 4) if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) else ()
+        why = self._param_error(m.command, (m.param1, m.param2, m.param3, m.param4, m.z), nan_ok)
         if why is not None:
             self._oor(f"COMMAND_INT {m.command}: {why}")
             self._ack(m.command, M.MAV_RESULT_DENIED)
             return
         if m.command == M.MAV_CMD_DO_SET_MODE:
             self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
+        elif m.command in _NAV_COMMANDS:
+            if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) and m.frame not in _GLOBAL_FRAMES:
+                self._oor(f"COMMAND_INT {m.command}: frame {m.frame}")
+                self._ack(m.command, M.MAV_RESULT_DENIED)
+                return
+            self._ack(m.command, self._nav_command(m.command, m.param1, m.param2, m.x * 1e-7, m.y * 1e-7))
         else:
             self.counts["rx_ignored"] += 1
             self._ack(m.command, M.MAV_RESULT_UNSUPPORTED)
+
+    def _nav_command(self, cmd: int, p1: float, p2: float, lat: float, lon: float) -> int:
+        """DO_REPOSITION (go there in GUIDED, param1 speed m/s or -1), DO_CHANGE_SPEED (param2 m/s),
+        DO_SET_HOME (param1 1: here, else lat/lon), NAV_RETURN_TO_LAUNCH and NAV_LOITER_UNLIM (the modes)."""
+        if cmd == M.MAV_CMD_DO_REPOSITION:
+            # ArduPilot: outside GUIDED only with the CHANGE_MODE flag (QGroundControl and MAVSDK set it)
+            change = bool(int(p2) & M.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE)
+            res = self._guided_goto(lat, lon, "DO_REPOSITION", change_mode=change)
+            if res == M.MAV_RESULT_ACCEPTED and p1 > 0:
+                self._do_change_speed(p1)
+            return res
+        if cmd == M.MAV_CMD_DO_CHANGE_SPEED:
+            return self._do_change_speed(p2)
+        if cmd == M.MAV_CMD_DO_SET_HOME:
+            return self._do_set_home(p1 == 1.0, lat, lon)
+        if cmd == M.MAV_CMD_NAV_RETURN_TO_LAUNCH:
+            return self._set_mode(RTL, "NAV_RETURN_TO_LAUNCH")
+        if cmd == M.MAV_CMD_NAV_LOITER_UNLIM:
+            from .protocol import LOITER
+
+            return self._set_mode(LOITER, "NAV_LOITER_UNLIM")
+        return M.MAV_RESULT_UNSUPPORTED
+
+    def _on_set_position_target_global_int(self, m) -> None:
+        """GUIDED only (ArduPilot: ignored in other modes, no answer): a position target (the type mask does
+        not ignore x/y) in a global frame is the GUIDED destination; velocity/acceleration-only targets are
+        not supported and counted as ignored."""
+        from .protocol import GUIDED
+
+        pos_ignored = m.type_mask & (M.POSITION_TARGET_TYPEMASK_X_IGNORE | M.POSITION_TARGET_TYPEMASK_Y_IGNORE)
+        if self.mode != GUIDED or pos_ignored or m.coordinate_frame not in _GLOBAL_FRAMES:
+            self.counts["rx_ignored"] += 1
+            return
+        lat, lon = m.lat_int * 1e-7, m.lon_int * 1e-7
+        target = self.guided_target
+        if target is not None:
+            from .geo import ned_to_latlon
+
+            c = self.cfg_mav
+            tl = ned_to_latlon(*target, c.origin_lat_deg, c.origin_lon_deg)
+            if abs(tl[0] - lat) < 2e-7 and abs(tl[1] - lon) < 2e-7 and self._leg is not None:
+                return  # the same target streamed again (offboard-style clients send it at a rate)
+        self._guided_goto(lat, lon, "SET_POSITION_TARGET", change_mode=False)
 
     def _on_set_mode(self, m) -> None:
         res = self._set_mode(int(m.custom_mode), "SET_MODE")
@@ -177,6 +250,7 @@ class CommandsMixin:
                 return M.MAV_RESULT_DENIED
             if not self.armed:
                 self.armed = True
+                self._on_armed()
                 self.event("Throttle armed")
         elif self.armed:
             self.armed = False
@@ -190,17 +264,18 @@ class CommandsMixin:
         if num in STICK_MODES and not self.reads_stick:
             self.event(f"{mode_name(num)} refused: {self.scenario.name} takes no stick", M.MAV_SEVERITY_WARNING)
             return M.MAV_RESULT_DENIED
+        if num in NAV_MODES and num != self.mode:
+            why = self._nav_refusal(num)
+            if why is not None:
+                self.event(f"{mode_name(num)} refused: {why}", M.MAV_SEVERITY_WARNING)
+                return M.MAV_RESULT_DENIED
         if num == AUTO and num != self.mode and self.route.available:
             start = self.mission_current if self.mission_current < len(self.mission) else 1
             if not self._nav_points(start)[0]:
                 self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
                 return M.MAV_RESULT_DENIED
         if num != self.mode:
-            self.mode = num
-            self.stick = (0.0, 0.0)
-            self.stick_flowing = False
-            if num in STICK_MODES:
-                self.t_gcs = max(self.t_gcs, self.clock())  # grace for the first stick message
+            self._switch_mode(num)
             if num == AUTO and self.route.available:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1

@@ -208,6 +208,16 @@ def build_params(v) -> dict[str, Param]:
     seen: dict[str, Param] = {}
     for p in ps:
         seen.setdefault(p.name, p)  # the first block of a kind wins (one USV per vehicle)
+    # the operator's CRUISE_SPEED and WP_RADIUS, under the modes' temporary values (oceangnc.mavlink.nav)
+    v._raw, v._user = {}, {}
+    for name in ("CRUISE_SPEED", "WP_RADIUS"):
+        p = seen.get(name)
+        if p is None:
+            continue
+        v._raw[name] = (p.get, p.set)
+        v._user[name] = p.get()
+        p.get = lambda n=name: v._user[n]
+        p.set = lambda x, n=name: (v._user.__setitem__(n, float(x)), v._apply_overrides())
     return seen
 
 

@@ -18,14 +18,23 @@ ROVER_MODES = {
     0: ("MANUAL", "stick straight to the thrusters (open loop): MANUAL_CONTROL / RC_CHANNELS_OVERRIDE"),
     1: ("ACRO", "stick -> speed and yaw-rate setpoints of the scenario's closed loops"),
     4: ("HOLD", "stop: speed and yaw-rate setpoints zero (the failsafe mode)"),
+    5: ("LOITER", "hold position within LOIT_RADIUS of where the mode was entered (back on a one-point route)"),
     10: ("AUTO", "fly the mission (MISSION_ITEM_INT waypoints) with the scenario's own guidance"),
+    11: ("RTL", "a one-point route home (first fix, the arming point, or DO_SET_HOME), then loiter there"),
+    12: ("SMART_RTL", "retrace the path flown since arming back to the arming point, then loiter there"),
+    15: (
+        "GUIDED",
+        "go to a point (DO_REPOSITION, SET_POSITION_TARGET_GLOBAL_INT, MISSION_ITEM current = 2), loiter there",
+    ),
 }
 MODE_NUMBERS = {name: num for num, (name, _) in ROVER_MODES.items()}
-MANUAL, ACRO, HOLD, AUTO = 0, 1, 4, 10
+MANUAL, ACRO, HOLD, LOITER, AUTO, RTL, SMART_RTL, GUIDED = 0, 1, 4, 5, 10, 11, 12, 15
 #: Rover modes a GCS may ask for that this vehicle does not fly (refused with MAV_RESULT_DENIED).
-ROVER_OTHER = {3: "STEERING", 5: "LOITER", 6: "FOLLOW", 7: "SIMPLE", 11: "RTL", 12: "SMART_RTL", 15: "GUIDED"}
-#: modes in which the operator's stick drives the vehicle (GCS-link failsafe armed)
+ROVER_OTHER = {3: "STEERING", 6: "FOLLOW", 7: "SIMPLE", 8: "DOCK", 9: "CIRCLE", 16: "INITIALISING"}
+#: modes in which the operator's stick drives the vehicle
 STICK_MODES = (MANUAL, ACRO)
+#: modes that fly short routes of their own through the scenario's guidance (oceangnc.mavlink.nav)
+NAV_MODES = (LOITER, RTL, SMART_RTL, GUIDED)
 
 #: telemetry the vehicle sends: message -> (rate Hz, content). Rates are ArduPilot's SRx_* defaults
 #: for a telemetry link (SR_EXT_STAT 2, SR_POSITION 3..10, SR_EXTRA1 4..10, SR_EXTRA2 4).

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from .geo import ned_to_latlon
-from .protocol import AUTO, STICK_MODES, TELEMETRY, mavlink
+from .protocol import AUTO, NAV_MODES, STICK_MODES, TELEMETRY, mavlink
 
 M = mavlink
 
@@ -28,6 +28,8 @@ class TelemetryMixin:
             base |= M.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
         elif self.mode == AUTO:
             base |= M.MAV_MODE_FLAG_AUTO_ENABLED | M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
+        elif self.mode in NAV_MODES:
+            base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
         if self.estop:
             status = M.MAV_STATE_EMERGENCY
         elif self.failsafe:
@@ -231,13 +233,15 @@ class TelemetryMixin:
 
     def _send_home(self) -> None:
         c = self.cfg_mav
+        lat, lon = self._home_latlon()
+        n, e = self.home if self.home is not None else (0.0, 0.0)
         self._send(
             self.mav.home_position_encode(
-                round(c.origin_lat_deg * 1e7),
-                round(c.origin_lon_deg * 1e7),
+                round(lat * 1e7),
+                round(lon * 1e7),
                 round(c.origin_alt_m * 1000),
-                0.0,
-                0.0,
+                float(n),
+                float(e),
                 0.0,
                 [1, 0, 0, 0],
                 0.0,

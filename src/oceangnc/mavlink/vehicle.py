@@ -63,8 +63,9 @@ from .live import RouteHook, builds_live, live_scenarios, reads_stick
 from .live import gate_pilots as _gate_pilots
 from .live import warm_up as _warm_up
 from .mission import MissionMixin
+from .nav import NavMixin
 from .params import ParamsMixin, build_params, read_param_file
-from .protocol import AUTO, HOLD, MANUAL, STICK_MODES, TELEMETRY, mavlink, mode_name
+from .protocol import AUTO, HOLD, MANUAL, RTL, SMART_RTL, STICK_MODES, TELEMETRY, mavlink, mode_name
 from .telemetry import TelemetryMixin
 
 __all__ = [
@@ -80,7 +81,7 @@ __all__ = [
 M = mavlink
 
 
-class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, MissionMixin, TelemetryMixin):
+class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin):
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
     Parameters
@@ -181,6 +182,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, MissionMixin, Teleme
         self._progress = 0
         self._upload: dict | None = None
         self._set_initial_mission()
+        self._nav_init()
         self.params = build_params(self)
         self.run_dir = None
         self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
@@ -249,30 +251,43 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, MissionMixin, Teleme
 
     # -- failsafe, bus, pacing ---------------------------------------------------------------------------
     def _watchdog(self, now: float) -> None:
-        """ArduPilot's two failsafes in the stick modes: the controlling ground station silent for
-        ``gcs_timeout_s`` (FS_GCS_TIMEOUT, 5 s), or a stick stream that was flowing stopped for
-        ``stick_timeout_s`` (1.5 s); either switches to HOLD with the stick zeroed."""
-        if self.mode not in STICK_MODES or self.failsafe:
+        """ArduPilot Rover's failsafes (see :mod:`oceangnc.mavlink.nav` for the actions):
+
+        * GCS (FS_GCS_ENABLE, on by default): the *controlling* ground station silent for ``gcs_timeout_s``
+          (FS_GCS_TIMEOUT, 5 s) in a stick mode, or in any other mode but HOLD / RTL / SMART_RTL while armed
+          once that ground station has been heard; FS_GCS_ENABLE = 2 lets a mission in AUTO continue;
+        * stick (FS_TIMEOUT, 1.5 s): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream that was flowing in a
+          stick mode stops (a ground station without a joystick never starts one, so MANUAL with 1 Hz
+          heartbeats stays MANUAL);
+
+        either runs FS_ACTION (HOLD by default; RTL, SMART_RTL) once, until the link is back."""
+        if self.failsafe:
             return
         c = self.cfg_mav
-        if now - self.t_gcs > c.gcs_timeout_s:
+        silent = now - self.t_gcs > c.gcs_timeout_s
+        watched = self.mode in STICK_MODES or (self.armed and math.isfinite(self.t_gcs))
+        if c.fs_gcs_enable and silent and watched and self.mode not in (HOLD, RTL, SMART_RTL):
             why = "GCS link lost"
-        elif self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
+        elif self.mode in STICK_MODES and self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
             why = "stick stream lost"
         else:
             return
         self.failsafe = True
-        self.mode = HOLD
         self.stick = (0.0, 0.0)
         self.stick_flowing = False
-        self.event(f"Failsafe: {why}, HOLD", M.MAV_SEVERITY_CRITICAL)
+        if why == "GCS link lost" and self.mode == AUTO and c.fs_gcs_enable == 2:
+            self.event("Failsafe: GCS link lost, continuing AUTO", M.MAV_SEVERITY_CRITICAL)
+            return
+        self._failsafe_action(why)
 
     def _push_bus(self) -> None:
-        # thrust zero while disarmed or e-stopped, and in HOLD when the scenario cannot take a zero stick
-        stop = (not self.armed) or self.estop or (self.mode == HOLD and not self.reads_stick)
+        # thrust zero while disarmed or e-stopped, and when holding (HOLD, a loiter inside its radius) if the
+        # scenario cannot take a zero stick
+        driving = self.mode in STICK_MODES or self.route_active()
+        stop = (not self.armed) or self.estop or (not driving and not self.reads_stick)
         stick = self.stick if self.mode in STICK_MODES else (0.0, 0.0)
         vals = {
-            "console.mode": "auto" if self.mode == AUTO else "remote",
+            "console.mode": "auto" if self.route_active() else "remote",
             "console.loop": "open" if self.mode == MANUAL else "closed",
             "joystick.surge": float(stick[0]),
             "joystick.yaw": float(stick[1]),
@@ -322,6 +337,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, MissionMixin, Teleme
                 if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
                     self._end(f"duration {self.duration:g} s reached")
             self._follow_mission()
+            self._nav_step()
             try:
                 self._telemetry(now)
             except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
