@@ -2,13 +2,14 @@
 
 Start the console in one terminal::
 
-    oceangnc console usv-remote --token my-secret-token    # http://127.0.0.1:8050/?token=my-secret-token
+    export OCEANGNC_CONSOLE_TOKEN=my-secret-token   # not --token: a command line shows in ps
+    oceangnc console usv-remote                      # http://127.0.0.1:8050/?token=my-secret-token
 
-and run this script in another::
+and run this script in another (it reads the same variable, or ``--token``)::
 
-    python examples/console_client.py --token my-secret-token [--url ws://127.0.0.1:8050/ws] [--out console_log.parquet]
+    python examples/console_client.py [--url ws://127.0.0.1:8050/ws] [--out console_log.parquet]
 
-(without ``--token`` the console prints a random one in its URL: pass that). The script connects as
+(without a token the console prints a random one in its URL: pass that). The script connects as
 the operator (it takes control if a page holds it: an explicit, logged take-over).
 
 It switches to remote mode, sends the stick at 20 Hz (10 s ahead, 10 s ahead and to starboard),
@@ -23,6 +24,7 @@ import argparse
 import asyncio
 import json
 import math
+import os
 import time
 from urllib.request import urlopen
 
@@ -109,7 +111,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--url", default="ws://127.0.0.1:8050/ws")
     ap.add_argument("--out", default="console_log.parquet")
-    ap.add_argument("--token", required=True, help="the console's session token (printed in its URL)")
+    env = os.environ.get("OCEANGNC_CONSOLE_TOKEN")
+    ap.add_argument(
+        "--token",
+        default=env,
+        required=not env,
+        help="the console's session token (printed in its URL; default $OCEANGNC_CONSOLE_TOKEN)",
+    )
     a = ap.parse_args()
     asyncio.run(operate(a.url, a.out, a.token))
 

@@ -1,6 +1,6 @@
 """Screenshot of a running console in headless Chromium (how docs/img/console*.png were made).
 
-    oceangnc console combined-survey --speed 2 --token my-secret-token &
+    OCEANGNC_CONSOLE_TOKEN=my-secret-token oceangnc console combined-survey --speed 2 &
     python examples/console_screenshot.py --url 'http://127.0.0.1:8050/?token=my-secret-token' --wait 20 --out docs/img/console.png
 
 Uses Playwright with Debian's Chromium (``CHROMIUM_PATH`` overrides the binary). ``--remote``

@@ -1,5 +1,6 @@
 """A real ``oceangnc console usv-remote`` server in a subprocess on 127.0.0.1, for the browser and soak
-tests: started on a free port, waited for until ``/api/state`` answers (bounded), stopped at the end."""
+tests: started on a free port with the token in OCEANGNC_CONSOLE_TOKEN, waited for until ``/api/state``
+answers (bounded), stopped at the end."""
 
 from __future__ import annotations
 
@@ -26,10 +27,11 @@ def console_server(out, token: str, start_timeout_s: float):
     """Yield ``(port, proc)`` of a console serving ``usv-remote`` with runs under ``out``; the test fails
     with the server's output if it exits, or after ``start_timeout_s`` s if it never answers."""
     port = free_port()
-    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1")
+    # the token through the environment, as docs/console.md advises (--token shows in ps)
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1", OCEANGNC_CONSOLE_TOKEN=token)
     cmd = [sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--port", str(port)]
     proc = subprocess.Popen(
-        [*cmd, "--out", str(out), "--token", token],
+        [*cmd, "--out", str(out)],
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,

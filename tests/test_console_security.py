@@ -11,7 +11,9 @@ from fastapi.testclient import TestClient
 from starlette.testclient import WebSocketDenialResponse
 
 from oceangnc.console.messages import Rejected, parse_message
-from oceangnc.console.server import console_url, create_app
+from oceangnc.console.access import AccessLog, Throttle
+from oceangnc.console.server import console_url, create_app, main_banner
+from oceangnc.core.files import read_json_lines
 from oceangnc.console.session import Session
 from oceangnc.units import KGF
 
@@ -68,8 +70,13 @@ def test_foreign_origin_and_foreign_host_are_refused_with_403(app_client):
         assert ws.receive_json()["type"] == "role"
     with c.websocket_connect(WS) as ws:
         assert ws.receive_json()["type"] == "role"
-    refused = [e["text"] for e in c.session.events if e["text"].startswith("refused")]
-    assert len(refused) >= 8
+    # counted, not logged one by one: one summary (the first refusal) in its own history, none in the
+    # operators' one
+    acc = c.session.access
+    assert acc.by_kind["origin"] == 9 and acc.by_kind["host"] == 1 and acc.by_kind["token"] == 1
+    assert not [e for e in c.session.events if e["text"].startswith("refused")]
+    first = c.session.access_events[0]["text"]
+    assert first.startswith("refused 1 request(s)") and "origin 'http://evil.example' not allowed" in first
 
 
 def test_viewer_cannot_command_and_take_over_is_explicit_and_logged(app_client):
@@ -197,11 +204,27 @@ def test_warmup_compiles_before_the_first_page(tmp_path):
     assert time.perf_counter() - t0 < 1.0  # no compilation left on the first second of the live run
 
 
-def test_console_url_is_loopback_never_wildcard():
+def test_console_url_is_the_bound_address_or_loopback_never_wildcard(capsys):
     assert console_url("0.0.0.0", 8050, "tok") == "http://127.0.0.1:8050/?token=tok"
     assert console_url("127.0.0.1", 8050, "tok", tls=True) == "https://127.0.0.1:8050/?token=tok"
     assert console_url("::", 8050, "t") == "http://[::1]:8050/?token=t"
     assert console_url("192.168.1.5", 9000, "t") == "http://192.168.1.5:9000/?token=t"
+    # another loopback address: the URL names it (127.0.0.1 has nothing listening; issue 26)
+    assert console_url("127.0.0.2", 8050, "t") == "http://127.0.0.2:8050/?token=t"
+    assert console_url("::1", 8050, "t") == "http://[::1]:8050/?token=t"
+    assert console_url("localhost", 8050, "t") == "http://127.0.0.1:8050/?token=t"
+
+    class _S:
+        scenario = type("Sc", (), {"name": "usv-remote"})
+        speed = 1.0
+
+    main_banner("0.0.0.0", 8050, _S(), "t")
+    out = capsys.readouterr()
+    assert "open http://127.0.0.1:8050/?token=t" in out.out
+    assert "every IPv4 interface (0.0.0.0)" in out.err and "replace 127.0.0.1 with this machine's address" in out.err
+    main_banner("127.0.0.2", 8050, _S(), "t")
+    out = capsys.readouterr()
+    assert "open http://127.0.0.2:8050/?token=t" in out.out and out.err == ""
 
 
 def test_cli_refuses_a_network_binding_without_token_or_allow_remote(capsys):
@@ -293,3 +316,233 @@ def test_tls_serves_https_with_the_token_url(tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=20)
+
+
+# -- refused requests counted, not stored; failed tokens throttled (issue 26) ---------------------------------
+
+
+def test_a_tokenless_flood_cannot_push_the_take_over_alarm_out(tmp_path):
+    """Before: each refused request was an event in the 1,000-entry history, and 1,100 tokenless
+    requests pushed a take-over alarm out of it (it was saved nowhere else)."""
+    clk = FakeClock()
+    s = Session("usv-remote", out_root=tmp_path)
+    s.access.clock = clk  # the summary interval and the throttle's window do not pass during the flood
+    with TestClient(
+        create_app(s, token=TOKEN, throttle=Throttle(20, 60.0, clock=clk)), base_url="http://127.0.0.1"
+    ) as c:
+        with c.websocket_connect(WS) as op, c.websocket_connect(WS + "&role=viewer") as viewer:
+            op.receive_json()
+            viewer.receive_json()
+            viewer.send_text(json.dumps({"type": "control", "take": True, "force": True}))
+            assert recv_until(viewer, lambda m: m["type"] == "role")["role"] == "operator"
+        assert any(e["text"].startswith("TAKE-OVER") for e in s.events)
+        codes = [c.get("/api/state").status_code for _ in range(1100)]
+        codes += [c.get("/api/state?token=wrong-guess").status_code for _ in range(20)]
+        # throttled: 20 failed tokens from this peer, then 429 for every request needing the token ...
+        assert codes[:20] == [401] * 20 and set(codes[20:]) == {429}
+        r = c.get(f"/api/state?token={TOKEN}")
+        assert r.status_code == 429 and r.headers["retry-after"] == "3"  # ... the right one too (no oracle)
+        assert c.get("/").status_code == 200  # the public page is not throttled
+        clk.t += 60.0  # the window has passed: the right token works, a wrong one is refused again
+        s.access.flush()  # (the session's loop does this too) the interval is over: one summary
+        r = c.get(f"/api/state?token={TOKEN}")
+        assert r.status_code == 200
+        assert c.get("/api/state?token=nope").status_code == 401
+        # the operators' history still holds the alarm, and a page connecting now is shown it
+        assert any(e["text"].startswith("TAKE-OVER") for e in s.events)
+        assert not any(e["text"].startswith("refused") for e in s.events)
+        assert s.access.total == 1122 and s.access.by_kind == {"token": 21, "throttled": 1101}
+        with c.websocket_connect(WS) as ws:
+            st = recv_until(ws, lambda m: m["type"] == "state" and "events" in m)
+            texts = [e["text"] for e in st["events"]]
+            assert any(t.startswith("TAKE-OVER") for t in texts)
+            assert sum(t.startswith("refused") for t in texts) == 2  # the first refusal, then one per interval
+    # the run folder: the alarm and the refusal summaries in events.jsonl (the last one at shut-down)
+    (run,) = tmp_path.iterdir()
+    lines = read_json_lines(run / "events.jsonl")
+    assert any(e["level"] == "alarm" and e["text"].startswith("TAKE-OVER") for e in lines)
+    acc = [e for e in lines if e.get("kind") == "access"]
+    assert len(acc) == 3, [e["text"] for e in acc]  # at most one per interval, the rest at shut-down
+    assert acc[0]["text"].startswith("refused 1 request(s) just now: 1 x token (GET /api/state: missing")
+    assert acc[1]["text"].startswith("refused 1120 request(s) in 60.0 s: 1101 x throttled")
+    assert "; 19 x token" in acc[1]["text"] and acc[1]["text"].endswith("[1121 refused since start]")
+    assert acc[2]["text"].startswith("refused 1 request(s) just now: 1 x token (GET /api/state: missing")
+    assert acc[2]["text"].endswith("[1122 refused since start]")
+    assert [e["id"] for e in lines] == sorted(e["id"] for e in lines)
+
+
+def test_access_log_sends_at_most_one_summary_per_interval():
+    clk = FakeClock()
+    out: list[str] = []
+    log = AccessLog(out.append, interval_s=10.0, clock=clk)
+    log.refused("token", "GET /api/state: missing token")
+    assert len(out) == 1 and out[0].startswith("refused 1 request(s) just now: 1 x token")
+    for i in range(500):
+        clk.t += 0.01
+        log.refused("origin" if i % 2 else "token", f"WebSocket: origin {i % 5}")
+        log.flush()
+    assert len(out) == 1  # 5 s of refusals: counted, not sent
+    clk.t += 5.001
+    log.flush()
+    assert len(out) == 2 and out[1].startswith("refused 500 request(s) in 10.0 s: 250 x origin")
+    assert "WebSocket: origin 1; WebSocket: origin 3" in out[1]  # a few distinct examples, not all 500
+    log.flush(force=True)
+    assert len(out) == 2  # nothing pending, nothing sent
+    assert log.total == 501 and log.by_kind == {"token": 251, "origin": 250}
+
+
+def test_throttle_counts_failures_per_peer_and_refills():
+    clk = FakeClock()
+    th = Throttle(limit=3, window_s=30.0, clock=clk, max_peers=4)
+    for _ in range(3):
+        assert th.wait_s("10.0.0.1") == 0.0
+        th.failed("10.0.0.1")
+    assert th.wait_s("10.0.0.1") == pytest.approx(10.0)  # one try back every 10 s
+    assert th.wait_s("10.0.0.2") == 0.0  # another peer is not affected
+    clk.t += 10.0
+    assert th.wait_s("10.0.0.1") == 0.0
+    th.failed("10.0.0.1")
+    assert th.wait_s("10.0.0.1") > 0.0
+    for i in range(10):  # many peers: the memory stays bounded, the oldest are forgotten
+        th.failed(f"10.0.1.{i}")
+    assert len(th._peers) <= 4
+
+
+def test_refused_websocket_handshakes_are_throttled_too(tmp_path):
+    clk = FakeClock()
+    s = Session("usv-remote", out_root=tmp_path, write_log=False)
+    with TestClient(
+        create_app(s, token=TOKEN, throttle=Throttle(2, 60.0, clock=clk)), base_url="http://127.0.0.1"
+    ) as c:
+        statuses = []
+        for _ in range(4):
+            with pytest.raises(WebSocketDenialResponse) as e, c.websocket_connect("ws://127.0.0.1/ws?token=x"):
+                pass
+            statuses.append(e.value.status_code)
+        assert statuses == [401, 401, 429, 429]
+        clk.t += 30.0
+        with c.websocket_connect(WS) as ws:
+            assert ws.receive_json()["type"] == "role"
+
+
+# -- the token outside the command line; strong tokens on the network (issue 26) -------------------------------
+
+
+@pytest.mark.parametrize(
+    ("token", "why"),
+    [
+        ("short-token-1", "13 characters, fewer than 16"),
+        ("aaaaaaaaaaaaaaaaaaaaaaaa", "only 1 different characters"),
+        ("abababcdabababcdabab", "only 4 different characters"),
+        ("abcdefghabcdefghabcdefgh", "the 8-character pattern 'abcdefgh' repeated"),
+        ("0123456789abcdefghij", "a run of consecutive characters"),
+        ("ponmlkjihgfedcba", "a run of consecutive characters"),
+    ],
+)
+def test_weak_tokens_are_named(token, why):
+    from oceangnc.console.cli import weak_token
+    from oceangnc.console.server import new_token
+
+    assert weak_token(token) == why
+    assert all(weak_token(new_token()) == "" for _ in range(200))
+    assert weak_token("x7Qp-2mZk_9RvT4a") == ""
+
+
+def _cli(capsys, args, env=None, monkeypatch=None):
+    from oceangnc.cli import main
+
+    if monkeypatch is not None:
+        monkeypatch.delenv("OCEANGNC_CONSOLE_TOKEN", raising=False)
+        for k, v in (env or {}).items():
+            monkeypatch.setenv(k, v)
+    code = main(["console", *args])
+    err = capsys.readouterr().err.strip()
+    return code, err
+
+
+def test_cli_token_from_a_file_or_the_environment_and_strong_on_the_network(capsys, monkeypatch, tmp_path):
+    """``--token`` shows in ``ps``: the token may come from ``--token-file`` or OCEANGNC_CONSOLE_TOKEN;
+    a token the network can try (non-loopback ``--host``) must be strong. Each refusal: one line, exit 2.
+    (``--ssl-certfile`` alone fails after the token checks: it shows that a token was accepted.)"""
+    weak, strong = tmp_path / "weak", tmp_path / "strong"
+    weak.write_text("password12\n")
+    strong.write_text("x7Qp-2mZk_9RvT4a\n")
+    (tmp_path / "empty").write_text("\n")
+    after = ["--ssl-certfile", "/nonexistent.pem"]
+    cases = [
+        # (args, environment, the one line expected)
+        (["--host", "0.0.0.0", "--token", "short-token-1"], {}, "--token: too weak a token for --host 0.0.0.0"),
+        (["--host", "0.0.0.0"], {"OCEANGNC_CONSOLE_TOKEN": "aaaaaaaaaaaaaaaaaaaa"}, "OCEANGNC_CONSOLE_TOKEN: too weak"),
+        (["--host", "0.0.0.0", "--token-file", str(weak)], {}, f"--token-file {weak}: too weak a token"),
+        (["--token-file", str(tmp_path / "none")], {}, f"--token-file {tmp_path / 'none'}: cannot read it"),
+        (["--token-file", str(tmp_path)], {}, f"--token-file {tmp_path}: cannot read it"),
+        (["--token-file", str(tmp_path / "empty")], {}, "the file is empty"),
+        (["--token-file", str(strong), "--token", "abcdefgh12"], {}, "--token and --token-file: give one of them"),
+        ([], {"OCEANGNC_CONSOLE_TOKEN": "short"}, "OCEANGNC_CONSOLE_TOKEN: the token needs at least 8"),
+        (["--host", "0.0.0.0"], {}, "give a shared secret (--token-file PATH, OCEANGNC_CONSOLE_TOKEN, or --token"),
+        # accepted tokens: the command goes on to the next check
+        (["--host", "0.0.0.0", "--token-file", str(strong), *after], {}, "go together"),
+        (["--host", "0.0.0.0", *after], {"OCEANGNC_CONSOLE_TOKEN": "x7Qp-2mZk_9RvT4a"}, "go together"),
+        (["--token", "password12", *after], {}, "go together"),  # loopback: 8 characters suffice
+    ]
+    for args, env, expected in cases:
+        code, err = _cli(capsys, args, env, monkeypatch)
+        assert code == 2 and expected in err and "\n" not in err and "Traceback" not in err, (args, env, err)
+
+
+def test_token_from_a_file_and_the_url_on_the_loopback_address_bound(tmp_path):
+    """``--host 127.0.0.2`` printed a URL on 127.0.0.1, where nothing listens (issue 26); the token of
+    ``--token-file`` is used (over OCEANGNC_CONSOLE_TOKEN) and is not on the command line."""
+    import os
+    import subprocess
+    import sys
+
+    import httpx
+    from console_server import free_port
+
+    port = free_port()
+    tok = tmp_path / "token"
+    tok.write_text(TOKEN + "\n")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "oceangnc.cli", "console", "usv-remote", "--host", "127.0.0.2", "--port", str(port)]
+        + ["--out", str(tmp_path / "runs"), "--token-file", str(tok), "--no-warmup"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1", OCEANGNC_CONSOLE_TOKEN="env-token-not-used-1"),
+    )
+    try:
+        line = ""
+        deadline = time.monotonic() + 90
+        while "open " not in line and time.monotonic() < deadline:
+            line = proc.stdout.readline()
+            assert line or proc.poll() is None, "console exited"
+        url = line.split("open ", 1)[1].strip()
+        assert url == f"http://127.0.0.2:{port}/?token={TOKEN}"
+        r = httpx.get(url.replace("/?", "/api/state?"), timeout=10)
+        assert r.status_code == 200 and r.json()["type"] == "state"
+        assert httpx.get(f"http://127.0.0.2:{port}/api/state?token=env-token-not-used-1", timeout=10).status_code == 401
+        with pytest.raises(httpx.HTTPError):
+            httpx.get(f"http://127.0.0.1:{port}/", timeout=5)  # nothing on 127.0.0.1
+        cmdline = open(f"/proc/{proc.pid}/cmdline", "rb").read().decode() if sys.platform == "linux" else ""
+        assert TOKEN not in cmdline
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)
+
+
+def test_events_file_appends_lines_and_a_cut_last_line_is_skipped(tmp_path):
+    from oceangnc.core.files import LineAppender
+
+    p = tmp_path / "events.jsonl"
+    f = LineAppender(p)
+    f.write('{"id": 1}')
+    f.write('{"id": 2}', sync=True)
+    f.close()
+    f.write('{"id": 3}')  # closed: ignored
+    g = LineAppender(p)  # a second run of the writer appends, never truncates
+    g.write('{"id": 4}')
+    g.close()
+    with open(p, "a") as h:
+        h.write('{"id": 5, "te')  # a write cut by a kill
+    assert read_json_lines(p) == [{"id": 1}, {"id": 2}, {"id": 4}]

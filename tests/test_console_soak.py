@@ -1,9 +1,12 @@
-"""Soak test of the console (issue 20): one operator and 20 viewers on 127.0.0.1 for 60 s.
+"""Soak test of the console (issue 20): one operator and 20 viewers on 127.0.0.1, and one client that stops
+reading.
 
-The real ``oceangnc console`` runs in a subprocess. Each client must receive the state stream at
->= 20 Hz, the simulation's pacing error must stay under 2 %, the server's memory must be flat over
-the last 30 s (within 5 %), and a client that stops reading must be dropped (bounded send queue, a
-message in the event log) without slowing the others.
+The real ``oceangnc console`` runs in a subprocess. What must hold whatever the machine's load (issue 26:
+no timed assertion here): no client starves (each gets a fair share of the state stream and stays
+connected), no message is lost or reordered (every client sees simulated time only go forward and every
+event exactly once, in order; every ping of the operator gets its pong, in order; its stick reaches the
+simulation), and the client that stops reading is dropped, with one event, while the others go on.
+Rates, pacing and memory are measured by ``benchmarks/bench_console_soak.py`` (benchmarks/RESULTS.md).
 """
 
 from __future__ import annotations
@@ -17,13 +20,13 @@ import time
 import pytest
 from console_server import console_server
 
-psutil = pytest.importorskip("psutil")
 websockets_client = pytest.importorskip("websockets.asyncio.client")
 
 pytestmark = pytest.mark.slow
 
 TOKEN = "soak-token-123456"
-DURATION = 60.0
+STREAM_S = 12.0  #: seconds of streaming to 21 clients (after they connect)
+DROP_WAIT_S = 120.0  #: bound on the wait for the non-reading client to be dropped
 VIEWERS = 20
 
 
@@ -33,46 +36,65 @@ def console(tmp_path):
         yield port, proc
 
 
-async def _soak(port: int, pid: int) -> dict:
+class Seen:
+    """What one client received: its state messages' (run, t), the events' ids and texts, and how its
+    connection ended."""
+
+    def __init__(self):
+        self.states: list[tuple[int, float]] = []
+        self.events: list[tuple[int, str]] = []
+        self.surge: set[float] = set()
+        self.error: BaseException | None = None
+
+    def take(self, raw: str) -> None:
+        if not raw.startswith('{"type":"state"'):
+            return
+        m = json.loads(raw)
+        self.states.append((m["run"], m["t"]))
+        self.surge.add(m["stick"]["surge"])
+        self.events.extend((e["id"], e["text"]) for e in m.get("events", []))
+
+
+async def _soak(port: int) -> dict:
     uri = f"ws://127.0.0.1:{port}/ws?token={TOKEN}"
-    counts = [0] * (VIEWERS + 1)
-    op_states: list[tuple[float, float]] = []  # (wall, sim t)
-    events: list[str] = []
-    mem: list[tuple[float, int]] = []
+    seen = [Seen() for _ in range(VIEWERS + 1)]  # [0] the operator
+    pings: list[int] = []
+    pongs: list[int] = []
     stop = asyncio.Event()
-    t_start = time.monotonic()
-    proc = psutil.Process(pid)
+    dropped = asyncio.Event()
 
-    async def operator():
-        async with websockets_client.connect(uri, max_size=1 << 22) as ws:
-            await ws.send(json.dumps({"type": "mode", "mode": "remote"}))
+    async def client(i: int, url: str, on_open=None):
+        s = seen[i]
+        try:
+            async with websockets_client.connect(url, max_size=1 << 22) as ws:
+                task = asyncio.create_task(on_open(ws)) if on_open else None
+                try:
+                    while not stop.is_set():
+                        raw = await ws.recv()
+                        s.take(raw)
+                        if raw.startswith('{"type":"pong"'):
+                            pongs.append(json.loads(raw)["id"])
+                        if "dropped: it stopped reading" in raw:
+                            dropped.set()
+                finally:
+                    if task is not None:
+                        task.cancel()
+        except asyncio.CancelledError:
+            raise
+        except BaseException as e:  # noqa: BLE001 - recorded: a connection of a reading client must not end
+            s.error = e
 
-            async def sticks():
-                k = 0
-                while not stop.is_set():
-                    k += 1
-                    surge = 0.6 if (k // 200) % 2 == 0 else 0.3
-                    await ws.send(json.dumps({"type": "stick", "surge": surge, "yaw": 0.2}))
-                    await asyncio.sleep(0.05)
-
-            task = asyncio.create_task(sticks())
-            try:
-                while not stop.is_set():
-                    raw = await ws.recv()
-                    m = json.loads(raw)
-                    if m["type"] == "state":
-                        counts[0] += 1
-                        op_states.append((time.monotonic(), m["t"]))
-                        events.extend((e["wall"], e["text"]) for e in m.get("events", []))
-            finally:
-                task.cancel()
-
-    async def viewer(i):
-        async with websockets_client.connect(uri + "&role=viewer", max_size=1 << 22) as ws:
-            while not stop.is_set():
-                raw = await ws.recv()
-                if raw.startswith('{"type":"state"'):
-                    counts[i] += 1
+    async def operator_sends(ws):
+        await ws.send(json.dumps({"type": "mode", "mode": "remote"}))
+        k = 0
+        while not stop.is_set():
+            k += 1
+            surge = 0.6 if (k // 40) % 2 == 0 else 0.3
+            await ws.send(json.dumps({"type": "stick", "surge": surge, "yaw": 0.2}))
+            if k % 5 == 0:
+                pings.append(k)
+                await ws.send(json.dumps({"type": "ping", "id": k}))
+            await asyncio.sleep(0.05)
 
     async def slow_reader():
         """Opens a viewer WebSocket by hand and never reads from it (small receive buffer)."""
@@ -99,56 +121,61 @@ async def _soak(port: int, pid: int) -> dict:
         finally:
             s.close()
 
-    async def memory():
-        while not stop.is_set():
-            mem.append((time.monotonic() - t_start, proc.memory_info().rss))
-            await asyncio.sleep(1.0)
-
     tasks = [
-        asyncio.create_task(operator()),
-        *[asyncio.create_task(viewer(i + 1)) for i in range(VIEWERS)],
+        asyncio.create_task(client(0, uri, operator_sends)),
+        *[asyncio.create_task(client(i + 1, uri + "&role=viewer")) for i in range(VIEWERS)],
         asyncio.create_task(slow_reader()),
-        asyncio.create_task(memory()),
     ]
     await asyncio.sleep(2.0)  # everybody connected; the count starts now
-    c0 = list(counts)
-    w0 = time.monotonic()
-    wall0 = time.time()
-    await asyncio.sleep(DURATION)
-    c1 = list(counts)
-    w1 = time.monotonic()
+    c0 = [len(s.states) for s in seen]
+    await asyncio.sleep(STREAM_S)
+    c1 = [len(s.states) for s in seen]
+    try:
+        await asyncio.wait_for(dropped.wait(), DROP_WAIT_S)  # bounded: fails the test below if not
+    except TimeoutError:
+        pass
+    n_pings = len(pings)
+    deadline = time.monotonic() + 30.0
+    while len(pongs) < n_pings and time.monotonic() < deadline:  # the pongs still in flight
+        await asyncio.sleep(0.1)
     stop.set()
     for t in tasks:
         t.cancel()
     await asyncio.gather(*tasks, return_exceptions=True)
     return {
-        "rates": [(b - a) / (w1 - w0) for a, b in zip(c0, c1)],
-        "op_states": op_states,
-        "events": events,
-        "mem": mem,
-        "w0": w0,
-        "w1": w1,
-        "wall0": wall0,
+        "counts": [b - a for a, b in zip(c0, c1)],
+        "seen": seen,
+        "pings": pings[:n_pings],
+        "pongs": pongs,
+        "dropped": dropped.is_set(),
     }
 
 
-def test_one_operator_and_20_viewers_for_60_s(console):
-    port, proc = console
-    r = asyncio.run(_soak(port, proc.pid))
-    rates = r["rates"]
-    assert min(rates) >= 20.0, rates
-    st = [(w, t) for w, t in r["op_states"] if r["w0"] <= w <= r["w1"]]
-    pacing = (st[-1][1] - st[0][1]) / (st[-1][0] - st[0][0]) - 1.0
-    assert abs(pacing) < 0.02, pacing
-    late = [m for t, m in r["mem"] if t >= r["mem"][-1][0] - 30.0]
-    growth = max(late) / min(late) - 1.0
-    assert growth < 0.05, (growth, r["mem"])
-    texts = [e for _, e in r["events"]]
-    dropped = [e for e in texts if "dropped: it stopped reading" in e]
-    assert len(dropped) == 1, texts[-20:]
-    lags = [e for w, e in r["events"] if w >= r["wall0"] and "fell" in e and "behind" in e]
-    assert not lags, lags  # no re-anchoring while the 21 clients were streaming
-    print(
-        f"soak: rates {min(rates):.1f}-{max(rates):.1f} Hz, pacing {100 * pacing:+.2f} %, memory over the "
-        f"last 30 s {100 * growth:.2f} %, {dropped[0]}"
-    )
+def test_one_operator_and_20_viewers_none_starves_nothing_lost_or_reordered(console):
+    port, _ = console
+    r = asyncio.run(_soak(port))
+    seen: list[Seen] = r["seen"]
+    counts = r["counts"]
+    # no client starves: every one got a fair share of the same stream, and none was disconnected
+    assert min(counts) > 0 and min(counts) >= 0.5 * max(counts), counts
+    assert [s.error for s in seen] == [None] * len(seen)
+    # nothing reordered: simulated time only goes forward, in one run
+    for i, s in enumerate(seen):
+        assert len({run for run, _ in s.states}) == 1, i
+        ts = [t for _, t in s.states]
+        assert all(b >= a for a, b in zip(ts, ts[1:])), (i, ts)
+    # nothing lost: every client saw every event once, in order (ids 1, 2, 3, ...), with the same texts
+    texts: dict[int, str] = {}
+    for i, s in enumerate(seen):
+        ids = [e for e, _ in s.events]
+        assert ids == list(range(1, len(ids) + 1)), (i, ids[:10])
+        for e, text in s.events:
+            assert texts.setdefault(e, text) == text
+    assert sum("connected as viewer" in t for t in texts.values()) == VIEWERS + 1  # with the non-reading one
+    # every ping answered, in order; the stick reached the simulation
+    assert r["pings"] and r["pongs"] == r["pings"]
+    assert {0.6, 0.3} <= seen[0].surge
+    # the client that stopped reading was dropped, once, and the others went on
+    assert r["dropped"], f"the non-reading client was not dropped within {DROP_WAIT_S:g} s"
+    drops = [t for t in texts.values() if "dropped: it stopped reading" in t]
+    assert len(drops) == 1, drops

@@ -7,8 +7,6 @@ never a traceback, a hang or a NaN in the state. Bounded: every test sets ``max_
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import json
 import math
 import string
@@ -259,14 +257,6 @@ def test_generated_json_messages_never_break_the_console(live_session, raw):
 # -- importers and the MAVLink endpoint -----------------------------------------------------------------------
 
 
-def _module(name: str) -> bool:
-    try:
-        return importlib.util.find_spec(name) is not None
-    except ModuleNotFoundError:
-        return False
-
-
-@pytest.mark.skipif(not _module("oceangnc.io.importers"), reason="log importers not in this tree")
 @settings(
     max_examples=60,
     deadline=5000,
@@ -360,7 +350,6 @@ def _mav_messages():
     )
 
 
-@pytest.mark.skipif(not _module("oceangnc.mavlink"), reason="MAVLink endpoint not in this tree")
 @settings(
     max_examples=120,
     deadline=5000,

@@ -149,3 +149,42 @@ def test_leader_follower_switches_to_heading_to_usv_outside_R():
     only = LeaderFollower(0.5, math.pi, 1.0, mode="relative-angle")
     only.step(0.0, bus)
     assert bus["lf.outside"] == 0.0 and bus["lf.psi_d"] == 0.0
+
+
+def test_a_longer_route_set_while_running_is_flown_by_the_pure_pursuit_law():
+    """A route set on the block (the MAVLink mission hook writes ``wp``) longer than the first is written
+    into its parameters: at the old route's last waypoint the law starts the new route's next leg."""
+    pp = PurePursuit([(0.0, 0.0), (10.0, 0.0)], 4.0, 1.0, 0.1)
+    pp.wp = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]
+    assert pp.wp.tolist() == [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
+    bus = {"usv.x": 10.0, "usv.y": 0.0, "usv.psi": 0.0}
+    pp.step(0.0, bus)
+    assert pp.leg == 1 and pp.reached == 1 and not pp.done and not bus["_stop"]
+    assert (bus["guidance.lookahead_n"], bus["guidance.lookahead_e"]) == (10.0, 4.0)
+    assert bus["guidance.psi_d"] == pytest.approx(math.pi / 2)
+
+
+def test_a_route_sent_while_running_reaches_the_route_pilots_law():
+    """``send_route`` (the console's map, a MAVLink mission) writes the route into the pilot's arrays, a
+    route longer than the configured one included, and restarts it from where the boat is; the route
+    flown already changes nothing."""
+    from oceangnc.api import resolve_config
+    from oceangnc.guidance.route_pilot import RoutePilot, send_route
+
+    sc, cfg = resolve_config("usv-remote")
+    sim = sc.build(cfg, np.random.default_rng(0))
+    sim.run(1.0)
+    pilot = next(b for b in sim.blocks if isinstance(b, RoutePilot))
+    pts = ((-30.0, -30.0), (-30.0, 30.0), (30.0, 30.0), (30.0, -30.0), (-30.0, -30.0), (0.0, 0.0))
+    assert len(pts) > len(cfg.guidance.waypoints)
+    send_route(sim, [list(p) for p in pts])
+    assert sim.bus["console.waypoints"] == pts and pilot.route == pts and pilot.wp == 0 and pilot.leg_start is None
+    sim.run(0.1)
+    x, y = pilot.leg_start  # where the boat was at the pilot's next period: the new leg's start
+    # steering along the leg toward the new first point (south-west; the old route's is north)
+    assert sim.bus["guidance.wp_index"] == 0.0
+    assert sim.bus["guidance.psi_d"] == pytest.approx(math.atan2(-30.0 - y, -30.0 - x), abs=0.01)
+    sim.run(5.0)
+    start = pilot.leg_start
+    send_route(sim, pts)
+    assert pilot.leg_start == start  # the same route again: not restarted

@@ -21,12 +21,7 @@ PENDING: dict[str, str] = {
     "sensor.trial": "not yet moved onto LawBlock (issue 25 in progress)",
     "sensor.usbl": "not yet moved onto LawBlock (issue 25 in progress)",
     "sensor.usbl_navigation": "not yet moved onto LawBlock (issue 25 in progress)",
-    "ship.scripted_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.los": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.pure_pursuit": "not yet moved onto LawBlock (issue 25 in progress)",
-    "usv.route_pilot": "not yet moved onto LawBlock (issue 25 in progress)",
     "usv.zigzag": "not yet moved onto LawBlock (issue 25 in progress)",
-    "uuv.leader_follower": "not yet moved onto LawBlock (issue 25 in progress)",
 }
 
 

@@ -48,6 +48,14 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
     ),
     "tow-deploy": ("tow", "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"),
     "tow-survey-depth": ("tow", "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"),
+    "otter-waypoints": (
+        "vehicles",
+        "Otter USV (a vehicle file) on an LOS route at 1.5 m/s with speed and heading PIDs",
+    ),
+    "rov-station-keeping": (
+        "vehicles",
+        "BlueROV2 Heavy (a vehicle file) holding position and 5 m depth in a 0.2 m/s current",
+    ),
     "trials": (
         "trials",
         "Straight/turning/zig-zag trials from a model, logged for 'oceangnc identify first-order' (000 sec. 2.2)",

@@ -22,7 +22,7 @@ HERE = Path(__file__).resolve().parent
 BASELINE = HERE / "baseline.json"
 DURATION = 3.0  # s of simulated time per scenario
 #: scenarios whose run needs a longer horizon to produce a meaningful (non-empty) summary
-DURATIONS = {"ekf-zigzag": 20.0, "trials": 3.0}
+DURATIONS = {"ekf-zigzag": 20.0, "trials": 3.0, "rov-station-keeping": 35.0, "otter-waypoints": 25.0}
 #: summary keys that measure the machine, not the simulation
 SKIP_SUMMARY = ("wall_time",)
 

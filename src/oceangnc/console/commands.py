@@ -3,6 +3,7 @@ applied in the simulation thread; the failsafe watchdog and the console's bus ke
 
 from __future__ import annotations
 
+from ..guidance.route_pilot import send_route
 from .messages import Rejected, check_gains
 
 NEUTRAL = 0.05  #: stick deflection below which the stick counts as centred (failsafe reset)
@@ -73,7 +74,7 @@ class CommandsMixin:
                 self._rtf_ref = self._anchor
                 self.event("info", "paused" if msg.paused else "resumed")
         elif kind == "waypoints":
-            self.sim.inject({"console.waypoints": tuple((float(a), float(b)) for a, b in msg.points)})
+            send_route(self.sim, msg.points)
             self.view["route"] = [[float(a), float(b)] for a, b in msg.points]
             self.event("info", f"new route of {len(msg.points)} waypoint(s)")
 

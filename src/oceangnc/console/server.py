@@ -16,7 +16,12 @@ Who can connect (docs/reliability.md)
 -------------------------------------
 * **Token.** Every ``/api/...`` request and every WebSocket must present the session token (query
   ``?token=``, header ``X-Oceangnc-Token`` or ``Authorization: Bearer``); the page takes it from its
-  own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401).
+  own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401). A peer address
+  that failed the check 20 times in a minute gets HTTP 429 for every request needing the token, the
+  right one included, until a try comes back (:class:`oceangnc.console.access.Throttle`).
+* **Refusals** are counted by kind, not logged one by one: at most one summary event per 10 s, in a
+  history of their own (:class:`oceangnc.console.access.AccessLog`), so a flood without the token
+  cannot push an operator's event out.
 * **Origin.** A request that carries an ``Origin`` header must come from the page's own origin
   (scheme, host and port equal to the request's ``Host``), else HTTP 403 (WebSocket: refused at the
   handshake with HTTP 403: a page of another web site cannot open a WebSocket to the console,
@@ -41,15 +46,18 @@ import asyncio
 import contextlib
 import ipaddress
 import json
+import math
 import secrets
 import sys
 from pathlib import Path
+from typing import NamedTuple
 from urllib.parse import urlparse
 
 from fastapi import FastAPI, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
 
+from .access import Throttle
 from .messages import RateLimiter, Rejected, parse_message
 from .session import Session
 
@@ -73,12 +81,25 @@ def new_token() -> str:
     return secrets.token_urlsafe(16)
 
 
-class Guard:
-    """The checks of the module docstring, for HTTP requests and WebSocket handshakes alike."""
+class Refusal(NamedTuple):
+    """A refused request: HTTP ``status``, ``reason`` (the response body), ``kind`` (``host``,
+    ``origin``, ``throttled`` or ``token``: what :class:`~oceangnc.console.access.AccessLog` counts)
+    and, for 429, ``retry_after`` seconds."""
 
-    def __init__(self, token: str, loopback_only: bool):
+    status: int
+    reason: str
+    kind: str
+    retry_after: int = 0
+
+
+class Guard:
+    """The checks of the module docstring, for HTTP requests and WebSocket handshakes alike; failed
+    token checks are throttled per peer (:class:`oceangnc.console.access.Throttle`)."""
+
+    def __init__(self, token: str, loopback_only: bool, throttle: Throttle | None = None):
         self.token = token
         self.loopback_only = loopback_only
+        self.throttle = throttle if throttle is not None else Throttle()
 
     def presented_token(self, conn) -> str:
         tok = conn.query_params.get("token") or conn.headers.get("x-oceangnc-token") or ""
@@ -87,21 +108,36 @@ class Guard:
             tok = auth[7:].strip()
         return tok
 
-    def check(self, conn, need_token: bool = True) -> tuple[int, str] | None:
-        """None when allowed, else (HTTP status, reason)."""
+    def check(self, conn, need_token: bool = True) -> Refusal | None:
+        """None when allowed, else the :class:`Refusal`."""
         host = conn.headers.get("host", "")
         hostname = urlparse("//" + host).hostname or ""
         if self.loopback_only and not is_loopback(hostname):
-            return 403, f"host {host!r} not allowed (the console listens on loopback only)"
+            return Refusal(403, f"host {host!r} not allowed (the console listens on loopback only)", "host")
         origin = conn.headers.get("origin")
         if origin is not None:
             scheme = conn.url.scheme.replace("ws", "http")
             o = urlparse(origin)
             if origin == "null" or o.netloc != host or o.scheme != scheme:
-                return 403, f"origin {origin!r} not allowed (only pages served by this console)"
-        if need_token and not secrets.compare_digest(self.presented_token(conn).encode(), self.token.encode()):
-            return 401, "missing or wrong session token (open the URL printed by 'oceangnc console')"
+                return Refusal(403, f"origin {origin!r} not allowed (only pages served by this console)", "origin")
+        if need_token:
+            peer = conn.client.host if conn.client is not None else "?"
+            wait = self.throttle.wait_s(peer)
+            if wait > 0.0:
+                secs = math.ceil(wait)
+                msg = f"too many wrong or missing session tokens from {peer}; retry in {secs} s"
+                return Refusal(429, msg, "throttled", secs)
+            if not secrets.compare_digest(self.presented_token(conn).encode(), self.token.encode()):
+                self.throttle.failed(peer)
+                return Refusal(
+                    401, "missing or wrong session token (open the URL printed by 'oceangnc console')", "token"
+                )
         return None
+
+
+def _refusal(bad: Refusal) -> PlainTextResponse:
+    headers = {"Retry-After": str(bad.retry_after)} if bad.status == 429 else None
+    return PlainTextResponse(bad.reason, status_code=bad.status, headers=headers)
 
 
 def create_app(
@@ -111,11 +147,14 @@ def create_app(
     token: str | None = None,
     loopback_only: bool = True,
     send_queue: int = SEND_QUEUE,
+    throttle: Throttle | None = None,
 ):
     """The ASGI app around a :class:`Session` (started and stopped with the app when ``manage_session``).
 
     ``token`` is the session token every API request and WebSocket must present (a new random one
-    when None: ``app.state.token``); ``loopback_only`` refuses ``Host`` headers that are not loopback.
+    when None: ``app.state.token``); ``loopback_only`` refuses ``Host`` headers that are not loopback;
+    ``throttle`` limits failed token checks per peer (default :class:`Throttle`: 20 a minute).
+    Refused requests are counted in ``session.access`` (summary events), not logged one by one.
     """
 
     @contextlib.asynccontextmanager
@@ -132,7 +171,7 @@ def create_app(
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     app.state.session = session
     app.state.token = token or new_token()
-    guard = Guard(app.state.token, loopback_only)
+    guard = Guard(app.state.token, loopback_only, throttle)
     app.state.guard = guard
 
     @app.middleware("http")
@@ -143,9 +182,8 @@ def create_app(
         need_token = path.startswith("/api") or changes
         bad = guard.check(request, need_token=need_token)
         if bad is not None:
-            if changes or path.startswith("/api"):
-                session.event("warning", f"refused {request.method} {path}: {bad[1]}")
-            return PlainTextResponse(bad[1], status_code=bad[0])
+            session.access.refused(bad.kind, f"{request.method} {path[:80]}: {bad.reason}")
+            return _refusal(bad)
         resp = await call_next(request)
         resp.headers.setdefault("X-Frame-Options", "DENY")
         resp.headers.setdefault("X-Content-Type-Options", "nosniff")
@@ -177,11 +215,11 @@ def create_app(
     async def ws_endpoint(ws: WebSocket):
         bad = guard.check(ws)
         if bad is not None:
-            session.event("warning", f"refused WebSocket: {bad[1]}")
+            session.access.refused(bad.kind, f"WebSocket: {bad.reason}")
             try:
-                await ws.send_denial_response(PlainTextResponse(bad[1], status_code=bad[0]))
+                await ws.send_denial_response(_refusal(bad))
             except RuntimeError:  # server without the denial-response extension
-                await ws.close(code=1008, reason=bad[1][:120])
+                await ws.close(code=1008, reason=bad.reason[:120])
             return
         await ws.accept()
         want = ws.query_params.get("role", "operator") != "viewer"
@@ -361,20 +399,30 @@ def listen_socket(host: str, port: int):
 
 
 def console_url(host: str, port: int, token: str, tls: bool = False) -> str:
-    """The URL to open: loopback for a wildcard or loopback binding (never ``0.0.0.0``)."""
-    shown = host
-    if host in ("0.0.0.0", "localhost") or is_loopback(host):
+    """The URL to open: on the address bound (``127.0.0.2`` stays ``127.0.0.2``), a loopback one for a
+    wildcard binding (``0.0.0.0`` -> ``127.0.0.1``, ``::`` -> ``[::1]``; never a wildcard address)."""
+    if host in ("0.0.0.0", "localhost"):
         shown = "127.0.0.1"
     elif host == "::":
         shown = "[::1]"
     elif ":" in host:
         shown = f"[{host}]"
+    else:
+        shown = host
     return f"{'https' if tls else 'http'}://{shown}:{port}/?token={token}"
 
 
 def main_banner(host: str, port: int, session: Session, token: str, tls: bool = False) -> None:
     url = console_url(host, port, token, tls)
     print(f"oceangnc console: scenario {session.scenario.name} at {session.speed:g}x real time; open {url}", flush=True)
+    if host in ("0.0.0.0", "::"):
+        loop = "127.0.0.1" if host == "0.0.0.0" else "[::1]"
+        print(
+            f"note: listening on every {'IPv4 ' if host == '0.0.0.0' else ''}interface ({host}); the URL above "
+            f"is this machine's loopback, from another machine replace {loop} with this machine's address",
+            file=sys.stderr,
+            flush=True,
+        )
     if not is_loopback(host):
         print(
             f"note: listening on {host}: anyone who can reach it and holds the token can watch; the first "

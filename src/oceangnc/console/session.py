@@ -28,6 +28,11 @@ next integration step and in the very next state message (not one actuator perio
 Log. Every logged row goes both to ``log.parquet`` in the run folder (through
 :class:`oceangnc.io.logs.LogWriter`, closed when the run ends) and to column arrays in memory, from
 which :meth:`Session.log_bytes` writes, with the same LogWriter, the Parquet file the page downloads.
+
+Events. The page's event log (``events``, the last 1,000; summaries of refused requests apart in
+``access_events``) is also appended, event by event, to ``events.jsonl`` in the run folder
+(:class:`oceangnc.core.files.LineAppender`: one ``write`` per line in append mode; alarms and refusal
+summaries fsynced).
 """
 
 from __future__ import annotations
@@ -43,8 +48,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DivergenceError, OceanGNCError
+from ..core.files import LineAppender
 from ..io.logs import LogWriter, atomic_write_text
 from ..mavlink.live import builds_live as _builds  # one home: live iff the scenario overrides build
+from .access import AccessLog
 from .clients import ClientsMixin
 from .commands import NEUTRAL, CommandsMixin
 from ..mavlink.live import gate_pilots
@@ -109,8 +116,11 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
         self._cmds: deque = deque()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
-        self.events: deque = deque(maxlen=1000)
+        self.events: deque = deque(maxlen=1000)  # operators' and the run's events
+        self.access_events: deque = deque(maxlen=100)  # summaries of refused requests (AccessLog)
+        self._events_file: LineAppender | None = None  # the run's events.jsonl
         self._event_id = 0
+        self.access = AccessLog(lambda text: self.event("warning", text, access=True))
         self.clients = 0  # connected pages and scripts (operator + viewers)
         self.operator: int | None = None  # client id holding control
         self._next_client = 0
@@ -162,14 +172,17 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
         self._close_run()
         run_dir = None
         writer = None
+        events_file = None
         if self.write_log:
             run_dir = new_run_dir(self.out_root, f"console-{sc.name}")
             run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, run_dir / "config.toml")
             writer = LogWriter.for_run(run_dir, cfg.log)
+            events_file = LineAppender(run_dir / "events.jsonl")
         with self._lock:
             self.scenario, self.cfg, self.sim = sc, cfg, sim
             self.run_dir = run_dir
+            self._events_file = events_file
             self._tee = _TeeLog(writer)
             self.run_id += 1
             self.mode = str(sim.bus.get("console.mode", "auto"))
@@ -207,7 +220,18 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
         )
 
     def _close_run(self) -> None:
-        """Close the current run's log and write its summary."""
+        """Close the current run's log and write its summary; the pending summary of refused requests
+        goes to its ``events.jsonl``, which is closed last."""
+        self.access.flush(force=True)
+        try:
+            self._write_summary()
+        finally:
+            with self._lock:
+                f, self._events_file = self._events_file, None
+            if f is not None:
+                f.close()
+
+    def _write_summary(self) -> None:
         tee = self._tee
         if tee is None or tee.writer is None:
             return
@@ -304,6 +328,7 @@ class Session(ClientsMixin, CommandsMixin, SnapshotMixin):
             t0 = self.clock()
             try:
                 self.step_once()
+                self.access.flush()  # the summary of refused requests, when its interval is over
             except Exception as e:  # keep the server alive whatever happens
                 traceback.print_exc()
                 self.event("error", f"console loop error: {type(e).__name__}: {e}")

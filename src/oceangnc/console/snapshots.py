@@ -18,16 +18,45 @@ def _finite(v):
 class SnapshotMixin:
     """The event log, the hello message (scenario, view, gains) and the state message built from the bus."""
 
-    def event(self, level: str, text: str) -> None:
-        """Record an event for the page's log (level info, warning, error, alarm)."""
+    def event(self, level: str, text: str, access: bool = False) -> None:
+        """Record an event for the page's log (level info, warning, error, alarm) and append it to the
+        run's ``events.jsonl``. ``access`` marks a summary of refused requests
+        (:class:`~oceangnc.console.access.AccessLog`): it goes to its own short history
+        (``access_events``), so traffic without the token can never push an operator's event out of
+        ``events``."""
         with self._lock:
             self._event_id += 1
             t = float(self.sim.t) if self.sim is not None else 0.0
-            self.events.append({"id": self._event_id, "t": t, "level": level, "text": text, "wall": time.time()})
+            e = {"id": self._event_id, "t": t, "level": level, "text": text, "wall": time.time()}
+            if access:
+                e["kind"] = "access"
+            (self.access_events if access else self.events).append(e)
+            if self._events_file is not None:
+                try:
+                    self._events_file.write(
+                        json.dumps({"run": self.run_id, **e}, separators=(",", ":")),
+                        sync=access or level == "alarm",
+                    )
+                except OSError as err:  # a full disk must not stop the console; say so once
+                    self._events_file = None
+                    self._event_id += 1
+                    text = f"events.jsonl not written any more: {err}"
+                    self.events.append(
+                        {"id": self._event_id, "t": t, "level": "error", "text": text, "wall": e["wall"]}
+                    )
 
     def events_since(self, last_id: int) -> list[dict]:
+        """Events (both histories) with an id above ``last_id``, oldest first."""
+        self.access.flush()  # a summary whose interval is over
         with self._lock:
-            return [e for e in self.events if e["id"] > last_id]
+            new = []
+            for hist in (self.events, self.access_events):
+                for e in reversed(hist):
+                    if e["id"] <= last_id:
+                        break
+                    new.append(e)
+        new.sort(key=lambda e: e["id"])
+        return new
 
     def _make_hello(self) -> None:
         gains = {k: {kk: vv for kk, vv in v.items() if kk not in ("setter", "getter")} for k, v in self.gains.items()}
@@ -106,6 +135,7 @@ class SnapshotMixin:
             "waypoints": [list(p) for p in bus.get("console.waypoints", ())] or None,
             "signals": sig,
             "last_event": self._event_id,
+            "refused": self.access.total,  # requests refused since the start (token, origin, host, 429)
         }
         self.snapshot_json = json.dumps(self.snapshot, separators=(",", ":"))
 

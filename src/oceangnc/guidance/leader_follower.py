@@ -29,9 +29,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import hypot, wrap
 
@@ -93,9 +94,33 @@ def geometry(xl, yl, psil, xf, yf, psif, lx_d, ly_d, R, relative_only):
             wrap(los - psif), 1.0 if outside else 0.0, los if outside else psil)  # fmt: skip
 
 
+#: the block's signals: the leader's and follower's positions and headings, then :data:`OUTPUTS` in order
+SIGNALS = Signals(
+    xl=In("m"), yl=In("m"), psil=In("rad"), xf=In("m"), yf=In("m"), psif=In("rad"),
+    **{k.removeprefix("lf."): Out(u) for k, u in OUTPUTS.items()},
+)  # fmt: skip
+PARAMS = Layout("lx_d", "ly_d", "R", "relative_only")
+S, P = SIGNALS.at, PARAMS.at
+
+
+@njit(cache=True)
+def leader_follower_law(t, sig, sl, st, pa):
+    """The leader-follower geometry (003 eq. 3.7-3.9, :func:`geometry`) of the bound leader and follower
+    with the target offset (``lx_d``, ``ly_d``; m) and the range ``R`` (m), written to the outputs of
+    :data:`OUTPUTS` (each in its unit)."""
+    out = geometry(
+        sig[sl[S.xl]], sig[sl[S.yl]], sig[sl[S.psil]], sig[sl[S.xf]], sig[sl[S.yf]], sig[sl[S.psif]],
+        pa[P.lx_d], pa[P.ly_d], pa[P.R], pa[P.relative_only] != 0.0,
+    )  # fmt: skip
+    (sig[sl[S.lx]], sig[sl[S.ly]], sig[sl[S.range]], sig[sl[S.bearing]], sig[sl[S.lx_d]], sig[sl[S.ly_d]],
+     sig[sl[S.target_n]], sig[sl[S.target_e]], sig[sl[S.e_x]], sig[sl[S.e_y]], sig[sl[S.rel_heading_err]],
+     sig[sl[S.los]], sig[sl[S.los_err]], sig[sl[S.outside]], sig[sl[S.psi_d]]) = out  # fmt: skip
+
+
 @register_block("uuv.leader_follower")
-class LeaderFollower(Block):
-    """Leader-follower guidance of the UUV: geometry, targets and the desired heading.
+class LeaderFollower(LawBlock):
+    """Leader-follower guidance of the UUV: geometry, targets and the desired heading; law
+    :func:`leader_follower_law`.
 
     Reads the leader's and follower's positions and headings from the bus keys given (truth or
     navigation estimates). Writes ``lf.lx``, ``lf.ly`` (m, eq. 3.7), ``lf.range`` (m),
@@ -108,8 +133,13 @@ class LeaderFollower(Block):
     """
 
     role = "guidance"
-
     name = "leader_follower"
+    law = staticmethod(leader_follower_law)
+    signals = SIGNALS
+
+    R = param(P.R, "range inside which the follower keeps the leader's heading, m")
+    lx_d = param(P.lx_d, "target offset ahead in the leader's frame l_x^d (eq. 3.8), m")
+    ly_d = param(P.ly_d, "target offset to starboard in the leader's frame l_y^d (eq. 3.8), m")
 
     def __init__(
         self,
@@ -123,47 +153,12 @@ class LeaderFollower(Block):
     ):
         self.l_d = float(l_d)
         self.lambda_d = float(lambda_d)
-        self.R = float(R)
         self.period = float(period)
         self.mode = mode
         self.leader = leader
         self.follower = follower
-        self.lx_d, self.ly_d = target_offset(self.l_d, self.lambda_d)
-        self.inputs = {
-            **{k: u for k, u in zip(leader, ("m", "m", "rad"))},
-            **{k: u for k, u in zip(follower, ("m", "m", "rad"))},
-        }
-        self.outputs = dict(OUTPUTS)
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.leader_follower_step`)."""
-        import numpy as np
-
-        from ..core.fused import CompiledBlock
-
-        pa = np.array([self.lx_d, self.ly_d, self.R, 1.0 if self.mode == "relative-angle" else 0.0])
-        return CompiledBlock(leader_follower_step, [*self.leader, *self.follower, *OUTPUTS], params=pa)
-
-    def step(self, t: float, bus: dict) -> None:
-        xl, yl, psil = (bus[k] for k in self.leader)
-        xf, yf, psif = (bus[k] for k in self.follower)
-        rel = self.mode == "relative-angle"
-        bus.update(zip(OUTPUTS, geometry(xl, yl, psil, xf, yf, psif, self.lx_d, self.ly_d, self.R, rel)))
-
-
-@njit(cache=True)
-def leader_follower_step(t, sig, sl, st, pa):
-    """:class:`oceangnc.guidance.leader_follower.LeaderFollower` (003 eq. 3.7-3.9).
-
-    slots: xl, yl, psil, xf, yf, psif | lf.lx, ly, range, bearing, lx_d, ly_d, target_n, target_e,
-    e_x, e_y, rel_heading_err, los, los_err, outside, psi_d. params: lx_d, ly_d, R, relative-angle (1/0).
-    """
-    xl = sig[sl[0]] if sl[0] >= 0 else 0.0
-    yl = sig[sl[1]] if sl[1] >= 0 else 0.0
-    psil = sig[sl[2]] if sl[2] >= 0 else 0.0
-    xf = sig[sl[3]] if sl[3] >= 0 else 0.0
-    yf = sig[sl[4]] if sl[4] >= 0 else 0.0
-    psif = sig[sl[5]] if sl[5] >= 0 else 0.0
-    out = geometry(xl, yl, psil, xf, yf, psif, pa[0], pa[1], pa[2], pa[3] != 0.0)
-    for i in range(15):
-        sig[sl[6 + i]] = out[i]
+        self.bind(xl=leader[0], yl=leader[1], psil=leader[2], xf=follower[0], yf=follower[1], psif=follower[2],
+                  **{k.removeprefix("lf."): k for k in OUTPUTS})  # fmt: skip
+        lx_d, ly_d = target_offset(self.l_d, self.lambda_d)
+        self.pa = PARAMS.pack(lx_d=lx_d, ly_d=ly_d, R=float(R), relative_only=1.0 if mode == "relative-angle" else 0.0)
+        self.st = np.zeros(1)  # no state

@@ -32,38 +32,99 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals, param
 from ..core.registry import register_block
-from . import _compiled_waypoints as _cw
-from ._compiled_waypoints import BAND_LOS, BAND_PERPENDICULAR, BAND_R1, BAND_R2  # noqa: F401 (re-exported)
+from ..core.rotations import wrap
+from .views import entry
+
+BAND_PERPENDICULAR, BAND_R2, BAND_R1, BAND_LOS = 3, 2, 1, 0
 
 
-def leg_frame(pn: float, pe: float, an: float, ae: float, bn: float, be: float):
-    """(alpha, s, e, length) of the vessel at (pn, pe) relative to the leg a -> b; angles rad, lengths m
-    (compiled: :func:`oceangnc.guidance._compiled_waypoints.leg_frame`)."""
-    return _cw.leg_frame(float(pn), float(pe), float(an), float(ae), float(bn), float(be))
+@njit(cache=True)
+def leg_frame(pn, pe, an, ae, bn, be):
+    """(alpha, s, e, length) of the vessel at (pn, pe) relative to the leg a -> b (module docstring);
+    angles rad, lengths m."""
+    dn, de = bn - an, be - ae
+    length = math.hypot(dn, de)
+    alpha = math.atan2(de, dn)
+    c, sn = math.cos(alpha), math.sin(alpha)
+    rn, re = pn - an, pe - ae
+    s = c * rn + sn * re
+    e = -sn * rn + c * re
+    return alpha, s, e, length
+
+
+@njit(cache=True)
+def los_circle(alpha, s, e, radius):
+    """Heading (rad) at the forward intersection of the circle of ``radius`` (m) with the leg line, NaN
+    if it misses: the target is ``sqrt(R^2 - e^2)`` ahead along the line, so the heading is
+    ``alpha + atan2(-e, sqrt(R^2 - e^2))``."""
+    if radius <= abs(e):
+        return math.nan
+    return alpha + math.atan2(-e, math.sqrt(radius * radius - e * e))
 
 
 def los_circle_heading(alpha: float, s: float, e: float, radius: float) -> float | None:
-    """Heading (rad) at the forward intersection of the circle of ``radius`` (m) with the leg line, or None.
-
-    With the vessel at cross-track e, the target is ``sqrt(R^2 - e^2)`` ahead along the line, so the
-    heading is ``alpha + atan2(-e, sqrt(R^2 - e^2))``.
-    """
-    psi = _cw.los_circle(float(alpha), float(s), float(e), float(radius))
-    return None if math.isnan(psi) else psi
+    """:func:`los_circle`, None when the circle misses the line."""
+    psi = los_circle(float(alpha), float(s), float(e), float(radius))
+    return None if math.isnan(psi) else float(psi)
 
 
+@njit(cache=True)
 def conventional_los(pn, pe, an, ae, bn, be, R):
-    """Conventional LOS heading psi_l (rad); steers at waypoint b when the circle misses the line."""
-    return _cw.conventional_los(*(float(v) for v in (pn, pe, an, ae, bn, be, R)))
+    """Conventional LOS heading psi_l (rad, 000 ref. 19); steers at waypoint b when the circle misses
+    the line."""
+    alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
+    psi = los_circle(alpha, s, e, R)
+    if math.isnan(psi):
+        psi = math.atan2(be - pe, bn - pn)
+    return psi
 
 
+@njit(cache=True)
 def hybrid_los(pn, pe, an, ae, bn, be, R, R1, R2):
     """Hybrid heading of 000 table 1 (rad) and the band used (3 perpendicular, 2 R2, 1 R1, 0 LOS)."""
-    psi, band = _cw.hybrid_los(*(float(v) for v in (pn, pe, an, ae, bn, be, R, R1, R2)))
-    return psi, int(band)
+    alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
+    d = abs(e)
+    if d > 2.0 * R:
+        return alpha - math.copysign(0.5 * math.pi, e), BAND_PERPENDICULAR
+    if d > R:
+        return los_circle(alpha, s, e, R2), BAND_R2
+    if d > 0.5 * R:
+        return los_circle(alpha, s, e, R1), BAND_R1
+    return los_circle(alpha, s, e, R), BAND_LOS
+
+
+@njit(cache=True)
+def waypoint_law(pn, pe, wp, n, k, los, R, R1, R2, accept):
+    """One step of the waypoint guidance: ``(k, psi_cmd, band, e)``.
+
+    ``wp`` the n waypoints flat (north, east, ...; m); ``k`` the index of the waypoint steered to (the
+    leg k-1 -> k), advanced past every waypoint within ``accept`` (m) or whose perpendicular the
+    vessel has passed; k = n once the route is done, after which the last leg's line is held with a
+    3R look-ahead. ``los`` True: conventional LOS, else the hybrid law (000 table 1).
+    """
+    while k < n:
+        an, ae = wp[2 * k - 2], wp[2 * k - 1]
+        bn, be = wp[2 * k], wp[2 * k + 1]
+        _, s, _, length = leg_frame(pn, pe, an, ae, bn, be)
+        if math.hypot(bn - pn, be - pe) < accept or s >= length:
+            k += 1
+            continue
+        break
+    kk = min(k, n - 1)
+    an, ae = wp[2 * kk - 2], wp[2 * kk - 1]
+    bn, be = wp[2 * kk], wp[2 * kk + 1]
+    alpha, s, e, _ = leg_frame(pn, pe, an, ae, bn, be)
+    if k >= n:
+        psi, band = alpha - math.atan2(e, 3.0 * R), BAND_LOS
+    elif los:
+        psi, band = conventional_los(pn, pe, an, ae, bn, be, R), BAND_LOS
+    else:
+        psi, band = hybrid_los(pn, pe, an, ae, bn, be, R, R1, R2)
+    return k, wrap(psi), band, e
 
 
 def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray:
@@ -84,14 +145,49 @@ def distance_to_polyline(px, py, path_x, path_y, chunk: int = 512) -> np.ndarray
     return out
 
 
+SIGNALS = Signals(x=In("m"), y=In("m"), psi_cmd=Out("rad"), u_cmd=Out("m/s"), d=Out("m"), e=Out("m"),
+                  band=Out("enum"), leg=Out("count"), stop=Out("bool"))  # fmt: skip
+PARAMS = Layout("los", "R", "R1", "R2", "accept", "speed", "has_speeds", "stop_at_end", "n")
+STATE = Layout("k")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+#: the route follows the parameters: n waypoints (north, east; m) from this offset of ``pa``, then the
+#: n speeds (m/s; zeros without ``speeds``) from ``WP + 2 n``
+WP = P.n + 1
+
+
+@njit(cache=True)
+def waypoint_guidance_law(t, sig, sl, st, pa):
+    """One period of the LOS / hybrid waypoint guidance (000 table 1, :func:`waypoint_law`): the heading
+    command, the speed of the leg steered (the leg's own with ``speeds``), |e|, e, the band and the
+    leg; once past the last waypoint ``_stop`` if asked."""
+    n = int(pa[P.n])
+    wp = pa[WP : WP + 2 * n]
+    los = pa[P.los] != 0.0
+    k, psi, band, e = waypoint_law(
+        sig[sl[S.x]], sig[sl[S.y]], wp, n, int(st[X.k]), los, pa[P.R], pa[P.R1], pa[P.R2], pa[P.accept]
+    )
+    st[X.k] = k
+    if k >= n and pa[P.stop_at_end] != 0.0:
+        sig[sl[S.stop]] = 1.0
+    kk = min(k, n - 1)
+    sig[sl[S.psi_cmd]] = psi
+    sig[sl[S.u_cmd]] = pa[P.speed] if pa[P.has_speeds] == 0.0 else pa[WP + 2 * n + kk - 1]
+    sig[sl[S.d]] = abs(e)
+    sig[sl[S.e]] = e
+    sig[sl[S.band]] = float(band)
+    sig[sl[S.leg]] = float(kk)
+
+
 @register_block("usv.los")
-class WaypointGuidance(Block):
-    """Waypoint following with conventional LOS or the hybrid law of 000 table 1.
+class WaypointGuidance(LawBlock):
+    """Waypoint following with conventional LOS or the hybrid law of 000 table 1; law
+    :func:`waypoint_guidance_law`.
 
     Reads ``<b>.x``, ``<b>.y`` (m); writes ``<b>.psi_cmd`` (rad), ``<b>.u_cmd`` (m/s, the speed of
     the current leg if ``speeds`` are given, else ``speed``), ``guidance.d`` (perpendicular distance,
     m), ``guidance.e`` (signed cross-track, m, + starboard), ``guidance.band`` and ``guidance.leg``.
-    After the last waypoint it holds the last leg's heading and, if ``stop_at_end``, stops the run.
+    After the last waypoint it holds the last leg's heading and, if ``stop_at_end``, stops the run
+    (``_stop``).
 
     Parameters
     ----------
@@ -107,8 +203,17 @@ class WaypointGuidance(Block):
     """
 
     role = "guidance"
-
     name = "guidance"
+    law = staticmethod(waypoint_guidance_law)
+    signals = SIGNALS
+
+    R = param(P.R, "LOS circle radius R, m")
+    R1 = param(P.R1, "circle radius of the band 0.5R < d <= R, m")
+    R2 = param(P.R2, "circle radius of the band R < d <= 2R, m")
+    accept = param(P.accept, "waypoint acceptance radius, m")
+    speed = param(P.speed, "speed command without per-waypoint speeds, m/s")
+    stop_at_end = entry("pa", P.stop_at_end, bool, "end the run (``_stop``) past the last waypoint")
+    k = entry("st", X.k, int, "index of the waypoint steered to (the number of waypoints once done)")
 
     def __init__(
         self,
@@ -129,69 +234,51 @@ class WaypointGuidance(Block):
             raise ValueError("waypoints must be an (n >= 2, 2) array of north, east in m")
         if mode not in ("los", "hybrid"):
             raise ValueError(f"guidance mode must be 'los' or 'hybrid', got {mode!r}")
-        self.wp = wp
-        self._wp_flat = np.ascontiguousarray(wp.ravel())
-        self.mode = mode
-        self.R = float(R)
-        self.R1 = float(R1) if R1 is not None else 1.25 * self.R
-        self.R2 = float(R2) if R2 is not None else 2.5 * self.R
-        if not (self.R1 > self.R and self.R2 > 2 * self.R):
+        R = float(R)
+        R1 = float(R1) if R1 is not None else 1.25 * R
+        R2 = float(R2) if R2 is not None else 2.5 * R
+        if not (R1 > R and R2 > 2 * R):
             raise ValueError(
-                f"need R1 > R and R2 > 2R so that each band's circle reaches the leg; got R={self.R}, "
-                f"R1={self.R1}, R2={self.R2}"
+                f"need R1 > R and R2 > 2R so that each band's circle reaches the leg; got R={R}, R1={R1}, R2={R2}"
             )
-        self.accept = float(accept_radius) if accept_radius is not None else self.R
-        self.speed = float(speed)
-        self.speeds = None if speeds is None else np.asarray(speeds, float)
+        n = len(wp)
+        sp = np.zeros(n) if speeds is None else np.asarray(speeds, float)
+        self.mode = mode
         self.period = float(period)
         self.body = body
-        self.stop_at_end = stop_at_end
-        self.inputs = {f"{body}.x": "m", f"{body}.y": "m"}
-        self.outputs = {
-            f"{body}.psi_cmd": "rad",
-            f"{body}.u_cmd": "m/s",
-            "guidance.d": "m",
-            "guidance.e": "m",
-            "guidance.band": "enum",
-            "guidance.leg": "count",
-        }
-        self.k = 1
-        self.done = False
+        self.bind(x=f"{body}.x", y=f"{body}.y", psi_cmd=f"{body}.psi_cmd", u_cmd=f"{body}.u_cmd", d="guidance.d",
+                  e="guidance.e", band="guidance.band", leg="guidance.leg", stop="_stop")  # fmt: skip
+        head = PARAMS.pack(
+            los=1.0 if mode == "los" else 0.0,
+            R=R,
+            R1=R1,
+            R2=R2,
+            accept=float(accept_radius) if accept_radius is not None else R,
+            speed=float(speed),
+            has_speeds=0.0 if speeds is None else 1.0,
+            stop_at_end=1.0 if stop_at_end else 0.0,
+            n=float(n),
+        )
+        self.pa = np.concatenate([head, wp.ravel(), sp]).astype(np.float64)
+        self.st = STATE.pack(k=1.0)
+
+    @property
+    def wp(self) -> np.ndarray:
+        """The waypoints, (n, 2) north, east in m: a view of the parameter array (from :data:`WP`)."""
+        n = int(self.pa[P.n])
+        return self.pa[WP : WP + 2 * n].reshape(n, 2)
+
+    @property
+    def speeds(self) -> np.ndarray | None:
+        """The per-waypoint speeds (m/s; a view of the parameter array), or None."""
+        n = int(self.pa[P.n])
+        return None if self.pa[P.has_speeds] == 0.0 else self.pa[WP + 2 * n : WP + 3 * n]
+
+    @property
+    def done(self) -> bool:
+        """The last waypoint is passed."""
+        return self.k >= int(self.pa[P.n])
 
     def reset(self, rng) -> None:
-        self.k = 1
-        self.done = False
-
-    def step(self, t: float, bus: dict) -> None:
-        b = self.body
-        pn, pe = float(bus[f"{b}.x"]), float(bus[f"{b}.y"])
-        n = len(self.wp)
-        self.k, psi, band, e = _cw.waypoint_law(
-            pn, pe, self._wp_flat, n, self.k, self.mode == "los", self.R, self.R1, self.R2, self.accept
-        )
-        if self.k >= n:
-            self.done = True
-            if self.stop_at_end:
-                bus["_stop"] = True
-                bus["_stop_reason"] = f"last waypoint reached at t = {t:.1f} s"
-        k = min(self.k, n - 1)
-        bus[f"{b}.psi_cmd"] = psi
-        bus[f"{b}.u_cmd"] = self.speed if self.speeds is None else float(self.speeds[k - 1])
-        bus["guidance.d"] = abs(e)
-        bus["guidance.e"] = e
-        bus["guidance.band"] = float(band)
-        bus["guidance.leg"] = float(k)
-
-    def compiled(self):
-        """Compiled form: :func:`oceangnc.guidance._compiled_waypoints.waypoint_guidance_step`."""
-        from ..core.fused import CompiledBlock
-
-        b = self.body
-        n = len(self.wp)
-        speeds = np.zeros(n) if self.speeds is None else self.speeds
-        head = [1.0 if self.mode == "los" else 0.0, self.R, self.R1, self.R2, self.accept, self.speed]
-        head += [0.0 if self.speeds is None else 1.0, 1.0 if self.stop_at_end else 0.0, float(n)]
-        pa = np.concatenate([head, self._wp_flat, speeds]).astype(np.float64)
-        sigs = [f"{b}.x", f"{b}.y", f"{b}.psi_cmd", f"{b}.u_cmd", "guidance.d", "guidance.e", "guidance.band"]
-        sigs += ["guidance.leg", "_stop"]
-        return CompiledBlock(_cw.waypoint_guidance_step, sigs, state=np.array([float(self.k)]), params=pa)
+        """Steer to waypoint 1 (the leg 0 -> 1)."""
+        self.st[X.k] = 1.0

@@ -35,14 +35,17 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import hypot
 from ..errors import ConfigError
+from .views import entry
 
 
-def pursuit_radius(l: float, d: float) -> float:
+@njit(cache=True)
+def pursuit_radius(l, d):
     """Turning radius R = l^2 / (2 d) (003 eq. 3.5), m; signed like d (positive: turn to starboard).
 
     ``l`` is the look-ahead distance (m), ``d`` the lateral offset of the look-ahead point in the
@@ -94,70 +97,178 @@ def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None) -> flo
     return hypot(u, v) / abs(r)
 
 
+@njit(cache=True)
+def leg_offsets(x, y, a0, a1, b0, b1):
+    """``(s, e)`` of the point (x, y) (N, E in m) on the leg a -> b (table 3-1 step 3): s the
+    along-track position of the closest point F from a (m, positive toward b), e the signed
+    cross-track distance (m, positive when the point is to starboard of the direction a -> b, i.e. to
+    the right looking along the leg; NED: the starboard normal of the unit tangent t is (-t_e, t_n))."""
+    t0 = b0 - a0
+    t1 = b1 - a1
+    L = hypot(t0, t1)
+    t0 = t0 / L
+    t1 = t1 / L
+    w0 = x - a0
+    w1 = y - a1
+    s = w0 * t0 + w1 * t1
+    e = -t1 * w0 + t0 * w1
+    return s, e
+
+
+@njit(cache=True)
+def look_ahead_goal(x, y, a0, a1, b0, b1, lookahead, last):
+    """``(e, g_n, g_e)``: cross-track distance e (m, :func:`leg_offsets`) of the point (x, y) from the
+    leg a -> b, and the look-ahead goal G on the leg at distance ``lookahead`` (m) from the point
+    (table 3-1 step 4, fig. 3-3): F moved along the leg by sqrt(l^2 - e^2), or F itself when
+    |e| >= l; not past b on the ``last`` leg. The one home of this geometry: pure pursuit and the
+    console's route pilot (:mod:`oceangnc.guidance.route_pilot`)."""
+    s, e = leg_offsets(x, y, a0, a1, b0, b1)
+    L = hypot(b0 - a0, b1 - a1)
+    t0 = (b0 - a0) / L
+    t1 = (b1 - a1) / L
+    ds = math.sqrt(lookahead * lookahead - e * e) if abs(e) < lookahead else 0.0
+    sg = s + ds
+    if last and sg > L:
+        sg = L
+    return e, a0 + sg * t0, a1 + sg * t1
+
+
+@njit(cache=True)
+def pursuit_turn(x, y, psi, g0, g1):
+    """``(psi_d, l, d, R)`` of the vehicle at (x, y) (m) with heading psi (rad) pursuing the point G =
+    (g0, g1) (table 3-1 step 5): psi_d = atan2(G_e - P_e, G_n - P_n) (rad), l = |G - P| (m), d the
+    lateral offset of G in the vehicle frame (m, + starboard, eq. 3.1) and R = l^2 / (2 d) (m, eq. 3.5)."""
+    dn = g0 - x
+    de = g1 - y
+    psi_d = math.atan2(de, dn)
+    ll = hypot(dn, de)
+    d = -math.sin(psi) * dn + math.cos(psi) * de
+    return psi_d, ll, d, pursuit_radius(ll, d)
+
+
 def closest_point(p, a, b):
-    """Closest point F on the line through a, b to p; returns (F, s, e): s the along-track position of
-    F from a (m, positive toward b), e the signed cross-track distance (m, positive when p is to
-    starboard of the direction a -> b, i.e. to the right looking along the leg)."""
+    """Closest point F on the line through a, b to p; returns (F, s, e) with s, e of :func:`leg_offsets`."""
     a = np.asarray(a, float)
     b = np.asarray(b, float)
-    p = np.asarray(p, float)
-    t = b - a
-    L = hypot(t[0], t[1])
+    L = hypot(b[0] - a[0], b[1] - a[1])
     if L == 0.0:
         raise ConfigError(f"waypoints: consecutive waypoints {tuple(a)} and {tuple(b)} coincide")
-    t = t / L
-    w = p - a
-    s = float(w[0] * t[0] + w[1] * t[1])
-    e = float(-t[1] * w[0] + t[0] * w[1])  # NED: starboard normal of t is (-t_e, t_n)
-    return a + s * t, s, e
+    s, e = leg_offsets(float(p[0]), float(p[1]), a[0], a[1], b[0], b[1])
+    return a + s * ((b - a) / L), float(s), float(e)
 
 
 def look_ahead_point(p, a, b, l: float, clamp_end: bool = False):
-    """Look-ahead point G on the leg a -> b at distance ``l`` from p (table 3-1 step 4).
-
-    Returns (G, s, e): G as an array (N, E), s and e as in :func:`closest_point`. If the vehicle is
-    farther than l from the line, G is the closest point. With ``clamp_end`` G does not go past b.
-    """
-    F, s, e = closest_point(p, a, b)
-    a = np.asarray(a, float)
-    b = np.asarray(b, float)
-    L = hypot(*(b - a))
-    t = (b - a) / L
-    ds = math.sqrt(l * l - e * e) if abs(e) < l else 0.0
-    sg = s + ds
-    if clamp_end and sg > L:
-        sg = L
-    return a + sg * t, s, e
+    """Look-ahead point G on the leg a -> b at distance ``l`` from p (table 3-1 step 4,
+    :func:`look_ahead_goal`); returns (G as an array (N, E), s, e) as :func:`closest_point`. With
+    ``clamp_end`` G does not go past b."""
+    _, s, _ = closest_point(p, a, b)
+    a0, a1, b0, b1 = (float(v) for v in (*a, *b))
+    e, g0, g1 = look_ahead_goal(float(p[0]), float(p[1]), a0, a1, b0, b1, float(l), bool(clamp_end))
+    return np.array([g0, g1]), s, float(e)
 
 
 def pursuit_command(p, psi: float, g):
-    """Target heading and the pure-pursuit geometry for look-ahead point g from position p, heading psi.
+    """Target heading and the pure-pursuit geometry for look-ahead point g from position p, heading psi:
+    ``(psi_d, l, d, R)`` of :func:`pursuit_turn`."""
+    psi_d, ll, d, R = pursuit_turn(float(p[0]), float(p[1]), float(psi), float(g[0]), float(g[1]))
+    return float(psi_d), float(ll), float(d), float(R)
 
-    Returns (psi_d, l, d, R): psi_d (rad) the bearing of g, l = |g - p| (m), d its lateral offset
-    in the vehicle frame (m, + starboard), R = l^2/(2d) (m, eq. 3.5).
-    """
-    dn = float(g[0] - p[0])
-    de = float(g[1] - p[1])
-    psi_d = math.atan2(de, dn)
-    l = hypot(dn, de)
-    d = -math.sin(psi) * dn + math.cos(psi) * de
-    return psi_d, l, d, pursuit_radius(l, d)
+
+SIGNALS = Signals(x=In("m"), y=In("m"), psi=In("rad"), psi_d=Out("rad"), turn_radius=Out("m"),
+                  cross_track=Out("m"), leg=Out("count"), wp_reached=Out("count"), lookahead_n=Out("m"),
+                  lookahead_e=Out("m"), done=Out("bool"), stop=Out("bool"))  # fmt: skip
+PARAMS = Layout("l", "acceptance", "stop_at_end", "n")
+STATE = Layout("leg", "reached", "done", "started")
+S, P, X = SIGNALS.at, PARAMS.at, STATE.at
+#: the waypoints follow the parameters: n rows (north, east), m, from this offset of ``pa``
+WP = P.n + 1
+#: largest turning radius written (m): a straight course (R infinite) is written as +-1e6
+R_STRAIGHT = 1e6
+
+
+@njit(cache=True)
+def pure_pursuit_law(t, sig, sl, st, pa):
+    """One period of table 3-1 (003 ch. 3.1): waypoint switching, then the look-ahead point G on the
+    active leg (:func:`look_ahead_goal`; clamped to the last waypoint on the last leg) and the pursuit
+    heading and radius (:func:`pursuit_turn`, eq. 3.5).
+
+    Switching: the end b of the active leg is reached within ``acceptance`` (m) of it, or (not on the
+    last leg) past its normal, s >= |b - a|; reaching the last waypoint makes the route done, which
+    holds the last heading (the vehicle's own on a first period) and sets ``_stop`` if asked. On its
+    first period the block counts the start waypoint as reached when the vehicle is within
+    ``acceptance`` of it."""
+    x = sig[sl[S.x]]
+    y = sig[sl[S.y]]
+    psi = sig[sl[S.psi]]
+    n = int(pa[P.n])
+    leg = int(st[X.leg])
+    reached = st[X.reached]
+    done = st[X.done] != 0.0
+    first = st[X.started] == 0.0
+    if first:
+        st[X.started] = 1.0
+        if hypot(x - pa[WP], y - pa[WP + 1]) <= pa[P.acceptance]:
+            reached = 1.0
+    while not done:
+        a0, a1 = pa[WP + 2 * leg], pa[WP + 2 * leg + 1]
+        b0, b1 = pa[WP + 2 * leg + 2], pa[WP + 2 * leg + 3]
+        s, e = leg_offsets(x, y, a0, a1, b0, b1)
+        L = hypot(b0 - a0, b1 - a1)
+        last = leg + 1 == n - 1
+        near = hypot(x - b0, y - b1) <= pa[P.acceptance]
+        if near or (not last and s >= L):
+            reached += 1.0
+            if last:
+                done = True
+            else:
+                leg += 1
+            continue
+        break
+    a0, a1 = pa[WP + 2 * leg], pa[WP + 2 * leg + 1]
+    b0, b1 = pa[WP + 2 * leg + 2], pa[WP + 2 * leg + 3]
+    e, g0, g1 = look_ahead_goal(x, y, a0, a1, b0, b1, pa[P.l], leg + 1 == n - 1)
+    psi_d, _, _, R = pursuit_turn(x, y, psi, g0, g1)
+    if done:
+        psi_d = psi if first else sig[sl[S.psi_d]]
+    st[X.leg] = leg
+    st[X.reached] = reached
+    st[X.done] = 1.0 if done else 0.0
+    sig[sl[S.psi_d]] = psi_d
+    sig[sl[S.turn_radius]] = max(-R_STRAIGHT, min(R_STRAIGHT, R))
+    sig[sl[S.cross_track]] = e
+    sig[sl[S.leg]] = float(leg)
+    sig[sl[S.wp_reached]] = reached
+    sig[sl[S.lookahead_n]] = g0
+    sig[sl[S.lookahead_e]] = g1
+    sig[sl[S.done]] = 1.0 if done else 0.0
+    if done and pa[P.stop_at_end] != 0.0:
+        sig[sl[S.stop]] = 1.0
 
 
 @register_block("usv.pure_pursuit")
-class PurePursuit(Block):
-    """Waypoint-following pure-pursuit guidance (see module docstring).
+class PurePursuit(LawBlock):
+    """Waypoint-following pure-pursuit guidance (see module docstring); law :func:`pure_pursuit_law`.
 
     Reads ``<pos_keys>`` (N, E in m) and ``<psi_key>`` (rad); writes ``guidance.psi_d`` (rad),
     ``guidance.turn_radius`` (m, signed, eq. 3.5; +-1e6 for straight), ``guidance.cross_track`` (m),
     ``guidance.leg`` (index of the active leg's start waypoint), ``guidance.wp_reached`` (count of
     waypoints reached, the start point included once the run starts within ``acceptance`` of it),
-    ``guidance.lookahead_n/e`` (m) and ``guidance.done`` (1 when the last waypoint is reached).
+    ``guidance.lookahead_n/e`` (m), ``guidance.done`` (1 when the last waypoint is reached) and, with
+    ``stop_at_end``, ``_stop`` (the run ends at the last waypoint).
     """
 
     role = "guidance"
-
     name = "pure_pursuit"
+    law = staticmethod(pure_pursuit_law)
+    signals = SIGNALS
+
+    l = param(P.l, "look-ahead distance l, m (eq. 3.6)")  # noqa: E741 (the document's symbol)
+    acceptance = param(P.acceptance, "waypoint acceptance radius, m")
+    stop_at_end = entry("pa", P.stop_at_end, bool, "end the run (``_stop``) at the last waypoint")
+    leg = entry("st", X.leg, int, "index of the active leg's start waypoint")
+    reached = entry("st", X.reached, int, "waypoints reached")
+    done = entry("st", X.done, bool, "the last waypoint is reached")
+    _started = entry("st", X.started, bool, "the block has run (the start waypoint was checked)")
 
     def __init__(
         self,
@@ -169,102 +280,40 @@ class PurePursuit(Block):
         psi_key: str = "usv.psi",
         stop_at_end: bool = True,
     ):
+        if not look_ahead > 0:
+            raise ConfigError(f"guidance look-ahead must be > 0 m, got {look_ahead}")
+        self.period = float(period)
+        self.pos_keys = pos_keys
+        self.psi_key = psi_key
+        self.bind(x=pos_keys[0], y=pos_keys[1], psi=psi_key, psi_d="guidance.psi_d",
+                  turn_radius="guidance.turn_radius", cross_track="guidance.cross_track", leg="guidance.leg",
+                  wp_reached="guidance.wp_reached", lookahead_n="guidance.lookahead_n",
+                  lookahead_e="guidance.lookahead_e", done="guidance.done", stop="_stop")  # fmt: skip
+        self.pa = PARAMS.pack(l=float(look_ahead), acceptance=float(acceptance), stop_at_end=float(stop_at_end), n=0.0)
+        self.wp = waypoints
+        self.st = STATE.pack(dict.fromkeys(STATE.names, 0.0))
+
+    @property
+    def wp(self) -> np.ndarray:
+        """The waypoints, (n, 2) north, east in m: a view of the parameter array's tail (from :data:`WP`)."""
+        n = int(self.pa[P.n])
+        return self.pa[WP : WP + 2 * n].reshape(n, 2)
+
+    @wp.setter
+    def wp(self, waypoints) -> None:
+        """Replace the route (at least two points, no two consecutive ones equal); the parameter array is
+        rebuilt when the route does not fit in it (a fused loop already built keeps the old array)."""
         wp = np.asarray(waypoints, dtype=float)
         if wp.ndim != 2 or wp.shape[1] != 2 or len(wp) < 2:
             raise ConfigError("waypoints: need at least two (north, east) pairs")
         for i in range(len(wp) - 1):
             if np.allclose(wp[i], wp[i + 1]):
                 raise ConfigError(f"waypoints: waypoints {i} and {i + 1} coincide")
-        if not look_ahead > 0:
-            raise ConfigError(f"guidance look-ahead must be > 0 m, got {look_ahead}")
-        self.wp = wp
-        self.l = float(look_ahead)
-        self.acceptance = float(acceptance)
-        self.period = float(period)
-        self.pos_keys = pos_keys
-        self.psi_key = psi_key
-        self.stop_at_end = stop_at_end
-        self.inputs = {pos_keys[0]: "m", pos_keys[1]: "m", psi_key: "rad"}
-        self.outputs = {
-            "guidance.psi_d": "rad",
-            "guidance.turn_radius": "m",
-            "guidance.cross_track": "m",
-            "guidance.leg": "count",
-            "guidance.wp_reached": "count",
-            "guidance.lookahead_n": "m",
-            "guidance.lookahead_e": "m",
-            "guidance.done": "bool",
-        }
-        self.reset(None)
+        if self.pa.size < WP + wp.size:
+            self.pa = np.concatenate([self.pa[:WP], np.zeros(wp.size)])
+        self.pa[P.n] = len(wp)
+        self.pa[WP : WP + wp.size] = wp.ravel()
 
     def reset(self, rng) -> None:
-        self.leg = 0
-        self.reached = 0
-        self.done = False
-        self._started = False
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.guidance._compiled.pure_pursuit_step`)."""
-        from ..core.fused import CompiledBlock
-        from ._compiled import pure_pursuit_step
-
-        sig = [
-            self.pos_keys[0],
-            self.pos_keys[1],
-            self.psi_key,
-            "guidance.psi_d",
-            "guidance.turn_radius",
-            "guidance.cross_track",
-            "guidance.leg",
-            "guidance.wp_reached",
-            "guidance.lookahead_n",
-            "guidance.lookahead_e",
-            "guidance.done",
-            "_stop",
-        ]
-        st = np.array([self.leg, self.reached, 1.0 if self.done else 0.0, 1.0 if self._started else 0.0], float)
-        pa = np.concatenate(
-            [[self.l, self.acceptance, 1.0 if self.stop_at_end else 0.0, len(self.wp)], self.wp.ravel()]
-        )
-        return CompiledBlock(pure_pursuit_step, sig, st, pa)
-
-    def step(self, t: float, bus: dict) -> None:
-        p = np.array([bus[self.pos_keys[0]], bus[self.pos_keys[1]]])
-        psi = bus[self.psi_key]
-        if not self._started:
-            self._started = True
-            if hypot(*(p - self.wp[0])) <= self.acceptance:
-                self.reached = 1
-        n = len(self.wp)
-        # waypoint switching: reach the end of the leg -> next leg
-        while not self.done:
-            a, b = self.wp[self.leg], self.wp[self.leg + 1]
-            _, s, _ = closest_point(p, a, b)
-            L = hypot(*(b - a))
-            last = self.leg + 1 == n - 1
-            near = hypot(*(p - b)) <= self.acceptance
-            if near or (not last and s >= L):
-                self.reached += 1
-                if last:
-                    self.done = True
-                else:
-                    self.leg += 1
-                continue
-            break
-        a, b = self.wp[self.leg], self.wp[self.leg + 1]
-        last = self.leg + 1 == n - 1
-        g, s, e = look_ahead_point(p, a, b, self.l, clamp_end=last)
-        psi_d, _, d, R = pursuit_command(p, psi, g)
-        if self.done:
-            psi_d = bus.get("guidance.psi_d", psi)
-        bus["guidance.psi_d"] = psi_d
-        bus["guidance.turn_radius"] = max(-1e6, min(1e6, R))
-        bus["guidance.cross_track"] = e
-        bus["guidance.leg"] = float(self.leg)
-        bus["guidance.wp_reached"] = float(self.reached)
-        bus["guidance.lookahead_n"] = float(g[0])
-        bus["guidance.lookahead_e"] = float(g[1])
-        bus["guidance.done"] = 1.0 if self.done else 0.0
-        if self.done and self.stop_at_end:
-            bus["_stop"] = True
-            bus["_stop_reason"] = f"last waypoint reached at t = {t:.1f} s"
+        """The first leg, nothing reached, not started."""
+        self.st[:] = 0.0

@@ -37,18 +37,19 @@ the end of the route.
 from __future__ import annotations
 
 import math
-from collections import deque
 from typing import Literal
 
 import numpy as np
+from numba import njit
 from pydantic import Field
 
-from ..core.blocks import Block
+from ..core.law import In, LawBlock, Layout, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..io.config import StrictModel
 from ..sensors.filters import gauss_markov
 from ..units import KNOT
+from .views import entry
 
 
 class PilotConfig(StrictModel):
@@ -80,8 +81,68 @@ class PilotConfig(StrictModel):
     stop_when_done: bool = Field(True, description="end the run once stopped at the end (or past it, without stop)")
 
 
+@njit(cache=True)
+def route_project(pts, seg_len, seg_dir, s0, n, e):
+    """``(s, cross)`` of the point (n, e) (m) on the polyline through ``pts`` (flat north, east, ...):
+    the arc length s (m) of its projection on the nearest segment, the first segment extended before
+    its start and the last beyond its end, and the signed cross-track offset (m, starboard of the route
+    positive). ``seg_len``, ``seg_dir`` (flat unit vectors) and ``s0`` (arc length at each point)
+    describe the segments (:class:`Route`)."""
+    nseg = seg_len.size
+    best = -1
+    bd = 0.0
+    bt = 0.0
+    bf0 = 0.0
+    bf1 = 0.0
+    for i in range(nseg):
+        r0 = n - pts[2 * i]
+        r1 = e - pts[2 * i + 1]
+        d0 = seg_dir[2 * i]
+        d1 = seg_dir[2 * i + 1]
+        t = r0 * d0 + r1 * d1
+        L = seg_len[i]
+        tc = min(max(t, 0.0), L)
+        if i == nseg - 1:
+            tc = max(0.0, t) if nseg > 1 else t
+        if i == 0 and nseg > 1:
+            tc = min(t, L)
+        f0 = pts[2 * i] + tc * d0
+        f1 = pts[2 * i + 1] + tc * d1
+        dist = math.hypot(n - f0, e - f1)
+        if best < 0 or dist < bd:
+            best = i
+            bd = dist
+            bt = tc
+            bf0 = f0
+            bf1 = f1
+    i = best
+    cross = seg_dir[2 * i] * (e - bf1) - seg_dir[2 * i + 1] * (n - bf0)
+    return s0[i] + bt, cross
+
+
+@njit(cache=True)
+def route_point_at(pts, seg_dir, s0, length, s):
+    """``(north, east)`` (m) of the point at arc length ``s`` (m) along the polyline (:func:`route_project`'s
+    arrays), extrapolated along the end segments."""
+    npt = s0.size
+    nseg = npt - 1
+    if s >= length:
+        j = nseg - 1
+        return pts[2 * (npt - 1)] + (s - length) * seg_dir[2 * j], pts[2 * (npt - 1) + 1] + (s - length) * seg_dir[
+            2 * j + 1
+        ]
+    if s <= 0:
+        return pts[0] + s * seg_dir[0], pts[1] + s * seg_dir[1]
+    i = -1
+    for k in range(npt):
+        if s0[k] <= s:
+            i = k
+    return pts[2 * i] + (s - s0[i]) * seg_dir[2 * i], pts[2 * i + 1] + (s - s0[i]) * seg_dir[2 * i + 1]
+
+
 class Route:
-    """A polyline route (N, E) with projection and look-ahead along it."""
+    """A polyline route (N, E) with projection and look-ahead along it (:func:`route_project`,
+    :func:`route_point_at`)."""
 
     def __init__(self, points):
         self.p = np.asarray(points, dtype=float)
@@ -92,37 +153,155 @@ class Route:
         self.length = float(self.s0[-1])
 
     def project(self, n: float, e: float):
-        """(s along the route, signed cross-track offset (starboard of the route positive), segment)."""
-        rel = np.array([n, e]) - self.p[:-1]
-        t = np.einsum("ij,ij->i", rel, self.seg_dir)
-        tc = np.clip(t, 0.0, self.seg_len)
-        # extend the last segment beyond its end, the first before its start
-        tc[-1] = max(0.0, t[-1]) if len(tc) > 1 else t[-1]
-        if len(tc) > 1:
-            tc[0] = min(t[0], self.seg_len[0])
-        foot = self.p[:-1] + tc[:, None] * self.seg_dir
-        dist = np.hypot(n - foot[:, 0], e - foot[:, 1])
-        i = int(np.argmin(dist))
-        cross = self.seg_dir[i, 0] * (e - foot[i, 1]) - self.seg_dir[i, 1] * (n - foot[i, 0])
-        return float(self.s0[i] + tc[i]), float(cross), i
+        """(s along the route, signed cross-track offset (starboard of the route positive)), m."""
+        s, cross = route_project(self.p.ravel(), self.seg_len, self.seg_dir.ravel(), self.s0, float(n), float(e))
+        return float(s), float(cross)
 
     def point_at(self, s: float):
-        """Point at arc length s (extrapolated along the end segments)."""
-        if s >= self.length:
-            return self.p[-1] + (s - self.length) * self.seg_dir[-1]
-        if s <= 0:
-            return self.p[0] + s * self.seg_dir[0]
-        i = int(np.searchsorted(self.s0, s, side="right") - 1)
-        return self.p[i] + (s - self.s0[i]) * self.seg_dir[i]
+        """Point at arc length s (extrapolated along the end segments), (north, east) m."""
+        return np.array(route_point_at(self.p.ravel(), self.seg_dir.ravel(), self.s0, self.length, float(s)))
 
     def centre_east(self, north):
         """East coordinate of the route at the given north coordinates (route monotonic in north)."""
         return np.interp(north, self.p[:, 0], self.p[:, 1])
 
 
+@njit(cache=True)
+def ring_slot(count, head, cap):
+    """Slot for a new entry of a ring buffer of ``cap`` entries holding ``count`` from ``head`` (the
+    oldest); returns (slot, new count, new head): a full buffer overwrites its oldest entry."""
+    if count < cap:
+        return (head + count) % cap, count + 1, head
+    return head, count, (head + 1) % cap
+
+
+@njit(cache=True)
+def move_stick(cur, want, quantum, step):
+    """The stick moved from ``cur`` toward ``want`` (both clipped to [-1, 1], ``want`` quantised to
+    ``quantum`` when > 0) by at most ``step`` (stick units)."""
+    want = max(-1.0, min(1.0, want))
+    if quantum > 0:
+        want = np.rint(want / quantum) * quantum
+    d = max(-step, min(step, want - cur))
+    return max(-1.0, min(1.0, cur + d))
+
+
+SIGNALS = Signals(x=In("m"), y=In("m"), psi=In("rad"), u=In("m/s"), r=In("rad/s"), v=In("m/s"), surge=Out("1"),
+                  yaw=Out("1"), u_target=Out("m/s"), psi_des=Out("rad"), cross_track=Out("m"),
+                  s_remaining=Out("m"), done=Out("bool"), stop=Out("bool"))  # fmt: skip
+PARAMS = Layout("period", "noise_time", ("sigma", 3), "delay", "lookahead", "stop_at_end", "lookahead_min",
+                "steer_course", "u_cruise", "brake_decel", "k_stop", "closed", "speed_per_rps", "n_open",
+                "k_speed_open", "k_rate_open", "k_psi", "dead_band", "stick_quantum", "stick_step", "u_max",
+                "u_astern", "k_speed", "r_max", "stop_when_done", "length", "npt")  # fmt: skip
+STATE = Layout("stick_u", "stick_r", "done", ("err", 3), "count", "head", "cap")
+#: one remembered observation: time (s), position (m), perceived heading (rad), speed (m/s), yaw rate
+#: (rad/s) and sway speed (m/s)
+MEMORY = Layout("t", "x", "y", "psi", "u", "r", "v")
+S, P, X, M = SIGNALS.at, PARAMS.at, STATE.at, MEMORY.at
+#: the route follows the parameters from this offset of ``pa``: the npt points (north, east), the npt - 1
+#: segment lengths, the segment directions (north, east) and the npt arc lengths s0 (:class:`Route`)
+ROUTE = P.npt + 1
+#: the memory follows the state from this offset of ``st``: ``cap`` :data:`MEMORY` entries of ``ENTRY``
+#: floats, a ring
+RING = X.cap + 1
+ENTRY = MEMORY.size
+
+
+@njit(cache=True)
+def pilot_law(t, sig, sl, st, pa, rng):
+    """One period of the scripted pilot (module docstring): the perception errors (first-order
+    Gauss-Markov, correlation time ``noise_time``) drawn from the block's generator, the observation
+    remembered and the one ``delay`` s old acted on; the aim point ahead on the route
+    (:func:`route_point_at`), the wanted speed and yaw (closed loops: stick for the wanted speed
+    and for r_want = k_psi e_psi; open loop: throttle and the pilot's own yaw-rate loop), the sticks
+    moved (:func:`move_stick`); done once stopped at the end of a berthing route (or past the end of a
+    transit), which ends the run if asked."""
+    npt = int(pa[P.npt])
+    nseg = npt - 1
+    pts = pa[ROUTE : ROUTE + 2 * npt]
+    seg_len = pa[ROUTE + 2 * npt : ROUTE + 2 * npt + nseg]
+    seg_dir = pa[ROUTE + 2 * npt + nseg : ROUTE + 2 * npt + 3 * nseg]
+    s0 = pa[ROUTE + 2 * npt + 3 * nseg : ROUTE + 3 * npt + 3 * nseg]
+    length = pa[P.length]
+    a = math.exp(-pa[P.period] / pa[P.noise_time])
+    for i in range(3):
+        st[X.err + i] = gauss_markov(st[X.err + i], a, pa[P.sigma + i], rng.standard_normal())
+    x = sig[sl[S.x]]
+    y = sig[sl[S.y]]
+    # remember this observation; act on the one ``delay`` old
+    cnt = int(st[X.count])
+    head = int(st[X.head])
+    cap = int(st[X.cap])
+    j, cnt, head = ring_slot(cnt, head, cap)
+    o = RING + ENTRY * j
+    st[o + M.t] = t
+    st[o + M.x] = x
+    st[o + M.y] = y
+    st[o + M.psi] = sig[sl[S.psi]] + st[X.err]
+    st[o + M.u] = sig[sl[S.u]] + st[X.err + 1]
+    st[o + M.r] = sig[sl[S.r]] + st[X.err + 2]
+    st[o + M.v] = sig[sl[S.v]]
+    while cnt > 1 and st[RING + ENTRY * ((head + 1) % cap) + M.t] <= t - pa[P.delay] + 1e-9:
+        head = (head + 1) % cap
+        cnt -= 1
+    st[X.count] = cnt
+    st[X.head] = head
+    b = RING + ENTRY * head
+    n, e, psi, u, r, v = st[b + M.x], st[b + M.y], st[b + M.psi], st[b + M.u], st[b + M.r], st[b + M.v]
+    # decide: the aim point, the wanted course and speed
+    stop_at_end = pa[P.stop_at_end] != 0.0
+    s, _ = route_project(pts, seg_len, seg_dir, s0, n, e)
+    look = pa[P.lookahead]
+    if stop_at_end:  # closing the berth, the eye comes nearer: 50 m + half the remaining distance
+        look = min(look, max(pa[P.lookahead_min], 50.0 + 0.5 * (length - s)))
+    aim0, aim1 = route_point_at(pts, seg_dir, s0, length, s + look)
+    psi_des = math.atan2(aim1 - e, aim0 - n)
+    # steer the track, not the bow: course over ground (the crab in current / wind comes free)
+    course = psi + math.atan2(v, u) if pa[P.steer_course] != 0.0 and math.hypot(u, v) > 0.1 else psi
+    e_psi = wrap(psi_des - course)
+    s_rem = length - s
+    u_cruise = pa[P.u_cruise]
+    if stop_at_end:
+        if s_rem > 0:
+            u_t = min(u_cruise, math.sqrt(2 * pa[P.brake_decel] * s_rem), pa[P.k_stop] * s_rem)
+        else:
+            u_t = max(-0.2, pa[P.k_stop] * s_rem)
+    else:
+        u_t = u_cruise
+    if pa[P.closed] == 0.0:  # open loop: throttle, and the pilot closes the yaw-rate loop himself
+        want_u = u_t / (pa[P.speed_per_rps] * pa[P.n_open]) + pa[P.k_speed_open] * (u_t - u)
+        want_r = pa[P.k_rate_open] * (pa[P.k_psi] * e_psi - r)
+    else:
+        db = pa[P.dead_band]
+        want_u = (u_t / pa[P.u_max] if u_t >= 0 else u_t / pa[P.u_astern]) + pa[P.k_speed] * (u_t - u)
+        want_u = math.copysign(db + (1 - db) * abs(want_u), want_u) if abs(want_u) > 1e-3 else 0.0
+        want_r = pa[P.k_psi] * e_psi / pa[P.r_max]
+    st[X.stick_u] = move_stick(st[X.stick_u], want_u, pa[P.stick_quantum], pa[P.stick_step])
+    st[X.stick_r] = move_stick(st[X.stick_r], want_r, pa[P.stick_quantum], pa[P.stick_step])
+    # done: stopped at the end of a berthing route, or past the end of a transit
+    true_s, true_cross = route_project(pts, seg_len, seg_dir, s0, x, y)
+    rem = length - true_s
+    if stop_at_end:
+        if abs(rem) < 3.0 and abs(sig[sl[S.u]]) < 0.03 and abs(sig[sl[S.v]]) < 0.05:
+            st[X.done] = 1.0
+            st[X.stick_u] = 0.0
+            st[X.stick_r] = 0.0
+    elif rem <= 0.0:
+        st[X.done] = 1.0
+    sig[sl[S.surge]] = st[X.stick_u]
+    sig[sl[S.yaw]] = st[X.stick_r]
+    sig[sl[S.u_target]] = u_t
+    sig[sl[S.psi_des]] = psi_des
+    sig[sl[S.cross_track]] = true_cross
+    sig[sl[S.s_remaining]] = rem
+    sig[sl[S.done]] = st[X.done]
+    if st[X.done] != 0.0 and pa[P.stop_when_done] != 0.0:
+        sig[sl[S.stop]] = 1.0
+
+
 @register_block("ship.scripted_pilot")
-class ScriptedPilot(Block):
-    """Scripted joystick pilot; see the module docstring.
+class ScriptedPilot(LawBlock):
+    """Scripted joystick pilot; see the module docstring; law :func:`pilot_law`.
 
     Parameters
     ----------
@@ -139,8 +318,15 @@ class ScriptedPilot(Block):
     """
 
     role = "guidance"
-
     name = "pilot"
+    law = staticmethod(pilot_law)
+    signals = SIGNALS
+    draws = True
+
+    delay = param(P.delay, "this run's reaction delay, s (drawn at reset)")
+    stick_u = entry("st", X.stick_u, float, "surge stick, [-1, 1]")
+    stick_r = entry("st", X.stick_r, float, "yaw stick, [-1, 1]")
+    done = entry("st", X.done, bool, "stopped at the end of the route (or past the end of a transit)")
 
     def __init__(self, cfg: PilotConfig, route: Route, mode: str, joy, speed_per_rps: float, n_open_rps: float):
         self.cfg = cfg
@@ -150,176 +336,60 @@ class ScriptedPilot(Block):
         self.period = float(cfg.period)
         self.speed_per_rps = speed_per_rps
         self.n_open = n_open_rps
-        self.inputs = {
-            "ship.x": "m",
-            "ship.y": "m",
-            "ship.psi": "rad",
-            "ship.u": "m/s",
-            "ship.v": "m/s",
-            "ship.r": "rad/s",
-        }
-        self.outputs = {
-            "joystick.surge": "1",
-            "joystick.yaw": "1",
-            "pilot.u_target": "m/s",
-            "pilot.psi_des": "rad",
-            "pilot.cross_track": "m",
-            "pilot.s_remaining": "m",
-            "pilot.done": "bool",
-        }
+        self.bind(x="ship.x", y="ship.y", psi="ship.psi", u="ship.u", r="ship.r", v="ship.v",
+                  surge="joystick.surge", yaw="joystick.yaw", u_target="pilot.u_target", psi_des="pilot.psi_des",
+                  cross_track="pilot.cross_track", s_remaining="pilot.s_remaining", done="pilot.done",
+                  stop="_stop")  # fmt: skip
+        c = cfg
+        head = PARAMS.pack(
+            period=self.period,
+            noise_time=c.noise_time_s,
+            sigma=[math.radians(c.noise_heading_deg), c.noise_speed, math.radians(c.noise_yaw_rate_degps)],
+            delay=0.0,
+            lookahead=c.lookahead_m,
+            stop_at_end=float(c.stop_at_end),
+            lookahead_min=c.lookahead_min_m,
+            steer_course=float(c.steer_course),
+            u_cruise=c.cruise_kn * KNOT,
+            brake_decel=c.brake_decel,
+            k_stop=c.k_stop,
+            closed=0.0 if mode == "open" else 1.0,
+            speed_per_rps=speed_per_rps,
+            n_open=n_open_rps,
+            k_speed_open=c.k_speed_open,
+            k_rate_open=c.k_rate_open,
+            k_psi=c.k_psi,
+            dead_band=joy.dead_band,
+            stick_quantum=c.stick_quantum,
+            stick_step=c.stick_step,
+            u_max=joy.u_max_kn * KNOT,
+            u_astern=max(joy.u_astern_kn * KNOT, 1e-6),
+            k_speed=c.k_speed,
+            r_max=math.radians(joy.r_max_degps),
+            stop_when_done=float(c.stop_when_done),
+            length=route.length,
+            npt=len(route.p),
+        )
+        self.pa = np.concatenate([head, route.p.ravel(), route.seg_len, route.seg_dir.ravel(), route.s0])
+        self.st = STATE.pack(dict.fromkeys(STATE.names, 0.0))
+
+    @property
+    def err(self) -> np.ndarray:
+        """The perception errors: heading (rad), speed (m/s), yaw rate (rad/s); a view of the state."""
+        return self.st[X.err : X.err + 3]
+
+    @property
+    def sig(self) -> np.ndarray:
+        """Their stationary standard deviations (same units); a view of the parameters."""
+        return self.pa[P.sigma : P.sigma + 3]
 
     def reset(self, rng: np.random.Generator) -> None:
+        """Draw this run's reaction delay and the first perception errors; sticks centred, memory empty
+        (a ring of ``delay / period + 3`` observations, more than the delay ever holds)."""
         self.rng = rng
         c = self.cfg
         self.delay = max(0.0, c.reaction_s + c.reaction_jitter_s * (2.0 * rng.random() - 1.0))
-        self.memory: deque = deque()
-        self.stick_u = 0.0
-        self.stick_r = 0.0
-        self.done = False
-        self.err = np.zeros(3)  # perception errors: heading (rad), speed (m/s), yaw rate (rad/s)
-        self.sig = np.array([math.radians(c.noise_heading_deg), c.noise_speed, math.radians(c.noise_yaw_rate_degps)])
-        self.err[:] = self.sig * rng.standard_normal(3)
-
-    def _decide(self, obs):
-        c = self.cfg
-        n, e, psi, u, r, v = obs
-        s, cross, _ = self.route.project(n, e)
-        look = c.lookahead_m
-        if c.stop_at_end:  # closing the berth, the eye comes nearer: 50 m + half the remaining distance
-            look = min(look, max(c.lookahead_min_m, 50.0 + 0.5 * (self.route.length - s)))
-        aim = self.route.point_at(s + look)
-        psi_des = math.atan2(aim[1] - e, aim[0] - n)
-        # steer the track, not the bow: course over ground (the crab in current / wind comes free)
-        course = psi + math.atan2(v, u) if c.steer_course and math.hypot(u, v) > 0.1 else psi
-        e_psi = wrap(psi_des - course)
-        s_rem = self.route.length - s
-        u_cruise = c.cruise_kn * KNOT
-        if c.stop_at_end:
-            if s_rem > 0:
-                u_t = min(u_cruise, math.sqrt(2 * c.brake_decel * s_rem), c.k_stop * s_rem)
-            else:
-                u_t = max(-0.2, c.k_stop * s_rem)
-        else:
-            u_t = u_cruise
-        u_max = self.joy.u_max_kn * KNOT
-        r_max = math.radians(self.joy.r_max_degps)
-        if self.mode == "open":
-            want_u = u_t / (self.speed_per_rps * self.n_open) + c.k_speed_open * (u_t - u)
-            want_r = c.k_rate_open * (c.k_psi * e_psi - r)
-        else:
-            astern = max(self.joy.u_astern_kn * KNOT, 1e-6)
-            db = self.joy.dead_band
-            want_u = (u_t / u_max if u_t >= 0 else u_t / astern) + c.k_speed * (u_t - u)
-            want_u = math.copysign(db + (1 - db) * abs(want_u), want_u) if abs(want_u) > 1e-3 else 0.0
-            want_r = c.k_psi * e_psi / r_max
-        return want_u, want_r, u_t, psi_des, cross, s_rem
-
-    def _move(self, cur: float, want: float) -> float:
-        c = self.cfg
-        want = max(-1.0, min(1.0, want))
-        if c.stick_quantum > 0:
-            want = round(want / c.stick_quantum) * c.stick_quantum
-        step = max(-c.stick_step, min(c.stick_step, want - cur))
-        return max(-1.0, min(1.0, cur + step))
-
-    def compiled(self):
-        """Compiled form for the fused loop (:func:`oceangnc.control._compiled_berthing.pilot_step`)."""
-        from ..control._compiled_berthing import _PP, pilot_step
-        from ..core.fused import CompiledBlock
-
-        c, j, rt = self.cfg, self.joy, self.route
         cap = int(self.delay / self.period) + 3
-        if len(self.memory) > cap:
-            return None
-        ring = np.zeros(7 * cap)
-        for k, (tk, obs) in enumerate(self.memory):
-            ring[7 * k] = tk
-            ring[7 * k + 1 : 7 * k + 7] = obs
-        st = np.concatenate(
-            [[self.stick_u, self.stick_r, 1.0 if self.done else 0.0, *self.err, len(self.memory), 0.0, cap], ring]
-        )
-        head = [
-            self.period,
-            c.noise_time_s,
-            *self.sig,
-            self.delay,
-            c.lookahead_m,
-            float(c.stop_at_end),
-            c.lookahead_min_m,
-            float(c.steer_course),
-            c.cruise_kn * KNOT,
-            c.brake_decel,
-            c.k_stop,
-            0.0 if self.mode == "open" else 1.0,
-            self.speed_per_rps,
-            self.n_open,
-            c.k_speed_open,
-            c.k_rate_open,
-            c.k_psi,
-            j.dead_band,
-            c.stick_quantum,
-            c.stick_step,
-            j.u_max_kn * KNOT,
-            max(j.u_astern_kn * KNOT, 1e-6),
-            c.k_speed,
-            math.radians(j.r_max_degps),
-            float(c.stop_when_done),
-        ]
-        head += [0.0] * (_PP - 2 - len(head)) + [rt.length, len(rt.p)]
-        pa = np.concatenate([head, rt.p.ravel(), rt.seg_len, rt.seg_dir.ravel(), rt.s0])
-        sig = [
-            "ship.x",
-            "ship.y",
-            "ship.psi",
-            "ship.u",
-            "ship.r",
-            "ship.v",
-            "joystick.surge",
-            "joystick.yaw",
-            "pilot.u_target",
-            "pilot.psi_des",
-            "pilot.cross_track",
-            "pilot.s_remaining",
-            "pilot.done",
-            "_stop",
-        ]
-        return CompiledBlock(pilot_step, sig, st, pa, rng=self.rng)
-
-    def step(self, t: float, bus: dict) -> None:
-        c = self.cfg
-        a = math.exp(-self.period / c.noise_time_s)
-        self.err = gauss_markov(self.err, a, self.sig, self.rng.standard_normal(3))
-        obs = (
-            bus["ship.x"],
-            bus["ship.y"],
-            bus["ship.psi"] + self.err[0],
-            bus["ship.u"] + self.err[1],
-            bus["ship.r"] + self.err[2],
-            bus["ship.v"],
-        )
-        self.memory.append((t, obs))
-        while len(self.memory) > 1 and self.memory[1][0] <= t - self.delay + 1e-9:
-            self.memory.popleft()
-        seen = self.memory[0][1]
-        want_u, want_r, u_t, psi_des, cross, s_rem = self._decide(seen)
-        self.stick_u = self._move(self.stick_u, want_u)
-        self.stick_r = self._move(self.stick_r, want_r)
-        # done: stopped at the end of a berthing route, or past the end of a transit
-        true_s, true_cross, _ = self.route.project(bus["ship.x"], bus["ship.y"])
-        rem = self.route.length - true_s
-        if c.stop_at_end:
-            if abs(rem) < 3.0 and abs(bus["ship.u"]) < 0.03 and abs(bus["ship.v"]) < 0.05:
-                self.done = True
-                self.stick_u = 0.0
-                self.stick_r = 0.0
-        elif rem <= 0.0:
-            self.done = True
-        bus["joystick.surge"] = self.stick_u
-        bus["joystick.yaw"] = self.stick_r
-        bus["pilot.u_target"] = u_t
-        bus["pilot.psi_des"] = psi_des
-        bus["pilot.cross_track"] = true_cross
-        bus["pilot.s_remaining"] = rem
-        bus["pilot.done"] = float(self.done)
-        if self.done and c.stop_when_done:
-            bus["_stop"] = True
+        self.st = np.zeros(RING + ENTRY * cap)
+        self.st[X.cap] = cap
+        self.err[:] = self.sig * rng.standard_normal(3)

@@ -52,11 +52,13 @@ class RouteHook:
         self.n = len(pts)
         bus = self.sim.bus
         if self.kind == "console":
+            from ..guidance.route_pilot import send_route
+
             # the pilot restarts its route when the tuple changes; a repeated identical route is
             # made distinct by a sub-millimetre offset of the first point
             if tuple(bus.get("console.waypoints", ())) == pts and pts:
                 pts = ((pts[0][0] + 1e-6, pts[0][1]),) + pts[1:]
-            self.sim.inject({"console.waypoints": pts})
+            send_route(self.sim, pts)
             self._base = 0
             self._t_set = float(self.sim.t)
         elif self.kind == "pure_pursuit":

@@ -1,7 +1,7 @@
 """Compiled forms of actuator blocks, environment blocks and plant outputs for the fused loop.
 
-Kernel convention: :mod:`oceangnc.control._compiled`. Plants are integrated in the fused loop with
-their own compiled steppers; what is here publishes their outputs into the signal array in the
+Kernel convention: :mod:`oceangnc.core.fused` (``kernel(t, sig, slots, state, params)``). Plants are
+integrated in the fused loop with their own compiled steppers; what is here publishes their outputs into the signal array in the
 order of the Python ``publish``. The ship's (``ship_publish``) is in :mod:`oceangnc.models.ship_lowspeed`,
 so that other scenarios do not import the ship model.
 """

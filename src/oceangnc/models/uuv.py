@@ -62,6 +62,8 @@ from ..core.rotations import heading_speed, rzyx_entries
 from ..core.signals import CALM
 from ..errors import InputError
 from ..units import KGF
+from .rigid_body import kirchhoff as _kirchhoff
+from .rigid_body import row6 as _row
 from ._uuv_params import *  # noqa: F403  (re-exported: the old import paths keep working)
 from ._uuv_params import (
     INPUTS,
@@ -83,34 +85,6 @@ from ._uuv_params import (
     STATES,
     UUVConfig,
 )
-
-
-@njit(cache=True)
-def _row(p, k, n0, n1, n2, n3, n4, n5):
-    """Row product sum_j p[k + j] nu_j."""
-    return p[k] * n0 + p[k + 1] * n1 + p[k + 2] * n2 + p[k + 3] * n3 + p[k + 4] * n4 + p[k + 5] * n5
-
-
-@njit(cache=True)
-def _kirchhoff(p, off, nu0, nu1, nu2, nu3, nu4, nu5):
-    """Generalised Coriolis force -C(nu) nu = -[w x p1; v x p1 + w x p2], p = M nu (M at p[off:off+36]).
-
-    Fossen 2011 eq. 6.43/6.44 (003 A-8, A-10): skew-symmetric, so it does no work.
-    """
-    m0 = _row(p, off, nu0, nu1, nu2, nu3, nu4, nu5)
-    m1 = _row(p, off + 6, nu0, nu1, nu2, nu3, nu4, nu5)
-    m2 = _row(p, off + 12, nu0, nu1, nu2, nu3, nu4, nu5)
-    m3 = _row(p, off + 18, nu0, nu1, nu2, nu3, nu4, nu5)
-    m4 = _row(p, off + 24, nu0, nu1, nu2, nu3, nu4, nu5)
-    m5 = _row(p, off + 30, nu0, nu1, nu2, nu3, nu4, nu5)
-    # omega = (nu3, nu4, nu5), v = (nu0, nu1, nu2)
-    f0 = -(nu4 * m2 - nu5 * m1)
-    f1 = -(nu5 * m0 - nu3 * m2)
-    f2 = -(nu3 * m1 - nu4 * m0)
-    f3 = -(nu1 * m2 - nu2 * m1) - (nu4 * m5 - nu5 * m4)
-    f4 = -(nu2 * m0 - nu0 * m2) - (nu5 * m3 - nu3 * m5)
-    f5 = -(nu0 * m1 - nu1 * m0) - (nu3 * m4 - nu4 * m3)
-    return f0, f1, f2, f3, f4, f5
 
 
 @njit(cache=True)

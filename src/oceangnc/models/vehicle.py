@@ -1,0 +1,470 @@
+"""Your own vehicle: a 6-DOF marine craft in Fossen's matrix-vector form, defined in a TOML file.
+
+Equations of motion (Fossen 2011 eq. 7.190 / Fossen 2021 ch. 6-7), origin CO, body axes x forward /
+y starboard / z down, on the velocity relative to a uniform, irrotational current
+nu_r = nu - [R^T v_c; 0]:
+
+    M_RB nu' + C_RB(nu) nu + M_A nu_r' + C_A(nu_r) nu_r + D(nu_r) nu_r + g(eta) = tau
+
+    eta' = J(eta) nu                                   (zyx Euler angles, Fossen eq. 2.40)
+
+* M_RB: rigid-body mass matrix about CO with the centre of gravity at r_g (M_RB = H(r_g)^T M_CG
+  H(r_g), Fossen eq. 3.44); M_A: added mass, diagonal or full 6 x 6 (positive: -X_udot, ...). Both
+  must be symmetric and M_RB + M_A positive definite (checked; a file that is not is refused).
+* C_RB, C_A: Kirchhoff's momentum form C(nu) nu = [w x p1; v x p1 + w x p2], p = M nu (Fossen eq.
+  6.43-6.44, :func:`oceangnc.models.rigid_body.kirchhoff`): skew-symmetric, so with damping and
+  thrust off and no restoring work the model conserves 1/2 nu^T M nu (tested). A file may drop the
+  Munk moment in yaw of C_A (``added_mass.munk_yaw_moment = false``, as Fossen's Otter model does:
+  destabilising, balanced in reality by lift the model lacks); the form then no longer conserves it.
+* D(nu_r) nu_r = D_L nu_r + D_Q |nu_r| nu_r (diagonal) + |u_r| D_U nu_r: linear damping (full or
+  diagonal), quadratic drag, and a speed-proportional matrix for body lift and fins (the Prestero
+  terms of the 003 UUV). Positive matrices oppose the motion (Fossen's sign convention: D > 0; the
+  hydrodynamic derivatives are X_u = -D_L[0, 0] ...).
+* g(eta): ``restoring = "submerged"``: weight W at r_g and buoyancy B at r_b (Fossen eq. 4.6, 003
+  A-13); ``restoring = "linear"``: G eta with a 6 x 6 spring matrix (a surface craft: heave, roll,
+  pitch stiffness rho g A_wp, rho g nabla GM_T, rho g nabla GM_L, Fossen eq. 4.50), eta's heave
+  counted from the floating equilibrium.
+* tau: thrusters i at positions r_i with unit directions d_i: F_i = T_i d_i, M_i = r_i x F_i. Each
+  thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
+  ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
+
+State ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r, T_1 ... T_n]``; inputs ``[T_1_cmd ...
+T_n_cmd (N), current_n, current_e (m/s)]``. The parameter vector has a fixed head (offsets are
+compile-time constants of one right-hand side for every vehicle) and the thruster table at its end.
+A vehicle file is read by :func:`load_vehicle` (a shipped name such as ``"bluerov2-heavy"`` or a path)
+into :class:`VehicleFile` (units and ranges checked); :func:`vehicle_model` gives the
+:class:`~oceangnc.core.model.Model` every tool takes (plant and fused loop, trim and linearisation,
+the EKF by parameter name). docs/vehicles.md shows how to write one.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from numba import njit
+from pydantic import Field, ValidationError, field_validator
+
+from ..core.config import StrictModel, format_validation_error
+from ..core.csmath import cabs, ccos, csin
+from ..core.model import Model, Param, ParamLayout
+from ..core.rotations import rzyx_entries
+from ..errors import ConfigError
+from ..units import G
+from .rigid_body import kirchhoff, row6
+
+DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant")
+NT = len(THR_FIELDS)  #: values per thruster in the parameter table
+
+LAYOUT_HEAD = ParamLayout(
+    [
+        Param("W", "N", description="weight m g"),
+        Param("B", "N", description="buoyancy rho g nabla"),
+        Param("r_g", "m", 3, description="centre of gravity from CO (body axes)"),
+        Param("r_b", "m", 3, description="centre of buoyancy from CO"),
+        Param("linear_restoring", "1", description="1: g = G eta (surface craft), 0: W and B (submerged)"),
+        Param("G_lin", "N/m, N, N m", 36, description="spring matrix of the linear restoring, row-major"),
+        Param("M_RB", "kg, kg m, kg m^2", 36, description="rigid-body mass matrix about CO, row-major"),
+        Param("M_A", "kg, kg m, kg m^2", 36, description="added-mass matrix, row-major"),
+        Param("M_inv", "1/kg ...", 36, derived=True, description="(M_RB + M_A)^-1, row-major"),
+        Param("D_L", "N s/m ...", 36, description="linear damping matrix (positive opposes motion)"),
+        Param("D_Q", "kg/m, kg m^2", 6, description="quadratic drag, diagonal"),
+        Param("D_U", "kg/m ...", 36, description="speed-proportional damping, times |u_r|"),
+        Param("munk_yaw", "1", description="1: keep the Munk moment in yaw of C_A, 0: neglect it (Fossen's Otter)"),
+        Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
+    ]
+)
+P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b", "linear_restoring", "G_lin")
+P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
+    "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "munk_yaw", "n_thrusters"
+)
+P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
+T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU = range(NT)
+
+
+@njit(cache=True)
+def vehicle_deriv(t, x, u, p, out):
+    """dx/dt of the generic vehicle (module docstring) for state ``x`` and inputs ``u`` (thrust commands
+    (N), then the earth-fixed current north, east (m/s))."""
+    n = int(p[P_NTHR].real)
+    phi = x[3]
+    th = x[4]
+    psi = x[5]
+    uu = x[6]
+    v = x[7]
+    w = x[8]
+    pp = x[9]
+    q = x[10]
+    r = x[11]
+    cf = ccos(phi)
+    sf = csin(phi)
+    ct = ccos(th)
+    st = csin(th)
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
+    out[0] = r00 * uu + r01 * v + r02 * w
+    out[1] = r10 * uu + r11 * v + r12 * w
+    out[2] = r20 * uu + r21 * v + r22 * w
+    out[3] = pp + (sf * q + cf * r) * st / ct
+    out[4] = cf * q - sf * r
+    out[5] = (sf * q + cf * r) / ct
+    vcn = u[n]
+    vce = u[n + 1]
+    ucb = r00 * vcn + r10 * vce
+    vcb = r01 * vcn + r11 * vce
+    wcb = r02 * vcn + r12 * vce
+    ur = uu - ucb
+    vr = v - vcb
+    wr = w - wcb
+    f0, f1, f2, f3, f4, f5 = kirchhoff(p, P_MRB, uu, v, w, pp, q, r)
+    a0, a1, a2, a3, a4, a5 = kirchhoff(p, P_MA, ur, vr, wr, pp, q, r)
+    if p[P_MUNK].real == 0.0:  # drop the yaw moment of the translational added momentum (Munk moment)
+        a5 += ur * row6(p, P_MA + 6, ur, vr, wr, 0.0, 0.0, 0.0) - vr * row6(p, P_MA, ur, vr, wr, 0.0, 0.0, 0.0)
+    tau = out[6:12]  # the generalised force is summed in place, then M^-1 is applied
+    tau[0] = f0 + a0
+    tau[1] = f1 + a1
+    tau[2] = f2 + a2
+    tau[3] = f3 + a3
+    tau[4] = f4 + a4
+    tau[5] = f5 + a5
+    # -M_A [omega x v_cb; 0]: relative acceleration of a current fixed in the earth frame
+    oc0 = q * wcb - r * vcb
+    oc1 = r * ucb - pp * wcb
+    oc2 = pp * vcb - q * ucb
+    au = cabs(ur)
+    nr = (ur, vr, wr, pp, q, r)
+    for i in range(6):
+        k = P_MA + 6 * i
+        tau[i] -= p[k] * oc0 + p[k + 1] * oc1 + p[k + 2] * oc2
+        tau[i] -= row6(p, P_DL + 6 * i, ur, vr, wr, pp, q, r)
+        tau[i] -= p[P_DQ + i] * nr[i] * cabs(nr[i])
+        tau[i] -= au * row6(p, P_DU + 6 * i, ur, vr, wr, pp, q, r)
+    if p[P_LINR].real != 0.0:
+        for i in range(6):
+            tau[i] -= row6(p, P_GLIN + 6 * i, x[0], x[1], x[2], x[3], x[4], x[5])
+    else:
+        W = p[P_W]
+        B = p[P_B]
+        xg = p[P_RG]
+        yg = p[P_RG + 1]
+        zg = p[P_RG + 2]
+        xb = p[P_RB]
+        yb = p[P_RB + 1]
+        zb = p[P_RB + 2]
+        wb = W - B
+        tau[0] -= wb * st
+        tau[1] += wb * ct * sf
+        tau[2] += wb * ct * cf
+        tau[3] -= -(yg * W - yb * B) * ct * cf + (zg * W - zb * B) * ct * sf
+        tau[4] -= (zg * W - zb * B) * st + (xg * W - xb * B) * ct * cf
+        tau[5] -= -(xg * W - xb * B) * ct * sf - (yg * W - yb * B) * st
+    for i in range(n):
+        k = P_THR + NT * i
+        cmd = u[i]
+        hi = p[k + T_FWD]
+        lo = -p[k + T_REV]
+        if cmd.real > hi.real:
+            cmd = hi
+        elif cmd.real < lo.real:
+            cmd = lo
+        if p[k + T_TAU].real > 0.0:
+            thrust = x[12 + i]
+            out[12 + i] = (cmd - thrust) / p[k + T_TAU]
+        else:
+            thrust = cmd
+            out[12 + i] = 0.0
+        fx = thrust * p[k + T_DX]
+        fy = thrust * p[k + T_DY]
+        fz = thrust * p[k + T_DZ]
+        rx = p[k + T_X]
+        ry = p[k + T_Y]
+        rz = p[k + T_Z]
+        tau[0] += fx
+        tau[1] += fy
+        tau[2] += fz
+        tau[3] += ry * fz - rz * fy
+        tau[4] += rz * fx - rx * fz
+        tau[5] += rx * fy - ry * fx
+    t0, t1, t2, t3, t4, t5 = tau[0], tau[1], tau[2], tau[3], tau[4], tau[5]
+    for i in range(6):
+        out[6 + i] = row6(p, P_MINV + 6 * i, t0, t1, t2, t3, t4, t5)
+
+
+@njit(cache=True)
+def vehicle_rhs(t, x, u, p, out):
+    """The plant's right-hand side (:func:`vehicle_deriv`), the signature every Model has."""
+    vehicle_deriv(t, x, u, p, out)
+
+
+# -- the vehicle file ---------------------------------------------------------------------------------
+
+Vec3 = tuple[float, float, float]
+Vec6 = tuple[float, float, float, float, float, float]
+
+
+def _matrix6(v, key: str) -> np.ndarray:
+    a = np.asarray(v, dtype=float)
+    if a.shape == (6,):
+        return np.diag(a)
+    if a.shape != (6, 6):
+        raise ValueError(f"{key}: 6 values (a diagonal) or a 6 x 6 matrix")
+    return a
+
+
+class RigidBody(StrictModel):
+    mass: float = Field(gt=0, le=1e8, description="mass in air, kg")
+    inertia: Vec3 | tuple[Vec3, Vec3, Vec3] = Field(
+        description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix"
+    )
+    r_g: Vec3 = Field((0.0, 0.0, 0.0), description="centre of gravity from the origin CO (body axes), m")
+
+
+class Hydrostatics(StrictModel):
+    restoring: Literal["submerged", "linear"] = Field(
+        "submerged", description="submerged: weight and buoyancy at r_g, r_b; linear: G eta (surface craft)"
+    )
+    rho: float = Field(1025.0, gt=900, le=1100, description="water density, kg/m^3")
+    volume: float | None = Field(None, gt=0, le=1e6, description="displaced volume (submerged), m^3")
+    r_b: Vec3 = Field((0.0, 0.0, 0.0), description="centre of buoyancy from CO, m")
+    G: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
+        None, description="linear restoring: spring matrix on eta (diagonal or 6 x 6), N/m, N, N m"
+    )
+
+
+class AddedMass(StrictModel):
+    M_A: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] = Field(
+        description="added mass (positive: -X_udot, -Y_vdot, ...), diagonal or 6 x 6, kg, kg m, kg m^2"
+    )
+    munk_yaw_moment: bool = Field(
+        True, description="keep the destabilising Munk moment in yaw (false: neglected, as Fossen's Otter model)"
+    )
+
+
+class Damping(StrictModel):
+    linear: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] = Field(
+        (0.0,) * 6, description="D_L (diagonal or 6 x 6), N s/m and N m s; positive opposes motion"
+    )
+    quadratic: Vec6 = Field((0.0,) * 6, description="D_Q diagonal, kg/m and kg m^2")
+    speed: tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
+        None, description="D_U, 6 x 6, multiplied by |u_r| (body lift, fins)"
+    )
+
+
+class Thruster(StrictModel):
+    name: str = Field(min_length=1, max_length=40)
+    position: Vec3 = Field(description="from CO, body axes, m")
+    direction: Vec3 = Field(description="thrust direction (normalised when read)")
+    max_forward: float = Field(gt=0, le=1e7, description="largest forward thrust, N")
+    max_reverse: float = Field(ge=0, le=1e7, description="largest reverse thrust (a positive number), N")
+    time_constant: float = Field(0.0, ge=0, le=100, description="first-order lag of the thrust, s (0: none)")
+
+    @field_validator("direction")
+    @classmethod
+    def _nonzero(cls, v):
+        if math.hypot(*v) < 1e-9:
+            raise ValueError("a thrust direction of zero length")
+        return v
+
+
+class Control(StrictModel):
+    dofs: list[Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]] = Field(
+        min_length=1, description="the degrees of freedom the allocation controls"
+    )
+    weights: list[float] | None = Field(None, description="thruster weights of the allocation (default 1)")
+
+
+class VehicleFile(StrictModel):
+    """A vehicle file (TOML): the matrix-vector form of the module docstring, SI units."""
+
+    name: str = Field(min_length=1, max_length=60)
+    description: str = ""
+    kind: Literal["underwater", "surface"]
+    length: float = Field(gt=0, le=500, description="overall length, m (plots and the 3D view)")
+    sources: dict[str, str] = Field(default_factory=dict, description="where each group of numbers comes from")
+    rigid_body: RigidBody
+    hydrostatics: Hydrostatics
+    added_mass: AddedMass
+    damping: Damping
+    thrusters: list[Thruster] = Field(min_length=1, max_length=32)
+    control: Control
+
+
+def _skew(a) -> np.ndarray:
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def rigid_body_matrix(rb: RigidBody) -> np.ndarray:
+    """M_RB about CO (Fossen 2021 eq. 3.44): [[m I, -m S(r_g)], [m S(r_g), I_g - m S(r_g)^2]]."""
+    m = rb.mass
+    ig = np.diag(rb.inertia) if np.ndim(rb.inertia[0]) == 0 else np.asarray(rb.inertia, float)
+    s = _skew(rb.r_g)
+    M = np.zeros((6, 6))
+    M[:3, :3] = m * np.eye(3)
+    M[:3, 3:] = -m * s
+    M[3:, :3] = m * s
+    M[3:, 3:] = ig - m * s @ s
+    return M
+
+
+def thruster_matrix(vf: VehicleFile) -> np.ndarray:
+    """The 6 x n configuration matrix: column i = [d_i; r_i x d_i] (thrust to generalised force)."""
+    cols = []
+    for t in vf.thrusters:
+        d = np.asarray(t.direction, float)
+        d = d / np.linalg.norm(d)
+        cols.append(np.concatenate([d, np.cross(np.asarray(t.position, float), d)]))
+    return np.array(cols).T
+
+
+def _check(vf: VehicleFile, where: str) -> None:
+    """Refuse a vehicle no simulation can run: a mass matrix that is not symmetric positive definite,
+    a submerged vehicle without its volume, a controlled DOF the thrusters cannot reach."""
+    mrb = rigid_body_matrix(vf.rigid_body)
+    ma = _matrix6(vf.added_mass.M_A, "added_mass.M_A")
+    for label, M in (("M_RB", mrb), ("M_RB + M_A", mrb + ma)):
+        if not np.allclose(M, M.T, rtol=0, atol=1e-9 * max(1.0, np.abs(M).max())):
+            raise ConfigError(f"{where}: the mass matrix {label} is not symmetric")
+        lo = float(np.linalg.eigvalsh(M).min())
+        if lo <= 0:
+            raise ConfigError(
+                f"{where}: the mass matrix {label} is not positive definite (smallest eigenvalue {lo:.4g}); "
+                "check rigid_body.inertia, rigid_body.r_g and added_mass"
+            )
+    h = vf.hydrostatics
+    if h.restoring == "submerged" and h.volume is None:
+        raise ConfigError(f"{where}: hydrostatics.volume is required with restoring = 'submerged'")
+    if h.restoring == "linear" and h.G is None:
+        raise ConfigError(f"{where}: hydrostatics.G is required with restoring = 'linear'")
+    B = thruster_matrix(vf)
+    rows = [DOF_NAMES.index(d) for d in vf.control.dofs]
+    rank = 0
+    for k in range(1, len(rows) + 1):
+        r = int(np.linalg.matrix_rank(B[rows[:k]], tol=1e-9))
+        if r == rank:
+            dof = vf.control.dofs[k - 1]
+            raise ConfigError(
+                f"{where}: control.dofs: '{dof}' cannot be controlled by the {len(vf.thrusters)} thrusters "
+                f"independently of {', '.join(vf.control.dofs[: k - 1]) or 'nothing'} (rank {rank}); "
+                "add a thruster or remove the DOF"
+            )
+        rank = r
+    if vf.control.weights is not None and (
+        len(vf.control.weights) != len(vf.thrusters) or min(vf.control.weights) <= 0
+    ):
+        raise ConfigError(f"{where}: control.weights: one positive weight per thruster ({len(vf.thrusters)})")
+
+
+def shipped_vehicles() -> list[str]:
+    """Names of the vehicle files shipped in ``oceangnc/models/vehicles/``."""
+    files = resources.files("oceangnc.models").joinpath("vehicles")
+    return sorted(p.name[: -len(".toml")] for p in files.iterdir() if p.name.endswith(".toml"))
+
+
+def load_vehicle(name_or_path: str | Path) -> VehicleFile:
+    """Read and check a vehicle file: a shipped name (``"bluerov2-heavy"``, ``"otter"``, ``"uuv-003"``) or
+    a path to a TOML file. Errors are one line (:class:`~oceangnc.errors.ConfigError`) naming the key."""
+    s = str(name_or_path)
+    if s in shipped_vehicles():
+        text = resources.files("oceangnc.models").joinpath("vehicles", s + ".toml").read_text()
+        where = f"vehicle '{s}'"
+    else:
+        path = Path(s)
+        if not path.is_file():
+            raise ConfigError(f"vehicle {s!r}: neither a shipped vehicle ({', '.join(shipped_vehicles())}) nor a file")
+        text = path.read_text()
+        where = f"vehicle file {path}"
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(f"{where}: not valid TOML: {e}") from None
+    try:
+        vf = VehicleFile.model_validate(data)
+    except ValidationError as e:  # one line naming the key and the allowed range
+        raise ConfigError(
+            f"{where}: {format_validation_error(VehicleFile, e).removeprefix('config error: ')}"
+        ) from None
+    _check(vf, where)
+    return vf
+
+
+def vehicle_params(vf: VehicleFile) -> np.ndarray:
+    """The parameter vector: :data:`LAYOUT_HEAD`, then the thruster table (``NT`` values per thruster)."""
+    h = vf.hydrostatics
+    W = vf.rigid_body.mass * G
+    B = h.rho * G * h.volume if h.volume is not None else W
+    mrb = rigid_body_matrix(vf.rigid_body)
+    ma = _matrix6(vf.added_mass.M_A, "added_mass.M_A")
+    head = LAYOUT_HEAD.pack(
+        {
+            "W": W,
+            "B": B,
+            "r_g": vf.rigid_body.r_g,
+            "r_b": h.r_b,
+            "linear_restoring": 1.0 if h.restoring == "linear" else 0.0,
+            "G_lin": _matrix6(h.G, "hydrostatics.G") if h.G is not None else np.zeros((6, 6)),
+            "M_RB": mrb,
+            "M_A": ma,
+            "M_inv": np.linalg.inv(mrb + ma),
+            "D_L": _matrix6(vf.damping.linear, "damping.linear"),
+            "D_Q": vf.damping.quadratic,
+            "D_U": np.asarray(vf.damping.speed, float) if vf.damping.speed is not None else np.zeros((6, 6)),
+            "munk_yaw": 1.0 if vf.added_mass.munk_yaw_moment else 0.0,
+            "n_thrusters": len(vf.thrusters),
+        }
+    )
+    rows = []
+    for t in vf.thrusters:
+        d = np.asarray(t.direction, float)
+        d = d / np.linalg.norm(d)
+        rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant])
+    return np.concatenate([head, np.asarray(rows, float).ravel()])
+
+
+def vehicle_layout(vf: VehicleFile) -> ParamLayout:
+    """The full parameter layout: the head, then ``<thruster>.<field>`` for each thruster."""
+    extra = [
+        Param(f"{t.name}.{f}", "m" if i < 3 else "1" if i < 6 else "s" if i == 8 else "N")
+        for t in vf.thrusters
+        for i, f in enumerate(THR_FIELDS)
+    ]
+    return ParamLayout([*LAYOUT_HEAD.params, *extra])
+
+
+STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+STATE_UNITS = ("m", "m", "m", "rad", "rad", "rad", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
+
+
+def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
+    """The :class:`~oceangnc.core.model.Model` of a vehicle file (or shipped name): states
+    :data:`STATE_NAMES` then ``thrust_<name>`` (N), inputs ``thrust_<name>_cmd`` (N), ``current_n``,
+    ``current_e`` (m/s)."""
+    if not isinstance(vf, VehicleFile):
+        vf = load_vehicle(vf)
+    states = [*zip(STATE_NAMES, STATE_UNITS), *((f"thrust_{t.name}", "N") for t in vf.thrusters)]
+    inputs = [*((f"thrust_{t.name}_cmd", "N") for t in vf.thrusters), ("current_n", "m/s"), ("current_e", "m/s")]
+    p = vehicle_params(vf) if params is None else np.asarray(params, dtype=np.float64)
+    return Model(vf.name, vehicle_rhs, states, inputs, vehicle_layout(vf), p, bound=1e6, description=vf.description)
+
+
+def vehicle_energy(x, p) -> float:
+    """Kinetic energy 1/2 nu^T (M_RB + M_A) nu (J) of a vehicle at rest in the water (no current)."""
+    nu = np.asarray(x[6:12], float)
+    M = p[P_MRB : P_MRB + 36].reshape(6, 6) + p[P_MA : P_MA + 36].reshape(6, 6)
+    return float(0.5 * nu @ M @ nu)
+
+
+def _model_factory(name: str):
+    def factory(params=None) -> Model:
+        return vehicle_model(name, params)
+
+    factory.__doc__ = f"The shipped vehicle '{name}' as a Model (oceangnc.models entry point)."
+    return factory
+
+
+bluerov2_heavy_model = _model_factory("bluerov2-heavy")
+otter_model = _model_factory("otter")
+uuv_003_model = _model_factory("uuv-003")
