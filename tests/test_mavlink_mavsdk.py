@@ -111,3 +111,40 @@ def test_mavsdk_goto_location_and_return_to_launch(tmp_path):
         assert math.hypot(v.sim.bus["usv.x"], v.sim.bus["usv.y"]) < 4.0
     finally:
         v.stop()
+
+
+def test_mavsdk_armable_battery_and_version(tmp_path):
+    """MAVSDK reports the vehicle armable (SYS_STATUS pre-arm check), a battery (the model: 8 LiFePO4 cells,
+    full) and the package's version from AUTOPILOT_VERSION."""
+    from mavsdk import ComponentType, Configuration, Mavsdk
+    from mavsdk.plugins.info import Info
+    from mavsdk.plugins.telemetry import Telemetry
+
+    from oceangnc import __version__
+
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
+    v.start()
+    try:
+        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
+        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
+        system = sdk.first_autopilot(10.0)
+        assert system is not None
+        tel, info = Telemetry(system), Info(system)
+        t_end = time.monotonic() + 10.0
+        while time.monotonic() < t_end and not tel.health().is_armable:
+            time.sleep(0.2)
+        assert tel.health().is_armable
+        bat = tel.battery()
+        assert 26.0 < bat.voltage_v < 27.3 and bat.remaining_percent > 99.0
+        ver = None
+        while time.monotonic() < t_end + 5.0:
+            try:
+                ver = info.get_version()
+                break
+            except Exception:  # noqa: BLE001 InfoError until AUTOPILOT_VERSION has arrived
+                time.sleep(0.2)
+        assert ver is not None
+        major, minor, patch = (int(x) for x in __version__.split("+")[0].split(".")[:3])
+        assert (ver.flight_sw_major, ver.flight_sw_minor, ver.flight_sw_patch) == (major, minor, patch)
+    finally:
+        v.stop()

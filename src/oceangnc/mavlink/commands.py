@@ -91,8 +91,14 @@ class CommandsMixin:
             return
         if kind in ("RADIO_STATUS", "TIMESYNC", "SYSTEM_TIME", "REQUEST_DATA_STREAM", "MISSION_ACK", "GCS_HEARTBEAT"):
             self._link_alive(m)
-            if kind == "MISSION_ACK":
-                pass
+            if kind == "TIMESYNC":
+                self._on_timesync(m)
+            elif kind == "REQUEST_DATA_STREAM" and self._for_us(m):
+                self._on_request_data_stream(m)
+            return
+        if kind == "FILE_TRANSFER_PROTOCOL":
+            if m.target_system in (0, self.cfg_mav.system_id):
+                self._ftp_nak(m)
             return
         if not self._for_us(m):
             if getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id and kind == "COMMAND_LONG":
@@ -129,7 +135,9 @@ class CommandsMixin:
             return f"mission items {p1}..{p2} of {n}"
         if cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT and not _whole(p1, 0, max(n - 1, 0)):
             return f"mission item {p1} of {n}"
-        if cmd == M.MAV_CMD_REQUEST_MESSAGE and not _whole(p1, 0, 65535):
+        if cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_SET_MESSAGE_INTERVAL, M.MAV_CMD_GET_MESSAGE_INTERVAL) and not (
+            _whole(p1, 0, 16777215)
+        ):
             return f"message id {p1}"
         return None
 
@@ -161,6 +169,15 @@ class CommandsMixin:
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED if send is None else M.MAV_RESULT_ACCEPTED)
             if send is not None:
                 send()
+        elif cmd == M.MAV_CMD_SET_MESSAGE_INTERVAL:
+            self._ack(cmd, self._set_interval(round(m.param1), m.param2))
+        elif cmd == M.MAV_CMD_GET_MESSAGE_INTERVAL:
+            name = self._stream_name(round(m.param1))
+            self._ack(cmd, M.MAV_RESULT_ACCEPTED if name else M.MAV_RESULT_UNSUPPORTED)
+            if name:
+                hz = self.rates[name]
+                self._send(self.mav.message_interval_encode(round(m.param1), round(1e6 / hz) if hz > 0 else -1))
+
         else:
             self.counts["rx_ignored"] += 1
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED)
@@ -172,8 +189,73 @@ class CommandsMixin:
         if cmd == M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES or mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
             return self._send_autopilot_version
         if cmd == M.MAV_CMD_GET_HOME_POSITION or mid == M.MAVLINK_MSG_ID_HOME_POSITION:
-            return self._send_home
-        return None
+            return self._send_home if self.home is not None else None
+        one_shot = {
+            "SYS_STATUS": self._send_sys_status,
+            "BATTERY_STATUS": self._send_battery_status,
+            "MISSION_CURRENT": self._send_mission_current,
+        }
+        name = M.mavlink_map[mid].msgname if mid in M.mavlink_map else None
+        return one_shot.get(name)
+
+    # -- telemetry rates, time, file transfer ------------------------------------------------------------
+    def _stream_name(self, msgid: int) -> str | None:
+        cls = M.mavlink_map.get(msgid)
+        return cls.msgname if cls is not None and cls.msgname in self.rates else None
+
+    def _set_interval(self, msgid: int, interval_us: float) -> int:
+        """MAV_CMD_SET_MESSAGE_INTERVAL: param2 -1 stops the message, 0 restores its default rate, > 0 is the
+        interval in us (at most MAX_RATE_HZ); messages the vehicle does not stream are UNSUPPORTED."""
+        from .protocol import MAX_RATE_HZ, TELEMETRY
+
+        name = self._stream_name(msgid)
+        if name is None:
+            return M.MAV_RESULT_UNSUPPORTED
+        if interval_us == -1:
+            hz = 0.0
+        elif interval_us == 0:
+            hz = TELEMETRY[name][0]
+        elif interval_us > 0:
+            hz = min(MAX_RATE_HZ, 1e6 / interval_us)
+        else:
+            self._oor(f"SET_MESSAGE_INTERVAL {name} {interval_us} us")
+            return M.MAV_RESULT_DENIED
+        self.set_rate(name, hz)
+        return M.MAV_RESULT_ACCEPTED
+
+    def _on_request_data_stream(self, m) -> None:
+        """REQUEST_DATA_STREAM (ArduPilot's stream groups, :data:`oceangnc.mavlink.protocol.STREAMS`):
+        ``req_message_rate`` Hz for every message of the group (0 or start_stop 0 stops them)."""
+        from .protocol import STREAMS
+
+        ids = list(STREAMS) if m.req_stream_id == M.MAV_DATA_STREAM_ALL else [m.req_stream_id]
+        hz = float(m.req_message_rate) if m.start_stop else 0.0
+        for sid in ids:
+            for name in STREAMS.get(sid, ()):
+                self.set_rate(name, hz)
+
+    def _on_timesync(self, m) -> None:
+        """TIMESYNC request (tc1 = 0): answered with the vehicle's clock in tc1 and the request's ts1."""
+        if m.tc1 == 0:
+            self._send(self.mav.timesync_encode(int(self.clock() * 1e9), m.ts1))
+
+    def _ftp_nak(self, m) -> None:
+        """MAVFTP: no file system here. Every request gets a NAK (opcode 129) with error 10 "file not found" for
+        opening, listing and reading (so MAVProxy's and QGroundControl's parameter download falls back to
+        PARAM_REQUEST_LIST at once) and 1 "fail" otherwise, seq + 1, to the requester's system and component."""
+        import struct
+
+        p = bytes(m.payload)
+        if len(p) < 12:
+            self.counts["rx_bad"] += 1
+            return
+        seq, session, opcode = struct.unpack_from("<HBB", p, 0)
+        self.counts["ftp_naks"] += 1
+        file_ops = (3, 4, 5, 15)  # ListDirectory, OpenFileRO, ReadFile, BurstReadFile
+        err = 10 if opcode in file_ops else 1
+        hdr = struct.pack("<HBBBBBBI", (seq + 1) % 65536, session, 129, 1, opcode, 0, 0, 0)
+        payload = list(hdr + bytes([err])) + [0] * (251 - 13)
+        self._send(self.mav.file_transfer_protocol_encode(0, m.get_srcSystem(), m.get_srcComponent(), payload))
 
     def _on_command_int(self, m) -> None:
         nan_ok = (2, 3, 4) if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) else ()

@@ -60,6 +60,16 @@ class MavlinkConfig(StrictModel):
     smart_rtl_accuracy_m: float = Field(
         2.0, gt=0, le=100, description="SMART_RTL: a breadcrumb every this many metres (ArduPilot SRTL_ACCURACY)"
     )
+    battery_capacity_ah: float = Field(
+        100.0, gt=0, le=1e5, description="battery capacity (ArduPilot BATT_CAPACITY, there in mAh), Ah"
+    )
+    battery_cells: int = Field(8, ge=1, le=100, description="LiFePO4 cells in series (8: 25.6 V nominal)")
+    battery_r_int_ohm: float = Field(0.02, ge=0, le=10, description="battery internal resistance, ohm")
+    battery_soc0: float = Field(1.0, ge=0, le=1, description="state of charge at the start, 0..1")
+    thruster_power_w: float = Field(
+        1344.0, ge=0, le=1e6, description="electrical power of one thruster at full forward thrust, W"
+    )
+    hotel_power_w: float = Field(30.0, ge=0, le=1e5, description="electrical power of everything else, W")
     max_packets_per_loop: int = Field(
         500, ge=1, le=100000, description="datagrams read per loop pass (bounds the work a flood can cause)"
     )

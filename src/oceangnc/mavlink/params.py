@@ -202,6 +202,9 @@ def build_params(v) -> dict[str, Param]:
             ps += _pid("ATC_SPEED", inner.speed, "surge-speed", "N/(m/s)", "N/m", "N s/(m/s)")
             ps += _pid("ATC_HDG", inner.heading, "heading", "N/rad", "N/(rad s)", "N s/rad")
             ps += _pid("ATC_STR_RAT", inner.yaw_rate, "yaw-rate (stick modes)", "N/(rad/s)", "N/rad", "N s/(rad/s)")
+    # -- battery
+    ps.append(Param("BATT_CAPACITY", lambda: float(v.battery.capacity_ah * 1000.0), v._set_battery_capacity,
+                    100.0, 1e8, INT32, "mAh", "battery capacity"))  # fmt: skip
     # -- simulation
     ps.append(Param("SIM_SPEEDUP", lambda: float(v.speed), v._set_speedup, 0.01, 100.0, REAL32, "",
                     "simulated seconds per wall second"))  # fmt: skip

@@ -56,6 +56,7 @@ import numpy as np
 
 from ..errors import DivergenceError, InputError
 from ..io.logs import LogWriter
+from .battery import Battery, thruster_power
 from .commands import INT16_MAX, CommandsMixin
 from .config import MavlinkConfig
 from .link import LinkMixin, _Sender, parse_endpoint
@@ -168,6 +169,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             "rx_unknown": 0,
             "rx_out_of_range": 0,
             "rx_ignored": 0,
+            "ftp_naks": 0,
             "tx_packets": 0,
             "tx_errors": 0,
         }
@@ -183,6 +185,10 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._upload: dict | None = None
         self._set_initial_mission()
         self._nav_init()
+        c = self.cfg_mav
+        self.battery = Battery(c.battery_capacity_ah, c.battery_cells, c.battery_r_int_ohm, c.battery_soc0)
+        self._batt_t = 0.0
+        self._batt_warned = 1.0
         self.params = build_params(self)
         self.run_dir = None
         self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
@@ -207,6 +213,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._parser = M.MAVLink(None)
         self._parser.robust_parsing = True
         self._next_tx = {k: 0.0 for k in TELEMETRY}
+        self.rates = {k: float(v[0]) for k, v in TELEMETRY.items()}
         # -- log
         self.run_dir = None
         self.writer = None
@@ -235,6 +242,28 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             + (f" + UUV system {c.uuv_system_id}" if self.has_uuv else "")
             + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD"
         )
+
+    def _battery_step(self) -> None:
+        """Draw the thrusters' and the hotel load's power from the battery since the last pass
+        (:mod:`oceangnc.mavlink.battery`)."""
+        dt = float(self.sim.t) - self._batt_t
+        self._batt_t = float(self.sim.t)
+        c = self.cfg_mav
+        b = self.sim.bus
+        usv = getattr(self.cfg, "usv", None)
+        t_max = getattr(usv, "max_thrust_kgf", 0.0) * 9.80665
+        thrusts = [b[k] for k in ("usv.thrust_port", "usv.thrust_stbd") if k in b]
+        self.battery.step(thruster_power(thrusts, t_max, c.thruster_power_w) + c.hotel_power_w, dt)
+        soc = self.battery.soc
+        for level, text, sev in ((0.2, "Battery low", M.MAV_SEVERITY_WARNING),
+                                 (0.0, "Battery empty", M.MAV_SEVERITY_CRITICAL)):  # fmt: skip
+            if soc <= level < self._batt_warned:
+                self._batt_warned = level
+                self.event(f"{text}: {100 * soc:.0f} %, {self.battery.voltage:.1f} V", sev)
+
+    def _set_battery_capacity(self, mah: float) -> None:
+        self.cfg_mav.battery_capacity_ah = float(mah) / 1000.0
+        self.battery.capacity_ah = self.cfg_mav.battery_capacity_ah
 
     def _set_speedup(self, speed: float) -> None:
         """SIM_SPEEDUP: simulated seconds per wall second from now on (the pacing is re-anchored)."""
@@ -297,6 +326,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             "mavlink.armed": float(self.armed),
             "mavlink.mode": float(self.mode),
             "mavlink.mission_current": float(self.mission_current),
+            "mavlink.batt_v": float(self.battery.voltage),
+            "mavlink.batt_a": float(self.battery.current),
+            "mavlink.batt_soc": float(self.battery.soc),
         }
         vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if not k.startswith("tx_")})
         self.sim.inject(vals)
@@ -338,6 +370,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                     self._end(f"duration {self.duration:g} s reached")
             self._follow_mission()
             self._nav_step()
+            self._battery_step()
             try:
                 self._telemetry(now)
             except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
@@ -389,6 +422,20 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             self._thread = None
         self.close()
 
+    def _battery_summary(self) -> dict:
+        b = self.battery
+        t = float(self.sim.t)
+        mean_w = b.energy_j / t if t > 0 else 0.0
+        usable_j = self.cfg_mav.battery_soc0 * b.capacity_ah * 3600.0 * b.cells * 3.2  # at 3.2 V a cell
+        return {
+            "soc_end": b.soc,
+            "voltage_end_v": b.voltage,
+            "energy_wh": b.energy_j / 3600.0,
+            "charge_ah": b.charge_ah,
+            "mean_power_w": mean_w,
+            "endurance_h_at_mean_power": usable_j / mean_w / 3600.0 if mean_w > 0 else None,
+        }
+
     def close(self) -> None:
         """Close the socket and the log (writes summary.json); safe to call twice."""
         with self._lock:
@@ -409,6 +456,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 "armed_at_end": self.armed,
                 "mode_at_end": mode_name(self.mode),
                 "waypoints_reached": list(self.reached),
+                "battery": self._battery_summary(),
+                "params": self.param_values(),
                 **{f"mavlink.{k}": v for k, v in self.counts.items()},
                 "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]],
             }
