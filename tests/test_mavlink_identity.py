@@ -209,3 +209,48 @@ def test_mavproxy_default_modules_no_fence_breach_no_ftp_wait(tmp_path):
     assert "fence breach" not in out.lower(), out
     assert "timed out" not in out and "FTP: retry" not in out, out
     assert v.counts["rx_bad"] == 0 and v.counts["ftp_naks"] >= 1  # MAVProxy did try MAVFTP first
+
+
+def test_uuv_system_2_answers_version_params_mission_arm(tmp_path):
+    """combined-survey: QGroundControl creates vehicle 2 (the towed UUV) and asks it for its version, its
+    parameters and its mission; every request gets its answer from system 2."""
+    v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
+    v.start()
+    g = GCS(v.address)
+    try:
+        hb = g.wait("HEARTBEAT", 5.0, sysid=2)
+        assert hb.type == M.MAV_TYPE_SUBMARINE and hb.custom_mode == 4  # ArduSub GUIDED: guided by the tow
+
+        def cmd(command, *p, seconds=3.0):
+            p = list(p) + [0.0] * (7 - len(p))
+            g.mav.command_long_send(2, 1, command, 0, *p)
+            return g.wait("COMMAND_ACK", seconds, lambda m: m.command == command, sysid=2).result
+
+        assert cmd(M.MAV_CMD_REQUEST_MESSAGE, M.MAVLINK_MSG_ID_AUTOPILOT_VERSION) == M.MAV_RESULT_ACCEPTED
+        av = g.wait("AUTOPILOT_VERSION", 3.0, sysid=2)
+        assert av.flight_sw_version >> 8 != 0 and av.uid == 2
+        g.mav.param_request_list_send(2, 1)
+        first = g.wait("PARAM_VALUE", 3.0, sysid=2)
+        got = {first.param_index: first}
+        while len(got) < first.param_count:
+            m = g.wait("PARAM_VALUE", 3.0, sysid=2)
+            got[m.param_index] = m
+        names = {m.param_id for m in got.values()}
+        assert {"SYSID_THISMAV", "FOLL_OFS_X", "FOLL_OFS_Y"} <= names and "CRUISE_SPEED" not in names
+        g.mav.param_set_send(2, 1, b"FOLL_OFS_X", -9.0, M.MAV_PARAM_TYPE_REAL32)
+        assert g.wait("PARAM_VALUE", 3.0, lambda m: m.param_id == "FOLL_OFS_X", sysid=2).param_value == -9.0
+        lf = next(b for b in v.sim.blocks if type(b).__name__ == "LeaderFollower")
+        assert lf.lx_d == -9.0  # the station behind the USV in the running leader-follower law
+        g.mav.mission_request_list_send(2, 1, 0)
+        assert g.wait("MISSION_COUNT", 3.0, sysid=2).count == 0
+        g.mav.mission_count_send(2, 1, 3, 0)
+        assert g.wait("MISSION_ACK", 3.0, sysid=2).type == M.MAV_MISSION_UNSUPPORTED
+        assert cmd(M.MAV_CMD_DO_SET_MODE, 1, 2) == M.MAV_RESULT_DENIED  # ALT_HOLD: no depth loop of its own
+        assert cmd(M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        assert v.armed
+        g.wait("HEARTBEAT", 3.0, lambda m: m.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED, sysid=2)
+        assert cmd(M.MAV_CMD_NAV_TAKEOFF) == M.MAV_RESULT_UNSUPPORTED
+        assert len(v.mission) == 4  # the USV's mission is untouched by system 2's traffic
+    finally:
+        g.close()
+        v.stop()

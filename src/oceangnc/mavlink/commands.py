@@ -100,9 +100,10 @@ class CommandsMixin:
             if m.target_system in (0, self.cfg_mav.system_id):
                 self._ftp_nak(m)
             return
+        if self.has_uuv and getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id:
+            self._handle_uuv(m, kind)  # system 2 (oceangnc.mavlink.uuv)
+            return
         if not self._for_us(m):
-            if getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id and kind == "COMMAND_LONG":
-                self._send(self.mav_uuv.command_ack_encode(m.command, M.MAV_RESULT_UNSUPPORTED))
             self.counts["rx_ignored"] += 1
             return
         if kind in _COMMANDING:

@@ -7,6 +7,7 @@ import math
 from .. import __version__
 from .geo import ned_to_latlon
 from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
+from .uuv import SUB_GUIDED
 
 M = mavlink
 
@@ -31,7 +32,9 @@ class TelemetryMixin:
         base = M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
         if self.armed:
             base |= M.MAV_MODE_FLAG_SAFETY_ARMED
-        if self.mode in STICK_MODES:
+        if uuv:  # ArduSub's GUIDED: the UUV is guided by the tow (oceangnc.mavlink.uuv)
+            base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
+        elif self.mode in STICK_MODES:
             base |= M.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
         elif self.mode == AUTO:
             base |= M.MAV_MODE_FLAG_AUTO_ENABLED | M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
@@ -46,7 +49,7 @@ class TelemetryMixin:
         typ = M.MAV_TYPE_SUBMARINE if uuv else M.MAV_TYPE_SURFACE_BOAT
         self._send(
             (self.mav_uuv if uuv else self.mav).heartbeat_encode(
-                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, self.mode, status
+                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, SUB_GUIDED if uuv else self.mode, status
             ),
             uuv=uuv,
         )
@@ -299,8 +302,23 @@ class TelemetryMixin:
             )
         )
 
-    def _send_autopilot_version(self) -> None:
-        """AUTOPILOT_VERSION: the package version as ArduPilot encodes it, the capabilities the vehicle has."""
+    def _send_autopilot_version(self, uuv: bool = False) -> None:
+        """AUTOPILOT_VERSION: the package version as ArduPilot encodes it, the capabilities the vehicle has
+        (system 2, the towed UUV: parameters and the message protocols only)."""
+        sw, custom = flight_sw_version(__version__)
+        if uuv:
+            caps = (
+                M.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
+                | M.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+                | M.MAV_PROTOCOL_CAPABILITY_MISSION_INT
+                | M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+                | M.MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION
+                | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            )
+            uid = self.cfg_mav.uuv_system_id
+            msg = self.mav_uuv.autopilot_version_encode(caps, sw, 0, 0, 0, custom, [0] * 8, [0] * 8, 0, 0, uid)
+            self._send(msg, uuv=True)
+            return
         caps = (
             M.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT
             | M.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
@@ -311,16 +329,15 @@ class TelemetryMixin:
             | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
             | M.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
         )
-        sw, custom = flight_sw_version(__version__)
         uid = self.cfg_mav.system_id
         self._send(self.mav.autopilot_version_encode(caps, sw, 0, 0, 0, custom, [0] * 8, [0] * 8, 0, 0, uid))
 
-    def _send_home(self) -> None:
+    def _send_home(self, uuv: bool = False) -> None:
         c = self.cfg_mav
         lat, lon = self._home_latlon()
         n, e = self.home if self.home is not None else (0.0, 0.0)
         self._send(
-            self.mav.home_position_encode(
+            (self.mav_uuv if uuv else self.mav).home_position_encode(
                 round(lat * 1e7),
                 round(lon * 1e7),
                 round(c.origin_alt_m * 1000),
@@ -331,7 +348,8 @@ class TelemetryMixin:
                 0.0,
                 0.0,
                 0.0,
-            )
+            ),
+            uuv=uuv,
         )
 
 

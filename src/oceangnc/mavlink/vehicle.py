@@ -68,6 +68,7 @@ from .nav import NavMixin
 from .params import ParamsMixin, build_params, read_param_file
 from .protocol import AUTO, HOLD, MANUAL, RTL, SMART_RTL, STICK_MODES, TELEMETRY, mavlink, mode_name
 from .telemetry import TelemetryMixin
+from .uuv import UUVMixin, build_uuv_params
 
 __all__ = [
     "INT16_MAX",
@@ -82,7 +83,7 @@ __all__ = [
 M = mavlink
 
 
-class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin):
+class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin, UUVMixin):
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
     Parameters
@@ -190,6 +191,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._batt_t = 0.0
         self._batt_warned = 1.0
         self.params = build_params(self)
+        self.uuv_params = build_uuv_params(self) if self.has_uuv else {}
         self.run_dir = None
         self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
         # -- network
