@@ -237,3 +237,32 @@ def test_fs_gcs_enable_2_continues_the_mission(tmp_path):
     finally:
         g.close()
         v.stop()
+
+
+def test_change_speed_lasts_until_the_mode_changes_and_smart_rtl_needs_a_path(tmp_path):
+    """DO_CHANGE_SPEED in AUTO is the route pilot's speed until the mission ends (HOLD), then CRUISE_SPEED
+    again; SMART_RTL is refused before the first arming (no path), and RTL / SMART_RTL / GUIDED / LOITER are
+    refused by a scenario without a route hook. A fake wall clock steps the vehicle."""
+    from oceangnc.mavlink.protocol import AUTO as A
+
+    now = [0.0]
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", out_root=None, clock=lambda: now[0])
+    pilot = next(b for b in v.sim.blocks if type(b).__name__ == "RoutePilot")
+    assert v._set_mode(SMART_RTL, "test") == M.MAV_RESULT_DENIED  # disarmed since start: no path
+    v.mission = [v._item(0, 0.0, 0.0), v._item(1, 12.0, 0.0)]
+    v._arm(True)
+    assert v._set_mode(A, "test") == M.MAV_RESULT_ACCEPTED
+    assert v._nav_command(M.MAV_CMD_DO_CHANGE_SPEED, 1, 1.1, 0, 0) == M.MAV_RESULT_ACCEPTED
+    assert pilot.cruise_speed == pytest.approx(1.1) and v.params["CRUISE_SPEED"].get() == pytest.approx(0.7)
+    while v.sim.t < 60.0 and v.mode == A:
+        now[0] += 0.05
+        v.step_once()
+    assert v.mode == HOLD and v.reached == [1]
+    assert pilot.cruise_speed == pytest.approx(0.7)  # back to CRUISE_SPEED with the mode change
+    v.close()
+    w = MavlinkVehicle("usv-waypoints-7", listen="udp:127.0.0.1:0", out_root=None, clock=lambda: now[0])
+    w._arm(True)
+    for num in (RTL, SMART_RTL, GUIDED, LOITER):
+        assert w._set_mode(num, "test") == M.MAV_RESULT_DENIED
+    assert w.mode == HOLD
+    w.close()

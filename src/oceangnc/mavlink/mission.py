@@ -247,6 +247,6 @@ class MissionMixin:
             self._send(self.mav.mission_current_encode(self.mission_current))
         if self._progress >= len(self._route_seqs):
             self._route_seqs = []
-            self.mode = HOLD
+            self._switch_mode(HOLD)
             self.mission_current = len(self.mission)  # past the end: AUTO restarts from item 1
             self.event("Mission complete, changing mode to Hold")

@@ -206,8 +206,6 @@ class NavMixin:
         return None
 
     def _enter_nav(self, num: int) -> None:
-        self._overrides.pop("CRUISE_SPEED", None)  # DO_CHANGE_SPEED lasts until the mode changes
-        self._apply_overrides()
         self.guided_target = None
         if num == GUIDED or num == LOITER:
             self._loiter_at(None)
@@ -222,8 +220,6 @@ class NavMixin:
         self._leg = None
         self.loiter_center = None
         self.guided_target = None
-        self._overrides.clear()
-        self._apply_overrides()
 
     # -- GUIDED targets -----------------------------------------------------------------------------------
     def _guided_goto(self, lat: float, lon: float, via: str, change_mode: bool = True) -> int:
@@ -248,7 +244,7 @@ class NavMixin:
     def _nav_step(self) -> None:
         self._update_home_from_fix()
         p = self._position()
-        if self.armed and p is not None:
+        if self.armed and p is not None and self.mode not in (RTL, SMART_RTL):  # ArduPilot: not while returning
             self._breadcrumb(p)
         if self.mode not in NAV_MODES:
             return
@@ -280,8 +276,11 @@ class NavMixin:
     def _switch_mode(self, num: int) -> None:
         """Change mode with no checks beyond the navigation state (the failsafe's path)."""
         was = self.mode
-        if was in NAV_MODES and num != was:
-            self._leave_nav()
+        if num != was:
+            if was in NAV_MODES:
+                self._leave_nav()
+            self._overrides.clear()  # DO_CHANGE_SPEED lasts until the mode changes (ArduPilot)
+            self._apply_overrides()
         self.mode = num
         self.stick = (0.0, 0.0)
         self.stick_flowing = False
