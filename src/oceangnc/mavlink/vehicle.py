@@ -5,24 +5,25 @@ One loop (default 100 Hz, run in a thread by :meth:`MavlinkVehicle.start` or in 
 
 1. read every UDP datagram waiting (at most ``mavlink.max_packets_per_loop``), parse it with a fresh
    MAVLink 2 parser state (a malformed datagram cannot corrupt the next one), and handle each message
-   (commands, modes, sticks, mission protocol); malformed datagrams, unknown message ids and
-   out-of-range values are counted (``mavlink.rx_bad``, ``mavlink.rx_unknown``,
-   ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
-2. run the failsafes: in a stick mode (MANUAL, ACRO) no message from the *controlling* ground station
-   for ``mavlink.gcs_timeout_s`` (5 s, ArduPilot's FS_GCS_TIMEOUT), or a stick stream that was flowing
-   stopped for ``mavlink.stick_timeout_s`` (1.5 s, ArduPilot Rover's FS_TIMEOUT), switches to HOLD (the stick is zeroed); other
-   systems' heartbeats do not count;
+   (commands, modes, sticks, mission and parameter protocols, rates; system 2's in :mod:`.uuv`);
+   malformed datagrams, unknown message ids and out-of-range values are counted (``mavlink.rx_bad``,
+   ``mavlink.rx_unknown``, ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
+2. run ArduPilot Rover's failsafes (:meth:`MavlinkVehicle._watchdog`): the *controlling* ground station
+   silent for FS_GCS_TIMEOUT (5 s) in a stick mode, or in any mode but HOLD / RTL / SMART_RTL while armed
+   once it has been heard, or a stick stream that was flowing stopped for FS_TIMEOUT (1.5 s), runs
+   FS_ACTION (HOLD, RTL or SMART_RTL, :mod:`.nav`); other systems' heartbeats do not count;
 3. write the vehicle's state onto the simulation bus with ``sim.inject`` (the console's keys, see
-   :mod:`oceangnc.console.session`): ``console.mode`` ("remote" in MANUAL / ACRO / HOLD, "auto" in AUTO),
-   ``console.loop`` ("open" in MANUAL, "closed" otherwise), ``joystick.surge`` / ``joystick.yaw``
-   (the stick in MANUAL / ACRO, zero in HOLD), ``_estop`` (true while disarmed or e-stopped: the
-   thruster blocks output zero), and the logged ``mavlink.*`` / ``console.failsafe`` / ``console.estop``;
-   when ``_estop`` rises the blocks are fired once at that instant (as the console does) so thrust is
-   zero from the next integration step;
+   :mod:`oceangnc.console.session`): ``console.mode`` ("auto" while a route is flown: AUTO, or a leg of
+   GUIDED / RTL / SMART_RTL / LOITER; "remote" otherwise), ``console.loop`` ("open" in MANUAL, "closed"
+   otherwise), ``joystick.surge`` / ``joystick.yaw`` (the stick in MANUAL / ACRO, zero otherwise),
+   ``_estop`` (true while disarmed or e-stopped: the thruster blocks output zero), and the logged
+   ``mavlink.*`` (battery included) / ``console.failsafe`` / ``console.estop``; when ``_estop`` rises the
+   blocks are fired once at that instant (as the console does) so thrust is zero from the next step;
 4. advance the simulation by whole clock ticks to ``t_sim(anchor) + speed (t_wall - t_wall(anchor))``
    (the console's pacing, re-anchored when it falls more than 0.5 s behind);
-5. follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and send the
-   telemetry that is due (:data:`oceangnc.mavlink.protocol.TELEMETRY`).
+5. follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and the navigation modes'
+   legs (:mod:`.nav`), draw the battery (:mod:`.battery`), and send the telemetry that is due
+   (:data:`oceangnc.mavlink.protocol.TELEMETRY`, at the rates ground stations set).
 
 The mission feeds the scenario's own guidance through :class:`RouteHook`: a scenario that reads
 ``console.waypoints`` (``console_route_edit = True``, e.g. ``usv-remote``) gets the route on that
@@ -38,7 +39,8 @@ reached in passing).
 Safety: the vehicle starts disarmed (thrust zero); arming is refused while the e-stop is latched;
 MAV_CMD_DO_FLIGHTTERMINATION param1 = 1 is the e-stop (disarm, thrust zero, latched until a
 MAV_CMD_DO_FLIGHTTERMINATION with param1 = 0). The run's Parquet log is written to
-``<out_root>/mavlink-<scenario>-<time>/log.parquet`` with ``config.toml`` and ``summary.json``.
+``<out_root>/mavlink-<scenario>-<time>/log.parquet`` with ``config.toml``, ``params.json`` (the parameters,
+:mod:`.params`, rewritten on every change) and ``summary.json``.
 """
 
 from __future__ import annotations
