@@ -70,3 +70,91 @@ class GCS:
 
     def close(self) -> None:
         self.sock.close()
+
+
+def upload_mission(g: GCS, pts, lat0: float, lon0: float, seconds: float = 3.0) -> None:
+    """Mission upload as every ground station does it: MISSION_COUNT, then one MISSION_ITEM_INT per
+    MISSION_REQUEST_INT; ``pts`` are (north, east) m about (lat0, lon0), the first one home (item 0)."""
+    from oceangnc.mavlink.geo import ned_to_latlon
+
+    g.mav.mission_count_send(1, 1, len(pts), 0)
+    for seq, (n, e) in enumerate(pts):
+        req = g.wait("MISSION_REQUEST_INT", seconds, lambda m, s=seq: m.seq == s)
+        lat, lon = ned_to_latlon(n, e, lat0, lon0)
+        frame = M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT if seq else M.MAV_FRAME_GLOBAL_INT
+        g.mav.mission_item_int_send(
+            1, 1, req.seq, frame, M.MAV_CMD_NAV_WAYPOINT, 0, 1, 0, 0, 0, 0, round(lat * 1e7), round(lon * 1e7), 0.0, 0
+        )
+    ack = g.wait("MISSION_ACK", seconds)
+    assert ack.type == M.MAV_MISSION_ACCEPTED, ack
+
+
+def qgc_set_mode(g: GCS, custom_mode: int, seconds: float = 3.0) -> None:
+    """QGroundControl's Vehicle::setFlightMode: SET_MODE with CUSTOM_MODE_ENABLED (and the armed flag as the
+    vehicle last reported it), then it waits for a HEARTBEAT showing the mode (up to 3 tries)."""
+    armed = any(
+        m.get_type() == "HEARTBEAT" and m.get_srcSystem() == 1 and m.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED
+        for m in g.received[-20:]
+    )
+    base = M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED | (M.MAV_MODE_FLAG_SAFETY_ARMED if armed else 0)
+    for _ in range(3):
+        g.mav.set_mode_send(1, base, custom_mode)
+        if g.pump(seconds, until=lambda m: m.get_type() == "HEARTBEAT" and m.get_srcSystem() == 1
+                  and m.custom_mode == custom_mode) is not None:  # fmt: skip
+            return
+    raise AssertionError(f"vehicle failed to change to mode {custom_mode}")
+
+
+def qgc_connect(g: GCS, seconds: float = 3.0) -> dict:
+    """QGroundControl's initial connect sequence for an ArduPilot vehicle (InitialConnectStateMachine and
+    APMFirmwarePlugin): AUTOPILOT_VERSION by REQUEST_MESSAGE, the protocol version, component information,
+    the stream rates (REQUEST_DATA_STREAM), the parameters (PARAM_REQUEST_LIST), the mission, fence and rally
+    lists, the home position. Every command must get a COMMAND_ACK. Returns what was learnt."""
+    out: dict = {"acks": {}}
+    g.wait("HEARTBEAT", seconds)
+
+    def cmd(command, *p):
+        p = list(p) + [0.0] * (7 - len(p))
+        g.mav.command_long_send(1, 1, command, 0, *p)
+        out["acks"][(command, p[0])] = g.ack(command, seconds).result
+
+    cmd(M.MAV_CMD_REQUEST_MESSAGE, M.MAVLINK_MSG_ID_AUTOPILOT_VERSION)
+    out["version"] = g.wait("AUTOPILOT_VERSION", seconds)
+    cmd(M.MAV_CMD_REQUEST_PROTOCOL_VERSION, 1)
+    cmd(M.MAV_CMD_REQUEST_MESSAGE, 395)  # COMPONENT_INFORMATION (QGC then falls back to its own metadata)
+    for stream, hz in ((M.MAV_DATA_STREAM_RAW_SENSORS, 2), (M.MAV_DATA_STREAM_EXTENDED_STATUS, 2),
+                       (M.MAV_DATA_STREAM_RC_CHANNELS, 2), (M.MAV_DATA_STREAM_POSITION, 3),
+                       (M.MAV_DATA_STREAM_EXTRA1, 10), (M.MAV_DATA_STREAM_EXTRA2, 10),
+                       (M.MAV_DATA_STREAM_EXTRA3, 3)):  # fmt: skip
+        g.mav.request_data_stream_send(1, 1, stream, hz, 1)
+    g.mav.param_request_list_send(1, 1)
+    first = g.wait("PARAM_VALUE", seconds)
+    params = {first.param_index: first}
+    while len(params) < first.param_count:
+        m = g.wait("PARAM_VALUE", seconds)
+        params[m.param_index] = m
+    out["params"] = {(m.param_id if isinstance(m.param_id, str) else m.param_id.decode()): m.param_value
+                     for m in params.values()}  # fmt: skip
+    for mission_type in (M.MAV_MISSION_TYPE_MISSION, M.MAV_MISSION_TYPE_FENCE, M.MAV_MISSION_TYPE_RALLY):
+        g.mav.mission_request_list_send(1, 1, mission_type)
+        out[f"count{mission_type}"] = g.wait("MISSION_COUNT", seconds, lambda m, t=mission_type: m.mission_type == t)
+        if out[f"count{mission_type}"].count == 0:
+            continue
+        for seq in range(out[f"count{mission_type}"].count):
+            g.mav.mission_request_int_send(1, 1, seq, mission_type)
+            g.wait("MISSION_ITEM_INT", seconds, lambda m, s=seq: m.seq == s)
+        g.mav.mission_ack_send(1, 1, M.MAV_MISSION_ACCEPTED, mission_type)
+    cmd(M.MAV_CMD_REQUEST_MESSAGE, M.MAVLINK_MSG_ID_HOME_POSITION)
+    out["home"] = g.wait("HOME_POSITION", seconds)
+    return out
+
+
+def qgc_start_mission(g: GCS, seconds: float = 3.0) -> None:
+    """QGroundControl's Start Mission on a disarmed ArduPilot ground vehicle (APMFirmwarePlugin::startMission):
+    switch to GUIDED, arm (and wait for the armed HEARTBEAT), then MAV_CMD_MISSION_START."""
+    qgc_set_mode(g, 15, seconds)  # GUIDED: "Unable to start mission: Vehicle failed to change to Guided mode"
+    g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM, seconds).result == M.MAV_RESULT_ACCEPTED
+    g.wait("HEARTBEAT", seconds, lambda m: m.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED)
+    g.mav.command_long_send(1, 1, M.MAV_CMD_MISSION_START, 0, 0, 0, 0, 0, 0, 0, 0)
+    assert g.ack(M.MAV_CMD_MISSION_START, seconds).result == M.MAV_RESULT_ACCEPTED

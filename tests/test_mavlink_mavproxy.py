@@ -56,7 +56,7 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
         f"--out=udpout:127.0.0.1:{out_port}",
         "--no-state",
         "--target-system=1",
-        "--default-modules=wp,arm,mode,cmdlong",
+        "--default-modules=wp,arm,mode,cmdlong,param",
     ]
     pr = subprocess.Popen(
         cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=tmp_path
@@ -107,6 +107,20 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
         expect("Reached waypoint #3", 10.0)
         assert v.reached == [1, 2, 3]
         assert v.armed and v.counts["rx_bad"] == 0
+        # MAVProxy's GUIDED "fly to" (MISSION_ITEM_INT current = 2), a parameter, and Return
+        expect("Mission complete", 15.0)
+        send("param set CRUISE_SPEED 1.0")
+        t_end = time.monotonic() + 15.0
+        while time.monotonic() < t_end and v.params["CRUISE_SPEED"].get() != pytest.approx(1.0):
+            time.sleep(0.1)
+        assert v.params["CRUISE_SPEED"].get() == pytest.approx(1.0)
+        send("mode GUIDED")
+        expect("Mode GUIDED", 15.0)
+        glat, glon = ned_to_latlon(25.0, 5.0, v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
+        send(f"guided {glat:.8f} {glon:.8f} 0")
+        expect("Reached destination", 60.0)
+        send("mode RTL")
+        expect("Reached home", 60.0)
     finally:
         pr.kill()
         pr.wait(10)
@@ -116,5 +130,6 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
     import pandas as pd
 
     df = pd.read_parquet(v.run_dir / "log.parquet")
-    for n, e in pts[1:]:
+    for n, e in [*pts[1:], (25.0, 5.0), (0.0, 0.0)]:  # the mission, MAVProxy's guided point, home
         assert (((df["usv.x"] - n) ** 2 + (df["usv.y"] - e) ** 2) ** 0.5).min() < 3.5
+    assert df.loc[df["mavlink.mode"] == 15, "usv.u_d"].max() == pytest.approx(1.0, abs=1e-6)  # CRUISE_SPEED

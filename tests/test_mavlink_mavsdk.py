@@ -4,6 +4,7 @@ mission, follow MAVSDK's own mission progress to the end. 127.0.0.1 only, bounde
 
 from __future__ import annotations
 
+import math
 import time
 
 import pytest
@@ -71,5 +72,79 @@ def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
         assert v.reached == [1, 2, 3], (v.reached, prog.current if prog else None)
         assert prog.current >= 3 and prog.total == 4
         assert v.counts["rx_bad"] == 0
+    finally:
+        v.stop()
+
+
+def test_mavsdk_goto_location_and_return_to_launch(tmp_path):
+    """MAVSDK's Action.goto_location (DO_SET_MODE GUIDED, then DO_REPOSITION as COMMAND_INT) and
+    Action.return_to_launch (DO_SET_MODE RTL) succeed, and the boat goes there and back."""
+    from mavsdk import ComponentType, Configuration, Mavsdk
+    from mavsdk.plugins.action import Action
+    from mavsdk.plugins.telemetry import Telemetry
+
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path)
+    v.start()
+    try:
+        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
+        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
+        system = sdk.first_autopilot(10.0)
+        assert system is not None
+        tel, act = Telemetry(system), Action(system)
+        time.sleep(1.0)
+        act.arm()
+        lat, lon = ned_to_latlon(20.0, 5.0, v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
+        act.goto_location(lat, lon, 0.0, 0.0)  # raises ActionError unless accepted
+        assert v.mode == 15 and v.guided_target is not None
+        t_end = time.monotonic() + 40.0
+        while time.monotonic() < t_end and not any("Reached destination" in s for _, s in v.events):
+            time.sleep(0.1)
+        assert any("Reached destination" in s for _, s in v.events)
+        pos = tel.position()
+        assert abs(pos.latitude_deg - lat) * 111e3 < 4.0  # MAVSDK's own telemetry shows the boat there
+        act.return_to_launch()
+        assert v.mode == 11
+        t_end = time.monotonic() + 40.0
+        while time.monotonic() < t_end and not any("Reached home" in s for _, s in v.events):
+            time.sleep(0.1)
+        assert any("Reached home" in s for _, s in v.events)
+        assert math.hypot(v.sim.bus["usv.x"], v.sim.bus["usv.y"]) < 4.0
+    finally:
+        v.stop()
+
+
+def test_mavsdk_armable_battery_and_version(tmp_path):
+    """MAVSDK reports the vehicle armable (SYS_STATUS pre-arm check), a battery (the model: 8 LiFePO4 cells,
+    full) and the package's version from AUTOPILOT_VERSION."""
+    from mavsdk import ComponentType, Configuration, Mavsdk
+    from mavsdk.plugins.info import Info
+    from mavsdk.plugins.telemetry import Telemetry
+
+    from oceangnc import __version__
+
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
+    v.start()
+    try:
+        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
+        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
+        system = sdk.first_autopilot(10.0)
+        assert system is not None
+        tel, info = Telemetry(system), Info(system)
+        t_end = time.monotonic() + 10.0
+        while time.monotonic() < t_end and not tel.health().is_armable:
+            time.sleep(0.2)
+        assert tel.health().is_armable
+        bat = tel.battery()
+        assert 26.0 < bat.voltage_v < 27.3 and bat.remaining_percent > 99.0
+        ver = None
+        while time.monotonic() < t_end + 5.0:
+            try:
+                ver = info.get_version()
+                break
+            except Exception:  # noqa: BLE001 InfoError until AUTOPILOT_VERSION has arrived
+                time.sleep(0.2)
+        assert ver is not None
+        major, minor, patch = (int(x) for x in __version__.split("+")[0].split(".")[:3])
+        assert (ver.flight_sw_major, ver.flight_sw_minor, ver.flight_sw_patch) == (major, minor, patch)
     finally:
         v.stop()

@@ -77,8 +77,8 @@ def test_disarmed_at_start_then_arm_manual_stick_and_modes(vehicle):
     _mode(g, 4)
     g.pump(0.5, stick=(1000, 1000))
     assert v.sim.bus["usv.u_d"] == 0.0 and v.sim.bus["usv.r_d"] == 0.0
-    # a Rover mode this vehicle does not fly (LOITER 5) is denied and counted, the mode stays HOLD
-    g.mav.command_long_send(1, 1, M.MAV_CMD_DO_SET_MODE, 0, 1, 5, 0, 0, 0, 0, 0)
+    # a Rover mode this vehicle does not fly (STEERING 3) is denied and counted, the mode stays HOLD
+    g.mav.command_long_send(1, 1, M.MAV_CMD_DO_SET_MODE, 0, 1, 3, 0, 0, 0, 0, 0)
     assert g.ack(M.MAV_CMD_DO_SET_MODE).result == M.MAV_RESULT_DENIED
     assert g.wait("HEARTBEAT", 2.0).custom_mode == 4
     assert v.counts["rx_out_of_range"] >= 1

@@ -47,6 +47,12 @@ def register(subparsers) -> None:
         action="store_true",
         help="do not write telemetry.tlog (every packet sent, stamped with simulated time) in the run folder",
     )
+    p.add_argument(
+        "--params",
+        metavar="FILE",
+        help="start with these parameter values: a run's params.json, or a MAVProxy / Mission Planner "
+        ".param file (NAME VALUE per line); see docs/mavlink-and-logs.md",
+    )
     p.add_argument("--quiet", action="store_true", help="do not print the vehicle's events")
     p.set_defaults(func=_cmd)
 
@@ -79,6 +85,7 @@ def _cmd(args) -> int:
         duration=args.duration,
         verbose=not args.quiet,
         tlog=None if args.no_tlog else "telemetry.tlog",
+        params=args.params,
     )
     if not args.quiet:
         print(

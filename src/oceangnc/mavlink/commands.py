@@ -4,10 +4,26 @@ from __future__ import annotations
 
 import math
 
-from .protocol import AUTO, ROVER_MODES, ROVER_OTHER, STICK_MODES, mavlink, mode_name
+from .protocol import AUTO, NAV_MODES, ROVER_MODES, ROVER_OTHER, RTL, STICK_MODES, mavlink, mode_name
 
 M = mavlink
 INT16_MAX = 32767
+#: commands of the navigation modes (oceangnc.mavlink.nav)
+_NAV_COMMANDS = {
+    M.MAV_CMD_DO_REPOSITION,
+    M.MAV_CMD_DO_CHANGE_SPEED,
+    M.MAV_CMD_DO_SET_HOME,
+    M.MAV_CMD_NAV_RETURN_TO_LAUNCH,
+    M.MAV_CMD_NAV_LOITER_UNLIM,
+}
+_GLOBAL_FRAMES = (
+    M.MAV_FRAME_GLOBAL,
+    M.MAV_FRAME_GLOBAL_INT,
+    M.MAV_FRAME_GLOBAL_RELATIVE_ALT,
+    M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT,
+    M.MAV_FRAME_GLOBAL_TERRAIN_ALT,
+    M.MAV_FRAME_GLOBAL_TERRAIN_ALT_INT,
+)
 _GCS_TYPES = (M.MAV_TYPE_GCS,)
 #: messages that command the vehicle: their sender holds control (the GCS failsafe follows its link)
 _COMMANDING = {
@@ -19,6 +35,8 @@ _COMMANDING = {
     "MISSION_COUNT",
     "MISSION_CLEAR_ALL",
     "MISSION_SET_CURRENT",
+    "SET_POSITION_TARGET_GLOBAL_INT",
+    "PARAM_SET",
 }
 
 
@@ -73,12 +91,19 @@ class CommandsMixin:
             return
         if kind in ("RADIO_STATUS", "TIMESYNC", "SYSTEM_TIME", "REQUEST_DATA_STREAM", "MISSION_ACK", "GCS_HEARTBEAT"):
             self._link_alive(m)
-            if kind == "MISSION_ACK":
-                pass
+            if kind == "TIMESYNC":
+                self._on_timesync(m)
+            elif kind == "REQUEST_DATA_STREAM" and self._for_us(m):
+                self._on_request_data_stream(m)
+            return
+        if kind == "FILE_TRANSFER_PROTOCOL":
+            if m.target_system in (0, self.cfg_mav.system_id):
+                self._ftp_nak(m)
+            return
+        if self.has_uuv and getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id:
+            self._handle_uuv(m, kind)  # system 2 (oceangnc.mavlink.uuv)
             return
         if not self._for_us(m):
-            if getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id and kind == "COMMAND_LONG":
-                self._send(self.mav_uuv.command_ack_encode(m.command, M.MAV_RESULT_UNSUPPORTED))
             self.counts["rx_ignored"] += 1
             return
         if kind in _COMMANDING:
@@ -93,9 +118,11 @@ class CommandsMixin:
     def _ack(self, command: int, result: int) -> None:
         self._send(self.mav.command_ack_encode(command, result))
 
-    def _param_error(self, cmd: int, params, x=None, y=None) -> str | None:
-        """Why a command's parameters are refused (non-finite, or out of the command's range), or None."""
-        if not _finite(*params):
+    def _param_error(self, cmd: int, params, nan_ok=()) -> str | None:
+        """Why a command's parameters are refused (non-finite, or out of the command's range), or None.
+        ``nan_ok``: indices of ``params`` where NaN means "unchanged" (MAVLink's convention for the yaw and
+        the altitude of DO_REPOSITION / DO_SET_HOME, which QGroundControl sends)."""
+        if not _finite(*(v for i, v in enumerate(params) if not (i in nan_ok and math.isnan(v)))):
             return "a non-finite parameter"
         p1, p2 = params[0], params[1]
         n = len(self.mission)
@@ -109,13 +136,16 @@ class CommandsMixin:
             return f"mission items {p1}..{p2} of {n}"
         if cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT and not _whole(p1, 0, max(n - 1, 0)):
             return f"mission item {p1} of {n}"
-        if cmd == M.MAV_CMD_REQUEST_MESSAGE and not _whole(p1, 0, 65535):
+        if cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_SET_MESSAGE_INTERVAL, M.MAV_CMD_GET_MESSAGE_INTERVAL) and not (
+            _whole(p1, 0, 16777215)
+        ):
             return f"message id {p1}"
         return None
 
     def _on_command_long(self, m) -> None:
         cmd = m.command
-        why = self._param_error(cmd, (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7))
+        nan_ok = (2, 3, 6) if cmd in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) else ()
+        why = self._param_error(cmd, (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7), nan_ok)
         if why is not None:  # refused with an answer, and nothing changes
             self._oor(f"COMMAND_LONG {cmd}: {why}")
             self._ack(cmd, M.MAV_RESULT_DENIED)
@@ -133,11 +163,22 @@ class CommandsMixin:
             self._ack(cmd, self._set_mode(AUTO, "MISSION_START"))
         elif cmd == M.MAV_CMD_DO_SET_MISSION_CURRENT:
             self._ack(cmd, self._set_current(round(m.param1)))
+        elif cmd in _NAV_COMMANDS:
+            self._ack(cmd, self._nav_command(cmd, m.param1, m.param2, m.param5, m.param6))
         elif cmd in (M.MAV_CMD_REQUEST_MESSAGE, M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES, M.MAV_CMD_GET_HOME_POSITION):
             send = self._requested(cmd, m.param1)
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED if send is None else M.MAV_RESULT_ACCEPTED)
             if send is not None:
                 send()
+        elif cmd == M.MAV_CMD_SET_MESSAGE_INTERVAL:
+            self._ack(cmd, self._set_interval(round(m.param1), m.param2))
+        elif cmd == M.MAV_CMD_GET_MESSAGE_INTERVAL:
+            name = self._stream_name(round(m.param1))
+            self._ack(cmd, M.MAV_RESULT_ACCEPTED if name else M.MAV_RESULT_UNSUPPORTED)
+            if name:
+                hz = self.rates[name]
+                self._send(self.mav.message_interval_encode(round(m.param1), round(1e6 / hz) if hz > 0 else -1))
+
         else:
             self.counts["rx_ignored"] += 1
             self._ack(cmd, M.MAV_RESULT_UNSUPPORTED)
@@ -149,20 +190,135 @@ class CommandsMixin:
         if cmd == M.MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES or mid == M.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
             return self._send_autopilot_version
         if cmd == M.MAV_CMD_GET_HOME_POSITION or mid == M.MAVLINK_MSG_ID_HOME_POSITION:
-            return self._send_home
-        return None
+            return self._send_home if self.home is not None else None
+        one_shot = {
+            "SYS_STATUS": self._send_sys_status,
+            "BATTERY_STATUS": self._send_battery_status,
+            "MISSION_CURRENT": self._send_mission_current,
+        }
+        name = M.mavlink_map[mid].msgname if mid in M.mavlink_map else None
+        return one_shot.get(name)
+
+    # -- telemetry rates, time, file transfer ------------------------------------------------------------
+    def _stream_name(self, msgid: int) -> str | None:
+        cls = M.mavlink_map.get(msgid)
+        return cls.msgname if cls is not None and cls.msgname in self.rates else None
+
+    def _set_interval(self, msgid: int, interval_us: float) -> int:
+        """MAV_CMD_SET_MESSAGE_INTERVAL: param2 -1 stops the message, 0 restores its default rate, > 0 is the
+        interval in us (at most MAX_RATE_HZ); messages the vehicle does not stream are UNSUPPORTED."""
+        from .protocol import MAX_RATE_HZ, TELEMETRY
+
+        name = self._stream_name(msgid)
+        if name is None:
+            return M.MAV_RESULT_UNSUPPORTED
+        if interval_us == -1:
+            hz = 0.0
+        elif interval_us == 0:
+            hz = TELEMETRY[name][0]
+        elif interval_us > 0:
+            hz = min(MAX_RATE_HZ, 1e6 / interval_us)
+        else:
+            self._oor(f"SET_MESSAGE_INTERVAL {name} {interval_us} us")
+            return M.MAV_RESULT_DENIED
+        self.set_rate(name, hz)
+        return M.MAV_RESULT_ACCEPTED
+
+    def _on_request_data_stream(self, m) -> None:
+        """REQUEST_DATA_STREAM (ArduPilot's stream groups, :data:`oceangnc.mavlink.protocol.STREAMS`):
+        ``req_message_rate`` Hz for every message of the group (0 or start_stop 0 stops them)."""
+        from .protocol import STREAMS
+
+        ids = list(STREAMS) if m.req_stream_id == M.MAV_DATA_STREAM_ALL else [m.req_stream_id]
+        hz = float(m.req_message_rate) if m.start_stop else 0.0
+        for sid in ids:
+            for name in STREAMS.get(sid, ()):
+                self.set_rate(name, hz)
+
+    def _on_timesync(self, m) -> None:
+        """TIMESYNC request (tc1 = 0): answered with the vehicle's clock in tc1 and the request's ts1."""
+        if m.tc1 == 0:
+            self._send(self.mav.timesync_encode(int(self.clock() * 1e9), m.ts1))
+
+    def _ftp_nak(self, m) -> None:
+        """MAVFTP: no file system here. Every request gets a NAK (opcode 129) with error 10 "file not found" for
+        opening, listing and reading (so MAVProxy's and QGroundControl's parameter download falls back to
+        PARAM_REQUEST_LIST at once) and 1 "fail" otherwise, seq + 1, to the requester's system and component."""
+        import struct
+
+        p = bytes(m.payload)
+        if len(p) < 12:
+            self.counts["rx_bad"] += 1
+            return
+        seq, session, opcode = struct.unpack_from("<HBB", p, 0)
+        self.counts["ftp_naks"] += 1
+        file_ops = (3, 4, 5, 15)  # ListDirectory, OpenFileRO, ReadFile, BurstReadFile
+        err = 10 if opcode in file_ops else 1
+        hdr = struct.pack("<HBBBBBBI", (seq + 1) % 65536, session, 129, 1, opcode, 0, 0, 0)
+        payload = list(hdr + bytes([err])) + [0] * (251 - 13)
+        self._send(self.mav.file_transfer_protocol_encode(0, m.get_srcSystem(), m.get_srcComponent(), payload))
 
     def _on_command_int(self, m) -> None:
-        why = self._param_error(m.command, (m.param1, m.param2, m.param3, m.param4, m.z))
+        nan_ok = (2, 3, 4) if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) else ()
+        why = self._param_error(m.command, (m.param1, m.param2, m.param3, m.param4, m.z), nan_ok)
         if why is not None:
             self._oor(f"COMMAND_INT {m.command}: {why}")
             self._ack(m.command, M.MAV_RESULT_DENIED)
             return
         if m.command == M.MAV_CMD_DO_SET_MODE:
             self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
+        elif m.command in _NAV_COMMANDS:
+            if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) and m.frame not in _GLOBAL_FRAMES:
+                self._oor(f"COMMAND_INT {m.command}: frame {m.frame}")
+                self._ack(m.command, M.MAV_RESULT_DENIED)
+                return
+            self._ack(m.command, self._nav_command(m.command, m.param1, m.param2, m.x * 1e-7, m.y * 1e-7))
         else:
             self.counts["rx_ignored"] += 1
             self._ack(m.command, M.MAV_RESULT_UNSUPPORTED)
+
+    def _nav_command(self, cmd: int, p1: float, p2: float, lat: float, lon: float) -> int:
+        """DO_REPOSITION (go there in GUIDED, param1 speed m/s or -1), DO_CHANGE_SPEED (param2 m/s),
+        DO_SET_HOME (param1 1: here, else lat/lon), NAV_RETURN_TO_LAUNCH and NAV_LOITER_UNLIM (the modes)."""
+        if cmd == M.MAV_CMD_DO_REPOSITION:
+            # ArduPilot: outside GUIDED only with the CHANGE_MODE flag (QGroundControl and MAVSDK set it)
+            change = bool(int(p2) & M.MAV_DO_REPOSITION_FLAGS_CHANGE_MODE)
+            res = self._guided_goto(lat, lon, "DO_REPOSITION", change_mode=change)
+            if res == M.MAV_RESULT_ACCEPTED and p1 > 0:
+                self._do_change_speed(p1)
+            return res
+        if cmd == M.MAV_CMD_DO_CHANGE_SPEED:
+            return self._do_change_speed(p2)
+        if cmd == M.MAV_CMD_DO_SET_HOME:
+            return self._do_set_home(p1 == 1.0, lat, lon)
+        if cmd == M.MAV_CMD_NAV_RETURN_TO_LAUNCH:
+            return self._set_mode(RTL, "NAV_RETURN_TO_LAUNCH")
+        if cmd == M.MAV_CMD_NAV_LOITER_UNLIM:
+            from .protocol import LOITER
+
+            return self._set_mode(LOITER, "NAV_LOITER_UNLIM")
+        return M.MAV_RESULT_UNSUPPORTED
+
+    def _on_set_position_target_global_int(self, m) -> None:
+        """GUIDED only (ArduPilot: ignored in other modes, no answer): a position target (the type mask does
+        not ignore x/y) in a global frame is the GUIDED destination; velocity/acceleration-only targets are
+        not supported and counted as ignored."""
+        from .protocol import GUIDED
+
+        pos_ignored = m.type_mask & (M.POSITION_TARGET_TYPEMASK_X_IGNORE | M.POSITION_TARGET_TYPEMASK_Y_IGNORE)
+        if self.mode != GUIDED or pos_ignored or m.coordinate_frame not in _GLOBAL_FRAMES:
+            self.counts["rx_ignored"] += 1
+            return
+        lat, lon = m.lat_int * 1e-7, m.lon_int * 1e-7
+        target = self.guided_target
+        if target is not None:
+            from .geo import ned_to_latlon
+
+            c = self.cfg_mav
+            tl = ned_to_latlon(*target, c.origin_lat_deg, c.origin_lon_deg)
+            if abs(tl[0] - lat) < 2e-7 and abs(tl[1] - lon) < 2e-7 and self._leg is not None:
+                return  # the same target streamed again (offboard-style clients send it at a rate)
+        self._guided_goto(lat, lon, "SET_POSITION_TARGET", change_mode=False)
 
     def _on_set_mode(self, m) -> None:
         res = self._set_mode(int(m.custom_mode), "SET_MODE")
@@ -177,6 +333,7 @@ class CommandsMixin:
                 return M.MAV_RESULT_DENIED
             if not self.armed:
                 self.armed = True
+                self._on_armed()
                 self.event("Throttle armed")
         elif self.armed:
             self.armed = False
@@ -190,17 +347,18 @@ class CommandsMixin:
         if num in STICK_MODES and not self.reads_stick:
             self.event(f"{mode_name(num)} refused: {self.scenario.name} takes no stick", M.MAV_SEVERITY_WARNING)
             return M.MAV_RESULT_DENIED
+        if num in NAV_MODES and num != self.mode:
+            why = self._nav_refusal(num)
+            if why is not None:
+                self.event(f"{mode_name(num)} refused: {why}", M.MAV_SEVERITY_WARNING)
+                return M.MAV_RESULT_DENIED
         if num == AUTO and num != self.mode and self.route.available:
             start = self.mission_current if self.mission_current < len(self.mission) else 1
             if not self._nav_points(start)[0]:
                 self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
                 return M.MAV_RESULT_DENIED
         if num != self.mode:
-            self.mode = num
-            self.stick = (0.0, 0.0)
-            self.stick_flowing = False
-            if num in STICK_MODES:
-                self.t_gcs = max(self.t_gcs, self.clock())  # grace for the first stick message
+            self._switch_mode(num)
             if num == AUTO and self.route.available:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1
@@ -256,25 +414,3 @@ class CommandsMixin:
         """A stick message in a stick mode: the stream is flowing (its loss is the stick failsafe)."""
         self.t_stick = self.clock()
         self.stick_flowing = True
-
-    def _on_param_request_list(self, m) -> None:
-        params = self._params()
-        for i, (k, v) in enumerate(params.items()):
-            self._send(self.mav.param_value_encode(k.encode(), v, M.MAV_PARAM_TYPE_REAL32, len(params), i))
-
-    def _on_param_request_read(self, m) -> None:
-        params = self._params()
-        names = list(params)
-        pid = m.param_id.decode() if isinstance(m.param_id, bytes) else str(m.param_id)
-        idx = m.param_index if 0 <= m.param_index < len(names) else (names.index(pid) if pid in names else -1)
-        if idx >= 0:
-            k = names[idx]
-            self._send(self.mav.param_value_encode(k.encode(), params[k], M.MAV_PARAM_TYPE_REAL32, len(names), idx))
-
-    def _params(self) -> dict[str, float]:
-        return {
-            "FS_GCS_TIMEOUT": float(self.cfg_mav.gcs_timeout_s),
-            "FS_TIMEOUT": float(self.cfg_mav.stick_timeout_s),
-            "SYSID_THISMAV": float(self.cfg_mav.system_id),
-            "SIM_SPEEDUP": float(self.speed),
-        }

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import Literal
-
 from pydantic import Field
 
 from ..io.config import StrictModel
@@ -39,9 +37,39 @@ class MavlinkConfig(StrictModel):
         le=255,
         description="system id of the controlling ground station; default: the one that armed or last commanded",
     )
-    fs_action: Literal["hold"] = Field(
-        "hold", description="failsafe action (HOLD; RTL and SMART_RTL come with those modes)"
+    fs_gcs_enable: int = Field(
+        1,
+        ge=0,
+        le=2,
+        description="GCS failsafe (ArduPilot Rover FS_GCS_ENABLE): 0 off, 1 on in every mode while armed, "
+        "2 on but a mission in AUTO continues",
     )
+    fs_action: int = Field(
+        2,
+        ge=1,
+        le=4,
+        description="failsafe action (ArduPilot Rover FS_ACTION): 1 RTL, 2 HOLD, 3 SMART_RTL (else RTL), "
+        "4 SMART_RTL (else HOLD)",
+    )
+    loiter_radius_m: float = Field(
+        2.0, ge=0.5, le=100, description="LOITER (and arrival in GUIDED / RTL): drift this far before moving back, m"
+    )
+    smart_rtl_points: int = Field(
+        300, ge=10, le=10000, description="SMART_RTL: breadcrumbs kept of the path flown (ArduPilot SRTL_POINTS)"
+    )
+    smart_rtl_accuracy_m: float = Field(
+        2.0, gt=0, le=100, description="SMART_RTL: a breadcrumb every this many metres (ArduPilot SRTL_ACCURACY)"
+    )
+    battery_capacity_ah: float = Field(
+        100.0, gt=0, le=1e5, description="battery capacity (ArduPilot BATT_CAPACITY, there in mAh), Ah"
+    )
+    battery_cells: int = Field(8, ge=1, le=100, description="LiFePO4 cells in series (8: 25.6 V nominal)")
+    battery_r_int_ohm: float = Field(0.02, ge=0, le=10, description="battery internal resistance, ohm")
+    battery_soc0: float = Field(1.0, ge=0, le=1, description="state of charge at the start, 0..1")
+    thruster_power_w: float = Field(
+        1344.0, ge=0, le=1e6, description="electrical power of one thruster at full forward thrust, W"
+    )
+    hotel_power_w: float = Field(30.0, ge=0, le=1e5, description="electrical power of everything else, W")
     max_packets_per_loop: int = Field(
         500, ge=1, le=100000, description="datagrams read per loop pass (bounds the work a flood can cause)"
     )

@@ -7,6 +7,9 @@ import math
 
 import numpy as np
 
+#: simulated time after a new route before the pilot's ``guidance.wp_index`` is read (a pilot period or more)
+_FRESH_S = 0.1
+
 
 class RouteHook:
     """How a mission reaches the scenario's guidance (see the module docstring).
@@ -33,6 +36,7 @@ class RouteHook:
                     inner.stop_at_end = False  # a live vehicle holds after the mission, it does not stop
                     break
         self._base = 0
+        self._t_set = -math.inf
 
     @property
     def available(self) -> bool:
@@ -56,6 +60,7 @@ class RouteHook:
                 pts = ((pts[0][0] + 1e-6, pts[0][1]),) + pts[1:]
             send_route(self.sim, pts)
             self._base = 0
+            self._t_set = float(self.sim.t)
         elif self.kind == "pure_pursuit":
             b = self.block
             here = (float(bus.get(b.pos_keys[0], 0.0)), float(bus.get(b.pos_keys[1], 0.0)))
@@ -73,8 +78,8 @@ class RouteHook:
 
     def progress(self, bus) -> int:
         if self.kind == "console":
-            if "console.waypoints" not in bus:
-                return 0
+            if "console.waypoints" not in bus or self.sim.t < self._t_set + _FRESH_S:
+                return 0  # guidance.wp_index is the old route's until the pilot has run on the new one
             return int(bus.get("guidance.wp_index", 0.0))
         if self.kind == "pure_pursuit":
             return int(self.block.reached) - self._base

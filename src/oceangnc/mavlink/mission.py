@@ -94,6 +94,19 @@ class MissionMixin:
         self._send(self.mav.mission_request_int_encode(u["sys"], u["comp"], seq, 0))
 
     def _on_mission_item_int(self, m, scale: float = 1e-7) -> None:
+        if m.current == 2 and getattr(m, "mission_type", 0) == 0:  # a GUIDED destination, not a mission item
+            from .protocol import GUIDED
+
+            ok = (
+                self.mode == GUIDED
+                and m.command == M.MAV_CMD_NAV_WAYPOINT
+                and m.frame in (M.MAV_FRAME_GLOBAL, M.MAV_FRAME_GLOBAL_INT, M.MAV_FRAME_GLOBAL_RELATIVE_ALT,
+                                M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
+                and self._guided_goto(m.x * scale, m.y * scale, "MISSION_ITEM current=2", change_mode=False)
+                == M.MAV_RESULT_ACCEPTED
+            )  # fmt: skip
+            self._mission_ack(M.MAV_MISSION_ACCEPTED if ok else M.MAV_MISSION_ERROR)
+            return
         u = self._upload
         if u is None or getattr(m, "mission_type", 0) != 0:
             self.counts["rx_ignored"] += 1
@@ -234,6 +247,6 @@ class MissionMixin:
             self._send(self.mav.mission_current_encode(self.mission_current))
         if self._progress >= len(self._route_seqs):
             self._route_seqs = []
-            self.mode = HOLD
+            self._switch_mode(HOLD)
             self.mission_current = len(self.mission)  # past the end: AUTO restarts from item 1
             self.event("Mission complete, changing mode to Hold")

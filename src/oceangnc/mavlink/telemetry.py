@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 
+from .. import __version__
 from .geo import ned_to_latlon
-from .protocol import AUTO, STICK_MODES, TELEMETRY, mavlink
+from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
+from .uuv import SUB_GUIDED
 
 M = mavlink
 
@@ -14,20 +16,30 @@ class TelemetryMixin:
     """Heartbeats, position, attitude, HUD, status and servo outputs of the USV (and the UUV as its own system)."""
 
     def _due(self, name: str, now: float) -> bool:
-        if now >= self._next_tx[name]:
-            rate = TELEMETRY[name][0]
+        rate = self.rates[name]
+        if rate > 0 and now >= self._next_tx[name]:
             self._next_tx[name] = max(self._next_tx[name] + 1.0 / rate, now)
             return True
         return False
+
+    def set_rate(self, name: str, hz: float) -> None:
+        """Telemetry rate of message ``name`` (Hz; 0 stops it), for every ground station (SET_MESSAGE_INTERVAL,
+        REQUEST_DATA_STREAM); the next one is sent at once."""
+        self.rates[name] = max(0.0, min(MAX_RATE_HZ, float(hz)))
+        self._next_tx[name] = 0.0
 
     def _heartbeat(self, uuv: bool = False) -> None:
         base = M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
         if self.armed:
             base |= M.MAV_MODE_FLAG_SAFETY_ARMED
-        if self.mode in STICK_MODES:
+        if uuv:  # ArduSub's GUIDED: the UUV is guided by the tow (oceangnc.mavlink.uuv)
+            base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
+        elif self.mode in STICK_MODES:
             base |= M.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
         elif self.mode == AUTO:
             base |= M.MAV_MODE_FLAG_AUTO_ENABLED | M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
+        elif self.mode in NAV_MODES:
+            base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
         if self.estop:
             status = M.MAV_STATE_EMERGENCY
         elif self.failsafe:
@@ -37,7 +49,7 @@ class TelemetryMixin:
         typ = M.MAV_TYPE_SUBMARINE if uuv else M.MAV_TYPE_SURFACE_BOAT
         self._send(
             (self.mav_uuv if uuv else self.mav).heartbeat_encode(
-                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, self.mode, status
+                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, SUB_GUIDED if uuv else self.mode, status
             ),
             uuv=uuv,
         )
@@ -133,34 +145,7 @@ class TelemetryMixin:
             if uuv is not None:
                 self._heartbeat(uuv=True)
         if self._due("SYS_STATUS", now):
-            sensors = (
-                M.MAV_SYS_STATUS_SENSOR_GPS | M.MAV_SYS_STATUS_SENSOR_3D_GYRO | M.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
-            )
-            gps_ok = float(self.sim.bus.get("gps.valid", 1.0)) > 0.5
-            healthy = sensors if gps_ok else sensors & ~M.MAV_SYS_STATUS_SENSOR_GPS
-            n = max(1, self.counts["rx_packets"])
-            drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
-
-            def cap(v):
-                return min(65535, int(v))
-
-            self._send(
-                self.mav.sys_status_encode(
-                    sensors,
-                    sensors,
-                    healthy,
-                    0,
-                    0,
-                    -1,
-                    -1,
-                    drop,
-                    0,
-                    cap(self.counts["rx_bad"]),
-                    cap(self.counts["rx_unknown"]),
-                    cap(self.counts["rx_out_of_range"]),
-                    0,
-                )
-            )
+            self._send_sys_status()
         if self._due("GPS_RAW_INT", now):
             b = self.sim.bus
             gx, gy = float(b.get("gps.x", usv["x"])), float(b.get("gps.y", usv["y"]))
@@ -219,29 +204,180 @@ class TelemetryMixin:
                 )
             )
         if self._due("MISSION_CURRENT", now):
-            self._send(self.mav.mission_current_encode(min(self.mission_current, max(0, len(self.mission) - 1))))
+            self._send_mission_current()
+        if self._due("BATTERY_STATUS", now):
+            self._send_battery_status()
+        if self._due("HOME_POSITION", now) and self.home is not None:
+            self._send_home()
 
-    def _send_autopilot_version(self) -> None:
-        caps = (
-            M.MAV_PROTOCOL_CAPABILITY_MISSION_INT
-            | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
-            | M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+    def _send_mission_current(self) -> None:
+        """MISSION_CURRENT with ``total`` = items without home (MAVLink: seq == total on the last item, 65535
+        without a mission), ``mission_state`` and ``mission_mode`` (1 in AUTO, 2 suspended)."""
+        n = len(self.mission)
+        seq = min(self.mission_current, max(0, n - 1))
+        if n <= 1:
+            total, state = 65535, M.MISSION_STATE_NO_MISSION
+        else:
+            total = n - 1
+            if self.mode == AUTO:
+                state = M.MISSION_STATE_ACTIVE
+            elif self.mission_current >= n:  # past the end: flown to completion
+                state = M.MISSION_STATE_COMPLETE
+            elif self.reached:
+                state = M.MISSION_STATE_PAUSED
+            else:
+                state = M.MISSION_STATE_NOT_STARTED
+        self._send(self.mav.mission_current_encode(seq, total, state, 1 if self.mode == AUTO else 2))
+
+    def _sensor_bits(self) -> tuple[int, int, int]:
+        """SYS_STATUS (present, enabled, healthy): the sensors the simulation provides; the geofence is
+        healthy but not present (no fence: MAVProxy reports a breach when the health bit is missing); the
+        pre-arm check is healthy while arming would be accepted (what MAVSDK reads as "armable")."""
+        S = M
+        present = (
+            S.MAV_SYS_STATUS_SENSOR_GPS
+            | S.MAV_SYS_STATUS_SENSOR_3D_GYRO
+            | S.MAV_SYS_STATUS_SENSOR_3D_ACCEL
+            | S.MAV_SYS_STATUS_SENSOR_3D_MAG
+            | S.MAV_SYS_STATUS_AHRS
+            | S.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS
+            | S.MAV_SYS_STATUS_SENSOR_BATTERY
+            | S.MAV_SYS_STATUS_PREARM_CHECK
         )
-        self._send(self.mav.autopilot_version_encode(caps, 0, 0, 0, 0, [0] * 8, [0] * 8, [0] * 8, 0, 0, 0))
+        healthy = present | S.MAV_SYS_STATUS_GEOFENCE
+        if float(self.sim.bus.get("gps.valid", 1.0)) <= 0.5:
+            healthy &= ~S.MAV_SYS_STATUS_SENSOR_GPS
+        if self.battery.soc < 0.1:
+            healthy &= ~S.MAV_SYS_STATUS_SENSOR_BATTERY
+        if self.estop or self.ended:
+            healthy &= ~S.MAV_SYS_STATUS_PREARM_CHECK
+        return present, present, healthy
 
-    def _send_home(self) -> None:
-        c = self.cfg_mav
+    def _send_sys_status(self) -> None:
+        present, enabled, healthy = self._sensor_bits()
+        n = max(1, self.counts["rx_packets"])
+        drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
+
+        def cap(v):
+            return min(65535, int(v))
+
+        b = self.battery
         self._send(
-            self.mav.home_position_encode(
-                round(c.origin_lat_deg * 1e7),
-                round(c.origin_lon_deg * 1e7),
+            self.mav.sys_status_encode(
+                present,
+                enabled,
+                healthy,
+                0,
+                min(65535, round(b.voltage * 1000)),
+                min(32767, round(b.current * 100)),
+                round(100 * b.soc),
+                drop,
+                0,
+                cap(self.counts["rx_bad"]),
+                cap(self.counts["rx_unknown"]),
+                cap(self.counts["rx_out_of_range"]),
+                0,
+            )
+        )
+
+    def _send_battery_status(self) -> None:
+        b = self.battery
+        cells = [min(65534, round(b.cell_voltage() * 1000))] * min(b.cells, 10) + [65535] * max(0, 10 - b.cells)
+        remaining_s = 0
+        if b.current > 0.01:
+            remaining_s = min(2**31 - 1, round(3600.0 * b.soc * b.capacity_ah / b.current))
+        self._send(
+            self.mav.battery_status_encode(
+                0,
+                M.MAV_BATTERY_FUNCTION_ALL,
+                M.MAV_BATTERY_TYPE_LIFE,
+                32767,  # temperature unknown
+                cells,
+                min(32767, round(b.current * 100)),
+                min(2**31 - 1, round(b.charge_ah * 1000)),
+                min(2**31 - 1, round(b.energy_j / 100)),  # hJ
+                round(100 * b.soc),
+                remaining_s,
+                _charge_state(b.soc),
+            )
+        )
+
+    def _send_autopilot_version(self, uuv: bool = False) -> None:
+        """AUTOPILOT_VERSION: the package version as ArduPilot encodes it, the capabilities the vehicle has
+        (system 2, the towed UUV: parameters and the message protocols only)."""
+        sw, custom = flight_sw_version(__version__)
+        if uuv:
+            caps = (
+                M.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
+                | M.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+                | M.MAV_PROTOCOL_CAPABILITY_MISSION_INT
+                | M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+                | M.MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION
+                | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            )
+            uid = self.cfg_mav.uuv_system_id
+            msg = self.mav_uuv.autopilot_version_encode(caps, sw, 0, 0, 0, custom, [0] * 8, [0] * 8, 0, 0, uid)
+            self._send(msg, uuv=True)
+            return
+        caps = (
+            M.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT
+            | M.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
+            | M.MAV_PROTOCOL_CAPABILITY_MISSION_INT
+            | M.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+            | M.MAV_PROTOCOL_CAPABILITY_SET_POSITION_TARGET_GLOBAL_INT
+            | M.MAV_PROTOCOL_CAPABILITY_FLIGHT_TERMINATION
+            | M.MAV_PROTOCOL_CAPABILITY_MAVLINK2
+            | M.MAV_PROTOCOL_CAPABILITY_PARAM_ENCODE_C_CAST
+        )
+        uid = self.cfg_mav.system_id
+        self._send(self.mav.autopilot_version_encode(caps, sw, 0, 0, 0, custom, [0] * 8, [0] * 8, 0, 0, uid))
+
+    def _send_home(self, uuv: bool = False) -> None:
+        c = self.cfg_mav
+        lat, lon = self._home_latlon()
+        n, e = self.home if self.home is not None else (0.0, 0.0)
+        self._send(
+            (self.mav_uuv if uuv else self.mav).home_position_encode(
+                round(lat * 1e7),
+                round(lon * 1e7),
                 round(c.origin_alt_m * 1000),
-                0.0,
-                0.0,
+                float(n),
+                float(e),
                 0.0,
                 [1, 0, 0, 0],
                 0.0,
                 0.0,
                 0.0,
-            )
+            ),
+            uuv=uuv,
         )
+
+
+def flight_sw_version(version: str) -> tuple[int, list[int]]:
+    """ArduPilot's ``flight_sw_version`` for a package version: major << 24 | minor << 16 | patch << 8 | type,
+    type (FIRMWARE_VERSION_TYPE) 255 official, 192 release candidate, 128 beta, 64 alpha, 0 development;
+    and ``flight_custom_version``: the first 8 characters of a git hash in the version (``+g<hash>``), else 0."""
+    import re
+
+    m = re.match(r"(\d+)(?:\.(\d+))?(?:\.(\d+))?(.*)", version.strip())
+    if m is None:
+        return 0, [0] * 8
+    major, minor, patch = (min(255, int(x or 0)) for x in m.group(1, 2, 3))
+    rest = m.group(4).lower()
+    kind = M.FIRMWARE_VERSION_TYPE_OFFICIAL
+    for tag, t in (("dev", M.FIRMWARE_VERSION_TYPE_DEV), ("rc", M.FIRMWARE_VERSION_TYPE_RC),
+                   ("b", M.FIRMWARE_VERSION_TYPE_BETA), ("a", M.FIRMWARE_VERSION_TYPE_ALPHA)):  # fmt: skip
+        if re.match(rf"[.\-_]?{tag}\d*", rest.split("+")[0]):
+            kind = t
+            break
+    g = re.search(r"\+g([0-9a-f]{4,})", rest)
+    custom = [ord(c) for c in (g.group(1)[:8] if g else "")] + [0] * 8
+    return (major << 24) | (minor << 16) | (patch << 8) | kind, custom[:8]
+
+
+def _charge_state(soc: float) -> int:
+    if soc >= 0.2:
+        return M.MAV_BATTERY_CHARGE_STATE_OK
+    if soc >= 0.1:
+        return M.MAV_BATTERY_CHARGE_STATE_LOW
+    return M.MAV_BATTERY_CHARGE_STATE_CRITICAL if soc > 0 else M.MAV_BATTERY_CHARGE_STATE_EMPTY

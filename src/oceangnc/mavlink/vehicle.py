@@ -5,24 +5,25 @@ One loop (default 100 Hz, run in a thread by :meth:`MavlinkVehicle.start` or in 
 
 1. read every UDP datagram waiting (at most ``mavlink.max_packets_per_loop``), parse it with a fresh
    MAVLink 2 parser state (a malformed datagram cannot corrupt the next one), and handle each message
-   (commands, modes, sticks, mission protocol); malformed datagrams, unknown message ids and
-   out-of-range values are counted (``mavlink.rx_bad``, ``mavlink.rx_unknown``,
-   ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
-2. run the failsafes: in a stick mode (MANUAL, ACRO) no message from the *controlling* ground station
-   for ``mavlink.gcs_timeout_s`` (5 s, ArduPilot's FS_GCS_TIMEOUT), or a stick stream that was flowing
-   stopped for ``mavlink.stick_timeout_s`` (1.5 s, ArduPilot Rover's FS_TIMEOUT), switches to HOLD (the stick is zeroed); other
-   systems' heartbeats do not count;
+   (commands, modes, sticks, mission and parameter protocols, rates; system 2's in :mod:`.uuv`);
+   malformed datagrams, unknown message ids and out-of-range values are counted (``mavlink.rx_bad``,
+   ``mavlink.rx_unknown``, ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
+2. run ArduPilot Rover's failsafes (:meth:`MavlinkVehicle._watchdog`): the *controlling* ground station
+   silent for FS_GCS_TIMEOUT (5 s) in a stick mode, or in any mode but HOLD / RTL / SMART_RTL while armed
+   once it has been heard, or a stick stream that was flowing stopped for FS_TIMEOUT (1.5 s), runs
+   FS_ACTION (HOLD, RTL or SMART_RTL, :mod:`.nav`); other systems' heartbeats do not count;
 3. write the vehicle's state onto the simulation bus with ``sim.inject`` (the console's keys, see
-   :mod:`oceangnc.console.session`): ``console.mode`` ("remote" in MANUAL / ACRO / HOLD, "auto" in AUTO),
-   ``console.loop`` ("open" in MANUAL, "closed" otherwise), ``joystick.surge`` / ``joystick.yaw``
-   (the stick in MANUAL / ACRO, zero in HOLD), ``_estop`` (true while disarmed or e-stopped: the
-   thruster blocks output zero), and the logged ``mavlink.*`` / ``console.failsafe`` / ``console.estop``;
-   when ``_estop`` rises the blocks are fired once at that instant (as the console does) so thrust is
-   zero from the next integration step;
+   :mod:`oceangnc.console.session`): ``console.mode`` ("auto" while a route is flown: AUTO, or a leg of
+   GUIDED / RTL / SMART_RTL / LOITER; "remote" otherwise), ``console.loop`` ("open" in MANUAL, "closed"
+   otherwise), ``joystick.surge`` / ``joystick.yaw`` (the stick in MANUAL / ACRO, zero otherwise),
+   ``_estop`` (true while disarmed or e-stopped: the thruster blocks output zero), and the logged
+   ``mavlink.*`` (battery included) / ``console.failsafe`` / ``console.estop``; when ``_estop`` rises the
+   blocks are fired once at that instant (as the console does) so thrust is zero from the next step;
 4. advance the simulation by whole clock ticks to ``t_sim(anchor) + speed (t_wall - t_wall(anchor))``
    (the console's pacing, re-anchored when it falls more than 0.5 s behind);
-5. follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and send the
-   telemetry that is due (:data:`oceangnc.mavlink.protocol.TELEMETRY`).
+5. follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and the navigation modes'
+   legs (:mod:`.nav`), draw the battery (:mod:`.battery`), and send the telemetry that is due
+   (:data:`oceangnc.mavlink.protocol.TELEMETRY`, at the rates ground stations set).
 
 The mission feeds the scenario's own guidance through :class:`RouteHook`: a scenario that reads
 ``console.waypoints`` (``console_route_edit = True``, e.g. ``usv-remote``) gets the route on that
@@ -38,7 +39,8 @@ reached in passing).
 Safety: the vehicle starts disarmed (thrust zero); arming is refused while the e-stop is latched;
 MAV_CMD_DO_FLIGHTTERMINATION param1 = 1 is the e-stop (disarm, thrust zero, latched until a
 MAV_CMD_DO_FLIGHTTERMINATION with param1 = 0). The run's Parquet log is written to
-``<out_root>/mavlink-<scenario>-<time>/log.parquet`` with ``config.toml`` and ``summary.json``.
+``<out_root>/mavlink-<scenario>-<time>/log.parquet`` with ``config.toml``, ``params.json`` (the parameters,
+:mod:`.params`, rewritten on every change) and ``summary.json``.
 """
 
 from __future__ import annotations
@@ -56,6 +58,7 @@ import numpy as np
 
 from ..errors import DivergenceError, InputError
 from ..io.logs import LogWriter
+from .battery import Battery, thruster_power
 from .commands import INT16_MAX, CommandsMixin
 from .config import MavlinkConfig
 from .link import LinkMixin, _Sender, parse_endpoint
@@ -63,8 +66,11 @@ from .live import RouteHook, builds_live, live_scenarios, reads_stick
 from .live import gate_pilots as _gate_pilots
 from .live import warm_up as _warm_up
 from .mission import MissionMixin
-from .protocol import AUTO, HOLD, MANUAL, STICK_MODES, TELEMETRY, mavlink, mode_name
+from .nav import NavMixin
+from .params import ParamsMixin, build_params, read_param_file
+from .protocol import AUTO, HOLD, MANUAL, RTL, SMART_RTL, STICK_MODES, TELEMETRY, mavlink, mode_name
 from .telemetry import TelemetryMixin
+from .uuv import UUVMixin, build_uuv_params
 
 __all__ = [
     "INT16_MAX",
@@ -79,7 +85,7 @@ __all__ = [
 M = mavlink
 
 
-class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
+class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin, UUVMixin):
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
     Parameters
@@ -101,6 +107,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         Folder for the run's log (None: no log).
     duration : float or None
         End the run after this much simulated time (None: until stopped).
+    params : dict, path or None
+        Parameter values to start with (``{NAME: value}``, or a ``params.json`` / ``.param`` file; see
+        :mod:`oceangnc.mavlink.params`); an unknown name or a refused value is an InputError.
     """
 
     def __init__(
@@ -119,6 +128,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         verbose: bool = False,
         tlog: str | Path | None = None,
         tlog_epoch: float = 1.7e9,
+        params: dict | str | Path | None = None,
     ):
         from ..api import new_run_dir, resolve_config
         from ..io.config import dump_toml, validate
@@ -133,6 +143,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self.clock = clock
         self.verbose = verbose
         host, port = parse_endpoint(listen)  # cheap checks first
+        start_params = params if isinstance(params, dict) or params is None else read_param_file(params)
         fixed = [parse_endpoint(g) for g in (gcs or [])]
         sc, cfg = resolve_config(scenario or "usv-remote", overrides=overrides)
         if not builds_live(sc):
@@ -161,6 +172,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             "rx_unknown": 0,
             "rx_out_of_range": 0,
             "rx_ignored": 0,
+            "ftp_naks": 0,
             "tx_packets": 0,
             "tx_errors": 0,
         }
@@ -175,6 +187,15 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self._progress = 0
         self._upload: dict | None = None
         self._set_initial_mission()
+        self._nav_init()
+        c = self.cfg_mav
+        self.battery = Battery(c.battery_capacity_ah, c.battery_cells, c.battery_r_int_ohm, c.battery_soc0)
+        self._batt_t = 0.0
+        self._batt_warned = 1.0
+        self.params = build_params(self)
+        self.uuv_params = build_uuv_params(self) if self.has_uuv else {}
+        self.run_dir = None
+        self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
         # -- network
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
@@ -196,6 +217,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
         self._parser = M.MAVLink(None)
         self._parser.robust_parsing = True
         self._next_tx = {k: 0.0 for k in TELEMETRY}
+        self.rates = {k: float(v[0]) for k, v in TELEMETRY.items()}
         # -- log
         self.run_dir = None
         self.writer = None
@@ -203,6 +225,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             self.run_dir = new_run_dir(out_root, f"mavlink-{sc.name}")
             self.run_dir.mkdir(parents=True, exist_ok=True)
             dump_toml(cfg, self.run_dir / "config.toml")
+            self.save_params()
             self.writer = LogWriter(self.run_dir / "log.parquet")
         if self._tlog_name is not None:
             tp = Path(self._tlog_name)
@@ -224,6 +247,33 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD"
         )
 
+    def _battery_step(self) -> None:
+        """Draw the thrusters' and the hotel load's power from the battery since the last pass
+        (:mod:`oceangnc.mavlink.battery`)."""
+        dt = float(self.sim.t) - self._batt_t
+        self._batt_t = float(self.sim.t)
+        c = self.cfg_mav
+        b = self.sim.bus
+        usv = getattr(self.cfg, "usv", None)
+        t_max = getattr(usv, "max_thrust_kgf", 0.0) * 9.80665
+        thrusts = [b[k] for k in ("usv.thrust_port", "usv.thrust_stbd") if k in b]
+        self.battery.step(thruster_power(thrusts, t_max, c.thruster_power_w) + c.hotel_power_w, dt)
+        soc = self.battery.soc
+        for level, text, sev in ((0.2, "Battery low", M.MAV_SEVERITY_WARNING),
+                                 (0.0, "Battery empty", M.MAV_SEVERITY_CRITICAL)):  # fmt: skip
+            if soc <= level < self._batt_warned:
+                self._batt_warned = level
+                self.event(f"{text}: {100 * soc:.0f} %, {self.battery.voltage:.1f} V", sev)
+
+    def _set_battery_capacity(self, mah: float) -> None:
+        self.cfg_mav.battery_capacity_ah = float(mah) / 1000.0
+        self.battery.capacity_ah = self.cfg_mav.battery_capacity_ah
+
+    def _set_speedup(self, speed: float) -> None:
+        """SIM_SPEEDUP: simulated seconds per wall second from now on (the pacing is re-anchored)."""
+        self.speed = float(speed)
+        self._anchor = (self.clock(), self.sim.t)
+
     # -- events ------------------------------------------------------------------------------------------
     def event(self, text: str, severity: int = M.MAV_SEVERITY_INFO) -> None:
         self.events.append((float(self.sim.t), text))
@@ -234,30 +284,43 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
 
     # -- failsafe, bus, pacing ---------------------------------------------------------------------------
     def _watchdog(self, now: float) -> None:
-        """ArduPilot's two failsafes in the stick modes: the controlling ground station silent for
-        ``gcs_timeout_s`` (FS_GCS_TIMEOUT, 5 s), or a stick stream that was flowing stopped for
-        ``stick_timeout_s`` (1.5 s); either switches to HOLD with the stick zeroed."""
-        if self.mode not in STICK_MODES or self.failsafe:
+        """ArduPilot Rover's failsafes (see :mod:`oceangnc.mavlink.nav` for the actions):
+
+        * GCS (FS_GCS_ENABLE, on by default): the *controlling* ground station silent for ``gcs_timeout_s``
+          (FS_GCS_TIMEOUT, 5 s) in a stick mode, or in any other mode but HOLD / RTL / SMART_RTL while armed
+          once that ground station has been heard; FS_GCS_ENABLE = 2 lets a mission in AUTO continue;
+        * stick (FS_TIMEOUT, 1.5 s): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream that was flowing in a
+          stick mode stops (a ground station without a joystick never starts one, so MANUAL with 1 Hz
+          heartbeats stays MANUAL);
+
+        either runs FS_ACTION (HOLD by default; RTL, SMART_RTL) once, until the link is back."""
+        if self.failsafe:
             return
         c = self.cfg_mav
-        if now - self.t_gcs > c.gcs_timeout_s:
+        silent = now - self.t_gcs > c.gcs_timeout_s
+        watched = self.mode in STICK_MODES or (self.armed and math.isfinite(self.t_gcs))
+        if c.fs_gcs_enable and silent and watched and self.mode not in (HOLD, RTL, SMART_RTL):
             why = "GCS link lost"
-        elif self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
+        elif self.mode in STICK_MODES and self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
             why = "stick stream lost"
         else:
             return
         self.failsafe = True
-        self.mode = HOLD
         self.stick = (0.0, 0.0)
         self.stick_flowing = False
-        self.event(f"Failsafe: {why}, HOLD", M.MAV_SEVERITY_CRITICAL)
+        if why == "GCS link lost" and self.mode == AUTO and c.fs_gcs_enable == 2:
+            self.event("Failsafe: GCS link lost, continuing AUTO", M.MAV_SEVERITY_CRITICAL)
+            return
+        self._failsafe_action(why)
 
     def _push_bus(self) -> None:
-        # thrust zero while disarmed or e-stopped, and in HOLD when the scenario cannot take a zero stick
-        stop = (not self.armed) or self.estop or (self.mode == HOLD and not self.reads_stick)
+        # thrust zero while disarmed or e-stopped, and when holding (HOLD, a loiter inside its radius) if the
+        # scenario cannot take a zero stick
+        driving = self.mode in STICK_MODES or self.route_active()
+        stop = (not self.armed) or self.estop or (not driving and not self.reads_stick)
         stick = self.stick if self.mode in STICK_MODES else (0.0, 0.0)
         vals = {
-            "console.mode": "auto" if self.mode == AUTO else "remote",
+            "console.mode": "auto" if self.route_active() else "remote",
             "console.loop": "open" if self.mode == MANUAL else "closed",
             "joystick.surge": float(stick[0]),
             "joystick.yaw": float(stick[1]),
@@ -267,6 +330,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             "mavlink.armed": float(self.armed),
             "mavlink.mode": float(self.mode),
             "mavlink.mission_current": float(self.mission_current),
+            "mavlink.batt_v": float(self.battery.voltage),
+            "mavlink.batt_a": float(self.battery.current),
+            "mavlink.batt_soc": float(self.battery.soc),
         }
         vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if not k.startswith("tx_")})
         self.sim.inject(vals)
@@ -307,6 +373,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
                 if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
                     self._end(f"duration {self.duration:g} s reached")
             self._follow_mission()
+            self._nav_step()
+            self._battery_step()
             try:
                 self._telemetry(now)
             except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
@@ -358,6 +426,20 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
             self._thread = None
         self.close()
 
+    def _battery_summary(self) -> dict:
+        b = self.battery
+        t = float(self.sim.t)
+        mean_w = b.energy_j / t if t > 0 else 0.0
+        usable_j = self.cfg_mav.battery_soc0 * b.capacity_ah * 3600.0 * b.cells * 3.2  # at 3.2 V a cell
+        return {
+            "soc_end": b.soc,
+            "voltage_end_v": b.voltage,
+            "energy_wh": b.energy_j / 3600.0,
+            "charge_ah": b.charge_ah,
+            "mean_power_w": mean_w,
+            "endurance_h_at_mean_power": usable_j / mean_w / 3600.0 if mean_w > 0 else None,
+        }
+
     def close(self) -> None:
         """Close the socket and the log (writes summary.json); safe to call twice."""
         with self._lock:
@@ -378,6 +460,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, MissionMixin, TelemetryMixin):
                 "armed_at_end": self.armed,
                 "mode_at_end": mode_name(self.mode),
                 "waypoints_reached": list(self.reached),
+                "battery": self._battery_summary(),
+                "params": self.param_values(),
                 **{f"mavlink.{k}": v for k, v in self.counts.items()},
                 "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]],
             }
