@@ -281,10 +281,17 @@ def test_checkpoint_is_an_npz_of_arrays_and_json_with_a_checksum(tmp_path, capsy
     assert rc == 2 and "unreadable" in err and err.count("\n") == 1
 
 
+def _plain_block(sim):
+    """A block of ``sim`` written in plain Python (its state: its attributes), not a one-law block."""
+    from oceangnc.core.law import LawBlock
+
+    return next(b for b in sim.blocks if not isinstance(b, LawBlock))
+
+
 def test_a_block_state_that_cannot_be_stored_is_refused_at_capture_naming_block_and_attribute():
     sc, cfg = api.resolve_config("usv-turn")
     sim = sc.build(cfg, np.random.default_rng(0))
-    b = sim.blocks[0]  # the current: a block whose state is its attributes
+    b = _plain_block(sim)  # a block whose state is its attributes
     b.guard = {"lock": threading.Lock()}
     with pytest.raises(ConfigError) as ei:
         ckpt.capture(sim)
@@ -315,7 +322,7 @@ def test_state_tree_round_trips_every_allowed_kind():
 
     def build():
         sim = sc.build(cfg, np.random.default_rng(0))
-        b = sim.blocks[0]
+        b = _plain_block(sim)
         b.extra = _Holder()
         b.mode = Mode.A
         return sim, b
@@ -347,12 +354,12 @@ def test_state_tree_round_trips_every_allowed_kind():
 def test_a_checkpoint_naming_a_class_the_simulation_does_not_hold_is_refused(tmp_path):
     sc, cfg = api.resolve_config("usv-turn")
     sim = sc.build(cfg, np.random.default_rng(0))
-    sim.blocks[0].extra = _Holder()
+    _plain_block(sim).extra = _Holder()
     blob = ckpt.capture(sim)
     sim2 = sc.build(cfg, np.random.default_rng(0))  # no _Holder here: nothing is created from a name
     with pytest.raises(InputError) as ei:
         ckpt.restore(sim2, blob)
-    assert "checkpoint does not match this simulation (block 'current' attribute .extra: no " in str(ei.value)
+    assert "checkpoint does not match this simulation (block 'command' attribute .extra: no " in str(ei.value)
     assert "_Holder here" in str(ei.value)
 
 

@@ -110,9 +110,9 @@ def test_registry_names_every_plant():
 
     from oceangnc.core.model import model_names
 
-    names = ("first-order", "ship", "submarine-vertical", "usv", "uuv")
-    assert tuple(model_names()) == names  # one registry: the oceangnc.models entry points
+    names = ("bluerov2-heavy", "first-order", "otter", "ship", "submarine-vertical", "usv", "uuv", "uuv-003")
+    assert tuple(model_names()) == names  # one registry: the oceangnc.models entry points (vehicle files too)
     for name in names:
         assert get_model(name).name in (name, "first-order")
-    with pytest.raises(InputError, match="known models: first-order, ship, submarine-vertical, usv, uuv"):
+    with pytest.raises(InputError, match="known models: bluerov2-heavy, first-order, otter, ship, submarine-vertical"):
         get_model("tanker")
