@@ -232,8 +232,8 @@ def ardupilot_vehicle(firmware: str | None, params: dict, where: str) -> dict:
         kind = {1: "ground rover", 2: "boat", 3: "ground rover"}.get(fc) if fc is not None else None
         if kind is None:
             return {**vehicle(None, src), "type": "rover (boat or ground: FRAME_CLASS not logged)"}
-    elif name == "ArduCopter" and fc in (6, 11, 13):
-        kind = "helicopter"
+    elif name == "ArduCopter" and (fc in (6, 11, 13) or "heli" in firmware.lower()):
+        kind = "helicopter"  # the traditional-helicopter build says "Heli" in its firmware string
     return vehicle(kind, src)
 
 
