@@ -327,11 +327,12 @@ def as_pre_iron_bag(path: Path, distro: str = "humble") -> None:
 # -- MAVLink telemetry log (.tlog) -------------------------------------------------------------------------
 
 
-def write_tlog(path, df, lat0, lon0, mav_type, params=None, tmax_n=1.0, trev_n=1.0):
+def write_tlog(path, df, lat0, lon0, mav_type, params=None, tmax_n=1.0, trev_n=1.0, no_fix_s=None):
     """A telemetry log as a ground station records it, with pymavlink's own encoder and log file: records of an
     8-byte big-endian time (us) and one MAVLink 2 frame. System 1 sends HEARTBEAT (``mav_type``) at 1 Hz,
     PARAM_VALUE for each of ``params`` once, then GLOBAL_POSITION_INT, ATTITUDE and SERVO_OUTPUT_RAW (port
-    thrust on output 1, starboard on 3) at 10 Hz."""
+    thrust on output 1, starboard on 3) at 10 Hz; with ``no_fix_s`` also GPS_RAW_INT at 1 Hz, without a fix
+    (fix_type 1) and the estimate 300 m off before that time."""
     from pymavlink import mavutil
     from pymavlink.dialects.v20 import ardupilotmega as mav2
 
@@ -352,7 +353,15 @@ def write_tlog(path, df, lat0, lon0, mav_type, params=None, tmax_n=1.0, trev_n=1
         ms = round(t[i] * 1000) + 1000
         if i % 10 == 0:
             rec(ms / 1000, enc.heartbeat_encode(mav_type, mav2.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0, 0))
-        lat, lon = ned_to_latlon(df["usv.x"].iat[i], df["usv.y"].iat[i], lat0, lon0)
+        fix = no_fix_s is None or t[i] >= no_fix_s
+        lat, lon = ned_to_latlon(df["usv.x"].iat[i] + (0.0 if fix else 300.0), df["usv.y"].iat[i], lat0, lon0)
+        if no_fix_s is not None and i % 10 == 0:
+            rec(
+                ms / 1000,
+                enc.gps_raw_int_encode(
+                    ms * 1000, 3 if fix else 1, round(lat * 1e7), round(lon * 1e7), 0, 100, 100, 0, 0, 10
+                ),
+            )
         c, sn = math.cos(psi[i]), math.sin(psi[i])
         vn = df["usv.u"].iat[i] * c - df["usv.v"].iat[i] * sn
         ve = df["usv.u"].iat[i] * sn + df["usv.v"].iat[i] * c

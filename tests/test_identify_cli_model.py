@@ -403,6 +403,8 @@ def test_estimate_at_its_bound_exits_2_naming_the_check(tmp_path, capsys):
     (z,) = rep["zigzag"]
     assert z["T"] == pytest.approx(1e-3, rel=0.02) and "bound" in z["checks"]["failed"]
     assert rep["failed_checks"][0]["check"] == "bound" and rep["failed_checks"][0]["skipped"]
+    notes = tomllib.loads((tmp_path / "o2" / "identified.toml").read_text())["model"]["notes"]
+    assert any(n.startswith("accepted by --skip-check: trial 0 (zigzag) bound: T = 0.001") for n in notes), notes
 
 
 def test_step_without_lag_is_below_the_sample_interval(tmp_path, capsys):

@@ -388,6 +388,13 @@ def test_tlog_boat_with_servo_parameters(truth, tmp_path):
     assert res.report["vehicle"]["type"] == "boat" and res.report["servo_map"] == {"act.left": 1, "act.right": 3}
     assert any("from the log's parameters" in n for n in res.report["notes"])
     _compare(res, df, t_shift=1.0, pos_tol=0.02)
+    # GPS_RAW_INT without a 3D fix for the first 4 s: the estimate's positions of that time are dropped
+    q = tmp_path / "nofix.tlog"
+    write_tlog(q, df, LAT0, LON0, mav_type=11, tmax_n=tmax, trev_n=trev, no_fix_s=4.0)
+    res = import_log(q, rate=10.0, origin=(LAT0, LON0))
+    assert any("samples while GPS_RAW_INT had no 3D fix (fix_type < 3) dropped" in n for n in res.report["notes"])
+    assert res.df["t"].iloc[0] + res.report["t0_source_s"] - 1.0 >= 4.0 - 1e-6
+    _compare(res, df, t_shift=1.0, pos_tol=0.02)
 
 
 # -- trims and plausibility (issue 28) ----------------------------------------------------------------------
@@ -514,3 +521,46 @@ def test_navsatfix_without_a_fix_is_dropped(truth, tmp_path):
     t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - 100.0
     assert t_truth[0] == pytest.approx(df["t"].iat[40], abs=1e-6)
     assert np.max(np.abs(res.df["usv.x"] - np.interp(t_truth, df["t"], df["usv.x"]))) < 0.05
+
+
+def test_px4_vehicle_status_and_gps_fix(truth, tmp_path, capsys):
+    """PX4 without a MAV_TYPE parameter: vehicle_status.vehicle_type (2 fixed wing) names the vehicle (and
+    boat identification refuses it), SYS_AUTOSTART 60001 a submarine; vehicle_gps_position samples with
+    fix_type < 3 are dropped and counted."""
+    import log_writers
+
+    df, _, _ = truth
+    part = df.iloc[:400]
+
+    def ulog(path, vehicle_type=None, params=None):
+        w = log_writers.ULogWriter(path)
+        for k, v in (params or {}).items():
+            w.param(k, v)
+        w.topic("vehicle_gps_position", [("int32_t", "lat"), ("int32_t", "lon"), ("uint8_t", "fix_type")])
+        w.topic("vehicle_attitude", [("float[4]", "q")])
+        if vehicle_type is not None:
+            w.topic("vehicle_status", [("uint8_t", "vehicle_type"), ("bool", "is_vtol")])
+        for i in range(len(part)):
+            us = round(part["t"].iat[i] * 1e6) + 500_000
+            fix = i >= 40
+            lat, lon = ned_to_latlon(part["usv.x"].iat[i] + (0 if fix else 800.0), part["usv.y"].iat[i], LAT0, LON0)
+            w.write("vehicle_gps_position", us, round(lat * 1e7), round(lon * 1e7), 3 if fix else 1)
+            psi = part["usv.psi"].iat[i]
+            w.write("vehicle_attitude", us, math.cos(psi / 2), 0.0, 0.0, math.sin(psi / 2))
+            if vehicle_type is not None and i % 20 == 0:
+                w.write("vehicle_status", us, vehicle_type, False)
+        w.close()
+
+    plane = tmp_path / "plane.ulg"
+    ulog(plane, vehicle_type=2)
+    res = import_log(plane, rate=10.0, origin=(LAT0, LON0))
+    assert res.report["vehicle"] == {"type": "fixed-wing", "from": "vehicle_status.vehicle_type=2", "marine": False}
+    assert any("40 of 400 samples without a 3D fix (fix_type < 3) dropped" in n for n in res.report["notes"])
+    t_truth = res.df["t"].to_numpy() + res.report["t0_source_s"] - 0.5
+    assert t_truth[0] == pytest.approx(part["t"].iat[40], abs=1e-6)
+    assert np.max(np.abs(res.df["usv.x"] - np.interp(t_truth, part["t"], part["usv.x"]))) < 0.05
+    err = _cli_error(capsys, ["identify", "first-order", str(plane), "--out", str(tmp_path / "o")])
+    assert "the log is of a fixed-wing (vehicle_status.vehicle_type=2)" in err
+    sub = tmp_path / "sub.ulg"
+    ulog(sub, params={"SYS_AUTOSTART": 60001})
+    assert import_log(sub).report["vehicle"] == {"type": "submarine", "from": "SYS_AUTOSTART=60001", "marine": True}

@@ -35,6 +35,10 @@ Zig-zag (ITTC 10/10, 20/20): the Nomoto K, T minimising the heading error of the
 measured rudder (zero-order hold, exact discretisation), separable least squares (K linear for a
 fixed T) refined by ``scipy.optimize.least_squares``; standard errors from the Jacobian (optimistic
 when residuals are correlated).
+
+Every fit is then checked (:mod:`oceangnc.identification.first_order_checks`): a time constant at its
+bound, a near-singular information matrix, a poor fit or residuals that are not white are failures,
+listed in ``Report.failures``; ``oceangnc identify first-order`` refuses such a log (exit 2).
 """
 
 from __future__ import annotations

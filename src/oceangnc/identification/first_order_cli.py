@@ -255,6 +255,7 @@ def _handler(args) -> int:
     path.write_text(json.dumps(_finite(data), indent=2))
     print(f"wrote {path}")
     params, unc, notes = model_parameters(rep, cols)
+    notes += [f"accepted by --skip-check: {f['label']} {f['check']}: {f['message']}" for f in rep.failures]
     if params:
         mp = write_model(out / "identified.toml", "usv-first-order", "identify first-order", src, params, unc, notes)
         print(f"wrote {mp} (oceangnc run SCENARIO --model {mp})")

@@ -8,6 +8,12 @@ interpolated) and time jumps (non-increasing or leaping time stamps; the samples
 dropped and counted). :func:`read_any` gives a pandas DataFrame ready for the identification
 commands; ``oceangnc import LOG --out DIR`` writes ``DIR/log.parquet`` and ``DIR/import.json``.
 
+The readers also say what the log is of (``vehicle``: firmware string, MAV_TYPE, PX4 airframe; a non-boat
+is refused by boat identification unless forced), which ArduPilot output drives what (``servo_map`` from
+SERVOn_FUNCTION), which sensor instance was read (``instances``), which GPS samples had no 3D fix, and
+for a ROS 2 bag without message definitions which distro's typestore read it. ``start`` / ``end`` keep a
+stretch of the log; implausible heights are refused (:func:`~.core.check_heights`).
+
 Standard signals (NED earth frame, body x forward / y starboard / z down, SI, angles in rad):
 
 =====================  ===========================================================  =======

@@ -99,6 +99,20 @@ def read_tlog(
             out[name] = (np.array([t_of(s, m) for s, m in rows]), np.array([fn(m) for _, m in rows], float))
 
     gp = get("GLOBAL_POSITION_INT")
+    raw = get("GPS_RAW_INT")
+    if gp and raw:  # the estimate's position while the GPS had no 3D fix (fix_type < 3) is not used
+        tr = np.array([t_of(s, m) for s, m in raw])
+        order = np.argsort(tr, kind="stable")
+        tr, fix = tr[order], np.array([m.fix_type >= 3 for _, m in raw])[order]
+        tg = np.array([t_of(s, m) for s, m in gp])
+        k = np.searchsorted(tr, tg, side="right") - 1
+        ok = (k >= 0) & fix[np.clip(k, 0, None)]
+        if not ok.all():
+            meta.setdefault("notes", []).append(
+                f"GLOBAL_POSITION_INT: {int((~ok).sum())} of {ok.size} samples while GPS_RAW_INT had no 3D fix "
+                "(fix_type < 3) dropped"
+            )
+            gp = [r for r, keep in zip(gp, ok) if keep]
     if gp:
         x, y, o = north_east([m.lat * 1e-7 for _, m in gp], [m.lon * 1e-7 for _, m in gp], origin)
         if x is not None:
@@ -126,7 +140,7 @@ def read_tlog(
     logged = [n for n in range(1, 17) if so and hasattr(so[0][1], f"servo{n}_raw")]
     smap, notes = servo_map(params, servos, logged, _aerial(meta))
     meta["servo_map"] = {k: v[0] for k, v in smap.items()}
-    meta["notes"] = notes
+    meta["notes"] = notes + meta.get("notes", [])
     if so:
         t = np.array([t_of(s, m) for s, m in so])
         for sig, (n, trim, lo, hi, rev) in smap.items():
@@ -218,8 +232,8 @@ def ardupilot_vehicle(firmware: str | None, params: dict, where: str) -> dict:
         kind = {1: "ground rover", 2: "boat", 3: "ground rover"}.get(fc) if fc is not None else None
         if kind is None:
             return {**vehicle(None, src), "type": "rover (boat or ground: FRAME_CLASS not logged)"}
-    elif name == "ArduCopter" and fc in (6, 11, 13):
-        kind = "helicopter"
+    elif name == "ArduCopter" and (fc in (6, 11, 13) or "heli" in firmware.lower()):
+        kind = "helicopter"  # the traditional-helicopter build says "Heli" in its firmware string
     return vehicle(kind, src)
 
 
