@@ -1,0 +1,215 @@
+"""Seeing a run (issue 31): the MCAP export read back with the mcap library, the frame conversions,
+and the 3D replay page in headless Chromium (docs/view.md).
+
+One short flagship run (``oceangnc run combined-survey --duration 20 --no-plots --mcap``) is shared by
+the module; a synthetic run folder (no simulation) covers a geographic origin, a seabed and NaN rows.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from oceangnc.cli import main
+from oceangnc.view import frames
+
+mcap_reader = pytest.importorskip("mcap.reader", reason="mcap is not installed (pip install 'oceangnc[view]')")
+
+FOXGLOVE = {"foxglove.PoseInFrame", "foxglove.FrameTransforms", "foxglove.SceneUpdate", "foxglove.LocationFix"}
+
+
+@pytest.fixture(scope="module")
+def flagship(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("view") / "run"
+    cmd = [sys.executable, "-m", "oceangnc", "run", "combined-survey", "--duration", "20", "--no-plots", "--quiet"]
+    subprocess.run([*cmd, "--out", str(out), "--mcap"], check=True, timeout=600)
+    return out
+
+
+def read_mcap(path: Path) -> tuple[dict, dict[str, list]]:
+    """({topic: schema name}, {topic: [(log_time, publish_time, decoded JSON)]})."""
+    schemas: dict[str, str] = {}
+    msgs: dict[str, list] = {}
+    with open(path, "rb") as f:
+        for schema, channel, message in mcap_reader.make_reader(f).iter_messages(log_time_order=False):
+            schemas[channel.topic] = schema.name
+            assert schema.encoding == "jsonschema" and channel.message_encoding == "json"
+            row = (message.log_time, message.publish_time, json.loads(message.data))
+            msgs.setdefault(channel.topic, []).append(row)
+    return schemas, msgs
+
+
+def _same(a: float, b) -> bool:
+    """Equal as JSON round-trips floats (repr), NaN written as null."""
+    return (b is None and not math.isfinite(a)) or (b is not None and float(b) == a)
+
+
+def test_mcap_of_flagship_round_trips(flagship):
+    df = pd.read_parquet(flagship / "log.parquet")
+    schemas, msgs = read_mcap(flagship / "run.mcap")
+    ns = np.round(df["t"].to_numpy() * 1e9).astype(np.int64)
+    # every channel: a Foxglove well-known schema, or the scalar series of one prefix
+    for topic, name in schemas.items():
+        if topic.startswith("/signals/"):
+            assert name == "oceangnc.Signals." + topic.removeprefix("/signals/")
+        else:
+            assert name in FOXGLOVE, (topic, name)
+    assert {"/usv/pose", "/uuv/pose", "/tf", "/scene"} <= set(schemas)
+    assert schemas["/usv/pose"] == schemas["/uuv/pose"] == "foxglove.PoseInFrame"
+    assert schemas["/scene"] == "foxglove.SceneUpdate"
+    for topic, rows in msgs.items():  # one message per log row, stamped with the row's time
+        assert [r[0] for r in rows] == ns.tolist(), topic
+        assert [r[1] for r in rows] == ns.tolist(), topic
+    # every logged signal is in its prefix's channel, values exactly as logged
+    seen = set()
+    for col in df.columns:
+        if col == "t":
+            continue
+        prefix, name = col.split(".", 1)
+        got = [m[2][name] for m in msgs[f"/signals/{prefix}"]]
+        assert all(_same(a, b) for a, b in zip(df[col].to_numpy(), got)), col
+        seen.add(col)
+    assert len(seen) == len(df.columns) - 1
+    for m in msgs["/signals/uuv"]:  # stamps in the messages too
+        assert m[2]["timestamp"]["sec"] * 10**9 + m[2]["timestamp"]["nsec"] == m[0]
+
+    # poses in ENU: (x, y, z) = (east, north, up)
+    k = len(df) // 2
+    p = msgs["/uuv/pose"][k][2]
+    assert p["frame_id"] == "world"
+    pos = p["pose"]["position"]
+    assert (pos["x"], pos["y"], pos["z"]) == (df["uuv.y"][k], df["uuv.x"][k], -df["uuv.z"][k])
+    q = p["pose"]["orientation"]
+    want = frames.enu_flu_quaternion(df["uuv.phi"][k], df["uuv.theta"][k], df["uuv.psi"][k])
+    assert np.allclose([q["w"], q["x"], q["y"], q["z"]], want, atol=1e-12)
+    # the scene: both vehicles and the cable polyline through every node, last node at the UUV's tow point
+    scene = msgs["/scene"][k][2]
+    ents = {e["id"]: e for e in scene["entities"]}
+    assert {"usv", "uuv", "cable", "route", "sea_surface"} <= set(ents)
+    pts = ents["cable"]["lines"][0]["points"]
+    assert len(pts) == 21 and len(ents["cable"]["lines"][0]["colors"]) == 21
+    assert (pts[-1]["x"], pts[-1]["y"], pts[-1]["z"]) == (df["cable.y20"][k], df["cable.x20"][k], -df["cable.z20"][k])
+    tf = msgs["/tf"][k][2]["transforms"]
+    assert [t["child_frame_id"] for t in tf] == ["usv", "uuv"]
+
+
+def test_export_command_and_layout(flagship, tmp_path, capsys):
+    out = tmp_path / "x.mcap"
+    assert main(["export", str(flagship), "--mcap", "--out", str(out)]) == 0
+    assert f"wrote {out}" in capsys.readouterr().out
+    assert out.read_bytes()[:8] == (flagship / "run.mcap").read_bytes()[:8] == b"\x89MCAP0\r\n"
+    layout = json.loads((Path(frames.__file__).parent / "static" / "foxglove-layout.json").read_text())
+    topics = {"/scene", "/usv/pose", "/uuv/pose"}
+    assert topics <= set(layout["configById"]["3D!oceangnc"]["topics"])
+    schemas, _ = read_mcap(out)
+    assert topics <= set(schemas)
+    for cfg in layout["configById"].values():  # every plotted path is a signal the export writes
+        for p in cfg.get("paths", []):
+            topic, _, field = p["value"].rpartition(".")
+            topic = topic.split(".")[0]
+            assert topic in schemas, p["value"]
+
+
+def test_export_without_mcap_is_one_line(flagship, tmp_path, capsys, monkeypatch):
+    for m in ("mcap", "mcap.writer"):
+        monkeypatch.setitem(sys.modules, m, None)
+    assert main(["export", str(flagship), "--mcap", "--out", str(tmp_path / "y.mcap")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "install oceangnc[view]" in err
+    assert not (tmp_path / "y.mcap").exists()
+
+
+def _synthetic_run(path: Path) -> pd.DataFrame:
+    """A run folder without a simulation: a USV and a UUV on a circle, a 3-node cable, a NaN gap."""
+    from oceangnc.io.logs import LogWriter
+
+    path.mkdir(parents=True)
+    t = np.arange(0.0, 5.0, 0.5)
+    n = len(t)
+    cols = {
+        "usv.x": 10 * np.cos(t / 5),
+        "usv.y": 10 * np.sin(t / 5),
+        "usv.psi": t / 5 + np.pi / 2,
+        "uuv.x": 10 * np.cos(t / 5) - 1,
+        "uuv.y": 10 * np.sin(t / 5),
+        "uuv.z": np.full(n, 4.0),
+        "uuv.phi": np.full(n, 0.1),
+        "uuv.theta": np.full(n, -0.2),
+        "uuv.psi": t / 5 + np.pi / 2,
+        "cable.top_tension": 100 + t,
+        "cable.bottom_tension": 80 + t,
+        "noprefix": t * 2,
+    }
+    for k in range(3):
+        cols[f"cable.x{k}"] = cols["usv.x"] - k * 0.5
+        cols[f"cable.y{k}"] = cols["usv.y"]
+        cols[f"cable.z{k}"] = np.full(n, 2.0 * k)
+    cols["uuv.theta"][3] = np.nan  # a gap in the UUV's attitude
+    cols["usv.x"][4] = np.nan
+    w = LogWriter(path / "log.parquet")
+    for i in range(n):
+        w.append(float(t[i]), {k: float(v[i]) for k, v in cols.items()})
+    w.close()
+    (path / "config.toml").write_text(
+        'scenario = "synthetic"\n[mavlink]\norigin_lat_deg = 59.9\norigin_lon_deg = 10.7\n'
+        "[environment.seabed]\ndepth = 20.0\nslope_deg = 3.0\n"
+        "[guidance]\nwaypoints = [[0.0, 0.0], [10.0, 10.0]]\nacceptance = 2.0\n"
+    )
+    return pd.read_parquet(path / "log.parquet")
+
+
+def test_mcap_gps_gaps_and_seabed(tmp_path):
+    from oceangnc.mavlink.geo import ned_to_latlon
+    from oceangnc.view.mcap_export import export_mcap
+
+    df = _synthetic_run(tmp_path / "syn")
+    out = export_mcap(tmp_path / "syn")
+    assert out == tmp_path / "syn" / "run.mcap"
+    schemas, msgs = read_mcap(out)
+    assert schemas["/usv/gps"] == schemas["/uuv/gps"] == "foxglove.LocationFix"
+    assert len(msgs["/usv/pose"]) == len(df) - 1  # the row whose x is NaN is skipped...
+    assert len(msgs["/uuv/pose"]) == len(df) - 1
+    assert len(msgs["/signals/usv"]) == len(df)  # ...but every row's signals are written
+    assert msgs["/signals/usv"][4][2]["x"] is None and msgs["/signals/uuv"][3][2]["theta"] is None
+    assert [m[2]["noprefix"] for m in msgs["/signals/run"]] == df["noprefix"].tolist()
+    fix = msgs["/uuv/gps"][2][2]
+    lat, lon = ned_to_latlon(df["uuv.x"][2], df["uuv.y"][2], 59.9, 10.7)
+    assert (fix["latitude"], fix["longitude"], fix["altitude"]) == (lat, lon, -4.0)
+    ents = {e["id"]: e for e in msgs["/scene"][0][2]["entities"]}
+    assert "seabed" in ents and len(ents["cable"]["lines"][0]["points"]) == 3
+    bed_z = [p["z"] for p in ents["seabed"]["triangles"][0]["points"]]
+    assert max(bed_z) < -15  # 20 m down, 3 deg slope over a few tens of metres
+    assert len(ents["route"]["spheres"]) == 2
+
+
+@pytest.mark.parametrize(
+    "phi,theta,psi,fwd,left",
+    [
+        (0.0, 0.0, 0.0, (0, 1, 0), (-1, 0, 0)),  # heading north: forward = ENU y, port = west
+        (0.0, 0.0, np.pi / 2, (1, 0, 0), (0, 1, 0)),  # heading east: port = north
+        (0.0, 0.3, 0.0, (0, np.cos(0.3), np.sin(0.3)), (-1, 0, 0)),  # nose up (theta > 0)
+        (0.3, 0.0, 0.0, (0, 1, 0), (-np.cos(0.3), 0, np.sin(0.3))),  # starboard down: port goes up
+    ],
+)
+def test_enu_flu_orientation(phi, theta, psi, fwd, left):
+    r = frames.quat_matrix(frames.enu_flu_quaternion([phi], [theta], [psi]))[0]
+    assert np.allclose(r[:, 0], fwd, atol=1e-12) and np.allclose(r[:, 1], left, atol=1e-12)
+    assert np.isclose(np.linalg.det(r), 1.0)
+
+
+def test_config_of_flagship_has_route(flagship):
+    from oceangnc.view.run_data import load_run
+
+    rd = load_run(flagship)
+    cfg = tomllib.loads((flagship / "config.toml").read_text())
+    assert rd.route == [tuple(w) for w in cfg["guidance"]["waypoints"]]
+    assert [b.name for b in rd.bodies] == ["usv", "uuv"] and rd.cable_nodes == 21
+    assert rd.cable_tension == ["cable.top_tension", "cable.bottom_tension"]
