@@ -213,3 +213,158 @@ def test_config_of_flagship_has_route(flagship):
     assert rd.route == [tuple(w) for w in cfg["guidance"]["waypoints"]]
     assert [b.name for b in rd.bodies] == ["usv", "uuv"] and rd.cable_nodes == 21
     assert rd.cable_tension == ["cable.top_tension", "cable.bottom_tension"]
+
+
+# ---- the replay page in headless Chromium -----------------------------------------------------------
+
+
+def _chromium() -> str | None:
+    import os
+    import shutil
+
+    for cand in (os.environ.get("CHROMIUM_PATH"), shutil.which("chromium"), "/usr/lib/chromium/chromium"):
+        if cand and Path(cand).exists():
+            return cand
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    chromium = _chromium()
+    if chromium is None:
+        pytest.skip("no Chromium binary (install Debian's 'chromium' or set CHROMIUM_PATH)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium, headless=True)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def page(browser):
+    ctx = browser.new_context(viewport={"width": 1280, "height": 720}, device_scale_factor=1)
+    pg = ctx.new_page()
+    pg.set_default_timeout(60_000)
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    yield pg
+    ctx.close()
+    assert not errors, errors
+
+
+def _open(page, url: str) -> None:
+    page.goto(url)
+    page.wait_for_function("window.replay && window.replay.ready === true", timeout=60_000)
+    page.evaluate("replay.pause()")
+
+
+def _project(m: dict, world) -> tuple[float, float]:
+    """CSS pixel (from the canvas's corner) of a three.js world point through the page's camera
+    matrices (column-major, as three.js stores them), computed here rather than by the page."""
+    proj = np.array(m["projection"]).reshape(4, 4).T
+    view = np.array(m["view"]).reshape(4, 4).T
+    clip = proj @ view @ np.array([*world, 1.0])
+    ndc = clip[:3] / clip[3]
+    return (ndc[0] + 1) / 2 * m["width"], (1 - ndc[1]) / 2 * m["height"]
+
+
+T_SEEK = 12.0  # s, a logged row of the 10 Hz log
+PX_TOL = 1.5  # px: the drawn mesh/vertex against the logged position through the same camera
+
+
+@pytest.mark.browser
+def test_replay_draws_uuv_and_cable_end_at_logged_positions(flagship, page, tmp_path):
+    from PIL import Image
+
+    assert main(["view", str(flagship)]) == 0
+    html = flagship / "replay.html"
+    text = html.read_text()
+    assert "three.module" not in text.split('<script type="importmap">')[1][:60]  # inlined, not a file URL
+    assert "http://" not in text.split('<script type="module">')[1]  # nothing fetched
+    _open(page, html.as_uri())
+    df = pd.read_parquet(flagship / "log.parquet")
+    row = df.index[np.isclose(df["t"], T_SEEK)][0]
+    assert page.evaluate(f"replay.seek({T_SEEK})") == T_SEEK
+    st = page.evaluate("({uuv: replay.uuv, end: replay.cableEnd, layers: replay.layers, t: replay.t})")
+    assert st["t"] == T_SEEK
+    assert {"usv", "uuv", "cable", "usv_trail", "uuv_trail", "route", "sea"} <= set(st["layers"])
+    uuv_ned = df.loc[row, ["uuv.x", "uuv.y", "uuv.z"]].to_numpy(float)
+    end_ned = df.loc[row, ["cable.x20", "cable.y20", "cable.z20"]].to_numpy(float)
+    # the page's state: the logged positions (Float32 in the page), in three.js as ned_to_three maps them
+    assert np.allclose(st["uuv"]["ned"], uuv_ned, rtol=0, atol=1e-5)
+    assert np.allclose(st["end"]["ned"], end_ned, rtol=0, atol=1e-5)
+    assert np.allclose(st["uuv"]["world"], frames.ned_to_three(*uuv_ned), atol=1e-5)
+    assert np.allclose(st["end"]["world"], frames.ned_to_three(*end_ned), atol=1e-5)
+    # on screen: the drawn UUV mesh and last cable vertex where the logged positions project
+    m = page.evaluate("replay.cameraMatrices()")
+    drawn_uuv = page.evaluate("replay.projectObject('uuv')")
+    drawn_end = page.evaluate("replay.projectObject('cableEnd')")
+    want_uuv = _project(m, frames.ned_to_three(*uuv_ned))
+    want_end = _project(m, frames.ned_to_three(*end_ned))
+    assert np.hypot(drawn_uuv[0] - want_uuv[0], drawn_uuv[1] - want_uuv[1]) < PX_TOL, (drawn_uuv, want_uuv)
+    assert np.hypot(drawn_end[0] - want_end[0], drawn_end[1] - want_end[1]) < PX_TOL, (drawn_end, want_end)
+    assert 0 < want_uuv[0] < m["width"] and 0 < want_uuv[1] < m["height"]  # in view (the camera follows)
+    # a screenshot: the pixel where the UUV projects is not the background, and it changes with the UUV hidden
+    clip = {"x": m["left"], "y": m["top"], "width": m["width"], "height": m["height"]}
+    page.screenshot(path=str(tmp_path / "with.png"), clip=clip)
+    page.evaluate("replay.setVisible('uuv', false)")
+    page.screenshot(path=str(tmp_path / "without.png"), clip=clip)
+    page.evaluate("replay.setVisible('uuv', true)")
+    px = (int(want_uuv[0]), int(want_uuv[1]))
+    with_uuv = Image.open(tmp_path / "with.png").convert("RGB").getpixel(px)
+    without = Image.open(tmp_path / "without.png").convert("RGB").getpixel(px)
+    bg = tuple(int(page.evaluate("replay.background")[i : i + 2], 16) for i in (1, 3, 5))
+    assert with_uuv != bg and with_uuv != without, (with_uuv, without, bg)
+    # between two rows the page interpolates linearly
+    t_mid = T_SEEK + 0.05
+    page.evaluate(f"replay.seek({t_mid})")
+    mid = np.array(page.evaluate("replay.uuv.ned"))
+    nxt = df.loc[row + 1, ["uuv.x", "uuv.y", "uuv.z"]].to_numpy(float)
+    a = (t_mid - T_SEEK) / (df["t"][row + 1] - T_SEEK)
+    assert np.allclose(mid, uuv_ned + a * (nxt - uuv_ned), atol=1e-4)
+
+
+@pytest.mark.browser
+def test_replay_plays_and_scrubs(flagship, page):
+    from oceangnc.view.replay import write_replay
+
+    html = write_replay(flagship, flagship / "replay-play.html")
+    _open(page, html.as_uri() + "?paused")
+    assert page.evaluate("replay.playing") is False and page.evaluate("replay.t") == 0.0
+    page.evaluate("replay.setSpeed(10); replay.play()")
+    page.wait_for_function("replay.t > 2", timeout=60_000)
+    page.evaluate("replay.pause()")
+    t = page.evaluate("replay.t")
+    page.wait_for_timeout(300)
+    assert page.evaluate("replay.t") == t  # paused stays
+    page.fill("#scrub", "500")  # the slider: half way
+    page.dispatch_event("#scrub", "input")
+    assert abs(page.evaluate("replay.t") - 10.0) < 1e-9
+    assert page.inner_text("#time").startswith("t = 10.00")
+    assert page.locator("#panels canvas").count() == 3  # depth, distance, tension
+    box = page.locator("#panels canvas").first.bounding_box()
+    page.mouse.click(box["x"] + 40 + (box["width"] - 48) * 0.25, box["y"] + box["height"] / 2)  # click a panel
+    assert abs(page.evaluate("replay.t") - 5.0) < 0.2
+
+
+@pytest.mark.browser
+def test_view_serve_on_loopback(flagship, page):
+    import os
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "oceangnc", "view", str(flagship), "--serve", "--port", "0"],
+        stdout=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, PYTHONUNBUFFERED="1"),
+    )
+    try:
+        line = proc.stdout.readline()
+        assert " at http://127.0.0.1:" in line, line
+        url = line.split(" at ", 1)[1].split()[0]
+        _open(page, url)
+        assert page.evaluate("replay.rows") == len(pd.read_parquet(flagship / "log.parquet"))
+        assert page.evaluate("document.querySelector('script[type=importmap]').textContent").count("/vendor/") == 1
+        assert page.request.get(url + "nothing").status == 404
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
