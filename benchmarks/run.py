@@ -38,6 +38,7 @@ BENCHMARKS = {
     "cable": ("bench_cable.py", [], {"NUMBA_NUM_THREADS": "1"}),
     "compile": ("bench_compile.py", ["combined-survey"], {}),
     "batch": ("bench_batch.py", ["1000", "40"], {}),
+    "view": ("bench_view.py", ["--duration", "600", "--seconds", "10", "--repeat", "3"], {}),
 }
 
 

@@ -85,7 +85,19 @@ const BODY_COLORS = { usv: 0xdadbe6, uuv: 0xffbf1a, ship: 0xb3402f };
 
 // ---- scene --------------------------------------------------------------------------------------
 const view = document.getElementById('view');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+// multisampling unless WebGL is rendered in software (SwiftShader, llvmpipe: headless browsers,
+// machines without a GPU), where it costs a third of the frame rate; ?aa=1 / ?aa=0 overrides
+function softwareGL() {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl');
+    const ext = gl && gl.getExtension('WEBGL_debug_renderer_info');
+    const name = ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : '';
+    gl?.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|software/i.test(name);
+  } catch (e) { return false; }
+}
+const AA = /[?&]aa=1\b/.test(location.search) || (!/[?&]aa=0\b/.test(location.search) && !softwareGL());
+const renderer = new THREE.WebGLRenderer({ antialias: AA, preserveDrawingBuffer: true });
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 view.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
@@ -301,9 +313,17 @@ function update(t) {
 // ---- camera: orbit about a target that follows the tow -----------------------------------------
 const orbit = { az: -2.3, el: 0.45, dist: 1, target: new THREE.Vector3() };
 {
+  // far enough for the longest vehicle and the largest USV-UUV separation of the run
   const L = Math.max(1, ...bodies.map((b) => b.length));
-  orbit.dist = Math.max(8, 4 * L);
-  if (byName.ship) orbit.dist = 2.5 * byName.ship.length;
+  let sep = 0;
+  for (let i = 0; i < bodies.length; i++) for (let j = i + 1; j < bodies.length; j++) {
+    const a = bodies[i].arr, b = bodies[j].arr;
+    for (let k = 0; k < N; k += Math.max(1, Math.floor(N / 500))) {
+      const s = Math.hypot(a.x[k] - b.x[k], a.y[k] - b.y[k], (a.z ? a.z[k] : 0) - (b.z ? b.z[k] : 0));
+      if (s > sep) sep = s;
+    }
+  }
+  orbit.dist = Math.max(8, 4 * L, 1.6 * sep);
 }
 function followTarget(out) {
   const chosen = state.follow === 'tow' ? bodies : bodies.filter((b) => b.name === state.follow);
@@ -431,10 +451,12 @@ function drawPanels() {
 const $ = (id) => document.getElementById(id);
 $('title').textContent = `${DATA.scenario || ''} ${DATA.run}`;
 const fmt = (t) => `t = ${t.toFixed(2)} / ${T1.toFixed(2)} s`;
-function syncControls() {
-  $('play').innerHTML = state.playing ? '&#10074;&#10074;' : '&#9654;';
-  $('scrub').value = String(Math.round(1000 * (state.t - T0) / Math.max(T1 - T0, 1e-9)));
-  $('time').textContent = fmt(state.t);
+const shown = {};
+function show(id, prop, v) { if (shown[id] !== v) { $(id)[prop] = v; shown[id] = v; } }
+function syncControls() {  // the DOM touched only where it changes
+  show('play', 'innerHTML', state.playing ? '&#10074;&#10074;' : '&#9654;');
+  show('scrub', 'value', String(Math.round(1000 * (state.t - T0) / Math.max(T1 - T0, 1e-9))));
+  show('time', 'textContent', fmt(state.t));
 }
 $('play').addEventListener('click', () => (state.playing ? api.pause() : api.play()));
 $('speed').addEventListener('change', (ev) => api.setSpeed(parseFloat(ev.target.value)));
@@ -459,7 +481,7 @@ for (const sel of ['follow']) $(sel).querySelectorAll('option').forEach((o) => {
 });
 
 // ---- render loop --------------------------------------------------------------------------------
-let dirty = true;
+let dirty = true, lastPanels = -1e9;
 function requestRender() { dirty = true; }
 function resize() {
   const w = view.clientWidth, h = view.clientHeight;
@@ -476,7 +498,8 @@ function render() {
   placeCamera();
   scene.updateMatrixWorld();
   renderer.render(scene, camera);
-  drawPanels();
+  const now = performance.now();  // the panels at most 20 times a second (their canvases cost frames)
+  if (!state.playing || now - lastPanels > 50) { drawPanels(); lastPanels = now; }
   syncControls();
   state.frames++;
   dirty = false;
@@ -543,11 +566,13 @@ const api = {
   },
   get layers() { return Object.keys(objects).filter((k) => objects[k].visible); },
   background: '#' + new THREE.Color(BACKGROUND).getHexString(),
+  antialias: AA,
   camera, renderer, scene,
 };
 window.replay = api;
 update(T0);
 render();
 requestAnimationFrame(loop);
+api.loadMs = performance.now();  // from the navigation's start to the first frame drawn
 api.ready = true;
 if (!/[?&]paused\b/.test(location.search)) api.play();
