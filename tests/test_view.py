@@ -368,3 +368,47 @@ def test_view_serve_on_loopback(flagship, page):
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def _usv_only_run(path: Path) -> None:
+    """A surface vessel alone (no UUV, no cable, no config): as 'oceangnc import' writes."""
+    from oceangnc.io.logs import LogWriter
+
+    path.mkdir(parents=True)
+    w = LogWriter(path / "log.parquet")
+    for t in np.arange(0.0, 3.0, 0.1):
+        w.append(float(t), {"usv.x": 0.5 * t, "usv.y": 0.1 * t, "usv.psi": 0.2, "usv.speed": 0.5})
+    w.close()
+
+
+def test_mcap_of_a_run_without_cable(tmp_path):
+    from oceangnc.view.mcap_export import export_mcap
+
+    _usv_only_run(tmp_path / "usv")
+    schemas, msgs = read_mcap(export_mcap(tmp_path / "usv"))
+    assert set(schemas) == {"/usv/pose", "/tf", "/scene", "/signals/usv"}
+    assert {e["id"] for e in msgs["/scene"][0][2]["entities"]} == {"usv", "sea_surface"}
+    assert len(msgs["/scene"]) == 30
+    assert not list((tmp_path / "usv").glob("*.part"))
+
+
+@pytest.mark.browser
+def test_replay_of_other_runs(tmp_path, page):
+    """A synthetic tow (3 nodes, seabed, route, a NaN row) and a lone USV open without page errors."""
+    _synthetic_run(tmp_path / "syn")
+    _usv_only_run(tmp_path / "usv")
+    assert main(["view", str(tmp_path / "syn"), "--out", str(tmp_path / "syn.html")]) == 0
+    assert main(["view", str(tmp_path / "usv")]) == 0
+    _open(page, (tmp_path / "syn.html").as_uri())
+    page.evaluate("replay.seek(2.5)")
+    assert {"seabed", "route", "cable", "usv", "uuv"} <= set(page.evaluate("replay.layers"))
+    page.evaluate("replay.seek(2.0)")  # the row whose usv.x is NaN: the USV is hidden
+    assert "usv" not in page.evaluate("replay.layers")
+    assert page.locator("#panels canvas").count() == 3  # depth, horizontal distance (no lf.range), tension
+    page.evaluate("replay.seek(1.5)")  # the row whose UUV pitch is NaN: the UUV is hidden, no error
+    assert "uuv" not in page.evaluate("replay.layers")
+    _open(page, (tmp_path / "usv" / "replay.html").as_uri())
+    page.evaluate("replay.seek(1.0)")
+    assert page.evaluate("replay.uuv") is None and page.evaluate("replay.cableEnd") is None
+    assert np.allclose(page.evaluate("replay.bodies.usv.ned"), [0.5, 0.1, 0.0], atol=1e-6)
+    assert page.locator("#panels canvas").count() == 1  # the USV's speed

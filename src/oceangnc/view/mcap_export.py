@@ -117,8 +117,11 @@ def _plane(corners_enu, color) -> dict:
     }
 
 
-def extent(rd: RunData, margin: float = 10.0) -> tuple[float, float, float, float]:
-    """(n_min, n_max, e_min, e_max) of the vehicles' tracks and the route, widened by ``margin`` m."""
+def extent(rd: RunData, margin: float | None = None) -> tuple[float, float, float, float]:
+    """(n_min, n_max, e_min, e_max) of the vehicles' tracks and the route, widened by ``margin`` m
+    (default: 10 m or twice the longest vehicle)."""
+    if margin is None:
+        margin = max([10.0] + [2.0 * b.length for b in rd.bodies])
     ns, es = [], []
     for b in rd.bodies:
         ns.append(rd.col(b.columns["x"]))
@@ -255,6 +258,16 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
     stamps = [_time(int(v)) for v in ns]
 
     tmp = out.with_name(out.name + ".part")
+    try:
+        _write(writer_mod, rd, tmp, ns, stamps)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    tmp.replace(out)
+    return out
+
+
+def _write(writer_mod, rd: RunData, tmp: Path, ns: np.ndarray, stamps: list[dict]) -> None:
     with open(tmp, "wb") as f:
         w = writer_mod.Writer(f)
         w.start(profile="", library="oceangnc")
@@ -304,8 +317,9 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
         static = _static_entities(rd)
         tension = node_tensions(rd)
         tmax = float(np.nanmax(tension)) if tension is not None and np.isfinite(tension).any() else 0.0
-        cx, cy, cz = (np.stack([rd.col(c, np.nan) for c in rd.node_columns(a)], axis=1) for a in "xyz")
-        ce, cn, cu = ned_to_enu(cx, cy, cz) if rd.cable_nodes else (None, None, None)
+        if rd.cable_nodes:
+            cx, cy, cz = (np.stack([rd.col(c, np.nan) for c in rd.node_columns(a)], axis=1) for a in "xyz")
+            ce, cn, cu = ned_to_enu(cx, cy, cz)
         scene: list[bytes | None] = []
         for i in range(rd.rows):
             ents = []
@@ -374,8 +388,6 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
         }
         w.add_metadata("oceangnc", meta)
         w.finish()
-    tmp.replace(out)
-    return out
 
 
 def _entity(stamp: dict, e: dict) -> dict:

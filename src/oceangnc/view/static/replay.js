@@ -254,6 +254,7 @@ if (NODES) {
   objects.cable_nodes = pts;
   cable = { cx, cy, cz, tens, tmax, g, ned: [0, 0, 0], world: [0, 0, 0] };
   const lg = document.getElementById('legend');
+  lg.style.display = 'block';
   lg.innerHTML = tens.length
     ? `cable tension 0<span class="bar"></span>${tmax.toFixed(0)} N` +
       (DATA.cable.tensionMode === 'ends' ? ' (end tensions, linear between)' : '')
@@ -551,6 +552,7 @@ const api = {
   // the drawn object's own world position (its matrixWorld), projected
   projectObject(name) {
     if (name === 'cableEnd') {
+      if (!cable) return null;
       const a = cable.g.attributes.position, j = NODES - 1;
       return api.project(a.getX(j), a.getY(j), a.getZ(j));
     }
