@@ -412,3 +412,75 @@ def test_replay_of_other_runs(tmp_path, page):
     assert page.evaluate("replay.uuv") is None and page.evaluate("replay.cableEnd") is None
     assert np.allclose(page.evaluate("replay.bodies.usv.ned"), [0.5, 0.1, 0.0], atol=1e-6)
     assert page.locator("#panels canvas").count() == 1  # the USV's speed
+
+
+# ---- the Foxglove WebSocket stream ------------------------------------------------------------------
+
+
+def test_foxglove_websocket_stream(flagship):
+    """`oceangnc view RUN --foxglove` on 127.0.0.1 (10x, looping): a client subscribes over foxglove.websocket.v1 and
+    receives the poses and signals of the logged rows, stamped with their times, values as logged."""
+    import os
+    import struct
+
+    ws_client = pytest.importorskip("websockets.sync.client", reason="websockets is not installed")
+    df = pd.read_parquet(flagship / "log.parquet")
+    ns = np.round(df["t"].to_numpy() * 1e9).astype(np.int64).tolist()
+    cmd = [sys.executable, "-m", "oceangnc", "view", str(flagship), "--foxglove", "--port", "0"]
+    proc = subprocess.Popen(
+        [*cmd, "--speed", "10"], stdout=subprocess.PIPE, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1")
+    )
+    try:
+        line = proc.stdout.readline()
+        assert "at ws://127.0.0.1:" in line, line
+        url = line.split(" at ", 1)[1].split()[0]
+        # the synchronous client (this module's browser fixture keeps an event loop in this thread)
+        with ws_client.connect(url, subprotocols=["foxglove.websocket.v1"], open_timeout=30) as ws:
+            assert ws.subprotocol == "foxglove.websocket.v1"
+            info = json.loads(ws.recv(timeout=30))
+            adv = json.loads(ws.recv(timeout=30))
+            chans = {c["topic"]: c for c in adv["channels"]}
+            subs = {"/uuv/pose": 7, "/signals/uuv": 8}
+            sub = [{"id": s, "channelId": chans[t]["id"]} for t, s in subs.items()]
+            ws.send(json.dumps({"op": "subscribe", "subscriptions": sub}))
+            got: dict[int, list] = {7: [], 8: []}
+            times = []
+            while len(got[8]) < 40:  # bounded: 40 rows of the 201
+                frame = ws.recv(timeout=30)
+                assert isinstance(frame, bytes)
+                if frame[0] == 0x02:
+                    times.append(struct.unpack("<Q", frame[1:9])[0])
+                    continue
+                assert frame[0] == 0x01
+                sid, ts = struct.unpack("<IQ", frame[1:13])
+                got[sid].append((ts, json.loads(frame[13:])))
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    assert info["op"] == "serverInfo" and "time" in info["capabilities"]
+    schemas, _ = read_mcap(flagship / "run.mcap")  # the same channels and schemas as the MCAP export
+    assert {t: c["schemaName"] for t, c in chans.items()} == schemas
+    assert all(c["encoding"] == "json" and c["schemaEncoding"] == "jsonschema" for c in chans.values())
+    assert json.loads(chans["/scene"]["schema"])["title"] == "foxglove.SceneUpdate"
+    # from the first row after subscribing, every row in order (the stream starts again after the last)
+    n = len(ns)
+    k0 = ns.index(got[8][0][0])
+    assert [ts for ts, _ in got[8]] == [ns[(k0 + j) % n] for j in range(len(got[8]))]
+    assert [ts for ts, _ in got[7]][: len(got[8]) - 1] == [ns[(k0 + j) % n] for j in range(len(got[8]) - 1)]
+    for ts, m in got[8]:
+        row = ns.index(ts)
+        assert m["z"] == df["uuv.z"][row] and m["psi"] == df["uuv.psi"][row]
+    ts, pose = got[7][-1]
+    row = ns.index(ts)
+    p = pose["pose"]["position"]
+    assert (p["x"], p["y"], p["z"]) == (df["uuv.y"][row], df["uuv.x"][row], -df["uuv.z"][row])
+    assert {ns[(k0 + j) % n] for j in range(30)} <= set(times)
+
+
+def test_foxglove_origin_rules():
+    from oceangnc.view.foxglove_ws import origin_allowed
+
+    assert origin_allowed(None) and origin_allowed("https://app.foxglove.dev")
+    assert origin_allowed("http://127.0.0.1:3000") and origin_allowed("http://localhost:8080")
+    assert not origin_allowed("https://evil.example") and not origin_allowed("null")
+    assert origin_allowed("https://lichtblick.example", ("https://lichtblick.example",))

@@ -33,7 +33,24 @@ def register(subparsers) -> None:
     p.add_argument("run", help="run folder (holding log.parquet)")
     p.add_argument("--out", help="HTML file to write (default RUN/replay.html)")
     p.add_argument("--serve", action="store_true", help="serve the page on 127.0.0.1 instead of only writing it")
-    p.add_argument("--port", type=int, default=8060, help="port of --serve (default 8060; 0: any free port)")
+    p.add_argument(
+        "--foxglove",
+        action="store_true",
+        help="stream the run to Foxglove/Lichtblick over the Foxglove WebSocket protocol on 127.0.0.1 "
+        "(the MCAP export's channels, in time; needs oceangnc[console])",
+    )
+    p.add_argument(
+        "--port", type=int, help="port of --serve (default 8060) or --foxglove (default 8765); 0: any free port"
+    )
+    p.add_argument("--speed", type=float, default=1.0, help="--foxglove: run seconds per wall second (default 1)")
+    p.add_argument("--once", action="store_true", help="--foxglove: stop at the end instead of starting again")
+    p.add_argument(
+        "--allow-origin",
+        action="append",
+        default=[],
+        metavar="URL",
+        help="--foxglove: a browser origin to accept besides the Foxglove web app and pages of this machine",
+    )
     p.add_argument("--open", action="store_true", help="open the page in the default web browser")
     p.set_defaults(func=_cmd_view)
 
@@ -58,8 +75,17 @@ def _cmd_export(args) -> int:
 def _cmd_view(args) -> int:
     from .replay import serve, write_replay
 
+    if args.foxglove:
+        from .foxglove_ws import serve_foxglove
+
+        if not args.speed > 0:
+            print("error: --speed must be > 0", file=sys.stderr)
+            return 2
+        port = 8765 if args.port is None else args.port
+        loop = not args.once
+        return serve_foxglove(args.run, port=port, speed=args.speed, loop=loop, allow_origins=args.allow_origin)
     if args.serve:
-        return serve(args.run, port=args.port, open_browser=args.open, out=args.out)
+        return serve(args.run, port=8060 if args.port is None else args.port, open_browser=args.open, out=args.out)
     path = write_replay(args.run, args.out)
     print(f"wrote {path} (open it in a web browser)")
     if args.open:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -242,6 +243,116 @@ def _json(obj) -> bytes:
     return json.dumps(obj, separators=(",", ":"), allow_nan=False).encode()
 
 
+@dataclass
+class Channel:
+    """One topic of the export: its schema and one JSON payload per log row (None: no message)."""
+
+    topic: str
+    schema_name: str
+    schema: bytes  # JSON Schema document
+    payloads: list[bytes | None]
+
+
+def stamps_ns(rd: RunData) -> np.ndarray:
+    """Message times (ns) of the log rows: round(t 1e9), shifted to start at 0 if t < 0 (unsigned)."""
+    ns = np.round(rd.t * 1e9).astype(np.int64)
+    return ns - ns.min() if np.any(ns < 0) else ns
+
+
+def build_channels(rd: RunData) -> list[Channel]:
+    """Every channel of the export (module docstring) with its messages, for MCAP or a live stream."""
+    stamps = [_time(int(v)) for v in stamps_ns(rd)]
+    out: list[Channel] = []
+
+    def channel(topic: str, schema: str, payloads: list[bytes | None]) -> None:
+        out.append(Channel(topic, schema, schema_bytes(schema), payloads))
+
+    # poses, transforms, GPS
+    body_data = {b.name: _body_arrays(rd, b) for b in rd.bodies}
+    rots = {name: _rotations(q) for name, (_, q, _) in body_data.items()}
+    tf_rows: list[list[dict]] = [[] for _ in range(rd.rows)]
+    for b in rd.bodies:
+        pos, q, ok = body_data[b.name]
+        pl, ql = pos.tolist(), q.tolist()
+        payloads: list[bytes | None] = []
+        for i in range(rd.rows):
+            if not ok[i]:
+                payloads.append(None)
+                continue
+            pose = {"position": _vec(*pl[i]), "orientation": _quat(ql[i])}
+            payloads.append(_json({"timestamp": stamps[i], "frame_id": "world", "pose": pose}))
+            tf_rows[i].append(
+                {
+                    "timestamp": stamps[i],
+                    "parent_frame_id": "world",
+                    "child_frame_id": b.name,
+                    "translation": pose["position"],
+                    "rotation": pose["orientation"],
+                }
+            )
+        channel(f"/{b.name}/pose", "foxglove.PoseInFrame", payloads)
+    if rd.bodies:
+        channel("/tf", "foxglove.FrameTransforms", [_json({"transforms": tr}) if tr else None for tr in tf_rows])
+    for topic, payloads in _gps_messages(rd, stamps):
+        channel(topic, "foxglove.LocationFix", payloads)
+
+    # the 3D scene
+    static = _static_entities(rd)
+    tension = node_tensions(rd)
+    tmax = float(np.nanmax(tension)) if tension is not None and np.isfinite(tension).any() else 0.0
+    if rd.cable_nodes:
+        cx, cy, cz = (np.stack([rd.col(c, np.nan) for c in rd.node_columns(a)], axis=1) for a in "xyz")
+        ce, cn, cu = ned_to_enu(cx, cy, cz)
+    scene: list[bytes | None] = []
+    for i in range(rd.rows):
+        ents = []
+        for b in rd.bodies:
+            pos, q, ok = body_data[b.name]
+            if ok[i]:
+                ents.append(_body_entity(b, pos[i], q[i], rots[b.name][i]))
+        if rd.cable_nodes:
+            pts, cols = [], []
+            for k in range(rd.cable_nodes):
+                p = (float(ce[i, k]), float(cn[i, k]), float(cu[i, k]))
+                if not all(math.isfinite(v) for v in p):
+                    continue  # a node not in use (winch)
+                pts.append(_vec(*p))
+                tk = tension[i, k] if tension is not None else math.nan
+                if tension is not None and tmax > 0 and math.isfinite(tk):
+                    cols.append(_color(tension_color(tk / tmax)))
+                else:
+                    cols.append(_color(tension_color(k / max(rd.cable_nodes - 1, 1))))
+            ident = {"position": _vec(0.0, 0.0, 0.0), "orientation": _quat((1.0, 0.0, 0.0, 0.0))}
+            line = {
+                "type": 0,
+                "pose": ident,
+                "thickness": 0.05,
+                "scale_invariant": False,
+                "points": pts,
+                "color": _color((1.0, 1.0, 1.0, 1.0)),
+                "colors": cols,
+                "indices": [],
+            }
+            ents.append({"id": "cable", "lines": [line]})
+        ents += static
+        full = [_entity(stamps[i], e) for e in ents]
+        scene.append(_json({"deletions": [], "entities": full}))
+    channel("/scene", "foxglove.SceneUpdate", scene)
+
+    # every numeric signal, one channel per prefix
+    for prefix, fields in _signal_groups(rd).items():
+        names = [f for f, _ in fields]
+        sch = signals_schema(prefix, names)
+        rows = np.stack([rd.columns[c] for _, c in fields], axis=1).tolist()
+        payloads = []
+        for i, row in enumerate(rows):
+            d = {"timestamp": stamps[i]}
+            d.update(zip(names, (v if math.isfinite(v) else None for v in row)))
+            payloads.append(_json(d))
+        out.append(Channel(f"/signals/{prefix}", sch["title"], _json(sch), payloads))
+    return out
+
+
 def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Path:
     """Write the run folder ``run`` as MCAP to ``out`` (default ``RUN/run.mcap``); the path written.
 
@@ -251,15 +362,9 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
     rd = run if isinstance(run, RunData) else load_run(run)
     out = Path(out) if out is not None else rd.path / "run.mcap"
     out.parent.mkdir(parents=True, exist_ok=True)
-    t = rd.t
-    ns = np.round(t * 1e9).astype(np.int64)
-    if np.any(ns < 0):
-        ns = ns - ns.min()  # MCAP times are unsigned: a log starting before 0 is shifted to 0
-    stamps = [_time(int(v)) for v in ns]
-
     tmp = out.with_name(out.name + ".part")
     try:
-        _write(writer_mod, rd, tmp, ns, stamps)
+        _write(writer_mod, rd, tmp)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -267,118 +372,27 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
     return out
 
 
-def _write(writer_mod, rd: RunData, tmp: Path, ns: np.ndarray, stamps: list[dict]) -> None:
+def _write(writer_mod, rd: RunData, tmp: Path) -> None:
+    channels = build_channels(rd)
+    ns = stamps_ns(rd).tolist()
     with open(tmp, "wb") as f:
         w = writer_mod.Writer(f)
         w.start(profile="", library="oceangnc")
-        sid = {n: w.register_schema(name=n, encoding="jsonschema", data=schema_bytes(n)) for n in (
-            "foxglove.PoseInFrame", "foxglove.FrameTransforms", "foxglove.SceneUpdate", "foxglove.LocationFix"
-        )}  # fmt: skip
-
-        def channel(topic: str, schema: str) -> int:
-            return w.register_channel(topic=topic, message_encoding="json", schema_id=sid[schema])
-
-        msgs: list[tuple[int, list[bytes | None]]] = []  # (channel, one payload or None per row)
-
-        # poses, transforms, GPS
-        body_data = {b.name: _body_arrays(rd, b) for b in rd.bodies}
-        rots = {name: _rotations(q) for name, (_, q, _) in body_data.items()}
-        tf_rows: list[list[dict]] = [[] for _ in range(rd.rows)]
-        for b in rd.bodies:
-            pos, q, ok = body_data[b.name]
-            pl, ql = pos.tolist(), q.tolist()
-            payloads: list[bytes | None] = []
-            for i in range(rd.rows):
-                if not ok[i]:
-                    payloads.append(None)
-                    continue
-                pose = {"position": _vec(*pl[i]), "orientation": _quat(ql[i])}
-                payloads.append(_json({"timestamp": stamps[i], "frame_id": "world", "pose": pose}))
-                tf_rows[i].append(
-                    {
-                        "timestamp": stamps[i],
-                        "parent_frame_id": "world",
-                        "child_frame_id": b.name,
-                        "translation": pose["position"],
-                        "rotation": pose["orientation"],
-                    }
-                )
-            msgs.append((channel(f"/{b.name}/pose", "foxglove.PoseInFrame"), payloads))
-        if rd.bodies:
-            msgs.append(
-                (
-                    channel("/tf", "foxglove.FrameTransforms"),
-                    [_json({"transforms": tr}) if tr else None for tr in tf_rows],
-                )
-            )
-        msgs += _gps_messages(rd, channel, stamps)
-
-        # the 3D scene
-        static = _static_entities(rd)
-        tension = node_tensions(rd)
-        tmax = float(np.nanmax(tension)) if tension is not None and np.isfinite(tension).any() else 0.0
-        if rd.cable_nodes:
-            cx, cy, cz = (np.stack([rd.col(c, np.nan) for c in rd.node_columns(a)], axis=1) for a in "xyz")
-            ce, cn, cu = ned_to_enu(cx, cy, cz)
-        scene: list[bytes | None] = []
-        for i in range(rd.rows):
-            ents = []
-            for b in rd.bodies:
-                pos, q, ok = body_data[b.name]
-                if ok[i]:
-                    ents.append(_body_entity(b, pos[i], q[i], rots[b.name][i]))
-            if rd.cable_nodes:
-                pts, cols = [], []
-                for k in range(rd.cable_nodes):
-                    p = (float(ce[i, k]), float(cn[i, k]), float(cu[i, k]))
-                    if not all(math.isfinite(v) for v in p):
-                        continue  # a node not in use (winch)
-                    pts.append(_vec(*p))
-                    tk = tension[i, k] if tension is not None else math.nan
-                    if tension is not None and tmax > 0 and math.isfinite(tk):
-                        cols.append(_color(tension_color(tk / tmax)))
-                    else:
-                        cols.append(_color(tension_color(k / max(rd.cable_nodes - 1, 1))))
-                ident = {"position": _vec(0.0, 0.0, 0.0), "orientation": _quat((1.0, 0.0, 0.0, 0.0))}
-                line = {
-                    "type": 0,
-                    "pose": ident,
-                    "thickness": 0.05,
-                    "scale_invariant": False,
-                    "points": pts,
-                    "color": _color((1.0, 1.0, 1.0, 1.0)),
-                    "colors": cols,
-                    "indices": [],
-                }
-                ents.append({"id": "cable", "lines": [line]})
-            ents += static
-            full = [_entity(stamps[i], e) for e in ents]
-            scene.append(_json({"deletions": [], "entities": full}))
-        msgs.append((channel("/scene", "foxglove.SceneUpdate"), scene))
-
-        # every numeric signal, one channel per prefix
-        for prefix, fields in _signal_groups(rd).items():
-            names = [f for f, _ in fields]
-            sch = signals_schema(prefix, names)
-            s_id = w.register_schema(name=sch["title"], encoding="jsonschema", data=_json(sch))
-            ch = w.register_channel(topic=f"/signals/{prefix}", message_encoding="json", schema_id=s_id)
-            rows = np.stack([rd.columns[c] for _, c in fields], axis=1).tolist()
-            payloads = []
-            for i, row in enumerate(rows):
-                d = {"timestamp": stamps[i]}
-                d.update(zip(names, (v if math.isfinite(v) else None for v in row)))
-                payloads.append(_json(d))
-            msgs.append((ch, payloads))
-
+        sids: dict[str, int] = {}
+        ids = []
+        for c in channels:
+            if c.schema_name not in sids:
+                sids[c.schema_name] = w.register_schema(name=c.schema_name, encoding="jsonschema", data=c.schema)
+            ids.append(w.register_channel(topic=c.topic, message_encoding="json", schema_id=sids[c.schema_name]))
         # in time order (one row of every channel after the other): what MCAP readers stream best
-        seq = [0] * (max((c for c, _ in msgs), default=0) + 1)
+        seq = [0] * len(channels)
         for i in range(rd.rows):
-            for ch, payloads in msgs:
-                data = payloads[i]
+            for j, c in enumerate(channels):
+                data = c.payloads[i]
                 if data is None:
                     continue
-                w.add_message(ch, log_time=int(ns[i]), publish_time=int(ns[i]), data=data, sequence=seq[ch])
-                seq[ch] += 1
+                w.add_message(ids[j], log_time=ns[i], publish_time=ns[i], data=data, sequence=seq[j])
+                seq[j] += 1
         meta = {
             "run": str(rd.path.name),
             "scenario": str(rd.summary.get("scenario", rd.config.get("scenario", ""))),
@@ -417,7 +431,7 @@ def _rotations(q: np.ndarray) -> np.ndarray:
     return quat_matrix(np.nan_to_num(q))
 
 
-def _gps_messages(rd: RunData, channel, stamps) -> list[tuple[int, list[bytes | None]]]:
+def _gps_messages(rd: RunData, stamps) -> list[tuple[str, list[bytes | None]]]:
     """LocationFix channel(s): logged lat/lon columns, else each vehicle's x/y about the origin."""
     out = []
     cov = [0.0] * 9
@@ -440,9 +454,7 @@ def _gps_messages(rd: RunData, channel, stamps) -> list[tuple[int, list[bytes | 
     if rd.latlon:
         lat, lon = (rd.columns[c].tolist() for c in rd.latlon)
         body = rd.latlon[0].rpartition(".")[0] or "gps"
-        out.append(
-            (channel(f"/{body}/fix", "foxglove.LocationFix"), [fix(i, lat[i], lon[i], 0.0) for i in range(rd.rows)])
-        )
+        out.append((f"/{body}/fix", [fix(i, lat[i], lon[i], 0.0) for i in range(rd.rows)]))
     elif rd.origin:
         from ..mavlink.geo import ned_to_latlon
 
@@ -455,5 +467,5 @@ def _gps_messages(rd: RunData, channel, stamps) -> list[tuple[int, list[bytes | 
                     payloads.append(fix(i, la, lo, -d[i]))
                 else:
                     payloads.append(None)
-            out.append((channel(f"/{b.name}/gps", "foxglove.LocationFix"), payloads))
+            out.append((f"/{b.name}/gps", payloads))
     return out
