@@ -363,7 +363,7 @@ def test_view_serve_on_loopback(flagship, page):
         url = line.split(" at ", 1)[1].split()[0]
         _open(page, url)
         assert page.evaluate("replay.rows") == len(pd.read_parquet(flagship / "log.parquet"))
-        assert page.evaluate("document.querySelector('script[type=importmap]').textContent").count("/vendor/") == 1
+        assert page.evaluate("document.querySelector('script[type=importmap]').textContent").count("/vendor/") == 2
         assert page.request.get(url + "nothing").status == 404
     finally:
         proc.terminate()

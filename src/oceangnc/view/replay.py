@@ -4,9 +4,10 @@ package's ``static/vendor`` folder).
 
 The page is ``static/replay.html`` with three things put in: the run's data (:func:`replay_data`,
 JSON whose series are base64 little-endian Float32 arrays, the time column Float64), the page's
-code (``static/replay.js``, ``static/replay.css``) and the import map entry of ``three``: a
-``data:`` URL of the vendored ``three.module.min.js`` in the written file (so it opens from disk,
-offline), or ``/vendor/three.module.min.js`` when served. Nothing is fetched from the network.
+code (``static/replay.js``, ``static/replay.css``) and its import map (:func:`import_map`): ``three``
+(the vendored ``three.module.min.js``) and ``oceangnc/scene3d`` (``static/scene3d.js``, the frames
+and meshes the console's 3D panel shares) as ``data:`` URLs in the written file (so it opens from
+disk, offline), or under ``/vendor/`` when served. Nothing is fetched from the network.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from .run_data import RunData, load_run
 
 STATIC = Path(__file__).resolve().parent / "static"
 THREE = STATIC / "vendor" / "three.module.min.js"
+SCENE3D = STATIC / "scene3d.js"
 
 
 def _f32(a) -> str:
@@ -107,16 +109,32 @@ def _json_script(obj) -> str:
     return json.dumps(obj, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
 
 
-def build_html(rd: RunData, three_url: str | None = None) -> str:
-    """The page as a string; ``three_url`` None: three.js inlined as a data: URL."""
-    if three_url is None:
-        three_url = "data:text/javascript;base64," + base64.b64encode(THREE.read_bytes()).decode("ascii")
+def _data_url(path: Path) -> str:
+    return "data:text/javascript;base64," + base64.b64encode(path.read_bytes()).decode("ascii")
+
+
+def import_map(base: str | None = None) -> dict:
+    """The import map of the 3D pages: ``three`` and ``oceangnc/scene3d`` (the shared frames and
+    meshes, ``static/scene3d.js``), as ``data:`` URLs (``base`` None) or under the URL ``base``."""
+    if base is None:
+        return {"imports": {"three": _data_url(THREE), "oceangnc/scene3d": _data_url(SCENE3D)}}
+    return {"imports": {"three": f"{base}/three.module.min.js", "oceangnc/scene3d": f"{base}/scene3d.js"}}
+
+
+def vendor_file(name: str) -> Path | None:
+    """The path of a servable vendor file, or None (only the names of :data:`VENDOR_FILES`)."""
+    return {"three.module.min.js": THREE, "scene3d.js": SCENE3D}.get(name)
+
+
+def build_html(rd: RunData, base: str | None = None) -> str:
+    """The page as a string; ``base`` None: three.js and scene3d.js inlined as data: URLs, else
+    imported from ``base`` (the ``--serve`` server's ``/vendor``)."""
     html = (STATIC / "replay.html").read_text()
     title = f"{rd.path.name} - oceangnc replay"
     parts = {
         "@TITLE@": title.replace("&", "&amp;").replace("<", "&lt;"),
         "@CSS@": (STATIC / "replay.css").read_text(),
-        "@IMPORTMAP@": _json_script({"imports": {"three": three_url}}),
+        "@IMPORTMAP@": _json_script(import_map(base)),
         "@DATA@": _json_script(replay_data(rd)),
         "@APP@": (STATIC / "replay.js").read_text(),
     }
@@ -142,24 +160,23 @@ def write_replay(run: str | Path | RunData, out: str | Path | None = None) -> Pa
 def serve(run, port: int = 8060, open_browser: bool = False, out=None, ready=None) -> int:
     """Serve the replay page of ``run`` on http://127.0.0.1:PORT/ until interrupted (0 on Ctrl-C).
 
-    Only two paths answer: ``/`` (the page, three.js imported from ``/vendor/three.module.min.js``)
-    and that file. ``out`` also writes the self-contained file; ``ready(port)`` is called once
-    listening (tests)."""
+    Only three paths answer: ``/`` (the page, importing ``/vendor/three.module.min.js`` and
+    ``/vendor/scene3d.js``) and those two files. ``out`` also writes the self-contained file;
+    ``ready(port)`` is called once listening (tests)."""
     from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
     rd = load_run(run)
     if out is not None:
         write_replay(rd, out)
-    page = build_html(rd, three_url="/vendor/three.module.min.js").encode()
-    three = THREE.read_bytes()
+    page = build_html(rd, base="/vendor").encode()
 
     class Handler(BaseHTTPRequestHandler):
         def do_GET(self):  # noqa: N802 (http.server's name)
             path = self.path.split("?", 1)[0]
             if path in ("/", "/index.html", "/replay.html"):
                 body, ctype = page, "text/html; charset=utf-8"
-            elif path == "/vendor/three.module.min.js":
-                body, ctype = three, "text/javascript; charset=utf-8"
+            elif path.startswith("/vendor/") and (f := vendor_file(path[len("/vendor/") :])) is not None:
+                body, ctype = f.read_bytes(), "text/javascript; charset=utf-8"
             else:
                 self.send_error(404)
                 return
