@@ -15,6 +15,11 @@ flagship run with 20 cable segments, in headless Chromium; and the MCAP export t
 4. Frames per second: the replay plays at 1x, then at 10x, for ``--seconds`` wall seconds each;
    frames drawn (``replay.frames``) over the page's own elapsed time. Headless Chromium renders WebGL in software
    (SwiftShader) here and its animation frames are capped at the display rate (60 Hz). Target >= 30.
+5. The console's 3D panel (``--console-viewers N``, default 20; 0 skips it): ``oceangnc console
+   combined-survey`` on 127.0.0.1, N - 1 WebSocket viewers reading the state stream (role viewer)
+   and one console page in headless Chromium (the operator); the figure is the panel's updates per
+   second (``view3d.updates``: new states drawn) over ``--seconds``. The console streams 25 states
+   a second by default (``--stream-hz``), the ceiling. Target >= 20 Hz with 20 viewers.
 """
 
 from __future__ import annotations
@@ -58,6 +63,7 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=10.0, help="wall seconds of playing for the frame rate")
     ap.add_argument("--repeat", type=int, default=3, help="page loads")
     ap.add_argument("--run", help="run folder (made when missing)")
+    ap.add_argument("--console-viewers", type=int, default=20, help="viewers of the console benchmark (0: skip)")
     args = ap.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -112,6 +118,74 @@ def main() -> None:
     record("3D replay", f"frames per second playing at 10x ({case})", fps[1], "fps", ">= 30", note)
     record("3D replay", f"write replay.html ({case})", t_write, "s", "", "oceangnc.view.replay.write_replay")
     record("3D replay", f"MCAP export ({case})", t_mcap, "s", "", "oceangnc.view.mcap_export.export_mcap")
+
+    if args.console_viewers > 0:
+        console_panel(args.console_viewers, args.seconds)
+
+
+def console_panel(viewers: int, seconds: float) -> None:
+    import socket
+    import threading
+
+    import httpx
+    from playwright.sync_api import sync_playwright
+    from websockets.sync.client import connect
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    token = "bench-view-console-token"
+    out = Path(tempfile.mkdtemp(prefix="oceangnc-bench-console-"))
+    cmd = [sys.executable, "-m", "oceangnc", "console", "combined-survey", "--port", str(port), "--out", str(out)]
+    proc = subprocess.Popen([*cmd, "--token", token], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}"
+    stop = threading.Event()
+    received = [0] * (viewers - 1)
+
+    def viewer(i: int) -> None:
+        with connect(f"ws://127.0.0.1:{port}/ws?token={token}&role=viewer", open_timeout=30) as ws:
+            while not stop.is_set():
+                try:
+                    ws.recv(timeout=1)
+                    received[i] += 1
+                except TimeoutError:
+                    pass
+
+    try:
+        deadline = time.monotonic() + 180
+        while time.monotonic() < deadline:
+            try:
+                if httpx.get(url + "/api/state", params={"token": token}, timeout=2).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                time.sleep(0.5)
+        threads = [threading.Thread(target=viewer, args=(i,), daemon=True) for i in range(viewers - 1)]
+        for t in threads:
+            t.start()
+        with sync_playwright() as p:
+            b = p.chromium.launch(executable_path=chromium(), headless=True)
+            page = b.new_page(viewport={"width": 1400, "height": 900})
+            page.goto(f"{url}/?token={token}")
+            page.wait_for_function("window.view3d && view3d.updates > 10", timeout=120_000)
+            u0, f0, w0 = page.evaluate("[view3d.updates, view3d.frames, performance.now()]")
+            page.wait_for_timeout(seconds * 1000)
+            u1, f1, w1 = page.evaluate("[view3d.updates, view3d.frames, performance.now()]")
+            clients = page.evaluate("window.__console.state.clients")
+            b.close()
+        stop.set()
+        for t in threads:
+            t.join(timeout=5)
+    finally:
+        stop.set()
+        proc.terminate()
+        proc.wait(timeout=30)
+        shutil.rmtree(out, ignore_errors=True)
+    hz = (u1 - u0) / ((w1 - w0) / 1000)
+    print(f"console 3D panel: {hz:.1f} updates/s, {(f1 - f0) / ((w1 - w0) / 1000):.1f} frames/s, "
+          f"{clients} clients connected; viewers got {min(received)}-{max(received)} messages")  # fmt: skip
+    case = f"console 3D panel updates per second, combined-survey, {clients} clients"
+    case += f" ({viewers - 1} WebSocket viewers + the page)"
+    record("3D replay", case, hz, "Hz", ">= 20", "headless Chromium, software WebGL; the console streams 25 states/s")
 
 
 if __name__ == "__main__":
