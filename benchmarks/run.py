@@ -39,6 +39,7 @@ BENCHMARKS = {
     "compile": ("bench_compile.py", ["combined-survey"], {}),
     "batch": ("bench_batch.py", ["1000", "40"], {}),
     "console-soak": ("bench_console_soak.py", ["--seconds", "60", "--viewers", "20"], {}),
+    "view": ("bench_view.py", ["--duration", "600", "--seconds", "10", "--repeat", "3"], {}),
 }
 
 

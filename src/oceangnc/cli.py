@@ -26,6 +26,7 @@ PLUGINS = (
     "oceangnc.mavlink.cli",
     "oceangnc.io.importers.cli",
     "oceangnc.validation.cli",
+    "oceangnc.view.cli",
 )
 
 
@@ -48,6 +49,17 @@ def _cmd_list(args) -> int:
 
 def _cmd_run(args) -> int:
     from . import postproc
+
+    if args.mcap:  # fail before the run, not after it
+        from .view.mcap_export import MissingMcap, require_mcap
+
+        try:
+            require_mcap()
+        except MissingMcap:
+            from .view.cli import MCAP_HINT
+
+            print(MCAP_HINT, file=sys.stderr)
+            return 2
 
     post = None
     light = postproc.light_plots_for(args.scenario, args.config) if args.resume is None else None
@@ -124,6 +136,12 @@ def _run(args, overrides: dict, post) -> int:
         for k in keys:
             v = res.summary[k]
             print(f"  {k:<{w}}  {v:.4g}" if isinstance(v, float) else f"  {k:<{w}}  {v}")
+    if args.mcap:  # the run's log as RUN/run.mcap (oceangnc.view.mcap_export)
+        from .view.mcap_export import export_mcap
+
+        path = export_mcap(res.out_dir)
+        if not args.json:
+            print(f"wrote {path}")
     if args.json:
         print(json.dumps(res.summary))
     return 0
@@ -182,6 +200,7 @@ def build_parser(plugins: bool = True) -> argparse.ArgumentParser:
         "read, so a --set ...kind= can pick them (repeatable)",
     )
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--mcap", action="store_true", help="also write RUN/run.mcap (Foxglove; needs oceangnc[view])")
     p.add_argument(
         "--verbose",
         action="store_true",

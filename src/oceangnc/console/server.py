@@ -4,6 +4,7 @@ Routes
 ------
 ``GET /``                 the console page (``static/index.html``); open it as ``/?token=TOKEN``
 ``GET /static/...``       its script and style sheet
+``GET /vendor/...``       three.js and the 3D panel's shared module (``oceangnc.view.replay.vendor_file``)
 ``GET /api/state``        the latest state message (JSON), for scripts and health checks
 ``GET /api/scenarios``    the scenarios that run live
 ``GET /api/log.parquet``  the current run's log, a single Parquet file (same columns as ``oceangnc run``)
@@ -193,6 +194,15 @@ def create_app(
     @app.get("/")
     def index():
         return FileResponse(STATIC / "index.html", headers={"Cache-Control": "no-store"})
+
+    @app.get("/vendor/{name}")
+    def vendor(name: str):  # the 3D panel's modules (three.js, scene3d.js): oceangnc.view.replay.vendor_file
+        from ..view.replay import vendor_file
+
+        f = vendor_file(name)
+        if f is None:
+            return PlainTextResponse("not found", status_code=404)
+        return FileResponse(f, media_type="text/javascript")
 
     @app.get("/api/state")
     def api_state():

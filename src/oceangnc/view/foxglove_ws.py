@@ -1,0 +1,221 @@
+"""A run streamed to Foxglove / Lichtblick over the Foxglove WebSocket protocol
+(``foxglove.websocket.v1``): ``oceangnc view RUN --foxglove [--port 8765] [--speed 1] [--once]``.
+
+The channels and messages are those of the MCAP export (:func:`oceangnc.view.mcap_export.build_channels`:
+poses, ``/tf``, ``/scene``, GPS fixes, ``/signals/<prefix>``), played in time at ``speed`` x the
+logged rate, from the start again at the end unless ``once``. The protocol, as the server uses it:
+
+* the client asks for the subprotocol ``foxglove.websocket.v1``; the server answers with a
+  ``serverInfo`` (capability ``time``: the stream's clock is the run's time) and one ``advertise``
+  of every channel (``encoding`` json, ``schemaEncoding`` jsonschema, the JSON Schema as text);
+* the client sends ``subscribe`` (``{"id": SUB, "channelId": CH}``) and ``unsubscribe``;
+* for every log row the server sends a binary *Time* (0x02, uint64 ns) and, on every subscribed
+  channel with a message at that row, a *Message Data* (0x01, uint32 subscription id, uint64 ns, the
+  JSON payload); integers little-endian.
+
+Safety: the server binds 127.0.0.1 only (this machine); it is read-only (no client publishing,
+parameters or services); a connection presenting a browser ``Origin`` is accepted only from the
+Foxglove web app, a page on this machine, or an origin listed with ``--allow-origin``; a client
+that does not read fast enough is dropped rather than buffered without bound. Needs the optional
+package ``websockets`` (``pip install 'oceangnc[console]'``).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import struct
+import sys
+import time
+from urllib.parse import urlsplit
+
+from .mcap_export import Channel, build_channels, stamps_ns
+from .run_data import RunData, load_run
+
+SUBPROTOCOL = "foxglove.websocket.v1"
+OP_MESSAGE, OP_TIME = 0x01, 0x02
+#: browser origins accepted besides pages of this machine (http(s)://127.0.0.1, localhost, [::1])
+APP_ORIGINS = ("https://app.foxglove.dev", "https://studio.foxglove.dev")
+MAX_QUEUE = 2000  # messages waiting for one client before it is dropped
+
+
+def origin_allowed(origin: str | None, extra: tuple[str, ...] = ()) -> bool:
+    """No Origin (a native client), the Foxglove web app, a page of this machine or ``extra``."""
+    if origin is None or origin == "file://" or origin in APP_ORIGINS or origin in extra:
+        return True
+    host = urlsplit(origin).hostname or ""
+    return host in ("127.0.0.1", "localhost", "::1")
+
+
+class _Client:
+    def __init__(self, ws):
+        self.ws = ws
+        self.subs: dict[int, int] = {}  # channel id -> subscription id
+        self.queue: asyncio.Queue = asyncio.Queue(MAX_QUEUE)
+
+
+class FoxgloveRunServer:
+    """Plays the channels of a run to every connected client (module docstring)."""
+
+    def __init__(self, rd: RunData, speed: float = 1.0, loop: bool = True, allow_origins: tuple[str, ...] = ()):
+        if not speed > 0:
+            raise ValueError("speed must be > 0")
+        self.rd = rd
+        self.channels: list[Channel] = build_channels(rd)
+        self.ns = stamps_ns(rd).tolist()
+        self.speed = speed
+        self.loop = loop
+        self.allow_origins = allow_origins
+        self.clients: set[_Client] = set()
+        self.rows_sent = 0
+        self.done = asyncio.Event()
+
+    # -- protocol ----------------------------------------------------------------------------------
+    def server_info(self) -> str:
+        return json.dumps(
+            {
+                "op": "serverInfo",
+                "name": f"oceangnc {self.rd.path.name}",
+                "capabilities": ["time"],
+                "supportedEncodings": [],
+                "metadata": {"run": self.rd.path.name, "frames": "world ENU, vehicles FLU (REP 103)"},
+                "sessionId": str(time.time_ns()),
+            }
+        )
+
+    def advertise(self) -> str:
+        chans = [
+            {
+                "id": i + 1,
+                "topic": c.topic,
+                "encoding": "json",
+                "schemaName": c.schema_name,
+                "schema": c.schema.decode(),
+                "schemaEncoding": "jsonschema",
+            }
+            for i, c in enumerate(self.channels)
+        ]
+        return json.dumps({"op": "advertise", "channels": chans})
+
+    def _status(self, level: int, message: str) -> str:
+        return json.dumps({"op": "status", "level": level, "message": message})
+
+    async def handler(self, ws) -> None:
+        origin = ws.request.headers.get("Origin") if ws.request is not None else None
+        if not origin_allowed(origin, self.allow_origins):
+            await ws.close(1008, f"origin {origin} not allowed")
+            return
+        if ws.subprotocol != SUBPROTOCOL:
+            await ws.close(1002, f"subprotocol {SUBPROTOCOL} required")
+            return
+        client = _Client(ws)
+        await ws.send(self.server_info())
+        await ws.send(self.advertise())
+        self.clients.add(client)
+        sender = asyncio.create_task(self._send_loop(client))
+        try:
+            async for raw in ws:
+                if isinstance(raw, bytes):
+                    continue  # no client publishing
+                try:
+                    msg = json.loads(raw)
+                except json.JSONDecodeError:
+                    await ws.send(self._status(2, "not JSON"))
+                    continue
+                op = msg.get("op")
+                if op == "subscribe":
+                    for s in msg.get("subscriptions", []):
+                        ch, sid = s.get("channelId"), s.get("id")
+                        if isinstance(ch, int) and isinstance(sid, int) and 1 <= ch <= len(self.channels):
+                            client.subs[ch] = sid
+                        else:
+                            await ws.send(self._status(1, f"unknown channel {ch}"))
+                elif op == "unsubscribe":
+                    gone = set(msg.get("subscriptionIds", []))
+                    client.subs = {c: s for c, s in client.subs.items() if s not in gone}
+                else:
+                    await ws.send(self._status(1, f"operation {op!r} not supported (read-only stream)"))
+        except Exception:  # the client went away
+            pass
+        finally:
+            self.clients.discard(client)
+            sender.cancel()
+
+    async def _send_loop(self, client: _Client) -> None:
+        try:
+            while True:
+                await client.ws.send(await client.queue.get())
+        except Exception:
+            self.clients.discard(client)
+
+    def _offer(self, client: _Client, frame: bytes) -> None:
+        try:
+            client.queue.put_nowait(frame)
+        except asyncio.QueueFull:  # a client too slow: dropped, not buffered without bound
+            self.clients.discard(client)
+            asyncio.ensure_future(client.ws.close(1008, "client too slow"))
+
+    # -- playback ----------------------------------------------------------------------------------
+    def _emit(self, i: int) -> None:
+        ts = self.ns[i]
+        tframe = struct.pack("<BQ", OP_TIME, ts)
+        for client in list(self.clients):
+            self._offer(client, tframe)
+            for ch, sid in list(client.subs.items()):
+                data = self.channels[ch - 1].payloads[i]
+                if data is not None:
+                    self._offer(client, struct.pack("<BIQ", OP_MESSAGE, sid, ts) + data)
+        self.rows_sent += 1
+
+    async def play(self) -> None:
+        """Emit the rows paced by their times / speed; again from the start unless ``loop`` is False."""
+        t = self.rd.t
+        while True:
+            w0 = time.monotonic()
+            for i in range(self.rd.rows):
+                wait = w0 + (t[i] - t[0]) / self.speed - time.monotonic()
+                if wait > 0:
+                    await asyncio.sleep(wait)
+                self._emit(i)
+            if not self.loop:
+                break
+        await asyncio.sleep(0.5)  # let the queues drain
+        self.done.set()
+
+
+async def _serve(rd: RunData, port: int, speed: float, loop: bool, allow_origins, ready) -> int:
+    from websockets.asyncio.server import serve
+
+    srv = FoxgloveRunServer(rd, speed=speed, loop=loop, allow_origins=allow_origins)
+    async with serve(
+        srv.handler, "127.0.0.1", port, subprotocols=[SUBPROTOCOL], max_size=2**20, compression=None
+    ) as server:
+        bound = server.sockets[0].getsockname()[1]
+        print(
+            f"Foxglove WebSocket stream of {rd.path} at ws://127.0.0.1:{bound} "
+            f"({len(srv.channels)} channels, {speed:g}x{', once' if not loop else ''}; Ctrl-C to stop)",
+            flush=True,
+        )
+        if ready is not None:
+            ready(bound)
+        await srv.play()
+    return 0
+
+
+def serve_foxglove(run, port: int = 8765, speed: float = 1.0, loop: bool = True, allow_origins=(), ready=None) -> int:
+    """Stream the run folder ``run`` on ws://127.0.0.1:PORT until interrupted (or its end, ``loop=False``).
+    Exit code 2 with a one-line message without the ``websockets`` package."""
+    try:
+        import websockets.asyncio.server  # noqa: F401
+    except ImportError:
+        print(
+            "error: the Foxglove stream needs the optional package 'websockets': install oceangnc[console]",
+            file=sys.stderr,
+        )
+        return 2
+    rd = run if isinstance(run, RunData) else load_run(run)
+    try:
+        return asyncio.run(_serve(rd, port, speed, loop, tuple(allow_origins), ready))
+    except KeyboardInterrupt:
+        print("stopped", file=sys.stderr)
+        return 0

@@ -1,0 +1,192 @@
+"""What a run folder holds for a viewer, read once: :func:`load_run`.
+
+A run folder has ``log.parquet`` (one row per logged time ``t``, columns ``<body>.<signal>``),
+``config.toml`` and ``summary.json`` (both optional here: an imported field log has neither). From
+them a :class:`RunData` gathers
+
+* the **vehicles**: every prefix ``P`` with columns ``P.x``, ``P.y`` and ``P.psi`` (NED north, east,
+  heading); ``P.z``, ``P.phi``, ``P.theta`` are used when logged, else 0. ``uuv`` is drawn as a
+  torpedo, any other as a surface hull; sizes come from the config (``usv.length_oa``/``beam``,
+  ``uuv.length``/``diameter``) or defaults;
+* the **cable**: node columns ``cable.x0..``, ``cable.y0..``, ``cable.z0..`` (node 0 at the USV,
+  the last at the UUV's tow point) and its tensions: per node ``cable.tension0..`` when logged,
+  else the end tensions ``cable.top_tension`` / ``cable.bottom_tension``;
+* the **route** (``guidance.waypoints``, north/east pairs) and its acceptance radius;
+* the **seabed** (``environment.seabed``: depth at the origin, slope, direction) when it has a depth;
+* the **geographic origin** (``mavlink.origin_lat_deg``/``origin_lon_deg``) and any logged
+  ``lat``/``lon`` columns, for a GPS track.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+_NODE = re.compile(r"^cable\.([xyz])(\d+)$")
+_TENSION = re.compile(r"^cable\.tension(\d+)$")
+
+
+@dataclass
+class Body:
+    """A vehicle with a pose: its column prefix, how it is drawn and its size (m)."""
+
+    name: str
+    kind: str  # "torpedo" (a UUV) or "hull" (a surface vessel)
+    length: float
+    width: float
+    columns: dict[str, str | None]  # x, y, z, phi, theta, psi -> log column (None: not logged, taken as 0)
+
+
+@dataclass
+class RunData:
+    """A run folder read for a viewer (module docstring)."""
+
+    path: Path
+    columns: dict[str, np.ndarray]  # every numeric log column, float64, in log order
+    config: dict = field(default_factory=dict)
+    summary: dict = field(default_factory=dict)
+    bodies: list[Body] = field(default_factory=list)
+    cable_nodes: int = 0  # number of cable nodes (0: no cable logged)
+    cable_tension: list[str] = field(default_factory=list)  # per-node tension columns, or the 2 end ones, or []
+    route: list[tuple[float, float]] = field(default_factory=list)  # waypoints (north, east), m
+    acceptance: float | None = None
+    seabed: dict | None = None  # {"depth", "slope_deg", "slope_direction_deg"}
+    origin: tuple[float, float] | None = None  # (lat, lon) deg of the NED origin
+    latlon: tuple[str, str] | None = None  # logged latitude / longitude columns (deg)
+
+    @property
+    def t(self) -> np.ndarray:
+        return self.columns["t"]
+
+    @property
+    def rows(self) -> int:
+        return len(self.columns["t"])
+
+    def col(self, name: str | None, default: float = 0.0) -> np.ndarray:
+        """A column, or ``default`` everywhere when ``name`` is None or not logged."""
+        if name is not None and name in self.columns:
+            return self.columns[name]
+        return np.full(self.rows, default)
+
+    def node_columns(self, axis: str) -> list[str]:
+        """The cable node columns of ``axis`` ("x", "y" or "z"), node 0 first."""
+        return [f"cable.{axis}{i}" for i in range(self.cable_nodes)]
+
+    def seabed_depth(self, n, e):
+        """Depth of the plane seabed (m, down) at north ``n``, east ``e`` (as
+        :mod:`oceangnc.environment.seabed`: D + tan(slope) (n cos chi + e sin chi))."""
+        b = self.seabed
+        s = np.tan(np.radians(b["slope_deg"]))
+        chi = np.radians(b["slope_direction_deg"])
+        return b["depth"] + s * (np.asarray(n) * np.cos(chi) + np.asarray(e) * np.sin(chi))
+
+
+def _read_columns(path: Path) -> dict[str, np.ndarray]:
+    from ..io.log_read import read_table
+
+    log = path / "log.parquet"
+    if not log.exists():
+        raise InputError(f"{path}: no log.parquet (a run folder written by 'oceangnc run' or 'oceangnc import')")
+    import pyarrow as pa
+
+    try:
+        table = read_table(log)
+    except (pa.ArrowInvalid, OSError, ValueError) as e:
+        if isinstance(e, InputError):
+            raise
+        raise InputError(f"cannot read log {log}: {e}") from None
+    cols: dict[str, np.ndarray] = {}
+    for name, col in zip(table.column_names, table.columns):
+        if pa.types.is_floating(col.type) or pa.types.is_integer(col.type) or pa.types.is_boolean(col.type):
+            cols[name] = np.asarray(col.to_numpy(zero_copy_only=False), dtype=float)
+    if "t" not in cols:
+        raise InputError(f"log {log} has no time column 't'")
+    return cols
+
+
+def _size(cfg: dict, keys: tuple[str, ...], default: float) -> float:
+    for k in keys:
+        v = cfg.get(k)
+        if isinstance(v, (int, float)) and v > 0:
+            return float(v)
+    return default
+
+
+def load_run(run_dir: str | Path) -> RunData:
+    """Read the run folder ``run_dir`` (or its ``log.parquet``) for a viewer; InputError if it has no log."""
+    path = Path(run_dir)
+    if path.name == "log.parquet":
+        path = path.parent
+    if not path.is_dir():
+        raise InputError(f"run folder not found: {path}")
+    cols = _read_columns(path)
+    cfg: dict = {}
+    if (path / "config.toml").exists():
+        try:
+            cfg = tomllib.loads((path / "config.toml").read_text())
+        except tomllib.TOMLDecodeError as e:
+            raise InputError(f"{path / 'config.toml'}: {e}") from None
+    summary: dict = {}
+    if (path / "summary.json").exists():
+        try:
+            summary = json.loads((path / "summary.json").read_text())
+        except json.JSONDecodeError:
+            summary = {}
+    rd = RunData(path=path, columns=cols, config=cfg, summary=summary)
+
+    prefixes = sorted({c.split(".", 1)[0] for c in cols if "." in c})
+    for p in prefixes:
+        if not all(f"{p}.{s}" in cols for s in ("x", "y", "psi")):
+            continue
+        bcfg = cfg.get(p, {}) if isinstance(cfg.get(p), dict) else {}
+        colmap = {s: (f"{p}.{s}" if f"{p}.{s}" in cols else None) for s in ("x", "y", "z", "phi", "theta", "psi")}
+        if p == "uuv":
+            body = Body(p, "torpedo", _size(bcfg, ("length",), 1.8), _size(bcfg, ("diameter",), 0.25), colmap)
+        elif p == "ship":
+            body = Body(p, "hull", _size(bcfg, ("length", "lpp", "L"), 175.0), _size(bcfg, ("beam", "B"), 25.4), colmap)
+        else:
+            body = Body(p, "hull", _size(bcfg, ("length_oa", "length"), 3.0), _size(bcfg, ("beam",), 1.8), colmap)
+        rd.bodies.append(body)
+
+    nodes = {(m.group(1), int(m.group(2))) for c in cols if (m := _NODE.match(c))}
+    n = 0
+    while all((a, n) in nodes for a in "xyz"):
+        n += 1
+    rd.cable_nodes = n if n >= 2 else 0
+    if rd.cable_nodes:
+        per_node = sorted((int(m.group(1)), c) for c in cols if (m := _TENSION.match(c)))
+        if len(per_node) >= 2:
+            rd.cable_tension = [c for _, c in per_node]
+        elif "cable.top_tension" in cols and "cable.bottom_tension" in cols:
+            rd.cable_tension = ["cable.top_tension", "cable.bottom_tension"]
+
+    g = cfg.get("guidance", {})
+    wps = g.get("waypoints") if isinstance(g, dict) else None
+    if isinstance(wps, list):
+        rd.route = [(float(w[0]), float(w[1])) for w in wps if isinstance(w, list) and len(w) >= 2]
+        acc = g.get("acceptance")
+        rd.acceptance = float(acc) if isinstance(acc, (int, float)) else None
+
+    bed = cfg.get("environment", {}).get("seabed", {}) if isinstance(cfg.get("environment"), dict) else {}
+    if isinstance(bed, dict) and isinstance(bed.get("depth"), (int, float)):
+        rd.seabed = {
+            "depth": float(bed["depth"]),
+            "slope_deg": float(bed.get("slope_deg", 0.0)),
+            "slope_direction_deg": float(bed.get("slope_direction_deg", 0.0)),
+        }
+
+    mav = cfg.get("mavlink", {})
+    if isinstance(mav, dict) and isinstance(mav.get("origin_lat_deg"), (int, float)):
+        rd.origin = (float(mav["origin_lat_deg"]), float(mav.get("origin_lon_deg", 0.0)))
+    for lat, lon in (("lat", "lon"), ("gps.lat", "gps.lon"), ("usv.lat", "usv.lon")):
+        if lat in cols and lon in cols:
+            rd.latlon = (lat, lon)
+            break
+    return rd

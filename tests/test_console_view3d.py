@@ -1,0 +1,131 @@
+"""The console's 3D panel (issue 31, docs/view.md) in headless Chromium: a real ``oceangnc console
+combined-survey`` on 127.0.0.1, its page opened with the token; the panel draws every new state, and
+the UUV and the last cable node are drawn where the state it drew puts them (page state, projection
+through its camera computed here, and a screenshot once the operator has paused the run)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import httpx
+import numpy as np
+import pytest
+from console_server import free_port
+
+from oceangnc.view import frames
+
+pytestmark = pytest.mark.browser
+TOKEN = "view3d-test-token-1"
+PX_TOL = 1.5
+
+
+def _chromium() -> str | None:
+    for cand in (os.environ.get("CHROMIUM_PATH"), shutil.which("chromium"), "/usr/lib/chromium/chromium"):
+        if cand and Path(cand).exists():
+            return cand
+    return None
+
+
+@pytest.fixture(scope="module")
+def console(tmp_path_factory):
+    pytest.importorskip("fastapi", reason="the console needs oceangnc[console]")
+    port = free_port()
+    out = tmp_path_factory.mktemp("console3d")
+    cmd = [sys.executable, "-m", "oceangnc", "console", "combined-survey", "--port", str(port), "--out", str(out)]
+    proc = subprocess.Popen(
+        [*cmd, "--token", TOKEN],
+        env=dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1"),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 180
+        while True:
+            assert proc.poll() is None, "console server exited"
+            try:
+                if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            assert time.monotonic() < deadline, "console server did not start within 180 s"
+            time.sleep(0.5)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+def _project(m: dict, world) -> tuple[float, float]:
+    proj = np.array(m["projection"]).reshape(4, 4).T
+    view = np.array(m["view"]).reshape(4, 4).T
+    clip = proj @ view @ np.array([*world, 1.0])
+    ndc = clip[:3] / clip[3]
+    return (ndc[0] + 1) / 2 * m["width"], (1 - ndc[1]) / 2 * m["height"]
+
+
+def test_console_3d_panel_draws_the_live_state(console, tmp_path):
+    chromium = _chromium()
+    if chromium is None:
+        pytest.skip("no Chromium binary (install Debian's 'chromium' or set CHROMIUM_PATH)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    from PIL import Image
+
+    # the vendor route serves the two modules and nothing else
+    assert httpx.get(console + "/vendor/three.module.min.js", timeout=10).status_code == 200
+    assert httpx.get(console + "/vendor/scene3d.js", timeout=10).status_code == 200
+    assert httpx.get(console + "/vendor/replay.py", timeout=10).status_code == 404
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium, headless=True)
+        try:
+            page = b.new_page(viewport={"width": 1400, "height": 900})
+            errors: list[str] = []
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(f"{console}/?token={TOKEN}")
+            page.wait_for_function("window.view3d && window.view3d.updates > 10 && window.view3d.uuv", timeout=90_000)
+            u0 = page.evaluate("view3d.updates")
+            page.wait_for_function(f"view3d.updates > {u0 + 5}", timeout=60_000)  # it keeps drawing new states
+            # the operator pauses the run: the last state stays on screen
+            page.click("#pause")
+            page.wait_for_function("window.__console.state && window.__console.state.paused === true", timeout=30_000)
+            page.wait_for_timeout(500)
+            st = page.evaluate(
+                """(() => { const s = view3d.state.signals; return {
+                    t: view3d.t, uuv: view3d.uuv, end: view3d.cableEnd, m: view3d.cameraMatrices(),
+                    drawnUuv: view3d.projectObject('uuv'), drawnEnd: view3d.projectObject('cableEnd'),
+                    sig: [s['uuv.x'], s['uuv.y'], s['uuv.z']], last: view3d.state.signals['cable.x20'] !== undefined
+                      ? [s['cable.x20'], s['cable.y20'], s['cable.z20']] : null,
+                    paused: window.__console.state.paused, same: window.__console.state === view3d.state }; })()"""
+            )
+            assert st["paused"] and st["same"], "the panel drew the latest state"
+            assert st["t"] > 0
+            uuv_ned = np.array(st["sig"], float)
+            assert np.allclose(st["uuv"]["ned"], uuv_ned, atol=1e-9)
+            assert np.allclose(st["uuv"]["world"], frames.ned_to_three(*uuv_ned), atol=1e-9)
+            want = _project(st["m"], frames.ned_to_three(*uuv_ned))
+            assert np.hypot(st["drawnUuv"][0] - want[0], st["drawnUuv"][1] - want[1]) < PX_TOL
+            assert 0 < want[0] < st["m"]["width"] and 0 < want[1] < st["m"]["height"]
+            assert st["last"] is not None
+            end_ned = np.array(st["last"], float)
+            assert np.allclose(st["end"]["ned"], end_ned, atol=1e-9)
+            want_end = _project(st["m"], frames.ned_to_three(*end_ned))
+            assert np.hypot(st["drawnEnd"][0] - want_end[0], st["drawnEnd"][1] - want_end[1]) < PX_TOL
+            # a screenshot of the panel: the UUV's pixel is not the background
+            m = st["m"]
+            page.screenshot(
+                path=str(tmp_path / "panel.png"),
+                clip={"x": m["left"], "y": m["top"], "width": m["width"], "height": m["height"]},
+            )
+            px = Image.open(tmp_path / "panel.png").convert("RGB").getpixel((int(want[0]), int(want[1])))
+            assert px != (0x0B, 0x17, 0x24), px
+            assert not errors, errors
+        finally:
+            b.close()
