@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -247,3 +249,39 @@ def test_trim_and_linearisation_take_a_vehicle_file():
     # d(u')/du at the trim: -(M^-1 D_L)[0, 0] plus the Coriolis terms, which vanish with v = r = 0
     assert A[6, 6] == pytest.approx(-(minv @ m.p[m.layout.block("D_L")].reshape(6, 6))[0, 0], rel=1e-6)
     assert A[6, 6] < -0.5 * d_l0 / (mrb + ma)  # of the order of the surge-only pole (CG offset couples)
+
+
+VEHICLE_TYPES = [
+    ("rov-station-keeping", "MAV_TYPE_SUBMARINE", True),
+    ("otter-waypoints", "MAV_TYPE_SURFACE_BOAT", False),
+]
+
+
+@pytest.mark.parametrize(("scenario", "mav_type", "dives"), VEHICLE_TYPES)
+def test_a_vehicle_file_is_a_mavlink_vehicle(scenario, mav_type, dives, tmp_path):
+    """Ground stations see a vehicle file's craft as what it is (an ROV: MAV_TYPE_SUBMARINE) and where it is
+    (its own body's depth, not the 003 USV's), on 127.0.0.1 with bounded waits."""
+    from mavlink_gcs import GCS
+    from oceangnc.mavlink.protocol import mavlink as M
+    from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+    v = MavlinkVehicle(scenario, listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
+    v.start()
+    g = GCS(v.address)
+    try:
+        hb = g.wait("HEARTBEAT", 5.0)
+        assert hb.type == getattr(M, mav_type) and hb.get_srcSystem() == 1
+        assert v.body == "vehicle"
+        v.sim.plants[0].x[0] = 40.0  # the vehicle moved 40 m north (and the ROV 2.5 m down): the telemetry
+        v.sim.plants[0].x[2] = 2.5 if dives else 0.0  # follows its own body
+        deadline, north = time.monotonic() + 10.0, None
+        while time.monotonic() < deadline:
+            m = g.wait("GLOBAL_POSITION_INT", 2.0)
+            if m.get_srcSystem() == 1 and m.lat > v.cfg_mav.origin_lat_deg * 1e7 + 200:  # 200e-7 deg: 2.2 m
+                north, depth = (m.lat / 1e7 - v.cfg_mav.origin_lat_deg) * 111_000.0, -m.relative_alt / 1000.0
+                break
+        assert north is not None and 30.0 < north < 50.0
+        assert (depth > 0.0) == dives  # an ROV reports its depth, a boat floats
+    finally:
+        g.close()
+        v.stop()

@@ -61,7 +61,7 @@ class NavMixin:
             if float(b.get("gps.valid", 1.0)) <= 0.5:
                 return None
             return float(b["gps.x"]), float(b["gps.y"])
-        return float(b.get("usv.x", 0.0)), float(b.get("usv.y", 0.0))
+        return float(b.get(f"{self.body}.x", 0.0)), float(b.get(f"{self.body}.y", 0.0))
 
     # -- home ----------------------------------------------------------------------------------------
     def _update_home_from_fix(self) -> None:

@@ -46,7 +46,7 @@ class TelemetryMixin:
             status = M.MAV_STATE_CRITICAL
         else:
             status = M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY
-        typ = M.MAV_TYPE_SUBMARINE if uuv else M.MAV_TYPE_SURFACE_BOAT
+        typ = M.MAV_TYPE_SUBMARINE if uuv else self.mav_type
         self._send(
             (self.mav_uuv if uuv else self.mav).heartbeat_encode(
                 typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, SUB_GUIDED if uuv else self.mode, status
@@ -76,14 +76,14 @@ class TelemetryMixin:
             "r": g("r"),
             "vn": vn,
             "ve": ve,
-            "vd": w if name == "uuv" else 0.0,
+            "vd": w if name == "uuv" or self.mav_type == M.MAV_TYPE_SUBMARINE else 0.0,
             "speed": math.hypot(vn, ve),
         }
 
     def _global_position(self, s: dict, uuv: bool) -> None:
         c = self.cfg_mav
         lat, lon = ned_to_latlon(s["x"], s["y"], c.origin_lat_deg, c.origin_lon_deg)
-        depth = s["z"] if uuv else 0.0
+        depth = s["z"] if uuv or self.mav_type == M.MAV_TYPE_SUBMARINE else 0.0  # a boat floats
         hdg = round(math.degrees(s["psi"]) % 360.0 * 100) % 36000
         tms = int(self.sim.t * 1000) & 0xFFFFFFFF
 
@@ -138,7 +138,7 @@ class TelemetryMixin:
         if not self.peers and not self.fixed_peers and self.tlog is None:
             return
         c = self.cfg_mav
-        usv = self._body("usv")
+        usv = self._body(self.body)
         uuv = self._body("uuv") if self.has_uuv else None
         if self._due("HEARTBEAT", now):
             self._heartbeat()

@@ -85,6 +85,13 @@ __all__ = [
 M = mavlink
 
 
+def _vehicle_kind(name_or_path: str) -> str:
+    """ "underwater" or "surface" of a scenario's vehicle file (:mod:`oceangnc.models.vehicle`)."""
+    from ..models.vehicle import load_vehicle
+
+    return load_vehicle(name_or_path).kind
+
+
 class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin, UUVMixin):
     """A scenario's live simulation served as a MAVLink vehicle (see the module docstring).
 
@@ -156,6 +163,11 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self.route = RouteHook(sc, sim)
         self.reads_stick = reads_stick(sim)
         self.has_uuv = "uuv.x" in sim.bus
+        # system 1's body on the bus: the 003 USV's "usv", or a vehicle file's "vehicle" (issue 30)
+        self.body = "vehicle" if "usv.x" not in sim.bus and "vehicle.x" in sim.bus else "usv"
+        vname = getattr(cfg, "vehicle", None)
+        kind = _vehicle_kind(vname) if isinstance(vname, str) else "surface"
+        self.mav_type = mavlink.MAV_TYPE_SUBMARINE if kind == "underwater" else mavlink.MAV_TYPE_SURFACE_BOAT
         # -- state
         self.armed = False
         self.estop = False
