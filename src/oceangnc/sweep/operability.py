@@ -118,7 +118,9 @@ def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
     n = len(groups)
     ncol = min(n, 4)
     nrow = math.ceil(n / ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(3.9 * ncol + 1.0, 3.4 * nrow + 0.6), squeeze=False)
+    fig, axes = plt.subplots(
+        nrow, ncol, figsize=(3.4 * ncol + 1.2, 3.2 * nrow + 0.7), squeeze=False, layout="constrained"
+    )
     tps = sorted(t[tp_key].unique())
     hss = sorted(t[hs_key].unique())
     im = None
@@ -139,7 +141,7 @@ def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
     for ax in axes.ravel()[n:]:
         ax.axis("off")
     if im is not None:
-        fig.colorbar(im, ax=axes.ravel().tolist(), label="fraction of runs passing", shrink=0.8)
+        fig.colorbar(im, ax=axes.ravel().tolist(), label="fraction of runs passing", fraction=0.03)
     fig.suptitle(title + "  (letters: failed limits - T tension, S snap, D depth std, P pitch std)", fontsize=9)
     fig.savefig(path, dpi=100)
     plt.close(fig)
