@@ -310,3 +310,35 @@ def test_sea_fused_log_equals_python_log(name, over, dur, tmp_path):
     calm["environment.waves.kind"] = "none"
     _, _, c, _ = run_path(name, calm, dur, True, tmp_path / "calm")
     assert np.max(np.abs(a["cable.top_tension"].to_numpy() - c["cable.top_tension"].to_numpy())) > 1.0
+
+
+def test_a_neutrally_buoyant_uuv_follows_a_uniformly_accelerating_flow():
+    """(M_RB + M_A) nu' = (rho V [I 0] + M_A) [R^T a_w; 0] with m = rho V and the centre of gravity at
+    the centre of buoyancy has the exact solution nu' = [R^T a_w; 0]: a neutrally buoyant body at rest in
+    the flow accelerates with it and does not rotate, whatever its added mass (analytic: the long-wave
+    Morison inertia force of a small body; e.g. Maxey & Riley 1983 for the inviscid limit). Checked at a
+    tilted attitude, so the rotation R^T is exercised; the calm-water call gives zero acceleration."""
+    from oceangnc.models.uuv import uuv_deriv, uuv_deriv_flow
+
+    cfg = UUVConfig(weight_in_water_kgf=0.0, zg=0.0)
+    p = cfg.params()
+    x = np.zeros(12)
+    x[3:6] = (0.3, -0.5, 2.0)  # roll, pitch, yaw (rad)
+    aw = np.array([0.4, -0.25, 0.7])  # m/s^2, NED
+    out = np.zeros(12)
+    uuv_deriv_flow(x, out, p, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, *aw, cfg.buoyancy / G, 0.0, 0.0, 0.0, True)
+    from oceangnc.core.rotations import rzyx_entries
+
+    R = np.array(rzyx_entries(*x[3:6])).reshape(3, 3)
+    assert np.allclose(out[6:9], R.T @ aw, rtol=0, atol=1e-12)
+    assert np.allclose(out[9:12], 0.0, rtol=0, atol=1e-12)
+    still = np.zeros(12)
+    uuv_deriv(x, still, p, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert np.allclose(still[6:12], 0.0, atol=1e-12)
+    # moving with a steady flow that has a vertical part: no relative velocity, no force
+    vf = np.array([0.3, -0.2, 0.5])
+    x[6:9] = R.T @ vf
+    uuv_deriv_flow(x, out, p, 0.0, 0.0, 0.0, *vf, 0.0, 0.0, 0.0, cfg.buoyancy / G, 0.0, 0.0, 0.0, True)
+    assert np.allclose(out[6:12], 0.0, atol=1e-12)
+    uuv_deriv_flow(x, out, p, 0.0, 0.0, 0.0, vf[0], vf[1], 0.0, 0.0, 0.0, 0.0, cfg.buoyancy / G, 0.0, 0.0, 0.0, True)
+    assert np.max(np.abs(out[6:9])) > 1e-3  # without the vertical flow the body drags against it
