@@ -36,6 +36,7 @@ BENCHMARKS = {
     "berthing": ("bench_berthing.py", [], {}),
     "tow": ("bench_tow.py", [], {}),
     "sea": ("bench_sea.py", [], {"NUMBA_NUM_THREADS": "1"}),
+    "sea-sweep": ("bench_sea.py", ["--sweep"], {"NUMBA_NUM_THREADS": "1"}),
     "cable": ("bench_cable.py", [], {"NUMBA_NUM_THREADS": "1"}),
     "compile": ("bench_compile.py", ["combined-survey"], {}),
     "batch": ("bench_batch.py", ["1000", "40"], {}),
