@@ -35,6 +35,8 @@ BENCHMARKS = {
     "ekf": ("bench_ekf.py", ["--seeds", "10"], {"NUMBA_NUM_THREADS": "1"}),
     "berthing": ("bench_berthing.py", [], {}),
     "tow": ("bench_tow.py", [], {}),
+    "sea": ("bench_sea.py", [], {"NUMBA_NUM_THREADS": "1"}),
+    "sea-sweep": ("bench_sea.py", ["--sweep"], {"NUMBA_NUM_THREADS": "1"}),
     "cable": ("bench_cable.py", [], {"NUMBA_NUM_THREADS": "1"}),
     "compile": ("bench_compile.py", ["combined-survey"], {}),
     "batch": ("bench_batch.py", ["1000", "40"], {}),

@@ -46,6 +46,10 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
         "cable",
         "USV tows the UUV straight at 0.5 m/s, UUV at its own speed: depth change (003 figs 4-2 to 4-5)",
     ),
+    "tow-sea-state": (
+        "sea_state",
+        "USV tows the UUV on a 20 m cable along a line in a JONSWAP sea: tension, snap loads, UUV motions",
+    ),
     "tow-deploy": ("tow", "USV holding station, UUV lowered by the winch from the surface to 30 m and recovered"),
     "tow-survey-depth": ("tow", "Towing at 1 m/s on a lawnmower over a sloping seabed, 5 m altitude held by the winch"),
     "otter-waypoints": (

@@ -79,6 +79,13 @@ class WaveConfig(StrictModel):
     depth: float = Field(1000.0, gt=0.0, le=1e5, description="water depth for the dispersion relation, m")
     wheeler: bool = Field(False, description="stretch the kinematics to the instantaneous surface")
     seed: int | None = Field(None, ge=0, description="random phases' seed (default: the scenario's sim.seed)")
+    update_dt: float = Field(
+        0.1,
+        gt=0.0,
+        le=1.0,
+        description="interval of the second-order expansions of the kinematics at the cable and the UUV "
+        "(models/_combined_sea.py), s",
+    )
 
     @model_validator(mode="after")
     def _band(self):

@@ -28,6 +28,7 @@ import numpy as np
 from ..core.fused import PlantForm, _kernel_ref, rk4_stepper_imports
 from ._combined_imex import imex_advance
 from ._combined_outputs import _fill_outputs, _fill_outputs_var
+from ._combined_sea import sea_update
 from ._combined_split import split_advance
 
 
@@ -38,6 +39,16 @@ def combined_advance_imports(plant) -> list[str]:
         mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
         return [f"from {mod} import {name} as {{adv}}"]
     return rk4_stepper_imports(plant.rhs)
+
+
+def _sea_lines(plant, imports: list[str]) -> list[str]:
+    """At sea, the line refreshing the wave expansions before the integrator (and its import); none in
+    calm water (the generated loop is then the calm-water one)."""
+    if not getattr(plant, "_sea", False):
+        return []
+    mod, name = _kernel_ref(sea_update)
+    imports.append(f"from {mod} import {name} as _sea_update")
+    return ["_sea_update(t, {x}, {p}, n * dt)"]
 
 
 def combined_plant_form(plant, slot_of) -> PlantForm | None:
@@ -63,6 +74,7 @@ def combined_plant_form(plant, slot_of) -> PlantForm | None:
     code = [
         "for j in range({uin}.size):",
         "    {u}[j] = sig[{uin}[j]]",
+        *_sea_lines(plant, imports),
         "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
         "{ends}[6] = {u}[2]",
         "{ends}[7] = {u}[3]",
@@ -104,6 +116,7 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
     code = [
         "for j in range({uin}.size):",
         "    {u}[j] = sig[{uin}[j]]",
+        *_sea_lines(plant, imports),
         "tn = {adv}(t, {x}, {u}, {p}, dt, n, {w}, {bound})",
         "{ends}[6] = {u}[2]",
         "{ends}[7] = {u}[3]",

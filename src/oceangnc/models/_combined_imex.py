@@ -22,12 +22,14 @@ from ._combined_layout import (
     H_VO,
     H_WIN,
     H_WO,
+    H_SEA,
     P_SCR,
     top_l0,
     _inv3,
 )
 from ._combined_kernels import combined_rhs
 from ._combined_winch import remesh
+from ._sea_layout import top_heave
 from .cable import segment
 
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -147,7 +149,7 @@ def _imex_factor(x, p, n, gh):
 
 
 @njit(cache=True)
-def _imex_end_increments(x, k, p, n, e):
+def _imex_end_increments(x, k, p, n, e, t=0.0, kt=0.0):
     """Stage increments of the two end nodes (not unknowns of the implicit solve) into ``e`` (12):
     position part a_0, velocity part b_0 of the top node, then a_n, b_n of the UUV's tow point.
 
@@ -155,6 +157,10 @@ def _imex_end_increments(x, k, p, n, e):
     stage vectors (which the implicit solve does not change): the J columns of the vehicles' states
     enter the cable rows as known terms, so the nodes next to the ends follow the vehicles' motion
     within the step instead of lagging by ~ gamma h v (which would be a first-order error).
+
+    A heaving top point (issue 29) moves with time, not with a state: time is the state with the stage
+    increment ``kt`` (+1 in the first ROS2 stage, 1 - 2 = -1 in the second), and the top node's
+    increments get its heave velocity and acceleration at ``t`` times ``kt``.
     """
     if p[H_TOP] > 0.5:
         for j in range(6):
@@ -173,6 +179,10 @@ def _imex_end_increments(x, k, p, n, e):
         e[3] = c * kub - s * kvb + (-s * ub - c * vb) * kp
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
+    if p[H_SEA] > 0.0:
+        _, wz, az = top_heave(p, int(p[H_SEA]), t)
+        e[2] += kt * wz
+        e[5] += kt * az
     o, R, cx, cy, cz = tow_frame(x, p)
     # a_n = k_eta1 + R (Omega x r_c), Omega ~ the Euler-angle increments (small-angle rate map)
     bx, by, bz = cross_add(0.0, 0.0, 0.0, k[o + 3], k[o + 4], k[o + 5], cx, cy, cz)
@@ -183,7 +193,7 @@ def _imex_end_increments(x, k, p, n, e):
 
 
 @njit(cache=True)
-def _imex_solve(x, p, n, k, gh):
+def _imex_solve(x, p, n, k, gh, t=0.0, kt=0.0):
     """Replace the cable part of the stage vector ``k`` by (I - gh J)^-1 k (J: cable axial Jacobian).
 
     With k = (a, q) (node velocities a, node accelerations q) the block system is
@@ -198,7 +208,7 @@ def _imex_solve(x, p, n, k, gh):
     Di = p[base + 18 * (n + 1) : base + 27 * (n + 1)]
     R = p[base + 27 * (n + 1) : base + 30 * (n + 1)]
     e = p[base + 30 * (n + 1) : base + 30 * (n + 1) + 12]
-    _imex_end_increments(x, k, p, n, e)
+    _imex_end_increments(x, k, p, n, e, t, kt)
     gh2 = gh * gh
     po = int(p[H_PO])
     vo = int(p[H_VO])
@@ -328,14 +338,14 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
         combined_rhs(t, x, u, p, k1)
         if n >= 2:
             _imex_factor(x, p, n, gh)
-            _imex_solve(x, p, n, k1, gh)
+            _imex_solve(x, p, n, k1, gh, t, 1.0)
         for i in range(m):
             xt[i] = x[i] + dt * k1[i]
         combined_rhs(t + dt, xt, u, p, k2)
         for i in range(m):
             k2[i] -= 2.0 * k1[i]
         if n >= 2:
-            _imex_solve(x, p, n, k2, gh)
+            _imex_solve(x, p, n, k2, gh, t, -1.0)
         ok = True
         for i in range(m):
             x[i] += dt * (1.5 * k1[i] + 0.5 * k2[i])

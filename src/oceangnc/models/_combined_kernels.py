@@ -37,6 +37,8 @@ from ._combined_layout import (
     H_WO,
     H_NMAX,
     H_BED_Z,
+    H_SEA,
+    H_T,
     P_USV,
     N_USV,
     P_UUV,
@@ -48,7 +50,8 @@ from ._combined_layout import (
 from ._combined_winch import _winch_rhs
 from .cable import cable_loads, solve_sym3
 from .usv import usv_rhs
-from .uuv import P_MRB, uuv_deriv
+from ._sea_layout import NCOEF, S_FKSEG, S_MDISP, S_NPT, S_TMID, coef_base, point_kinematics
+from .uuv import P_MRB, uuv_deriv, uuv_deriv_flow
 
 
 @njit(cache=True)
@@ -92,9 +95,25 @@ def _loads(p, pos, vel, F, Mn, n, cv, vcn, vce, cv_last, l0_top, ldot_top):
 
 
 @njit(cache=True)
+def _loads_sea(p, pos, vel, F, Mn, n, cv, vcn, vce, cv_last, l0_top, ldot_top, first, t):
+    """:func:`_loads` in waves: segments ``first`` + 1 .. ``first`` + n of the sea block's expansions,
+    evaluated at time ``t`` (s)."""
+    s = int(p[H_SEA])
+    c = coef_base(p, s) + NCOEF * first
+    wv = p[c : c + NCOEF * n]
+    cable_loads(
+        pos, vel, F, Mn, n, p[H_L0], p[H_EA], cv, p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], vcn, vce, cv_last,
+        int(p[H_LAW]), p[H_KDT], l0_top, ldot_top, wv, t - p[s + S_TMID], p[s + S_FKSEG],
+    )  # fmt: skip
+
+
+@njit(cache=True)
 def combined_rhs(t, x, u, p, out):
     """dx/dt of the combined USV + cable + UUV (layout in the module docstring); allocates nothing."""
     n = int(p[H_N])
+    sea = p[H_SEA] > 0.0
+    if sea:
+        p[H_T] = t
     usv_rhs(t, x[0:6], u[0:6], p[P_USV : P_USV + N_USV], out[0:6])
     if p[H_TOP] > 0.5:
         for k in range(6):
@@ -102,7 +121,10 @@ def combined_rhs(t, x, u, p, out):
     pos, vel, F, Mn = _gather(x, p, n)
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
+    if sea:
+        _loads_sea(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot, 0, t)
+    else:
+        _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
     po = int(p[H_PO])
     vo = int(p[H_VO])
     bed = p[H_BED] > 0.5
@@ -132,7 +154,18 @@ def combined_rhs(t, x, u, p, out):
         fbx += cx
         fby += cy
         fbz += cz
-    uuv_deriv(x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3], fbx, fby, fbz)
+    if sea:  # the UUV in the waves: flow velocity and acceleration at its centre of buoyancy
+        s = int(p[H_SEA])
+        c = coef_base(p, s) + NCOEF * (int(p[s + S_NPT]) - 2)
+        wn, we, wd, an, ae, ad = point_kinematics(p, c, t - p[s + S_TMID], x[o + 2])
+        uuv_deriv_flow(
+            x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2] + wn, u[3] + we, wd,
+            an, ae, ad, p[s + S_MDISP], fbx, fby, fbz, True,
+        )  # fmt: skip
+    else:
+        uuv_deriv(
+            x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3], fbx, fby, fbz
+        )
     if p[H_WIN] > 0.5:
         nmax = int(p[H_NMAX])
         for k in range(3 * (n - 1), 3 * (nmax - 1)):  # inactive node slots stay put
@@ -157,12 +190,22 @@ def cable_state(x, p, nodes, ends):
     # only the two end segments matter: run the segment loads on one-segment views
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
+    sea = p[H_SEA] > 0.0
+    if sea:
+        _loads_sea(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot, 0, p[H_T])
+    else:
+        _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
     for k in range(3):
         ends[k] = F[k]
     b = 3 * (n - 1)
     lb = lt if n == 1 else -1.0
     lbd = ldot if n == 1 else 0.0
-    _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
+    if sea:
+        _loads_sea(
+            p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd, n - 1,
+            p[H_T],
+        )  # fmt: skip
+    else:
+        _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
     for k in range(3):
         ends[3 + k] = F[3 + k]

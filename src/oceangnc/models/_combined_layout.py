@@ -13,6 +13,7 @@ import math
 from numba import njit
 
 from ..core.rotations import rzyx_entries
+from ._sea_layout import top_heave
 from .uuv import NP as UUV_NP
 from .uuv import P_RC
 
@@ -56,6 +57,9 @@ H_PO, H_VO, H_UO = 25, 26, 27
 # capacity, minimum length, speed-loop time constant, nominal segment length of the re-meshing
 H_WIN, H_WO, H_NMAX, H_WV, H_WA, H_WT, H_WCAP, H_WMIN, H_WTAU = 28, 29, 30, 31, 32, 33, 34, 35, 36
 H_BED_Z = 37  # damping ratio of the seabed contact
+# sea (issue 29): offset of the sea block (0: calm water; layout in ._sea_layout), time of the last
+# right-hand-side evaluation (the heaving top point and the published end forces read it)
+H_SEA, H_T = 38, 39
 P_USV = 40
 N_USV = 15
 P_UUV = 60
@@ -85,6 +89,10 @@ def _ends(x, p, n, pos, vel):
         vel[0] = c * ub - s * vb
         vel[1] = s * ub + c * vb
         vel[2] = 0.0
+    if p[H_SEA] > 0.0:  # a heaving top point (with the waves, or prescribed)
+        dz, wz, _ = top_heave(p, int(p[H_SEA]), p[H_T])
+        pos[2] += dz
+        vel[2] += wz
     # bottom node (003 eq. 2.30-2.31)
     o, R, cx, cy, cz = tow_frame(x, p)
     b = 3 * n

@@ -52,6 +52,7 @@ from ..core.integrators import stability_limit
 
 from ._cable_config import *  # noqa: F403  (re-exported: the old import paths keep working)
 from ._cable_config import CableConfig
+from ._sea_layout import NCOEF, point_kinematics
 
 
 @njit(cache=True)
@@ -128,6 +129,9 @@ def cable_loads(
     kdt=0.0,
     l0_top=-1.0,
     ldot_top=0.0,
+    wv=None,
+    tau=0.0,
+    fk=0.0,
 ):
     """Accumulate node forces ``F`` (3(n+1)) and node mass matrices ``Mn`` (6(n+1): xx xy xz yy yz zz).
 
@@ -140,7 +144,16 @@ def cable_loads(
     segment 1 (a winch's top segment): its stiffness EA / l0, mass, added mass, weight and drag scale with
     it; ``ldot_top`` (m/s) is the rate at which that length changes (the winch's line speed): the damper
     acts on the strain rate, C_v l0 d/dt(l / l0) = C_v (dl/dt - (l / l0) dl0/dt), so material paid out
-    through the sheave is not "damped". Allocates nothing.
+    through the sheave is not "damped".
+
+    **Waves** (issue 29; omitted ``wv``: calm water, the branch is compiled out): ``wv`` holds, per
+    segment of this call, the expansion coefficients of the wave kinematics at its centre
+    (:mod:`oceangnc.models._sea_layout`, evaluated at ``tau`` s from the expansion time). The drag then
+    acts on the velocity relative to current plus wave orbital velocity, and the Morison inertia force
+    (Morison et al. 1950; DNV-RP-C205 sec. 6.2.1) rho_w V a_w + C_a rho_w V a_w,n = ``fk`` a_w +
+    m_a (I - t t^T) a_w is added, half to each node: Froude-Krylov on the whole displaced volume (the
+    buoyancy is applied to it whole too), added mass on the normal component only (eq. 2.27). A
+    segment whose centre is above the wave surface gets no wave kinematics. Allocates nothing.
     """
     for k in range(3 * (n + 1)):
         F[k] = 0.0
@@ -180,11 +193,18 @@ def cable_loads(
         hx = 0.0
         hy = 0.0
         hz = 0.0
+        wn = we = wd = an = ae = ad = 0.0
+        if wv is not None:  # wave kinematics at the segment centre
+            wn, we, wd, an, ae, ad = point_kinematics(wv, NCOEF * (i - 1), tau, 0.5 * (pos[a + 2] + pos[b + 2]))
         # drag (eq. 2.24-2.25) on the relative velocity at the segment centre, half to each node
         if kdrag > 0.0 or kdt > 0.0:
             Vx = 0.5 * (vel[a] + vel[b]) - vcn
             Vy = 0.5 * (vel[a + 1] + vel[b + 1]) - vce
             Vz = 0.5 * (vel[a + 2] + vel[b + 2])
+            if wv is not None:
+                Vx -= wn
+                Vy -= we
+                Vz -= wd
             vq = Vx * tx + Vy * ty + Vz * tz
             px = Vx - vq * tx
             py = Vy - vq * ty
@@ -207,6 +227,12 @@ def cable_loads(
                 hx = cn * px + ct * tx
                 hy = cn * py + ct * ty
                 hz = cn * pz + ct * tz
+        if wv is not None:  # Morison inertia (Froude-Krylov + normal added mass), half to each node
+            ta = an * tx + ae * ty + ad * tz
+            hfk = 0.5 * fk * sc
+            hx += hfk * an + ha * (an - ta * tx)
+            hy += hfk * ae + ha * (ae - ta * ty)
+            hz += hfk * ad + ha * (ad - ta * tz)
         # tension pulls node i-1 toward i and node i toward i-1; weight minus buoyancy down (+z)
         fx = fax * tx
         fy = fax * ty

@@ -41,8 +41,22 @@ from ._combined_form import combined_plant_form
 from ._combined_imex import imex_advance
 from ._combined_kernels import cable_state, combined_rhs
 from ._combined_layout import *  # noqa: F403
-from ._combined_layout import H_EA, H_L0, H_N, H_UO, H_WSEG, INPUT_NAMES, INTEGRATORS, P_SCR, P_UUV, UUV_NP, top_l0
+from ._combined_layout import (
+    H_EA,
+    H_L0,
+    H_N,
+    H_SEA,
+    H_UO,
+    H_WSEG,
+    INPUT_NAMES,
+    INTEGRATORS,
+    P_SCR,
+    P_UUV,
+    UUV_NP,
+    top_l0,
+)
 from ._combined_outputs import _fill_outputs, _fill_outputs_var, _unit_of, output_keys
+from ._combined_sea import HEAVE_MODES, reset_sea, sea_block, sea_update
 from ._combined_setup import build_arrays
 from ._combined_split import damping_substep, split_advance  # noqa: F401
 from ._combined_winch import remesh, winch_command  # noqa: F401
@@ -72,6 +86,11 @@ class CombinedPlant(Plant):
         integrator: str | None = None,
         winch=None,
         seabed=None,
+        waves=None,
+        heave: str = "none",
+        heave_amplitude: float = 0.0,
+        heave_period: float = 0.0,
+        wave_update_dt: float = 0.1,
     ):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
@@ -96,6 +115,20 @@ class CombinedPlant(Plant):
         self.top = top
         p, x0, names, nmax = build_arrays(usv_cfg, uuv_cfg, cable_cfg, top, integrator, self.winch_cfg, self.seabed_cfg)
         self.n_max = nmax
+        if heave not in HEAVE_MODES:
+            raise ConfigError(f"heave = {heave!r}: allowed values " + ", ".join(repr(k) for k in HEAVE_MODES))
+        if heave == "sine" and not (heave_period > 0):
+            raise ConfigError(f"heave_period = {heave_period}: must be > 0 for a prescribed sine heave")
+        self.waves = waves
+        self._sea = waves is not None or heave != "none"
+        self._sea_dt = float(wave_update_dt)
+        if self._sea:  # the sea block at the end of p (layout: ._sea_layout), its offset in the header
+            p[H_SEA] = p.size
+            block = sea_block(
+                waves, nmax, self._sea_dt, heave, cable_cfg.rho_water, cable_cfg.area, p[H_L0],
+                uuv_cfg.buoyancy, heave_amplitude, heave_period,
+            )  # fmt: skip
+            p = np.concatenate([p, block])
         c = cable_cfg
         mrb = p[P_UUV + P_MRB : P_UUV + P_MRB + 36].reshape(6, 6)
         ma = p[P_UUV + P_MA : P_UUV + P_MA + 36].reshape(6, 6)
@@ -140,8 +173,9 @@ class CombinedPlant(Plant):
         return int(self.p[H_N])
 
     def reset(self) -> None:
-        """Restore the initial state and node count."""
+        """Restore the initial state and node count (and forget the wave expansions)."""
         super().reset()
+        reset_sea(self.p)
         if self.winch_cfg is not None:
             l0 = self.p[H_L0]
             self.p[H_N] = max(1, int(round(self.cable_cfg.length / l0)))
@@ -149,8 +183,17 @@ class CombinedPlant(Plant):
     def advance(self, t: float, dt: float, n: int) -> float:
         """RK4 steps, for ``integrator="rk4-split"`` Strang-split steps (:func:`split_advance`), for
         ``"imex"`` ROS2 steps with the axial cable forces implicit (:func:`imex_advance`): the kernel is
-        chosen in ``__init__`` (``self._advance``)."""
-        return super().advance(t, dt, n)
+        chosen in ``__init__`` (``self._advance``). At sea the wave expansions are refreshed before each
+        chunk of at most ``wave_update_dt`` (:func:`~oceangnc.models._combined_sea.sea_update`)."""
+        if not self._sea:
+            return super().advance(t, dt, n)
+        m = max(1, int(self._sea_dt / dt + 1e-9))
+        while n > 0:
+            k = min(m, n)
+            sea_update(t, self.x, self.p, k * dt)
+            t = super().advance(t, dt, k)
+            n -= k
+        return t
 
     def compiled_form(self, slot_of):
         """The fused loop's form (:func:`oceangnc.models._combined_form.combined_plant_form`)."""

@@ -94,6 +94,23 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     ``tp, ts, tb``: port, starboard and bow thrust (N); ``vcn, vce``: current (m/s, NED, toward);
     ``fn_*``: earth-frame force (N) acting at the tow point p[P_RC:P_RC+3] (the cable, 003 eq. 2.32).
     """
+    uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, 0.0, 0.0, 0.0, 0.0, 0.0, fn_x, fn_y, fn_z, False)
+
+
+@njit(cache=True)
+def uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, vcd, awn, awe, awd, mdisp, fn_x, fn_y, fn_z, waves):
+    """:func:`uuv_deriv` in a flow that varies in time (issue 29): with ``waves``, the flow velocity
+    (``vcn, vce, vcd``: current plus wave orbital velocity at the centre of buoyancy, NED, m/s) has a
+    vertical part too, and its acceleration ``a_w = (awn, awe, awd)`` (m/s^2, NED) adds the long-wave
+    Morison force of a body small against the wave length (DNV-RP-C205 eq. 6.2.1 for a small volume;
+    Fossen 2011 sec. 10.3 for the relative-velocity form):
+
+        tau_w = (rho V [I 0] + M_A) [R^T a_w; 0]
+
+    i.e. the Froude-Krylov force rho V a_w (``mdisp`` = rho V = B/g, kg) plus the added-mass reaction to
+    the water's acceleration (diffraction neglected: the hull is 1.79 m against waves of 10 m and more).
+    Without ``waves`` the arithmetic is exactly that of :func:`uuv_deriv` (the extra terms are skipped).
+    """
     phi = x[3]
     th = x[4]
     psi = x[5]
@@ -120,6 +137,10 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     ucb = r00 * vcn + r10 * vce
     vcb = r01 * vcn + r11 * vce
     wcb = r02 * vcn + r12 * vce
+    if waves:  # the vertical part of the flow
+        ucb += r20 * vcd
+        vcb += r21 * vcd
+        wcb += r22 * vcd
     ur = u - ucb
     vr = v - vcb
     wr = w - wcb
@@ -144,6 +165,17 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
         t3 -= p[b + 18] * oc0 + p[b + 19] * oc1 + p[b + 20] * oc2
         t4 -= p[b + 24] * oc0 + p[b + 25] * oc1 + p[b + 26] * oc2
         t5 -= p[b + 30] * oc0 + p[b + 31] * oc1 + p[b + 32] * oc2
+    if waves:  # (rho V [I 0] + M_A) [R^T a_w; 0]: Froude-Krylov and added mass in the accelerating flow
+        ab0 = r00 * awn + r10 * awe + r20 * awd
+        ab1 = r01 * awn + r11 * awe + r21 * awd
+        ab2 = r02 * awn + r12 * awe + r22 * awd
+        b = P_MA
+        t0 += mdisp * ab0 + p[b + 0] * ab0 + p[b + 1] * ab1 + p[b + 2] * ab2
+        t1 += mdisp * ab1 + p[b + 6] * ab0 + p[b + 7] * ab1 + p[b + 8] * ab2
+        t2 += mdisp * ab2 + p[b + 12] * ab0 + p[b + 13] * ab1 + p[b + 14] * ab2
+        t3 += p[b + 18] * ab0 + p[b + 19] * ab1 + p[b + 20] * ab2
+        t4 += p[b + 24] * ab0 + p[b + 25] * ab1 + p[b + 26] * ab2
+        t5 += p[b + 30] * ab0 + p[b + 31] * ab1 + p[b + 32] * ab2
     # damping (A-11, A-12) and lift (Prestero), on the relative velocity
     d = P_DLIN
     e = P_DQUAD

@@ -35,7 +35,7 @@ from pydantic import Field
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
 from ..control.tow import TowCommand, TowStraightControl
 from ..core.clock import Simulation
-from ..environment import EnvironmentConfig
+from ..environment import SeaEnvironmentConfig
 from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
 from ..models.cable import CableConfig, stable_step
@@ -68,7 +68,7 @@ class CableCurrentConfig(ScenarioConfig):
     usv: USVConfig = USVConfig()
     uuv: UUVConfig = UUVConfig()
     cable: CableConfig = CableConfig()
-    environment: EnvironmentConfig = EnvironmentConfig()
+    environment: SeaEnvironmentConfig = SeaEnvironmentConfig()
     analysis: CableAnalysis = CableAnalysis()
 
 
@@ -158,7 +158,7 @@ class CableCurrent(Scenario):
     }
 
     def build(self, cfg, rng):
-        plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed")
+        plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="fixed", **cfg.environment.plant_kwargs(cfg.sim.seed))
         # the USV is held and no thruster runs: every thrust input is zero by composition
         plant.input_defaults.update({k: 0.0 for k in plant.input_names if ".thrust_" in k})
         dt = physics_step(cfg, plant)
@@ -192,7 +192,7 @@ class TowStraight(Scenario):
     defaults = {"sim": {"duration": 80.0, "log_rate": 10.0}}
 
     def build(self, cfg, rng):
-        plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
+        plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv", **cfg.environment.plant_kwargs(cfg.sim.seed))
         dt = physics_step(cfg, plant)
         blocks = [
             *environment_blocks(cfg.environment),

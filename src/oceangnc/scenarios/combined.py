@@ -41,7 +41,7 @@ from ..core.caches import cached
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
-from ..environment import EnvironmentConfig
+from ..environment import SeaEnvironmentConfig
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
     PurePursuit,
@@ -166,7 +166,7 @@ class CombinedConfig(ScenarioConfig):
     usv: USVConfig = USVConfig()
     uuv: UUVConfig = UUVConfig()
     cable: CableConfig = CableConfig()
-    environment: EnvironmentConfig = EnvironmentConfig()
+    environment: SeaEnvironmentConfig = SeaEnvironmentConfig()
     guidance: GuidanceConfig = GuidanceConfig()
     formation: FormationConfig = FormationConfig()
     control: ControlConfig = ControlConfig()
@@ -268,7 +268,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
     blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
     blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
-    plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv")
+    plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv", **cfg.environment.plant_kwargs(cfg.sim.seed))
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 

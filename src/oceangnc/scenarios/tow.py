@@ -36,7 +36,7 @@ from ..control.tow import UUVFollow, UUVFollowConfig
 from ..control.usv_control import USVControlConfig, USVController
 from ..control.winch import WinchControlConfig, WinchDepthController
 from ..core.clock import Simulation
-from ..environment import EnvironmentConfig
+from ..environment import SeaEnvironmentConfig
 from ..guidance.pure_pursuit import PurePursuit
 from ..io.config import ScenarioConfig, SimConfig, StrictModel
 from ..io.plots import plot_signals
@@ -82,7 +82,7 @@ class TowDeployConfig(ScenarioConfig):
     cable: CableConfig = CableConfig()
     winch: WinchConfig = WinchConfig()
     winch_control: WinchControlConfig = WinchControlConfig()
-    environment: EnvironmentConfig = EnvironmentConfig()
+    environment: SeaEnvironmentConfig = SeaEnvironmentConfig()
     analysis: TowAnalysis = TowAnalysis()
 
 
@@ -93,7 +93,15 @@ class TowSurveyConfig(TowDeployConfig):
 
 
 def _plant(cfg, top="usv") -> CombinedPlant:
-    return CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top=top, winch=cfg.winch, seabed=cfg.environment.seabed)
+    return CombinedPlant(
+        cfg.usv,
+        cfg.uuv,
+        cfg.cable,
+        top=top,
+        winch=cfg.winch,
+        seabed=cfg.environment.seabed,
+        **cfg.environment.plant_kwargs(cfg.sim.seed),
+    )
 
 
 def _common_summary(df, cfg) -> dict:

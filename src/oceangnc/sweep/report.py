@@ -3,7 +3,9 @@
 Per point (one combination of swept values; its rows differ only by ``sim.seed``), for every numeric
 metric over the runs with ``status == "ok"``: ``n``, mean, sample standard deviation (``ddof = 1``;
 empty with fewer than 2 runs), min and max, plus the counts of runs, ok runs and failed runs. They
-are written to ``DIR/report/points.csv`` and ``DIR/report/report.md``.
+are written to ``DIR/report/points.csv`` and ``DIR/report/report.md``. A sea-state sweep (a ``sea.pass``
+column, two or more swept keys) also gets its operability table and diagram
+(:mod:`oceangnc.sweep.operability`: ``operability.csv``, ``.md``, ``.png``).
 
 Plots (``DIR/report/<metric>.png``, one panel per swept key): for keys with few distinct values
 (a grid), the mean over seeds at each value with error bars of +-1 standard deviation across seeds,
@@ -221,4 +223,8 @@ def make_report(sweep_dir: str | Path, metrics: list[str] | None = None, plots: 
         for m in chosen:
             if df.loc[df["status"] == "ok", m].notna().any():
                 files.append(plot_metric(df, m, keys, rep / f"{_safe(m)}.png", f"{title}: {m}"))
+    if "sea.pass" in df.columns and len(keys) >= 2:  # a sea-state sweep: the operability table and diagram
+        from .operability import operability
+
+        files += operability(df, rep, f"{title}: operability", plots)
     return Report(points, chosen, keys, files)

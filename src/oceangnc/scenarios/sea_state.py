@@ -1,0 +1,196 @@
+"""The tow at sea (issue 29): ``tow-sea-state``.
+
+The USV tows the UUV on a 20 m cable along a straight survey line (heading ``command.heading_deg``,
+default north) at ``command.usv_speed`` (1 m/s) in an irregular JONSWAP sea (``environment.waves``:
+Hs 1 m, Tp 6 s, gamma 3.3, 128 components, long-crested). The waves load every cable segment and the
+UUV (Morison drag on the relative velocity, Froude-Krylov and added-mass inertia;
+:mod:`oceangnc.models._combined_sea`) and the cable's attachment point heaves with the surface at the
+USV (``environment.tow_point_heave``); the USV itself moves as in calm water (its wave-frequency
+motions are issue 29 part B). The UUV's stern thrust balances its own drag at the tow speed (its speed
+loop's gains are 0: feed-forward only) and its bow thruster holds the line's heading, so the cable
+carries its weight and the cable's drag: a towed body, as in a survey.
+
+**Wave heading relative to the line**: ``environment.waves.direction_deg - command.heading_deg`` (the
+waves travel toward that bearing): 0 following seas, 90 beam seas from port, 180 head seas. With the
+default line (north) ``environment.waves.direction_deg`` *is* the relative heading, the key the
+operability sweep varies.
+
+Summary (over the rows after ``analysis.settle_s``, the start-up transient left out; the whole log if
+that leaves fewer than two rows): the top and bottom tension statistics and slack/snap events
+(:func:`oceangnc.tension.tension_statistics`), the UUV's depth, pitch and roll standard deviations
+(:func:`oceangnc.tension.motion_statistics`), and pass/fail against ``limits``: the top tension
+below ``limits.tension_max_N``, no snap event (unless ``limits.snap_allowed``), the UUV's depth and
+pitch standard deviations below ``limits.depth_std_max_m`` and ``limits.pitch_std_max_deg``;
+``sea.pass`` is 1 when all hold. Plots: tension, depth and pitch time series
+(``sea_timeseries.png``); the tension spectra against the wave spectrum (``sea_spectra.png``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from pydantic import Field
+
+from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..control.tow import TowCommand, TowStraightControl
+from ..core.clock import Simulation
+from ..environment import SeaEnvironmentConfig
+from ..io.config import ScenarioConfig, SimConfig, StrictModel
+from ..io.plots import plot_signals
+from ..models.cable import CableConfig
+from ..models.combined import CombinedPlant
+from ..models.usv import USVConfig
+from ..models.uuv import UUVConfig
+from ._common import environment_blocks
+from .base import Scenario
+
+CONTROL_PERIOD = 0.01  # s
+
+
+class SeaSimConfig(SimConfig):
+    dt: float = Field(0.01, gt=0, le=0.1, description="physics step (implicit cable), s")
+    duration: float = Field(1200.0, gt=0, le=1e6, description="simulated time (a 20-min record after the start), s")
+    log_rate: float = Field(10.0, gt=0, le=1000, description="logged rows per second, Hz")
+
+
+class SeaAnalysis(StrictModel):
+    settle_s: float = Field(120.0, ge=0, le=1e5, description="start-up transient left out of the statistics, s")
+    slack_N: float | None = Field(
+        None, ge=0, le=1e7, description="slack threshold (default: analysis.slack_fraction x the mean tension), N"
+    )
+    slack_fraction: float = Field(0.01, ge=0, le=1, description="slack threshold as a fraction of the mean, 1")
+    snap_factor: float = Field(2.0, gt=1, le=100, description="snap: tension above this multiple of the mean, 1")
+    snap_window_s: float = Field(2.0, gt=0, le=100, description="snap: within this time after the slack ends, s")
+
+
+class SeaLimits(StrictModel):
+    tension_max_N: float = Field(600.0, gt=0, le=1e7, description="top tension limit, N")
+    snap_allowed: bool = Field(False, description="accept snap events (default: any snap fails)")
+    depth_std_max_m: float = Field(0.5, gt=0, le=100, description="UUV depth standard deviation limit, m")
+    pitch_std_max_deg: float = Field(3.0, gt=0, le=90, description="UUV pitch standard deviation limit, deg")
+
+
+class TowSeaStateConfig(ScenarioConfig):
+    sim: SeaSimConfig = SeaSimConfig()
+    usv: USVConfig = USVConfig()
+    uuv: UUVConfig = UUVConfig()
+    cable: CableConfig = CableConfig()
+    environment: SeaEnvironmentConfig = SeaEnvironmentConfig()
+    command: TowCommand = TowCommand()
+    analysis: SeaAnalysis = SeaAnalysis()
+    limits: SeaLimits = SeaLimits()
+
+
+def window(df, settle_s: float):
+    """The rows after ``settle_s`` (all rows when that leaves fewer than two)."""
+    w = df[df["t"] >= settle_s]
+    return w if len(w) >= 2 else df
+
+
+def sea_summary(df, cfg) -> dict:
+    """Statistics and pass/fail of a tow at sea (module docstring); ``cfg`` a :class:`TowSeaStateConfig`."""
+    from ..tension import motion_statistics, tension_statistics
+
+    a = cfg.analysis
+    w = window(df, a.settle_s)
+    t = w["t"].to_numpy()
+    wv = cfg.environment.waves
+    out: dict = {
+        "waves.kind": wv.kind,
+        "waves.hs_m": float(wv.hs) if wv.kind != "none" else 0.0,
+        "waves.tp_s": float(wv.tp),
+        "waves.relative_heading_deg": float((wv.direction_deg - cfg.command.heading_deg) % 360.0),
+        "tow.speed_mps": float(cfg.command.usv_speed),
+        "analysis.window_s": float(t[-1] - t[0]) if t.size else 0.0,
+    }
+    for end in ("top", "bottom"):
+        st = tension_statistics(
+            t, w[f"cable.{end}_tension"].to_numpy(), a.slack_N, a.slack_fraction, a.snap_factor, a.snap_window_s
+        )
+        out.update({f"cable.{end}_{k}": v for k, v in st.items()})
+    out.update(motion_statistics(w))
+    lim = cfg.limits
+    checks = {
+        "limits.tension_ok": out["cable.top_max_N"] <= lim.tension_max_N,
+        "limits.no_snap": lim.snap_allowed or (out["cable.top_snap_events"] + out["cable.bottom_snap_events"]) == 0,
+        "limits.depth_std_ok": out["uuv.depth_std_m"] <= lim.depth_std_max_m,
+        "limits.pitch_std_ok": out["uuv.pitch_std_deg"] <= lim.pitch_std_max_deg,
+    }
+    out.update({k: int(bool(v)) for k, v in checks.items()})
+    out["sea.pass"] = int(all(checks.values()))
+    return out
+
+
+class TowSeaState(Scenario):
+    frame = "columns"  # summary and plots read columns only (oceangnc.io.frame)
+    name = "tow-sea-state"
+    summary = "USV tows the UUV on a 20 m cable along a line in a JONSWAP sea: tension, snap loads, UUV motions"
+    Config = TowSeaStateConfig
+    defaults = {
+        "uuv": {"x0": 0.0, "z0": 19.0},
+        "cable": {"length": 20.0, "integrator": "imex"},
+        "command": {"usv_speed": 1.0, "uuv_speed": 1.0, "uuv_kp_speed": 0.0, "uuv_ki_speed": 0.0, "start_s": 5.0},
+        "environment": {"waves": {"kind": "jonswap", "hs": 1.0, "tp": 6.0, "gamma": 3.3, "components": 128}},
+    }
+
+    def build(self, cfg, rng):
+        plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv", **cfg.environment.plant_kwargs(cfg.sim.seed))
+        blocks = [
+            *environment_blocks(cfg.environment),
+            TowStraightControl(cfg.command, cfg.usv, cfg.uuv, CONTROL_PERIOD),
+            USVThrusterBlock(cfg.usv, CONTROL_PERIOD),
+            UUVThrusterBlock(cfg.uuv, CONTROL_PERIOD),
+        ]
+        return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
+
+    def summarize(self, df, cfg) -> dict:
+        return sea_summary(df, cfg)
+
+    def plot(self, df, cfg, out_dir: Path) -> list[Path]:
+        import matplotlib.pyplot as plt
+
+        from ..environment.waves import jonswap, pierson_moskowitz
+        from ..tension import spectrum
+
+        out_dir = Path(out_dir)
+        p1 = plot_signals(
+            df,
+            [
+                ("tension [N]", [("cable.top_tension", "top", 1.0), ("cable.bottom_tension", "bottom (UUV)", 1.0)]),
+                ("UUV depth [m]", [("uuv.z", "z", 1.0)]),
+                ("UUV pitch [deg]", [("uuv.theta", "theta", 180.0 / math.pi)]),
+                ("speed [m/s]", [("usv.speed", "USV", 1.0), ("uuv.u", "UUV u", 1.0)]),
+            ],
+            out_dir / "sea_timeseries.png",
+            title=f"{self.name}: tension and UUV motions",
+        )
+        w = window(df, cfg.analysis.settle_s)
+        fs = cfg.sim.log_rate
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+        for end, ls in (("top", "-"), ("bottom", "--")):
+            f, s = spectrum(w[f"cable.{end}_tension"].to_numpy(), fs)
+            ax.semilogy(f, s, ls, label=f"{end} tension [N^2/Hz]")
+        wv = cfg.environment.waves
+        if wv.kind in ("jonswap", "pierson-moskowitz"):
+            ax2 = ax.twinx()
+            fw = np.linspace(0.02, min(fs / 2, wv.f_hi / wv.tp), 400)
+            sw = jonswap(fw, wv.hs, wv.tp, wv.gamma) if wv.kind == "jonswap" else pierson_moskowitz(fw, wv.hs, wv.tp)
+            ax2.plot(fw, sw, "k:", label="wave spectrum [m^2/Hz]")
+            ax2.set_ylabel("wave S(f) [m^2/Hz]")
+            ax2.legend(loc="upper right", fontsize=8)
+        ax.set_xlim(0, min(fs / 2, 1.0))
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("tension PSD [N^2/Hz]")
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", fontsize=8)
+        ax.set_title(f"{self.name}: tension spectra (Welch) against the wave spectrum")
+        fig.tight_layout()
+        p2 = out_dir / "sea_spectra.png"
+        fig.savefig(p2, dpi=110)
+        plt.close(fig)
+        return [p1, p2]
+
+
+SCENARIOS = [TowSeaState()]

@@ -1,0 +1,162 @@
+"""The operability table and diagram of a sea-state sweep (issue 29).
+
+A sweep of ``tow-sea-state`` (or any scenario whose summary has a 0/1 ``sea.pass`` and ``limits.*``
+columns) over the significant wave height, the peak period and other keys (the wave heading relative
+to the line, the tow speed) gives, per sea state, the fraction of its runs (seeds) that pass every
+limit. A run that failed or diverged counts as not passing: a tow that blows up is not operable.
+
+* ``report/operability.csv``: one row per sea state and panel (the swept keys other than Hs and Tp),
+  with the runs, the pass fraction and, per limit, the fraction of runs that met it;
+* ``report/operability.md``: per panel, a table of Hs (rows) against Tp (columns): ``pass``, or the
+  limits that failed (T tension, S snap, D depth std, P pitch std), with the pass fraction if it is
+  neither 0 nor 1;
+* ``report/operability.png``: per panel a heat map of the pass fraction (green: every run passes,
+  red: none) over Hs x Tp, each cell labelled with the failed limits' letters.
+
+**Reading it**: the operable envelope at a heading is the green region; its upper edge is the
+limiting Hs at each Tp. Short periods at a given Hs are steeper and faster seas (larger particle
+accelerations a ~ (2 pi / T)^2 Hs / 2), so the envelope usually rises with Tp.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .table import PARAM
+
+#: limit column -> letter in the diagram
+LIMITS = {
+    "limits.tension_ok": "T",
+    "limits.no_snap": "S",
+    "limits.depth_std_ok": "D",
+    "limits.pitch_std_ok": "P",
+}
+PASS = "sea.pass"
+
+
+def _key(params: list[str], suffix: str) -> str | None:
+    for p in params:
+        if p.endswith(suffix):
+            return p
+    return None
+
+
+def operability_table(df: pd.DataFrame, hs_key: str | None = None, tp_key: str | None = None):
+    """(table, hs key, tp key, panel keys): the pass fraction per sea state and panel, and per limit
+    (module docstring). The Hs and Tp keys default to the swept keys ending in ``waves.hs``/``waves.tp``."""
+    params = [c[len(PARAM) :] for c in df.columns if c.startswith(PARAM)]
+    hs_key = hs_key or _key(params, "waves.hs")
+    tp_key = tp_key or _key(params, "waves.tp")
+    if hs_key is None or tp_key is None:
+        rest = [p for p in params if p not in (hs_key, tp_key)]
+        hs_key = hs_key or (rest.pop(0) if rest else None)
+        tp_key = tp_key or (rest.pop(0) if rest else None)
+    panels = [p for p in params if p not in (hs_key, tp_key)]
+    d = df.copy()
+    ok = d["status"] == "ok"
+    d["_pass"] = np.where(ok, d[PASS].fillna(0).astype(float) if PASS in d else 0.0, 0.0)
+    for c in LIMITS:
+        d[c] = np.where(ok, d[c].fillna(0).astype(float), 0.0) if c in d else np.where(ok, 1.0, 0.0)
+    by = [PARAM + k for k in [*panels, hs_key, tp_key] if k is not None]
+    agg = {"_pass": "mean", "status": "size", **{c: "mean" for c in LIMITS}}
+    t = d.groupby(by, sort=True, dropna=False).agg(agg).reset_index()
+    t = t.rename(columns={"_pass": "pass_fraction", "status": "runs", **{PARAM + k: k for k in params}})
+    return t, hs_key, tp_key, panels
+
+
+def _label(row) -> str:
+    failed = "".join(letter for c, letter in LIMITS.items() if row[c] < 1.0)
+    f = row["pass_fraction"]
+    if f >= 1.0:
+        return "pass"
+    return (failed or "fail") + ("" if f == 0.0 else f" ({f:.0%})")
+
+
+def _panel_groups(t: pd.DataFrame, panels: list[str]):
+    if not panels:
+        return [("all runs", t)]
+    out = []
+    for key, g in t.groupby(panels, sort=True, dropna=False):
+        key = key if isinstance(key, tuple) else (key,)
+        out.append((", ".join(f"{p.split('.')[-1]} = {v:g}" if isinstance(v, (int, float)) else f"{p} = {v}"
+                              for p, v in zip(panels, key)), g))  # fmt: skip
+    return out
+
+
+def operability_markdown(t, hs_key, tp_key, panels) -> str:
+    lines = [
+        "# Operability",
+        "",
+        "Per sea state: `pass` when every run passed every limit, else the failed limits (T tension, S snap, "
+        "D UUV depth std, P UUV pitch std) and the pass fraction over the runs.",
+    ]
+    tps = sorted(t[tp_key].unique())
+    for title, g in _panel_groups(t, panels):
+        lines += ["", f"## {title}", "", "| Hs \\ Tp | " + " | ".join(f"{v:g} s" for v in tps) + " |"]
+        lines.append("|---" * (len(tps) + 1) + "|")
+        for hs in sorted(g[hs_key].unique()):
+            cells = []
+            for tp in tps:
+                r = g[(g[hs_key] == hs) & (g[tp_key] == tp)]
+                cells.append(_label(r.iloc[0]) if len(r) else "")
+            lines.append(f"| {hs:g} m | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
+    """Heat maps of the pass fraction over Hs x Tp, one panel per combination of the other keys."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    groups = _panel_groups(t, panels)
+    n = len(groups)
+    ncol = min(n, 4)
+    nrow = math.ceil(n / ncol)
+    fig, axes = plt.subplots(
+        nrow, ncol, figsize=(3.4 * ncol + 1.2, 3.2 * nrow + 0.7), squeeze=False, layout="constrained"
+    )
+    tps = sorted(t[tp_key].unique())
+    hss = sorted(t[hs_key].unique())
+    im = None
+    for ax, (name, g) in zip(axes.ravel(), groups):
+        grid = np.full((len(hss), len(tps)), np.nan)
+        for _, r in g.iterrows():
+            i = hss.index(r[hs_key])
+            j = tps.index(r[tp_key])
+            grid[i, j] = r["pass_fraction"]
+            lab = _label(r)
+            ax.text(j, i, "" if lab == "pass" else lab.split(" ")[0], ha="center", va="center", fontsize=7)
+        im = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0.0, vmax=1.0, aspect="auto")
+        ax.set_xticks(range(len(tps)), [f"{v:g}" for v in tps])
+        ax.set_yticks(range(len(hss)), [f"{v:g}" for v in hss])
+        ax.set_xlabel("Tp [s]")
+        ax.set_ylabel("Hs [m]")
+        ax.set_title(name, fontsize=9)
+    for ax in axes.ravel()[n:]:
+        ax.axis("off")
+    if im is not None:
+        fig.colorbar(im, ax=axes.ravel().tolist(), label="fraction of runs passing", fraction=0.03)
+    fig.suptitle(title + "  (letters: failed limits - T tension, S snap, D depth std, P pitch std)", fontsize=9)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def operability(df: pd.DataFrame, out_dir: str | Path, title: str = "operability", plots: bool = True) -> list[Path]:
+    """Write the operability table (CSV, Markdown) and diagram (PNG) of a sweep's results into
+    ``out_dir``; returns the files."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    t, hs_key, tp_key, panels = operability_table(df)
+    files = [out / "operability.csv", out / "operability.md"]
+    t.to_csv(files[0], index=False)
+    files[1].write_text(operability_markdown(t, hs_key, tp_key, panels))
+    if plots:
+        files.append(plot_operability(t, hs_key, tp_key, panels, out / "operability.png", title))
+    return files
