@@ -16,6 +16,7 @@ import httpx
 import numpy as np
 import pytest
 from console_server import free_port
+from view_helpers import first_line
 
 from oceangnc.view import frames
 
@@ -103,7 +104,7 @@ def test_console_3d_panel_draws_the_live_state(console, tmp_path):
                     drawnUuv: view3d.projectObject('uuv'), drawnEnd: view3d.projectObject('cableEnd'),
                     sig: [s['uuv.x'], s['uuv.y'], s['uuv.z']], last: view3d.state.signals['cable.x20'] !== undefined
                       ? [s['cable.x20'], s['cable.y20'], s['cable.z20']] : null,
-                    paused: window.__console.state.paused, same: window.__console.state === view3d.state }; })()"""
+                    paused: window.__console.state.paused, same: window.__console.state.t === view3d.state.t }; })()"""
             )
             assert st["paused"] and st["same"], "the panel drew the latest state"
             assert st["t"] > 0
@@ -129,3 +130,89 @@ def test_console_3d_panel_draws_the_live_state(console, tmp_path):
             assert not errors, errors
         finally:
             b.close()
+
+
+def test_foxglove_stream_of_the_live_console(console):
+    """`oceangnc view --console URL --foxglove`: the running session read as a viewer with its token,
+    republished on the Foxglove WebSocket protocol; a client receives poses and signals of the live
+    states, in time order, the pose the ENU image of the same state's NED signals."""
+    import json
+    import threading
+
+    ws_client = pytest.importorskip("websockets.sync.client", reason="websockets is not installed")
+    cmd = [
+        sys.executable,
+        "-m",
+        "oceangnc",
+        "view",
+        "--console",
+        f"{console}/?token={TOKEN}",
+        "--foxglove",
+        "--port",
+        "0",
+    ]
+    # an operator (a script with the token) takes control and runs the session: live states with new times
+    with ws_client.connect(f"{console.replace('http', 'ws')}/ws?token={TOKEN}&role=operator", open_timeout=30) as op:
+        op.send(json.dumps({"type": "control", "take": True, "force": True}))
+        op.send(json.dumps({"type": "pause", "paused": False}))
+        done = threading.Event()
+
+        def drain():  # read the operator's own stream, so that the console never drops it as too slow
+            while not done.is_set():
+                try:
+                    op.recv(timeout=0.5)
+                except TimeoutError:
+                    pass
+                except Exception:
+                    return
+
+        reader = threading.Thread(target=drain, daemon=True)
+        reader.start()
+        try:
+            order, got = _live_stream(cmd, ws_client)
+        finally:
+            done.set()
+            reader.join(timeout=5)
+    assert order == sorted(order) and len(set(order)) == len(order)
+    both = [ts for ts in order if ts in got[1]]
+    assert len(both) >= 5
+    for ts in both:
+        sig, pose = got[2][ts], got[1][ts]["pose"]["position"]
+        assert (pose["x"], pose["y"], pose["z"]) == (sig["y"], sig["x"], -sig["z"])
+
+
+def _live_stream(cmd, ws_client):
+    """Start the bridge ``cmd``, subscribe to /uuv/pose (1) and /signals/uuv (2), read 10 states."""
+    import json
+    import struct
+
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    try:
+        line = first_line(proc, 120)
+        assert "at ws://127.0.0.1:" in line, line
+        url = line.split(" at ", 1)[1].split()[0]
+        with ws_client.connect(url, subprotocols=["foxglove.websocket.v1"], open_timeout=30) as ws:
+            info = json.loads(ws.recv(timeout=30))
+            chans = {c["topic"]: c for c in json.loads(ws.recv(timeout=30))["channels"]}
+            assert info["op"] == "serverInfo"
+            assert {"/usv/pose", "/uuv/pose", "/scene", "/signals/uuv", "/signals/cable"} <= set(chans)
+            assert chans["/scene"]["schemaName"] == "foxglove.SceneUpdate"
+            sub = [
+                {"id": 1, "channelId": chans["/uuv/pose"]["id"]},
+                {"id": 2, "channelId": chans["/signals/uuv"]["id"]},
+            ]
+            ws.send(json.dumps({"op": "subscribe", "subscriptions": sub}))
+            got: dict[int, dict] = {1: {}, 2: {}}
+            order = []
+            while len(got[2]) < 10:  # bounded: 10 live states
+                frame = ws.recv(timeout=30)
+                if frame[0] != 0x01:
+                    continue
+                sid, ts = struct.unpack("<IQ", frame[1:13])
+                got[sid][ts] = json.loads(frame[13:])
+                if sid == 2:
+                    order.append(ts)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    return order, got

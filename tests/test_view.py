@@ -20,6 +20,7 @@ import pytest
 
 from oceangnc.cli import main
 from oceangnc.view import frames
+from view_helpers import first_line
 
 mcap_reader = pytest.importorskip("mcap.reader", reason="mcap is not installed (pip install 'oceangnc[view]')")
 
@@ -358,7 +359,7 @@ def test_view_serve_on_loopback(flagship, page):
         env=dict(os.environ, PYTHONUNBUFFERED="1"),
     )
     try:
-        line = proc.stdout.readline()
+        line = first_line(proc, 120)
         assert " at http://127.0.0.1:" in line, line
         url = line.split(" at ", 1)[1].split()[0]
         _open(page, url)
@@ -431,7 +432,7 @@ def test_foxglove_websocket_stream(flagship):
         [*cmd, "--speed", "10"], stdout=subprocess.PIPE, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1")
     )
     try:
-        line = proc.stdout.readline()
+        line = first_line(proc, 120)
         assert "at ws://127.0.0.1:" in line, line
         url = line.split(" at ", 1)[1].split()[0]
         # the synchronous client (this module's browser fixture keeps an event loop in this thread)

@@ -1,4 +1,5 @@
-"""``oceangnc export RUN --mcap [--out FILE]`` and ``oceangnc view RUN [--out FILE] [--serve]``.
+"""``oceangnc export RUN --mcap [--out FILE]``, ``oceangnc view RUN [--out FILE] [--serve | --foxglove]``
+and ``oceangnc view --console URL --foxglove``.
 
 Both import nothing heavy at registration (the ``mcap`` package only when exporting): a default
 install without ``oceangnc[view]`` still lists them, and ``export`` then says in one line what to
@@ -30,7 +31,7 @@ def register(subparsers) -> None:
         description="Write a self-contained 3D replay page of a run folder (vehicles, cable coloured by tension, "
         "trails, route, seabed, sea surface, time-series panels; docs/view.md), or serve it on 127.0.0.1.",
     )
-    p.add_argument("run", help="run folder (holding log.parquet)")
+    p.add_argument("run", nargs="?", help="run folder (holding log.parquet)")
     p.add_argument("--out", help="HTML file to write (default RUN/replay.html)")
     p.add_argument("--serve", action="store_true", help="serve the page on 127.0.0.1 instead of only writing it")
     p.add_argument(
@@ -41,6 +42,12 @@ def register(subparsers) -> None:
     )
     p.add_argument(
         "--port", type=int, help="port of --serve (default 8060) or --foxglove (default 8765); 0: any free port"
+    )
+    p.add_argument(
+        "--console",
+        metavar="URL",
+        help="--foxglove of a running 'oceangnc console' instead of a run folder: its URL with the token "
+        "(as it prints it, http://127.0.0.1:8050/?token=...); read as a viewer",
     )
     p.add_argument("--speed", type=float, default=1.0, help="--foxglove: run seconds per wall second (default 1)")
     p.add_argument("--once", action="store_true", help="--foxglove: stop at the end instead of starting again")
@@ -75,6 +82,17 @@ def _cmd_export(args) -> int:
 def _cmd_view(args) -> int:
     from .replay import serve, write_replay
 
+    if args.console:
+        if not args.foxglove or args.run:
+            print("error: --console goes with --foxglove and no run folder", file=sys.stderr)
+            return 2
+        from .foxglove_ws import serve_console_foxglove
+
+        port = 8765 if args.port is None else args.port
+        return serve_console_foxglove(args.console, port=port, allow_origins=args.allow_origin)
+    if not args.run:
+        print("error: a run folder is needed (or --console URL --foxglove)", file=sys.stderr)
+        return 2
     if args.foxglove:
         from .foxglove_ws import serve_foxglove
 

@@ -27,6 +27,7 @@ import json
 import struct
 import sys
 import time
+from pathlib import Path
 from urllib.parse import urlsplit
 
 from .mcap_export import Channel, build_channels, stamps_ns
@@ -37,6 +38,7 @@ OP_MESSAGE, OP_TIME = 0x01, 0x02
 #: browser origins accepted besides pages of this machine (http(s)://127.0.0.1, localhost, [::1])
 APP_ORIGINS = ("https://app.foxglove.dev", "https://studio.foxglove.dev")
 MAX_QUEUE = 2000  # messages waiting for one client before it is dropped
+FIRST_STATE_S = 60.0  # a console that sends no state within this is an error
 
 
 def origin_allowed(origin: str | None, extra: tuple[str, ...] = ()) -> bool:
@@ -61,6 +63,7 @@ class FoxgloveRunServer:
         if not speed > 0:
             raise ValueError("speed must be > 0")
         self.rd = rd
+        self.name = rd.path.name
         self.channels: list[Channel] = build_channels(rd)
         self.ns = stamps_ns(rd).tolist()
         self.speed = speed
@@ -75,10 +78,10 @@ class FoxgloveRunServer:
         return json.dumps(
             {
                 "op": "serverInfo",
-                "name": f"oceangnc {self.rd.path.name}",
+                "name": f"oceangnc {self.name}",
                 "capabilities": ["time"],
                 "supportedEncodings": [],
-                "metadata": {"run": self.rd.path.name, "frames": "world ENU, vehicles FLU (REP 103)"},
+                "metadata": {"run": self.name, "frames": "world ENU, vehicles FLU (REP 103)"},
                 "sessionId": str(time.time_ns()),
             }
         )
@@ -157,12 +160,15 @@ class FoxgloveRunServer:
 
     # -- playback ----------------------------------------------------------------------------------
     def _emit(self, i: int) -> None:
-        ts = self.ns[i]
+        self.emit(self.ns[i], [c.payloads[i] for c in self.channels])
+
+    def emit(self, ts: int, payloads: list[bytes | None]) -> None:
+        """Send a Time frame and, to every subscriber of channel k, ``payloads[k - 1]`` (None: nothing)."""
         tframe = struct.pack("<BQ", OP_TIME, ts)
         for client in list(self.clients):
             self._offer(client, tframe)
             for ch, sid in list(client.subs.items()):
-                data = self.channels[ch - 1].payloads[i]
+                data = payloads[ch - 1]
                 if data is not None:
                     self._offer(client, struct.pack("<BIQ", OP_MESSAGE, sid, ts) + data)
         self.rows_sent += 1
@@ -216,6 +222,145 @@ def serve_foxglove(run, port: int = 8765, speed: float = 1.0, loop: bool = True,
     rd = run if isinstance(run, RunData) else load_run(run)
     try:
         return asyncio.run(_serve(rd, port, speed, loop, tuple(allow_origins), ready))
+    except KeyboardInterrupt:
+        print("stopped", file=sys.stderr)
+        return 0
+
+
+# ---- a live console session ---------------------------------------------------------------------
+
+
+def state_run(hello: dict, state: dict) -> RunData:
+    """One console state message as a one-row :class:`RunData` (the console's ``hello`` gives the
+    vehicles' sizes and the route): what :func:`build_channels` turns into the stream's messages."""
+    import math
+
+    import numpy as np
+
+    from .run_data import describe
+
+    cols = {"t": np.array([float(state.get("t", 0.0))])}
+    for k, v in (state.get("signals") or {}).items():
+        if isinstance(v, bool) or k == "t":
+            continue
+        if isinstance(v, (int, float)) or v is None:
+            cols[k] = np.array([math.nan if v is None else float(v)])
+    view = hello.get("view") or {}
+    cfg: dict = {}
+    for b in view.get("bodies", []):
+        length, beam = b.get("length"), b.get("beam")
+        cfg[b["name"]] = {"length": length, "length_oa": length, "beam": beam, "diameter": beam}
+    if view.get("route"):
+        cfg["guidance"] = {"waypoints": [list(p) for p in view["route"]]}
+    return describe(Path(f"console-{hello.get('run', 'live')}"), cols, cfg, {"scenario": hello.get("scenario", "")})
+
+
+class FoxgloveLiveServer(FoxgloveRunServer):
+    """Republishes a running console session (read as a viewer with its token) on the Foxglove
+    WebSocket protocol: the channels of the first state, one message each per state with a new
+    time (the console repeats a state while paused); a new run's states are stamped with its own
+    time, from 0 again."""
+
+    def __init__(self, console_url: str, allow_origins: tuple[str, ...] = ()):
+        self.console_url = console_url
+        self.name = "console"
+        self.channels = []
+        self.speed, self.loop, self.allow_origins = 1.0, False, allow_origins
+        self.clients = set()
+        self.rows_sent = 0
+        self.done = asyncio.Event()
+        self.ready = asyncio.Event()
+        self.error: str | None = None
+
+    async def play(self) -> None:
+        from websockets.asyncio.client import connect
+
+        hello = None
+        last_t: float | None = None
+        index: dict[str, int] = {}
+        try:
+            async with connect(self.console_url, open_timeout=30, max_size=2**22) as ws:
+                async for raw in ws:
+                    m = json.loads(raw)
+                    if m.get("type") == "hello":
+                        hello, last_t = m, None
+                    elif m.get("type") == "state" and hello is not None:
+                        t = float(m.get("t", 0.0))
+                        if m.get("run") != hello.get("run"):
+                            continue  # a new run starts with its hello
+                        if last_t is not None and t <= last_t:
+                            continue  # the console repeats its last state while paused or between steps
+                        last_t = t
+                        chans = build_channels(state_run(hello, m))
+                        if not self.channels:
+                            self.channels = chans
+                            index = {c.topic: k for k, c in enumerate(chans)}
+                            self.ready.set()
+                        payloads: list[bytes | None] = [None] * len(self.channels)
+                        for c in chans:  # a topic that appears later than the first state is left out
+                            if c.topic in index and c.schema_name == self.channels[index[c.topic]].schema_name:
+                                payloads[index[c.topic]] = c.payloads[0]
+                        self.emit(int(round(t * 1e9)), payloads)
+        except Exception as e:  # the console went away or refused us
+            self.error = f"{type(e).__name__}: {e}"
+        finally:
+            self.ready.set()
+            self.done.set()
+
+
+def console_ws_url(url: str) -> str:
+    """``http://127.0.0.1:8050/?token=T`` (the URL ``oceangnc console`` prints) -> its viewer WebSocket."""
+    from urllib.parse import parse_qs
+
+    u = urlsplit(url)
+    token = (parse_qs(u.query).get("token") or [""])[0]
+    scheme = "wss" if u.scheme in ("https", "wss") else "ws"
+    return f"{scheme}://{u.netloc}/ws?token={token}&role=viewer"
+
+
+async def _serve_live(console_url: str, port: int, allow_origins, ready) -> int:
+    from websockets.asyncio.server import serve
+
+    srv = FoxgloveLiveServer(console_ws_url(console_url), allow_origins=allow_origins)
+    player = asyncio.create_task(srv.play())
+    print(f"waiting for the first state of the console at {console_url.split('?')[0]}", file=sys.stderr, flush=True)
+    try:  # the channels are known once the first state arrived
+        await asyncio.wait_for(srv.ready.wait(), FIRST_STATE_S)
+    except TimeoutError:
+        srv.error = f"no state within {FIRST_STATE_S:g} s"
+        player.cancel()
+    if not srv.channels:
+        print(f"error: no state from the console at {console_url}: {srv.error}", file=sys.stderr)
+        return 2
+    async with serve(
+        srv.handler, "127.0.0.1", port, subprotocols=[SUBPROTOCOL], max_size=2**20, compression=None
+    ) as server:
+        bound = server.sockets[0].getsockname()[1]
+        print(
+            f"Foxglove WebSocket stream of the console at ws://127.0.0.1:{bound} "
+            f"({len(srv.channels)} channels; Ctrl-C to stop)",
+            flush=True,
+        )
+        if ready is not None:
+            ready(bound)
+        await player
+    if srv.error:
+        print(f"console stream ended: {srv.error}", file=sys.stderr)
+    return 0
+
+
+def serve_console_foxglove(console_url: str, port: int = 8765, allow_origins=(), ready=None) -> int:
+    """Stream a running ``oceangnc console`` (its URL with the token) on ws://127.0.0.1:PORT."""
+    try:
+        import websockets.asyncio.server  # noqa: F401
+    except ImportError:
+        print(
+            "error: the Foxglove stream needs the optional package 'websockets': install oceangnc[console]",
+            file=sys.stderr,
+        )
+        return 2
+    try:
+        return asyncio.run(_serve_live(console_url, port, tuple(allow_origins), ready))
     except KeyboardInterrupt:
         print("stopped", file=sys.stderr)
         return 0

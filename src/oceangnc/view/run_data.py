@@ -139,7 +139,14 @@ def load_run(run_dir: str | Path) -> RunData:
             summary = json.loads((path / "summary.json").read_text())
         except json.JSONDecodeError:
             summary = {}
-    rd = RunData(path=path, columns=cols, config=cfg, summary=summary)
+    return describe(path, cols, cfg, summary)
+
+
+def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, summary: dict | None = None) -> RunData:
+    """A :class:`RunData` from log columns and a config dict (module docstring): what :func:`load_run`
+    does after reading the folder, and what a live stream does with one state (``oceangnc.view.foxglove_ws``)."""
+    cfg = cfg or {}
+    rd = RunData(path=Path(path), columns=cols, config=cfg, summary=summary or {})
 
     prefixes = sorted({c.split(".", 1)[0] for c in cols if "." in c})
     for p in prefixes:
