@@ -97,7 +97,8 @@ def test_console_3d_panel_draws_the_live_state(console, tmp_path):
             # the operator pauses the run: the last state stays on screen
             page.click("#pause")
             page.wait_for_function("window.__console.state && window.__console.state.paused === true", timeout=30_000)
-            page.wait_for_timeout(500)
+            # the panel catches up with the last state (it draws at most 20 times a second; a busy machine is slower)
+            page.wait_for_function("window.__console.state.t === view3d.state.t", timeout=30_000)
             st = page.evaluate(
                 """(() => { const s = view3d.state.signals; return {
                     t: view3d.t, uuv: view3d.uuv, end: view3d.cableEnd, m: view3d.cameraMatrices(),
