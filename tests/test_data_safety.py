@@ -404,12 +404,17 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
     assert s["rows"] == len(read_log(out)) == len(pd.read_parquet(out / "log.parquet")) > 20
 
 
-def test_the_cli_installs_its_sigterm_handler_only_while_a_command_runs(monkeypatch):
+def test_the_cli_installs_its_sigterm_handler_only_while_a_run_runs(monkeypatch):
+    """``run`` turns SIGTERM into a Ctrl-C-like end while it runs, then gives the caller's handler back;
+    other commands (servers, bridges) keep the default SIGTERM."""
     from oceangnc import cli as cli_mod
 
     before = signal.getsignal(signal.SIGTERM)
     during = []
+    monkeypatch.setattr(cli_mod, "_cmd_run", lambda args: during.append(signal.getsignal(signal.SIGTERM)) or 0)
     monkeypatch.setattr(cli_mod, "_cmd_list", lambda args: during.append(signal.getsignal(signal.SIGTERM)) or 0)
-    assert cli_mod.main(["list"]) == 0
+    assert cli_mod.main(["run", "usv-turn"]) == 0
     assert callable(during[0]) and during[0] is not before  # SIGTERM raises Terminated while it runs
     assert signal.getsignal(signal.SIGTERM) is before  # and the caller's handler is back after
+    assert cli_mod.main(["list"]) == 0
+    assert during[1] is before  # list: untouched

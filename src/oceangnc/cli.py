@@ -260,7 +260,9 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         ap.print_help()
         return 2
-    previous = _on_sigterm_like_ctrl_c()
+    # a terminated run ends like Ctrl-C (its summary.json says interrupted); other commands keep the
+    # default SIGTERM (a server or bridge blocked in its own threads must not outlive the signal)
+    previous = _on_sigterm_like_ctrl_c() if args.command == "run" else None
     try:
         rc = _run_command(args)
     except OceanGNCError as e:
