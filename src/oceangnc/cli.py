@@ -285,6 +285,8 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+            signal.signal(signal.SIGALRM, signal.SIG_DFL)
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
     return rc
@@ -307,15 +309,29 @@ def _run_command(args) -> int:
 def _on_sigterm_like_ctrl_c():
     """Make SIGTERM raise :class:`~oceangnc.errors.Terminated` (a KeyboardInterrupt) in the main
     thread, so a terminated command ends as Ctrl-C does (a run closes its log and writes
-    ``summary.json``); a second SIGTERM during that clean-up is ignored. Returns the previous handler
-    (``main`` restores it), or None when not in the main thread."""
+    ``summary.json``); a second SIGTERM during that clean-up is ignored. A SIGTERM that arrives while
+    numba compiles is deferred until the compiler returns (an exception raised inside LLVM left the
+    process to crash at exit: SIGSEGV seen in CI). Returns the previous handler (``main`` restores
+    it), or None when not in the main thread."""
+
+    def compiling(frame) -> bool:  # numba / LLVM on the stack: an exception there can corrupt LLVM's state
+        while frame is not None:
+            if str(frame.f_globals.get("__name__", "")).startswith(("numba", "llvmlite")):
+                return True
+            frame = frame.f_back
+        return False
 
     def handler(signum, frame):
+        if compiling(frame):  # end as soon as the compiler returns: look again in 0.1 s
+            signal.setitimer(signal.ITIMER_REAL, 0.1)
+            return
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        signal.signal(signal.SIGALRM, signal.SIG_IGN)
         raise Terminated()
 
     try:
         previous = signal.signal(signal.SIGTERM, handler)
+        signal.signal(signal.SIGALRM, handler)  # the deferred look (only ever armed by the handler)
     except ValueError:  # not the main thread of the interpreter
         return None
     return signal.SIG_DFL if previous is None else previous  # (None: a handler not set from Python)
