@@ -194,16 +194,16 @@ def test_events_on_a_constructed_series():
     assert st["min_N"] == 0.0 and st["max_N"] == 300.0 and st["slack_threshold_N"] == 1.0
 
 
-def test_tow_sea_state_summary_is_deterministic_and_scored():
+def test_tow_sea_state_summary_is_deterministic_and_scored(tmp_path):
     """Two runs with one seed give the same summary; a third seed draws another sea; the pass flag is
     the conjunction of the limits; a tension limit below the maximum fails the run."""
     import oceangnc
 
     kw = {"duration": 40.0, "plots": False}
     over = {"analysis.settle_s": 10.0, "sim.seed": 4}
-    a = oceangnc.run("tow-sea-state", overrides=over, **kw).summary
-    b = oceangnc.run("tow-sea-state", overrides=over, **kw).summary
-    c = oceangnc.run("tow-sea-state", overrides={**over, "sim.seed": 5}, **kw).summary
+    a = oceangnc.run("tow-sea-state", overrides=over, out=tmp_path / "a", **kw).summary
+    b = oceangnc.run("tow-sea-state", overrides=over, out=tmp_path / "b", **kw).summary
+    c = oceangnc.run("tow-sea-state", overrides={**over, "sim.seed": 5}, out=tmp_path / "c", **kw).summary
     keys = [k for k in a if k != "wall_time_s"]
     assert {k: a[k] for k in keys} == {k: b[k] for k in keys}
     assert a["cable.top_std_N"] != c["cable.top_std_N"]
@@ -211,7 +211,10 @@ def test_tow_sea_state_summary_is_deterministic_and_scored():
     flags = [a[k] for k in ("limits.tension_ok", "limits.no_snap", "limits.depth_std_ok", "limits.pitch_std_ok")]
     assert a["sea.pass"] == int(all(flags))
     low = oceangnc.run(
-        "tow-sea-state", overrides={**over, "limits.tension_max_N": 0.5 * a["cable.top_max_N"]}, **kw
+        "tow-sea-state",
+        overrides={**over, "limits.tension_max_N": 0.5 * a["cable.top_max_N"]},
+        out=tmp_path / "d",
+        **kw,
     ).summary
     assert low["limits.tension_ok"] == 0 and low["sea.pass"] == 0
 
