@@ -64,7 +64,7 @@ COMMANDS = [
 def once(cmd, env, out):
     t0 = time.perf_counter()
     r = subprocess.run(
-        [sys.executable, "-c", PROBE, *cmd, *(["--out", out] if cmd[0] == "run" else [])],
+        [sys.executable, "-c", PROBE, *cmd, *(["--out", out, "--overwrite"] if cmd[0] == "run" else [])],
         capture_output=True,
         text=True,
         env=env,

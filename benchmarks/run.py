@@ -31,6 +31,7 @@ BENCHMARKS = {
         ["combined-survey", "usv-turn", "field-test", "berthing-channel"],
         {"NUMBA_NUM_THREADS": "1"},
     ),
+    "vehicles": ("bench_combined.py", ["rov-station-keeping", "otter-waypoints"], {"NUMBA_NUM_THREADS": "1"}),
     "usv": ("bench_usv.py", ["--duration", "300", "--repeat", "3"], {}),
     "ekf": ("bench_ekf.py", ["--seeds", "10"], {"NUMBA_NUM_THREADS": "1"}),
     "berthing": ("bench_berthing.py", [], {}),
