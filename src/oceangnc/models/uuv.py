@@ -56,12 +56,13 @@ from numba import njit
 
 from ..core.blocks import Plant
 from .actuators import ThrusterBank
-from ..core.csmath import cabs, ccos, csin
+from ..core.csmath import cabs
 from ..core.model import Model
-from ..core.rotations import heading_speed, rzyx_entries
+from ..core.rotations import heading_speed
 from ..core.signals import CALM
 from ..errors import InputError
 from ..units import KGF
+from .rigid_body import euler_kinematics, restoring
 from .rigid_body import kirchhoff as _kirchhoff
 from .rigid_body import row6 as _row
 from ._uuv_params import *  # noqa: F403  (re-exported: the old import paths keep working)
@@ -111,28 +112,14 @@ def uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, vcd, awn, awe, awd, mdisp, f
     the water's acceleration (diffraction neglected: the hull is 1.79 m against waves of 10 m and more).
     Without ``waves`` the arithmetic is exactly that of :func:`uuv_deriv` (the extra terms are skipped).
     """
-    phi = x[3]
-    th = x[4]
-    psi = x[5]
     u = x[6]
     v = x[7]
     w = x[8]
     pp = x[9]
     q = x[10]
     r = x[11]
-    cf = ccos(phi)
-    sf = csin(phi)
-    ct = ccos(th)
-    st = csin(th)
-    # R_b^n (Fossen eq. 2.18)
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
-    # kinematics (003 eq. 2.13, A-1, A-2)
-    out[0] = r00 * u + r01 * v + r02 * w
-    out[1] = r10 * u + r11 * v + r12 * w
-    out[2] = r20 * u + r21 * v + r22 * w
-    out[3] = pp + (sf * q + cf * r) * st / ct
-    out[4] = cf * q - sf * r
-    out[5] = (sf * q + cf * r) / ct
+    # kinematics (003 eq. 2.13, A-1, A-2) and R_b^n (Fossen eq. 2.18)
+    r00, r01, r02, r10, r11, r12, r20, r21, r22, cf, sf, ct, st = euler_kinematics(x, out)
     # current in body axes (R^T v_c), relative velocity
     ucb = r00 * vcn + r10 * vce
     vcb = r01 * vcn + r11 * vce
@@ -188,21 +175,13 @@ def uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, vcd, awn, awe, awd, mdisp, f
     t4 += p[d + 4] * q + p[e + 4] * q * cabs(q) + (p[lf + 4] * wr + p[lf + 5] * q) * au
     t5 += p[d + 5] * r + p[e + 5] * r * cabs(r) + (p[lf + 6] * vr + p[lf + 7] * r) * au
     # restoring forces (A-13)
-    W = p[P_W]
-    B = p[P_B]
-    xg = p[P_RG]
-    yg = p[P_RG + 1]
-    zg = p[P_RG + 2]
-    xb = p[P_RB]
-    yb = p[P_RB + 1]
-    zb = p[P_RB + 2]
-    wb = W - B
-    t0 -= wb * st
-    t1 += wb * ct * sf
-    t2 += wb * ct * cf
-    t3 -= -(yg * W - yb * B) * ct * cf + (zg * W - zb * B) * ct * sf
-    t4 -= (zg * W - zb * B) * st + (xg * W - xb * B) * ct * cf
-    t5 -= -(xg * W - xb * B) * ct * sf - (yg * W - yb * B) * st
+    g0, g1, g2, g3, g4, g5 = restoring(p, P_W, P_B, P_RG, P_RB, cf, sf, ct, st)
+    t0 -= g0
+    t1 -= g1
+    t2 -= g2
+    t3 -= g3
+    t4 -= g4
+    t5 -= g5
     # thrusters (003 eq. 2.17)
     t0 += tp + ts
     t1 += tb

@@ -50,12 +50,11 @@ from numba import njit
 from pydantic import Field, ValidationError, field_validator
 
 from ..core.config import StrictModel, format_validation_error
-from ..core.csmath import cabs, ccos, csin
+from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
-from ..core.rotations import rzyx_entries
 from ..errors import ConfigError
 from ..units import G
-from .rigid_body import kirchhoff, row6
+from .rigid_body import euler_kinematics, kirchhoff, restoring, row6
 
 DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant")
@@ -92,26 +91,13 @@ def vehicle_deriv(t, x, u, p, out):
     """dx/dt of the generic vehicle (module docstring) for state ``x`` and inputs ``u`` (thrust commands
     (N), then the earth-fixed current north, east (m/s))."""
     n = int(p[P_NTHR].real)
-    phi = x[3]
-    th = x[4]
-    psi = x[5]
     uu = x[6]
     v = x[7]
     w = x[8]
     pp = x[9]
     q = x[10]
     r = x[11]
-    cf = ccos(phi)
-    sf = csin(phi)
-    ct = ccos(th)
-    st = csin(th)
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rzyx_entries(phi, th, psi)
-    out[0] = r00 * uu + r01 * v + r02 * w
-    out[1] = r10 * uu + r11 * v + r12 * w
-    out[2] = r20 * uu + r21 * v + r22 * w
-    out[3] = pp + (sf * q + cf * r) * st / ct
-    out[4] = cf * q - sf * r
-    out[5] = (sf * q + cf * r) / ct
+    r00, r01, r02, r10, r11, r12, r20, r21, r22, cf, sf, ct, st = euler_kinematics(x, out)
     vcn = u[n]
     vce = u[n + 1]
     ucb = r00 * vcn + r10 * vce
@@ -147,21 +133,13 @@ def vehicle_deriv(t, x, u, p, out):
         for i in range(6):
             tau[i] -= row6(p, P_GLIN + 6 * i, x[0], x[1], x[2], x[3], x[4], x[5])
     else:
-        W = p[P_W]
-        B = p[P_B]
-        xg = p[P_RG]
-        yg = p[P_RG + 1]
-        zg = p[P_RG + 2]
-        xb = p[P_RB]
-        yb = p[P_RB + 1]
-        zb = p[P_RB + 2]
-        wb = W - B
-        tau[0] -= wb * st
-        tau[1] += wb * ct * sf
-        tau[2] += wb * ct * cf
-        tau[3] -= -(yg * W - yb * B) * ct * cf + (zg * W - zb * B) * ct * sf
-        tau[4] -= (zg * W - zb * B) * st + (xg * W - xb * B) * ct * cf
-        tau[5] -= -(xg * W - xb * B) * ct * sf - (yg * W - yb * B) * st
+        g0, g1, g2, g3, g4, g5 = restoring(p, P_W, P_B, P_RG, P_RB, cf, sf, ct, st)
+        tau[0] -= g0
+        tau[1] -= g1
+        tau[2] -= g2
+        tau[3] -= g3
+        tau[4] -= g4
+        tau[5] -= g5
     for i in range(n):
         k = P_THR + NT * i
         cmd = u[i]
