@@ -3,19 +3,10 @@
 // the sea surface. It reads the state the console page already receives (window.__console, set by
 // console.js) and draws each new state once; it sends nothing. Frames and meshes: oceangnc/scene3d.
 import * as THREE from 'three';
-import { AA, BACKGROUND, BODY_COLORS, bodyMatrix, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
+import { BODY_COLORS, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
 
 const box = document.getElementById('view3d');
-const renderer = new THREE.WebGLRenderer({ antialias: AA, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio || 1);
-box.appendChild(renderer.domElement);
-const scene = new THREE.Scene();
-scene.background = new THREE.Color(BACKGROUND);
-const camera = new THREE.PerspectiveCamera(50, 1, 0.05, 20000);
-scene.add(new THREE.HemisphereLight(0xcfe6ff, 0x203040, 1.2));
-const sun = new THREE.DirectionalLight(0xffffff, 1.6);
-sun.position.set(0.4, 1, 0.3);
-scene.add(sun);
+const { renderer, scene, camera } = createScene(box);
 
 // the sea surface and a 10 m grid, centred under the vehicles (moved with them)
 const sea = new THREE.Mesh(new THREE.PlaneGeometry(400, 400).rotateX(-Math.PI / 2),

@@ -1,7 +1,7 @@
 // 3D replay of an oceangnc run (oceangnc view RUN; docs/view.md). Data: the JSON in #replay-data
 // (oceangnc.view.replay.replay_data). The page state is on window.replay (for users and tests).
 import * as THREE from 'three';
-import { AA, BACKGROUND, BODY_COLORS, bodyMatrix, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
+import { AA, BACKGROUND, BODY_COLORS, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
 
 const DATA = JSON.parse(document.getElementById('replay-data').textContent);
 
@@ -46,16 +46,7 @@ function lerpAngle(arr, k, a) {
 
 // ---- scene --------------------------------------------------------------------------------------
 const view = document.getElementById('view');
-const renderer = new THREE.WebGLRenderer({ antialias: AA, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio || 1);
-view.appendChild(renderer.domElement);
-const scene = new THREE.Scene();
-scene.background = new THREE.Color(BACKGROUND);
-const camera = new THREE.PerspectiveCamera(50, 1, 0.05, 20000);
-scene.add(new THREE.HemisphereLight(0xcfe6ff, 0x203040, 1.2));
-const sun = new THREE.DirectionalLight(0xffffff, 1.6);
-sun.position.set(0.4, 1, 0.3);
-scene.add(sun);
+const { renderer, scene, camera } = createScene(view);
 
 const EXT = DATA.extent;
 const spanN = EXT.n1 - EXT.n0, spanE = EXT.e1 - EXT.e0;

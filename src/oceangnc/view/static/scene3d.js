@@ -57,6 +57,22 @@ export function softwareGL() {
 export const AA = /[?&]aa=1\b/.test(location.search) || (!/[?&]aa=0\b/.test(location.search) && !softwareGL());
 
 // vehicles: meshes in FRD body coordinates (x forward, y starboard, z down)
+// the renderer (drawn into ``container``), the scene with its background and lights, and the camera,
+// as both the replay page and the console's 3D panel set them up
+export function createScene(container) {
+  const renderer = new THREE.WebGLRenderer({ antialias: AA, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  container.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(BACKGROUND);
+  const camera = new THREE.PerspectiveCamera(50, 1, 0.05, 20000);
+  scene.add(new THREE.HemisphereLight(0xcfe6ff, 0x203040, 1.2));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+  sun.position.set(0.4, 1, 0.3);
+  scene.add(sun);
+  return { renderer, scene, camera };
+}
+
 export function torpedo(L, D, color) {
   const g = new THREE.Group();
   const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.5, metalness: 0.1 });
