@@ -23,6 +23,7 @@ package ``websockets`` (``pip install 'oceangnc[console]'``).
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import struct
 import sys
@@ -189,21 +190,29 @@ class FoxgloveRunServer:
         self.done.set()
 
 
-async def _serve(rd: RunData, port: int, speed: float, loop: bool, allow_origins, ready) -> int:
+@contextlib.asynccontextmanager
+async def _listening(srv, port: int, source: str, how: str, ready):
+    """The Foxglove WebSocket server of ``srv`` on 127.0.0.1:``port`` (0: any free port), announced on
+    stdout with its URL and ``how`` (``ready(port)`` told the bound port) while the block runs."""
     from websockets.asyncio.server import serve
 
-    srv = FoxgloveRunServer(rd, speed=speed, loop=loop, allow_origins=allow_origins)
     async with serve(
         srv.handler, "127.0.0.1", port, subprotocols=[SUBPROTOCOL], max_size=2**20, compression=None
     ) as server:
         bound = server.sockets[0].getsockname()[1]
         print(
-            f"Foxglove WebSocket stream of {rd.path} at ws://127.0.0.1:{bound} "
-            f"({len(srv.channels)} channels, {speed:g}x{', once' if not loop else ''}; Ctrl-C to stop)",
+            f"Foxglove WebSocket stream of {source} at ws://127.0.0.1:{bound} ({len(srv.channels)} channels{how})",
             flush=True,
         )
         if ready is not None:
             ready(bound)
+        yield server
+
+
+async def _serve(rd: RunData, port: int, speed: float, loop: bool, allow_origins, ready) -> int:
+    srv = FoxgloveRunServer(rd, speed=speed, loop=loop, allow_origins=allow_origins)
+    how = f", {speed:g}x{', once' if not loop else ''}; Ctrl-C to stop"
+    async with _listening(srv, port, f"{rd.path}", how, ready):
         await srv.play()
     return 0
 
@@ -319,7 +328,6 @@ def console_ws_url(url: str) -> str:
 
 
 async def _serve_live(console_url: str, port: int, allow_origins, ready) -> int:
-    from websockets.asyncio.server import serve
 
     srv = FoxgloveLiveServer(console_ws_url(console_url), allow_origins=allow_origins)
     player = asyncio.create_task(srv.play())
@@ -332,17 +340,7 @@ async def _serve_live(console_url: str, port: int, allow_origins, ready) -> int:
     if not srv.channels:
         print(f"error: no state from the console at {console_url}: {srv.error}", file=sys.stderr)
         return 2
-    async with serve(
-        srv.handler, "127.0.0.1", port, subprotocols=[SUBPROTOCOL], max_size=2**20, compression=None
-    ) as server:
-        bound = server.sockets[0].getsockname()[1]
-        print(
-            f"Foxglove WebSocket stream of the console at ws://127.0.0.1:{bound} "
-            f"({len(srv.channels)} channels; Ctrl-C to stop)",
-            flush=True,
-        )
-        if ready is not None:
-            ready(bound)
+    async with _listening(srv, port, "the console", "; Ctrl-C to stop", ready):
         await player
     if srv.error:
         print(f"console stream ended: {srv.error}", file=sys.stderr)
