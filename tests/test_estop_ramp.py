@@ -250,12 +250,14 @@ def test_mavlink_reset_and_rearm_after_an_estop_ramps_the_thrust(name):
     _expect_checked(name, _check_ramp(before, after, name), f.outs)
 
 
+@pytest.mark.parametrize("silent", ["link", "stick"])
 @pytest.mark.parametrize("name", live_scenarios())
-def test_mavlink_failsafe_clearing_ramps_the_thrust(name):
-    """The ground station falls silent (heartbeats and stick) for 6 s: the GCS failsafe switches to HOLD
-    (FS_ACTION); the link comes back and the ground station selects its driving mode again with the
+def test_mavlink_failsafe_clearing_ramps_the_thrust(name, silent):
+    """The ground station falls silent for 6 s - all of it (``link``: the GCS failsafe, FS_GCS_TIMEOUT) or
+    only its stick stream, heartbeats going on (``stick``: the stick failsafe, FS_TIMEOUT) - and the
+    vehicle goes to HOLD (FS_ACTION); then the ground station selects its driving mode again with the
     stick held at 0.8: the thrust ramps from what HOLD left (zero where the scenario cannot hold on a
-    zero stick)."""
+    zero stick). A scenario flown in AUTO has no stick stream: stick silence trips nothing there."""
     f = _Mavlink(name)
     stick = f.drive == MANUAL
     try:
@@ -265,8 +267,12 @@ def test_mavlink_failsafe_clearing_ramps_the_thrust(name):
         f.run(BEFORE_S, before, stick=stick)
         while not _driving(before) and len(before) * STATE_S < BEFORE_MAX_S:
             f.run(1.0, before, stick=stick)
-        f.run(6.0, stick=False, heartbeat=False)
-        assert f.v.failsafe and f.v.mode != f.drive, "silence trips the GCS failsafe"
+        f.run(6.0, stick=False, heartbeat=silent == "stick")
+        if silent == "stick" and not stick:
+            assert not f.v.failsafe and f.v.mode == AUTO, "no stick stream, no stick failsafe"
+            return
+        assert f.v.failsafe or silent == "stick", "silence trips the GCS failsafe"
+        assert f.v.mode != f.drive, f"{silent} silence leaves the driving mode (FS_ACTION)"
         f.run(1.0, stick=False)
         f.set_drive_mode()
         after: list = []
