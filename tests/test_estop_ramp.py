@@ -218,6 +218,24 @@ class _Mavlink:
     def thrusts(self) -> list[float]:
         return [v for v, _ in _record(self.v.sim.bus, self.outs).values()]
 
+    def arm_and_drive(self) -> list[dict]:
+        """Arm, select the driving mode, drive for BEFORE_S (longer, up to BEFORE_MAX_S, until a thrust
+        is on); returns the record."""
+        stick = self.drive == MANUAL
+        self.command(M.MAV_CMD_COMPONENT_ARM_DISARM, 1)
+        self.set_drive_mode()
+        before: list = []
+        self.run(BEFORE_S, before, stick=stick)
+        while not _driving(before) and len(before) * STATE_S < BEFORE_MAX_S:
+            self.run(1.0, before, stick=stick)
+        return before
+
+    def drive_after(self) -> list[dict]:
+        """The record of 4 s of driving after the thrust is given back."""
+        after: list = []
+        self.run(4.0, after, stick=self.drive == MANUAL)
+        return after
+
     def close(self):
         self.g.close()
         self.v.stop()
@@ -228,12 +246,7 @@ def test_mavlink_reset_and_rearm_after_an_estop_ramps_the_thrust(name):
     f = _Mavlink(name)
     stick = f.drive == MANUAL
     try:
-        f.command(M.MAV_CMD_COMPONENT_ARM_DISARM, 1)
-        f.set_drive_mode()
-        before: list = []
-        f.run(BEFORE_S, before, stick=stick)
-        while not _driving(before) and len(before) * STATE_S < BEFORE_MAX_S:
-            f.run(1.0, before, stick=stick)
+        before = f.arm_and_drive()
         assert f.v.armed and f.v.mode == f.drive
         f.command(M.MAV_CMD_DO_FLIGHTTERMINATION, 1)
         assert f.v.estop and all(x == 0.0 for x in f.thrusts())
@@ -243,8 +256,7 @@ def test_mavlink_reset_and_rearm_after_an_estop_ramps_the_thrust(name):
         assert f.v.armed and not f.v.estop
         if f.v.mode != f.drive:
             f.set_drive_mode()
-        after: list = []
-        f.run(4.0, after, stick=stick)
+        after = f.drive_after()
     finally:
         f.close()
     _expect_checked(name, _check_ramp(before, after, name), f.outs)
@@ -261,12 +273,7 @@ def test_mavlink_failsafe_clearing_ramps_the_thrust(name, silent):
     f = _Mavlink(name)
     stick = f.drive == MANUAL
     try:
-        f.command(M.MAV_CMD_COMPONENT_ARM_DISARM, 1)
-        f.set_drive_mode()
-        before: list = []
-        f.run(BEFORE_S, before, stick=stick)
-        while not _driving(before) and len(before) * STATE_S < BEFORE_MAX_S:
-            f.run(1.0, before, stick=stick)
+        before = f.arm_and_drive()
         f.run(6.0, stick=False, heartbeat=silent == "stick")
         if silent == "stick" and not stick:
             assert not f.v.failsafe and f.v.mode == AUTO, "no stick stream, no stick failsafe"
@@ -275,8 +282,7 @@ def test_mavlink_failsafe_clearing_ramps_the_thrust(name, silent):
         assert f.v.mode != f.drive, f"{silent} silence leaves the driving mode (FS_ACTION)"
         f.run(1.0, stick=False)
         f.set_drive_mode()
-        after: list = []
-        f.run(4.0, after, stick=stick)
+        after = f.drive_after()
     finally:
         f.close()
     _expect_checked(name, _check_ramp(before, after, name), f.outs)

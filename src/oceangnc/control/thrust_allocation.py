@@ -62,15 +62,24 @@ AS = _alloc_signals(1).at  #: force, moment and estop slots are the same for eve
 
 
 @njit(cache=True)
-def pinv_scaled(pa, p0, n, tau, f):
-    """f = P tau (P: the n x 6 weighted pseudo-inverse at ``pa[p0:]``, row-major, then the n forward and n
-    reverse limits), scaled as one vector into the limits (the ``"pinv"`` saturation handling)."""
-    scale = 1.0
+def pinv_apply(pa, p0, n, tau, f):
+    """f = P tau: P the n x 6 weighted pseudo-inverse at ``pa[p0:]``, row-major (then come the n forward
+    and n reverse limits)."""
     for i in range(n):
         s = 0.0
         for j in range(6):
             s += pa[p0 + 6 * i + j] * tau[j]
         f[i] = s
+
+
+@njit(cache=True)
+def pinv_scaled(pa, p0, n, tau, f):
+    """f = P tau (:func:`pinv_apply`) scaled as one vector into the limits (the ``"pinv"`` saturation
+    handling): the direction of tau is kept."""
+    pinv_apply(pa, p0, n, tau, f)
+    scale = 1.0
+    for i in range(n):
+        s = f[i]
         hi = pa[p0 + 6 * n + i]
         lo = pa[p0 + 7 * n + i]
         if s > hi and s * scale > hi:
@@ -181,11 +190,8 @@ def redistribute_law(t, sig, sl, st, pa):
     fr = f0 + n
     tau = st[RX.tau : RX.tau + 6]
     _read_tau(sig, sl, tau)
-    for i in range(n):  # the unconstrained optimum first
-        s = 0.0
-        for j in range(6):
-            s += pa[pb + 6 * i + j] * tau[j]
-        st[f0 + i] = s
+    pinv_apply(pa, pb, n, tau, st[f0 : f0 + n])  # the unconstrained optimum first
+    for i in range(n):
         st[fr + i] = 1.0
     ok = True
     for _ in range(n + 1):
