@@ -158,3 +158,36 @@ def test_mean_drift_pushes_the_usv_along_the_waves():
         moved.append(pl.x[1])
     assert abs(moved[0]) < 0.05
     assert moved[1] > 0.2
+
+
+#: the USV's motions on both paths: tow-sea-state (fixed form, imex) and tow-deploy with the winch
+#: inserting nodes (variable form), in oblique seas so that heave, roll and pitch all move
+WF_FUSED = [
+    ("tow-sea-state", {"command.start_s": 0.5, "environment.waves.direction_deg": 135.0}, 4.0),
+    (
+        "tow-deploy",
+        {
+            "winch_control.profile": [(0.0, 1.3), (0.5, 8.0), (3.0, 8.0), (6.0, 1.3)],
+            "environment.waves.kind": "jonswap",
+            "environment.waves.direction_deg": 60.0,
+        },
+        8.0,
+    ),
+]
+
+
+@pytest.mark.parametrize("name,over,dur", WF_FUSED, ids=["tow-sea-state", "tow-deploy-winch"])
+def test_usv_motions_fused_log_equals_python_log(name, over, dur, tmp_path):
+    """The same law on the fused loop and the Python clock: the same log, with usv.z, usv.phi and
+    usv.theta in it and moving; the tow point moves with them (the top tension differs from the run
+    without the USV's motions)."""
+    from fused_paths import run_both, run_path
+
+    over = {**over, "environment.usv_motions.enabled": True}
+    _, _, a, _, _, _ = run_both(name, over, dur, tmp_path)
+    for k in ("usv.z", "usv.phi", "usv.theta"):
+        assert np.std(a[k].to_numpy()) > 1e-4
+    off = {**over, "environment.usv_motions.enabled": False}
+    _, _, b, _ = run_path(name, off, dur, True, tmp_path / "off")
+    assert "usv.z" not in b
+    assert np.max(np.abs(a["cable.top_tension"].to_numpy() - b["cable.top_tension"].to_numpy())) > 1.0
