@@ -77,7 +77,7 @@ class HullSpec(StrictModel):
             raise ConfigError(f"omega_max = {self.omega_max:g}: must be above omega_min = {self.omega_min:g} rad/s")
         if self.kind == "mesh" and not self.mesh:
             raise ConfigError("mesh: a mesh file is needed for kind = 'mesh'")
-        if self.kind == "mesh" and not Path(self.mesh).is_file():
+        if self.kind == "mesh" and not Path(str(self.mesh)).is_file():
             raise InputError(f"mesh file {self.mesh}: not found")
         return self
 
@@ -138,7 +138,7 @@ def _body(spec: HullSpec, cpt):
         L, B, H = spec.length_oa, spec.beam, spec.height
         gyr = (math.sqrt((B * B + H * H) / 12.0), math.sqrt((L * L + H * H) / 12.0), math.sqrt((L * L + B * B) / 12.0))
         cog = (0.0, 0.0, zg_up)
-        desc = {"draught": T}
+        desc: dict = {"draught": T}
     else:
         try:
             mesh = cpt.load_mesh(spec.mesh)

@@ -92,7 +92,7 @@ class HydroCoefficients:
         if self.drift is not None:
             arrays["drift"] = self.drift
         tmp = path.with_name(path.name + ".part.npz")
-        np.savez_compressed(tmp, **arrays)
+        np.savez_compressed(tmp, **arrays)  # type: ignore[arg-type]
         tmp.replace(path)
         return path
 

@@ -166,6 +166,7 @@ def fit_radiation(c: HydroCoefficients, n_pairs: int | None = None, tol: float =
             best = (err, poles, res)
         if n_pairs is None and err < tol:
             break
+    assert best is not None
     err, poles, res = best
     Ar, br = _blocks(poles)
     Cr = np.zeros((6, 6, br.size))
