@@ -191,3 +191,20 @@ def test_usv_motions_fused_log_equals_python_log(name, over, dur, tmp_path):
     _, _, b, _ = run_path(name, off, dur, True, tmp_path / "off")
     assert "usv.z" not in b
     assert np.max(np.abs(a["cable.top_tension"].to_numpy() - b["cable.top_tension"].to_numpy())) > 1.0
+
+
+def test_long_waves_lift_the_usv_with_the_surface():
+    """A boat much shorter than the waves rides them: in a 7.9 s wave (125 m long, 50x the hull) the
+    simulated heave is the surface's, xi_3(t) = -eta(t) at the USV (z down), within 3 % of the amplitude
+    - a physical limit that checks the excitation's phase convention, which the RAO comparison (both
+    sides from the same X) cannot."""
+    a, w, eps = 0.1, 0.8, 0.3
+    pl = _plant(WaveField(np.array([a]), np.array([w]), np.array([2.6]), np.array([eps]), depth=1000.0))
+    o = int(pl.p[int(pl.p[int(pl.p[H_SEA]) + S_WF]) + W_XO])
+    t, err = 0.0, []
+    for _ in range(1000):
+        t = pl.advance(t, 0.01, 5)
+        if t > 30.0:
+            eta = a * math.cos(-w * t + eps)  # the USV lies at the origin
+            err.append(pl.x[o + 2] + eta)
+    assert np.max(np.abs(err)) < 0.03 * a
