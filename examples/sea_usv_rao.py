@@ -22,6 +22,7 @@ from oceangnc.hydro.coefficients import default_usv_coefficients
 from oceangnc.io.plots import figure, save
 from oceangnc.models._combined_layout import H_SEA
 from oceangnc.models._sea_layout import S_WF, W_XO
+from oceangnc.models._usv_waves import manoeuvring_damping
 from oceangnc.models.cable import CableConfig
 from oceangnc.models.combined import CombinedPlant
 from oceangnc.models.usv import USVConfig
@@ -54,6 +55,8 @@ def main() -> None:
     args = ap.parse_args()
     c = default_usv_coefficients()
     Bx, Cx = c.time_domain_extras(c.hull["roll_damping_ratio"])
+    u = USVConfig()
+    Bx = Bx + manoeuvring_damping(u.d11, u.d22, u.d33)  # the plant's default (usv_motions.manoeuvring_damping)
     raos = np.abs(c.raos(Bx, Cx))
     T = 2 * math.pi / c.omega
     heads = (2, 5)  # 60 and 150 deg: every one of heave, roll and pitch responds

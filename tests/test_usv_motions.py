@@ -24,6 +24,7 @@ from oceangnc.hydro.coefficients import HydroCoefficients, default_usv_coefficie
 from oceangnc.hydro.radiation import fit_radiation
 from oceangnc.models._combined_layout import H_SEA
 from oceangnc.models._sea_layout import S_WF, W_XO
+from oceangnc.models._usv_waves import manoeuvring_damping
 from oceangnc.models.cable import CableConfig
 from oceangnc.models.combined import CombinedPlant
 from oceangnc.models.usv import USVConfig
@@ -75,6 +76,8 @@ def test_regular_wave_amplitudes_equal_the_rao(iw, ib):
     pl = _plant(_regular(a, w, mu))
     amp = _amplitudes(pl, w, duration=70.0, window=20.0)
     Bx, Cx = c.time_domain_extras(c.hull["roll_damping_ratio"])
+    u = USVConfig()
+    Bx = Bx + manoeuvring_damping(u.d11, u.d22, u.d33)  # the plant's default (usv_motions.manoeuvring_damping)
     rao = np.abs(c.rao(iw, ib, Bx, Cx))[2:5] * a
     assert rao.min() > 1e-4 * a  # every one of the three responds at these oblique headings
     np.testing.assert_allclose(amp, rao, rtol=0.05)

@@ -49,6 +49,11 @@ class USVMotionsConfig(StrictModel):
     roll_damping_ratio: float | None = Field(
         None, ge=0, le=1, description="viscous roll damping, fraction of critical (default: the file's, 0.1)"
     )
+    manoeuvring_damping: bool = Field(
+        True,
+        description="apply the manoeuvring model's linear damping d11, d22, d33 to the wave-frequency surge, "
+        "sway and yaw too (a linear damping of the total velocity splits over the two time scales)",
+    )
 
 
 class SeaEnvironmentConfig(EnvironmentConfig):

@@ -14,8 +14,9 @@ state-space model fitted to the frequency-domain coefficients (:mod:`oceangnc.hy
 with M the rigid-body mass, A_inf the infinite-frequency added mass, C the hydrostatic stiffness plus a
 weak critically damped tie of surge, sway and yaw to the manoeuvring model (60 s period,
 :meth:`~oceangnc.hydro.coefficients.HydroCoefficients.horizontal_tie`: those modes have no restoring
-force, their slow motion is the manoeuvring model's), B_v a viscous roll damping plus the tie's damping,
-and tau_exc the first-order wave excitation (Froude-Krylov + diffraction) of every
+force, their slow motion is the manoeuvring model's), B_v a viscous roll damping, the tie's damping and
+(``manoeuvring_damping``, default on) the manoeuvring model's linear d11, d22, d33 on surge, sway and yaw
+(:func:`manoeuvring_damping`), and tau_exc the first-order wave excitation (Froude-Krylov + diffraction) of every
 wave component at the USV's manoeuvring position, heading and track:
 
     tau_exc,i(t) = sum_j a_j Re( X_i(w_j, mu_j) exp(i phi_j(t)) ),   mu_j = theta_j - psi,
@@ -72,11 +73,14 @@ from ._sea_layout import (
 WF_OUTPUTS = (("usv.z", 2), ("usv.phi", 3), ("usv.theta", 4))
 
 
-def wf_block(coeffs, rad, waves, lever, state_offset: int, drift: bool, roll_damping_ratio: float) -> np.ndarray:
+def wf_block(
+    coeffs, rad, waves, lever, state_offset: int, drift: bool, roll_damping_ratio: float, extra_damping=None
+) -> np.ndarray:
     """The USV's wave-frequency block (layout :mod:`._sea_layout` W_*): ``coeffs`` a
     :class:`~oceangnc.hydro.coefficients.HydroCoefficients`, ``rad`` its
     :class:`~oceangnc.hydro.radiation.RadiationModel`, ``waves`` the wave field, ``lever`` the attachment
-    point (m, body), ``state_offset`` where the block's states start in x."""
+    point (m, body), ``state_offset`` where the block's states start in x, ``extra_damping`` (6, 6) a
+    further linear damping (the manoeuvring model's, :func:`manoeuvring_damping`)."""
     nb = coeffs.headings.size
     if not np.allclose(coeffs.headings, np.arange(nb) * 2.0 * math.pi / nb, atol=1e-9):
         raise ConfigError(
@@ -87,6 +91,8 @@ def wf_block(coeffs, rad, waves, lever, state_offset: int, drift: bool, roll_dam
     ns = rad.ns
     nc = int(waves.a.size)
     Bv, Ct = coeffs.time_domain_extras(roll_damping_ratio)
+    if extra_damping is not None:
+        Bv = Bv + extra_damping
     Xc = coeffs.interp_omega("X", waves.omega)  # (nc, nb, 6) at the components' frequencies
     Dc = coeffs.interp_omega("drift", waves.omega) if coeffs.drift is not None else np.zeros((nc, nb, 3))
     head = np.zeros(W_AR)
@@ -246,6 +252,17 @@ def wf_rhs(t, x, p, s, out):
         out[o + 6 + i] = acc
 
 
+def manoeuvring_damping(d11: float, d22: float, d33: float) -> np.ndarray:
+    """(6, 6) diag(d11, d22, 0, 0, 0, d33): the manoeuvring model's linear damping (003 eq. 2.3) on the
+    wave-frequency surge, sway and yaw. A linear damping acting on the total velocity splits exactly over
+    the two time scales, D (nu_LF + nu_WF) = D nu_LF + D nu_WF, so the wave-frequency part of the
+    manoeuvring model's (viscous, resistance) damping belongs in the wave-frequency model; at zero
+    frequency the potential damping B(w) it adds to vanishes, so nothing is counted twice."""
+    D = np.zeros((6, 6))
+    D[0, 0], D[1, 1], D[5, 5] = d11, d22, d33
+    return D
+
+
 def _heun_stable(lam: np.ndarray, h: float) -> bool:
     z = lam * h
     return bool(np.all(np.abs(1.0 + z + 0.5 * z * z) <= 1.0 + 1e-12))
@@ -258,7 +275,8 @@ def attach_usv_motions(p, x0, names, cfg, waves, cable_cfg, top: str):
     explicit part of the integrators (Heun's method inside ROS2, RK4) stable on its eigenvalues."""
     from ..hydro.coefficients import load_coefficients
     from ..hydro.radiation import fit_radiation
-    from ._combined_layout import H_SEA
+    from ._combined_layout import H_SEA, P_USV
+    from .usv import _D11, _D22, _D33
 
     if waves is None:
         raise ConfigError(
@@ -272,7 +290,10 @@ def attach_usv_motions(p, x0, names, cfg, waves, cable_cfg, top: str):
     if ratio is None:
         ratio = float(coeffs.hull.get("roll_damping_ratio", 0.1))
     xo = int(x0.size)
-    block = wf_block(coeffs, rad, waves, cable_cfg.top_point, xo, cfg.drift, ratio)
+    extra = None
+    if cfg.manoeuvring_damping:
+        extra = manoeuvring_damping(p[P_USV + _D11], p[P_USV + _D22], p[P_USV + _D33])
+    block = wf_block(coeffs, rad, waves, cable_cfg.top_point, xo, cfg.drift, ratio, extra)
     lam = np.linalg.eigvals(wf_system_matrix(block))
     if np.max(lam.real) >= 0.0:
         raise ConfigError(
