@@ -242,6 +242,35 @@ def test_rov_is_an_ardusub_vehicle_with_its_frame_modes_and_sticks(tmp_path, veh
     assert abs(p1[2] - z_alt) < 0.1
 
 
+def test_rov_goes_to_a_guided_target_and_flies_a_mission(tmp_path):
+    """The ROV through the same front end as the towed UUV: GUIDED to SET_POSITION_TARGET_LOCAL_NED (north,
+    east, depth), reached within 0.3 m; then a 2-item AUTO mission, both items reached (MISSION_ITEM_REACHED
+    from system 1) at their depths, then POSHOLD."""
+    lp = Loop("rov-station-keeping", tmp_path)
+    try:
+        v = lp.v
+        b = v.sim.bus
+        lp.wait("HEARTBEAT", 1)
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        assert lp.set_mode(1, GUIDED) == M.MAV_RESULT_ACCEPTED
+        lp.mav.set_position_target_local_ned_send(0, 1, 1, M.MAV_FRAME_LOCAL_NED, 0b110111111000, 3.0, -2.0, 2.0,
+                                                  0, 0, 0, 0, 0, 0, 0, 0)  # fmt: skip
+        lp.run(40.0)
+        guided = (float(b["vehicle.x"]), float(b["vehicle.y"]), float(b["vehicle.z"]))
+        assert lp.upload(1, [(0.0, 0.0, 0.0), (0.0, 0.0, -1.5), (-3.0, 2.0, -3.0)]) == M.MAV_MISSION_ACCEPTED
+        assert lp.set_mode(1, AUTO) == M.MAV_RESULT_ACCEPTED
+        reached = []
+        for _ in range(2):
+            m = lp.wait("MISSION_ITEM_REACHED", 1, seconds=60.0)
+            reached.append((m.seq, float(b["vehicle.z"])))
+        assert lp.wait("HEARTBEAT", 1, lambda m: m.custom_mode == POSHOLD).type == M.MAV_TYPE_SUBMARINE
+    finally:
+        lp.close()
+    assert math.dist(guided, (3.0, -2.0, 2.0)) < 0.3, guided
+    assert [s for s, _ in reached] == [1, 2]
+    assert abs(reached[0][1] - 1.5) <= 0.5 and abs(reached[1][1] - 3.0) <= 0.5, reached
+
+
 def test_otter_is_a_rover_boat_with_rover_modes(tmp_path):
     """otter-waypoints over MAVLink: MAV_TYPE_SURFACE_BOAT with Rover's modes (HOLD at start, MANUAL refused
     because the scenario takes no stick, an ArduSub-only number refused), no FRAME_CONFIG."""
