@@ -271,6 +271,46 @@ def test_rov_goes_to_a_guided_target_and_flies_a_mission(tmp_path):
     assert abs(reached[0][1] - 1.5) <= 0.5 and abs(reached[1][1] - 3.0) <= 0.5, reached
 
 
+def test_rov_estop_zeroes_the_thrust_and_rearming_ramps_it_back(tmp_path):
+    """MANUAL with the stick held: DO_FLIGHTTERMINATION zeroes every thruster command at once; after the reset and a
+    new arm the thrust comes back as a ramp (oceangnc.core.estop, 2 s), not a step; a stick stream that stops
+    is taken as neutral after FS_PILOT_TIMEOUT (3 s)."""
+    lp = Loop("rov-station-keeping", tmp_path)
+    names = None
+    try:
+        v = lp.v
+        b = v.sim.bus
+        names = [k for k in b if k.startswith("vehicle.thrust_") and not k.endswith("_cmd")]
+
+        def thrust() -> float:
+            return max(abs(float(b[k])) for k in names)
+
+        lp.wait("HEARTBEAT", 1)
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        lp.stick = (1, 800, 0, 500, 0)
+        lp.run(3.0)
+        steady = thrust()
+        assert steady > 10.0
+        assert lp.command(1, M.MAV_CMD_DO_FLIGHTTERMINATION, 1) == M.MAV_RESULT_ACCEPTED
+        lp.run(0.5)
+        assert v.estop and not v.armed
+        assert all(float(b[k + "_cmd"]) == 0.0 for k in names)  # the commands at once; the thrusters' own
+        assert thrust() < 0.02 * steady  # first-order lag (0.1 s in the vehicle file) lets the output decay
+        assert lp.command(1, M.MAV_CMD_DO_FLIGHTTERMINATION, 0) == M.MAV_RESULT_ACCEPTED
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        ramp = []
+        for _ in range(round(2.5 / STEP_S)):
+            lp.run(STEP_S)
+            ramp.append(thrust())
+        lp.stick = None
+        lp.run(4.0)
+        assert v.sub1.stick == [0.0, 0.0, 0.0, 0.0] and float(b["vehicle.tau_X"]) == 0.0
+    finally:
+        lp.close()
+    assert ramp[0] < 0.1 * steady, (ramp[:3], steady)  # no step back to the held stick's thrust
+    assert ramp[12] < 0.6 * steady < ramp[-1] * 1.2, (ramp[12], ramp[-1], steady)  # half-way, then there
+
+
 def test_otter_is_a_rover_boat_with_rover_modes(tmp_path):
     """otter-waypoints over MAVLink: MAV_TYPE_SURFACE_BOAT with Rover's modes (HOLD at start, MANUAL refused
     because the scenario takes no stick, an ArduSub-only number refused), no FRAME_CONFIG."""

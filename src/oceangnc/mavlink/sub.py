@@ -11,7 +11,8 @@ modes themselves are flown by compiled laws (:mod:`oceangnc.control.ardusub`: ``
 * **MANUAL_CONTROL** for this system: x forward, y to starboard, r yaw in -1000..1000, z 0..1000 with
   500 neutral (ArduSub's throttle: above 500 up), INT16_MAX an unused axis (neutral); written as
   ``<body>.stick_x/y/z/r`` in [-1, 1] in the pilot's modes, neutral in GUIDED and AUTO. A stick stream that
-  stops for FS_PILOT_TIMEOUT (ArduSub's pilot-input failsafe, 3 s) is taken as neutral sticks.
+  stops for FS_PILOT_TIMEOUT (3 s, range 0.1-3 s as ArduSub's) is taken as neutral sticks with a warning
+  (ArduSub's pilot-input failsafe with FS_PILOT_INPUT = 1, warn only; disarming is not offered).
 * **GUIDED targets**: SET_POSITION_TARGET_GLOBAL_INT (lat/lon and alt; in a relative-altitude frame the
   depth is -alt, in an AMSL frame origin altitude - alt) and SET_POSITION_TARGET_LOCAL_NED (x, y, z about
   the origin, z the depth), each axis unless its type_mask bit says ignored; DO_REPOSITION (lat/lon,

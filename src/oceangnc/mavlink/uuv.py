@@ -48,7 +48,7 @@ def sub_params(v, sub, block) -> list[Param]:
     ps.append(Param("WPNAV_RADIUS", lambda: sub.wp_radius_m * 100.0, lambda x: setattr(sub, "wp_radius_m", x / 100.0),
                     5.0, 10000.0, REAL32, "cm", "mission item acceptance radius"))  # fmt: skip
     ps.append(Param("FS_PILOT_TIMEOUT", lambda: sub.pilot_timeout_s, lambda x: setattr(sub, "pilot_timeout_s", x),
-                    0.1, 10.0, REAL32, "s", "pilot input lost after this, sticks neutral"))  # fmt: skip
+                    0.1, 3.0, REAL32, "s", "pilot input lost after this, sticks neutral"))  # fmt: skip
     if sub.horizontal:
         ps.append(Param("JS_GAIN_DEFAULT", lambda: float(block.pa[P.gain]),
                         lambda x: block.pa.__setitem__(P.gain, float(x)), 0.1, 1.0, REAL32, "",
