@@ -50,6 +50,7 @@ class Loop:
         self.parser.robust_parsing = True
         self.received: list = []
         self.stick: tuple | None = None  # (target, x, y, z, r) sent as MANUAL_CONTROL every pass
+        self.heartbeats = True
 
     def _drain(self) -> list:
         new = []
@@ -67,7 +68,8 @@ class Loop:
         """Step up to ``seconds`` of simulated time; the first message satisfying ``until`` or None."""
         for _ in range(max(1, round(seconds / STEP_S))):
             self.clk.t += STEP_S
-            self.mav.heartbeat_send(M.MAV_TYPE_GCS, M.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+            if self.heartbeats:
+                self.mav.heartbeat_send(M.MAV_TYPE_GCS, M.MAV_AUTOPILOT_INVALID, 0, 0, 0)
             if self.stick is not None:
                 self.mav.manual_control_send(*self.stick, 0)
             self.v.step_once()
@@ -309,6 +311,33 @@ def test_rov_estop_zeroes_the_thrust_and_rearming_ramps_it_back(tmp_path):
         lp.close()
     assert ramp[0] < 0.1 * steady, (ramp[:3], steady)  # no step back to the held stick's thrust
     assert ramp[12] < 0.6 * steady < ramp[-1] * 1.2, (ramp[12], ramp[-1], steady)  # half-way, then there
+
+
+def test_rov_gcs_failsafe_is_ardusubs(tmp_path):
+    """ArduSub's GCS failsafe on the ROV: the controlling ground station silent for FS_GCS_TIMEOUT (5 s)
+    disarms it (FS_GCS_ENABLE 2, ArduSub's default) - not before; with FS_GCS_ENABLE 4 it enters SURFACE and
+    stays armed; Rover's FS_ACTION / FS_TIMEOUT / LOIT_RADIUS are not in its table."""
+    lp = Loop("rov-station-keeping", tmp_path)
+    try:
+        v = lp.v
+        assert {"FS_ACTION", "FS_TIMEOUT", "LOIT_RADIUS"}.isdisjoint(v.params)
+        lp.wait("HEARTBEAT", 1)
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        assert lp.set_mode(1, ALT_HOLD) == M.MAV_RESULT_ACCEPTED
+        lp.heartbeats = False
+        lp.run(4.5)
+        assert v.armed  # not yet
+        lp.run(1.0)
+        assert not v.armed and any("GCS link lost, disarming" in e for _, e in v.events)
+        lp.heartbeats = True
+        lp.mav.param_set_send(1, 1, b"FS_GCS_ENABLE", 4, M.MAV_PARAM_TYPE_INT8)
+        assert lp.wait("PARAM_VALUE", 1, lambda m: m.param_id == "FS_GCS_ENABLE").param_value == 4.0
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        lp.heartbeats = False
+        lp.run(5.5)
+        assert v.armed and v.sub1.mode == 9  # SURFACE
+    finally:
+        lp.close()
 
 
 def test_otter_is_a_rover_boat_with_rover_modes(tmp_path):

@@ -72,6 +72,8 @@ class SubAutopilot(MissionMixin):
         self.t_stick = -math.inf
         self.stick_flowing = False
         self.pilot_timeout_s = 3.0  # FS_PILOT_TIMEOUT
+        self.fs_gcs_enable = 2  # FS_GCS_ENABLE (ArduSub's default: disarm)
+        self.failsafe = False
         self.wp_radius_m = 2.0  # WPNAV_RADIUS 200 cm
         self.target = [math.nan, math.nan, math.nan]
         self.mission: list[dict] = []
@@ -152,12 +154,31 @@ class SubAutopilot(MissionMixin):
             self.t_stick = self.v.clock()
             self.stick_flowing = True
 
-    def watchdog(self, now: float) -> None:
-        """ArduSub's pilot-input failsafe: a stick stream that stopped for FS_PILOT_TIMEOUT: sticks neutral."""
+    def watchdog(self, now: float, gcs: bool = False) -> None:
+        """ArduSub's pilot-input failsafe: a stick stream that stopped for FS_PILOT_TIMEOUT: sticks neutral.
+        With ``gcs`` (a ROV as system 1) also ArduSub's GCS failsafe: armed, the controlling ground station
+        heard and then silent for FS_GCS_TIMEOUT: FS_GCS_ENABLE 1 warns, 2 disarms, 3 ALT_HOLD, 4 SURFACE,
+        once, until the link is back."""
         if self.stick_flowing and now - self.t_stick > self.pilot_timeout_s:
             self.stick_flowing = False
             self.stick = [0.0, 0.0, 0.0, 0.0]
             self.event("Failsafe: pilot input lost, sticks neutral", M.MAV_SEVERITY_CRITICAL)
+        if not gcs:
+            return
+        v = self.v
+        silent = math.isfinite(v.t_gcs) and now - v.t_gcs > v.cfg_mav.gcs_timeout_s
+        if not silent:
+            self.failsafe = False
+            return
+        if self.failsafe or not v.armed or self.fs_gcs_enable == 0:
+            return
+        self.failsafe = True
+        action = {1: "warning only", 2: "disarming", 3: "ALT_HOLD", 4: "SURFACE"}[int(self.fs_gcs_enable)]
+        self.event(f"Failsafe: GCS link lost, {action}", M.MAV_SEVERITY_CRITICAL)
+        if self.fs_gcs_enable == 2:
+            v._arm(False)
+        elif self.fs_gcs_enable in (3, 4):
+            self.set_mode(ALT_HOLD if self.fs_gcs_enable == 3 else SURFACE, "GCS failsafe")
 
     # -- GUIDED targets ---------------------------------------------------------------------------------
     def _set_target(self, n: float | None, e: float | None, depth: float | None, via: str) -> int:

@@ -42,7 +42,7 @@ class TelemetryMixin:
             base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
         if self.estop:
             status = M.MAV_STATE_EMERGENCY
-        elif self.failsafe:
+        elif self.failsafe or (sub is not None and sub.failsafe):
             status = M.MAV_STATE_CRITICAL
         else:
             status = M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY

@@ -239,5 +239,7 @@ def rov_params(v, sub, block, vehicle: str) -> list[Param]:
 
     fc = float(frame_config(load_vehicle(vehicle)))
     ps = [Param("FRAME_CONFIG", lambda: fc, None, 0, 7, INT8, "",
-                "ArduSub frame: " + ", ".join(f"{k} {n}" for k, n in FRAME_CONFIGS.items()))]  # fmt: skip
+                "ArduSub frame: " + ", ".join(f"{k} {n}" for k, n in FRAME_CONFIGS.items())),
+          Param("FS_GCS_ENABLE", lambda: float(sub.fs_gcs_enable), lambda x: setattr(sub, "fs_gcs_enable", int(x)),
+                0, 4, INT8, "", "GCS failsafe: 0 off, 1 warn, 2 disarm, 3 ALT_HOLD, 4 SURFACE")]  # fmt: skip
     return ps + sub_params(v, sub, block)

@@ -230,7 +230,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._batt_t = 0.0
         self._batt_warned = 1.0
         self.params = build_params(self)
-        if self.sub1 is not None:
+        if self.sub1 is not None:  # ArduSub's failsafes in place of Rover's (oceangnc.mavlink.sub)
+            for name in ("FS_GCS_ENABLE", "FS_TIMEOUT", "FS_ACTION", "LOIT_RADIUS"):
+                self.params.pop(name, None)
             self.params.update({p.name: p for p in rov_params(self, self.sub1, rov, vname)})
         self.uuv_params = build_uuv_params(self) if self.has_uuv else {}
         self.run_dir = None
@@ -393,7 +395,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             for sub in (self.sub1, self.sub2):
                 if sub is not None:
                     sub._upload_watchdog(now)
-                    sub.watchdog(now)
+                    sub.watchdog(now, gcs=sub is self.sub1)
             sim = self.sim
             was = bool(sim.bus.get("_estop", False))
             self._push_bus()
