@@ -340,6 +340,33 @@ def test_rov_gcs_failsafe_is_ardusubs(tmp_path):
         lp.close()
 
 
+def test_rov_through_qgroundcontrols_connect_and_start_mission(tmp_path):
+    """The client repeating QGroundControl's connect sequence (tests/mavlink_gcs.py, sysid 255/190) gets every
+    answer from the ROV (FRAME_CONFIG 2 among the parameters); a mission uploaded as every ground station does
+    is started as QGroundControl starts one on a disarmed ArduPilot vehicle (GUIDED - ArduSub's 4 -, arm,
+    MISSION_START) and flown to its last item. Threaded vehicle at 20x, waits bounded in wall time."""
+    from mavlink_gcs import GCS, qgc_connect, qgc_set_mode, upload_mission
+
+    v = MavlinkVehicle("rov-station-keeping", listen="udp:127.0.0.1:0", speed=20.0, out_root=None).start()
+    g = GCS(v.address)
+    try:
+        out = qgc_connect(g)
+        assert all(r in (M.MAV_RESULT_ACCEPTED, M.MAV_RESULT_UNSUPPORTED) for r in out["acks"].values())
+        assert out["params"]["FRAME_CONFIG"] == 2.0 and out["version"].uid == 1
+        c = v.cfg_mav
+        upload_mission(g, [(0.0, 0.0), (1.5, 0.0), (1.5, 1.5)], c.origin_lat_deg, c.origin_lon_deg)
+        qgc_set_mode(g, GUIDED)
+        g.mav.command_long_send(1, 1, M.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+        assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM).result == M.MAV_RESULT_ACCEPTED
+        g.mav.command_long_send(1, 1, M.MAV_CMD_MISSION_START, 0, 0, 0, 0, 0, 0, 0, 0)
+        assert g.ack(M.MAV_CMD_MISSION_START).result == M.MAV_RESULT_ACCEPTED
+        assert g.wait("MISSION_ITEM_REACHED", 20.0, lambda m: m.seq == 2).seq == 2
+    finally:
+        g.close()
+        v.stop()
+    assert v.sub1.reached == [1, 2]
+
+
 def test_otter_is_a_rover_boat_with_rover_modes(tmp_path):
     """otter-waypoints over MAVLink: MAV_TYPE_SURFACE_BOAT with Rover's modes (HOLD at start, MANUAL refused
     because the scenario takes no stick, an ArduSub-only number refused), no FRAME_CONFIG."""

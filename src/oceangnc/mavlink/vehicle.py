@@ -69,7 +69,7 @@ from .mission import MissionMixin
 from .nav import NavMixin
 from .params import ParamsMixin, build_params, read_param_file
 from .protocol import AUTO, HOLD, MANUAL, RTL, SMART_RTL, STICK_MODES, TELEMETRY, mavlink, mode_name
-from .sub import SubAutopilot
+from .sub import SubAutopilot, sub_mode_name
 from .telemetry import TelemetryMixin
 from .uuv import UUVMixin, build_uuv_params, rov_params
 
@@ -373,7 +373,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             "console.failsafe": float(self.failsafe),
             "console.estop": float(self.estop),
             "mavlink.armed": float(self.armed),
-            "mavlink.mode": float(self.mode),
+            "mavlink.mode": float(self.mode if self.sub1 is None else self.sub1.mode),
             "mavlink.mission_current": float(self.mission_current),
             "mavlink.batt_v": float(self.battery.voltage),
             "mavlink.batt_a": float(self.battery.current),
@@ -513,13 +513,16 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 "source": "mavlink",
                 "duration_s": float(self.sim.t),
                 "armed_at_end": self.armed,
-                "mode_at_end": mode_name(self.mode),
-                "waypoints_reached": list(self.reached),
+                "mode_at_end": mode_name(self.mode) if self.sub1 is None else sub_mode_name(self.sub1.mode),
+                "waypoints_reached": list(self.reached if self.sub1 is None else self.sub1.reached),
                 "battery": self._battery_summary(),
                 "params": self.param_values(),
                 **{f"mavlink.{k}": v for k, v in self.counts.items()},
                 "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]],
             }
+            if self.sub2 is not None:
+                summary["uuv_mode_at_end"] = sub_mode_name(self.sub2.mode)
+                summary["uuv_waypoints_reached"] = list(self.sub2.reached)
             if self.error:
                 summary["error"] = self.error
             (self.run_dir / "summary.json").write_text(json.dumps(summary, indent=2))
