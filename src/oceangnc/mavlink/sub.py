@@ -95,6 +95,7 @@ class SubAutopilot(MissionMixin):
     def route(self):
         return self  # MissionMixin asks route.available: a sub flies its missions itself
 
+    #: whether the scenario has this system's laws (False: it answers, but refuses modes and missions)
     available = True
 
     def _send(self, msg, uuv: bool = False) -> None:
@@ -116,6 +117,10 @@ class SubAutopilot(MissionMixin):
 
     # -- modes -------------------------------------------------------------------------------------------
     def set_mode(self, num: int, via: str) -> int:
+        if not self.available and num != self.mode:
+            self.event(f"{sub_mode_name(num)} refused: {self.v.scenario.name} has no depth law for it",
+                       M.MAV_SEVERITY_WARNING)  # fmt: skip
+            return M.MAV_RESULT_DENIED
         if num not in FLOWN:
             self.event(f"{sub_mode_name(num)} refused: not flown", M.MAV_SEVERITY_WARNING)
             self.v._oor(f"{via} sub mode {num}")

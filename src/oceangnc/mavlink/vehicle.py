@@ -99,7 +99,8 @@ def _ardusub_overrides(cfg, overrides: dict) -> dict:
     vehicle of a file; none where the operator set the key."""
     keys = {str(k) for k in overrides}
     out: dict = {}
-    if getattr(cfg, "winch", None) is not None and hasattr(cfg, "uuv") and "winch.enabled" not in keys:
+    combined = getattr(cfg, "winch", None) is not None and hasattr(cfg, "formation")  # the towed-UUV family
+    if combined and "winch.enabled" not in keys:
         out["winch.enabled"] = True
     ctl = getattr(cfg, "control", None)
     vname = getattr(cfg, "vehicle", None)
@@ -191,6 +192,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         # ArduSub systems (oceangnc.mavlink.sub): the towed UUV (system 2), a ROV of a vehicle file (system 1)
         c = self.cfg_mav
         self.sub2 = SubAutopilot(self, c.uuv_system_id, "uuv", None, horizontal=False) if self.has_uuv else None
+        if self.sub2 is not None and not any(type(b).__name__ == "SubDepth" for b in sim.blocks):
+            self.sub2.available = False  # no depth law in this scenario (e.g. the tow scenarios): seen, not flown
         rov = next((b for b in sim.blocks if type(b).__name__ == "SubROV"), None)
         self.sub1 = SubAutopilot(self, c.system_id, self.body, None, horizontal=True) if rov is not None else None
         # -- state
