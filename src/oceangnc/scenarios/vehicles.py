@@ -23,7 +23,7 @@ import numpy as np
 from pydantic import Field
 
 from ..control.ardusub import SubROV, axis_limits
-from ..control.thrust_allocation import ThrustAllocation, VehiclePID, allocation_matrix
+from ..control.thrust_allocation import VehiclePID, allocation_block, allocation_matrix
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..errors import ConfigError
@@ -137,7 +137,7 @@ class VehicleScenario(Scenario):
             blocks.append(SubROV(gains, tau_max, setpoint, h, "vehicle"))
         else:
             blocks.append(VehiclePID(gains, setpoint, h, "vehicle", self.route, cfg.control.i_max))
-        blocks.append(ThrustAllocation(vf, h, "vehicle"))
+        blocks.append(allocation_block(vf, h, "vehicle"))
         return Simulation([_plant(cfg, vf)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
