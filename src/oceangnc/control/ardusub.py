@@ -28,7 +28,7 @@ The climb rate from the stick (:func:`pilot_climb`): zero inside the dead band d
 deflection), then linear to full speed, s' = (|s| - d) / (1 - d).
 
 **ROV** (:class:`SubROV`): per DOF of tau = [X, Y, Z, K, M, N] either the pilot's stick, scaled to
-JS_GAIN x the largest force the allocation can give on that axis (``tau_max``, from the vehicle's
+JS_GAIN x the largest force the weighted pseudo-inverse gives alone on that axis (``tau_max``, from the vehicle's
 thrusters), or a hold by the project's anti-windup PID (:func:`oceangnc.control.pid.pid_run`, 003 eq. 3.10)
 on the error of the held quantity with the measured rate as the error rate:
 
