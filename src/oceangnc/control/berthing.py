@@ -48,7 +48,7 @@ from pydantic import Field
 from ..core.blocks import Block
 from ..core.config import StrictModel
 from ..core.estop import RESUME_RAMP_S, resume_weight
-from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
+from ..core.law import FALSE, In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..models.ship_lowspeed import (
     LAYOUT,
@@ -249,10 +249,10 @@ def berthing_pid_law(t, sig, sl, st, pa):
         st[_PX.w] = 0.0
         write_commands(sig, sl, _PS.rudder, True, 0.0, 0.0, 0.0, e_u, e_r)
         return
-    w = st[_PX.w] = resume_weight(st[_PX.w], False, h, RESUME_RAMP_S)
-    n = pid_run(st, _PX.n, pa, _PP.n, -e_u, h, 0.0, False, 0.0, w)
-    delta = pid_run(st, _PX.d, pa, _PP.d, -e_r, h, 0.0, False, 0.0, w)
-    nb = pid_run(st, _PX.t, pa, _PP.t, -e_r, h, 0.0, False, 0.0, w)
+    w = st[_PX.w] = resume_weight(st[_PX.w], FALSE, h, RESUME_RAMP_S)
+    n = pid_run(st, _PX.n, pa, _PP.n, -e_u, h, 0.0, FALSE, 0.0, w)
+    delta = pid_run(st, _PX.d, pa, _PP.d, -e_r, h, 0.0, FALSE, 0.0, w)
+    nb = pid_run(st, _PX.t, pa, _PP.t, -e_r, h, 0.0, FALSE, 0.0, w)
     write_commands(sig, sl, _PS.rudder, False, delta, n, nb, e_u, e_r)
 
 

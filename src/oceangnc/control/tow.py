@@ -15,7 +15,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.config import StrictModel
-from ..core.law import In, LawBlock, Layout, Out, Signals
+from ..core.law import FALSE, TRUE, In, LawBlock, Layout, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..models.usv import USVConfig
@@ -72,11 +72,11 @@ def uuv_loops(sig, sl, i, o, st, x_speed, x_head, pa, p_speed, p_head, u_d, psi_
     Reads ``sl[i:i+3]`` (uuv.u, uuv.psi, uuv.r), writes ``sl[o:o+3]`` (uuv.thrust_{port,stbd,bow}_cmd, N);
     the PIDs at state offsets ``x_speed``, ``x_head`` and parameter offsets ``p_speed``, ``p_head``."""
     ff = drag_feedforward(x_uu, u_d)
-    tot = pid_run(st, x_speed, pa, p_speed, u_d - sig[sl[i]], h, 0.0, False, ff, 1.0)
+    tot = pid_run(st, x_speed, pa, p_speed, u_d - sig[sl[i]], h, 0.0, FALSE, ff, 1.0)
     sig[sl[o]] = 0.5 * tot
     sig[sl[o + 1]] = 0.5 * tot
     e = wrap(psi_d - sig[sl[i + 1]])
-    sig[sl[o + 2]] = pid_run(st, x_head, pa, p_head, e, h, -sig[sl[i + 2]], True, 0.0, 1.0)
+    sig[sl[o + 2]] = pid_run(st, x_head, pa, p_head, e, h, -sig[sl[i + 2]], TRUE, 0.0, 1.0)
 
 
 TOW_SIGNALS = Signals(
@@ -118,9 +118,9 @@ def tow_straight_law(t, sig, sl, st, pa):
         return
     u_d = pa[_P.u_d_usv]
     ff = pa[_P.d11] * u_d
-    tot = pid_run(st, _X.usv_speed, pa, _P.usv_speed, u_d - sig[sl[_S.usv_u]], h, 0.0, False, ff, 1.0)
+    tot = pid_run(st, _X.usv_speed, pa, _P.usv_speed, u_d - sig[sl[_S.usv_u]], h, 0.0, FALSE, ff, 1.0)
     e = wrap(psi_d - sig[sl[_S.usv_psi]])
-    dif = pid_run(st, _X.usv_head, pa, _P.usv_head, e, h, -sig[sl[_S.usv_r]], True, 0.0, 1.0)
+    dif = pid_run(st, _X.usv_head, pa, _P.usv_head, e, h, -sig[sl[_S.usv_r]], TRUE, 0.0, 1.0)
     sig[sl[_S.usv_port]], sig[sl[_S.usv_stbd]] = mix(0.5 * tot, 0.5 * dif)  # the one mixer (003 eq. 3.11)
     uuv_loops(sig, sl, _S.uuv_u, _S.uuv_port, st, _X.uuv_speed, _X.uuv_head, pa, _P.uuv_speed, _P.uuv_head,
               pa[_P.u_d_uuv], psi_d, h, pa[_P.x_uu])  # fmt: skip

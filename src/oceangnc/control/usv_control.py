@@ -41,7 +41,7 @@ from pydantic import Field
 from ..core.config import StrictModel
 from ..core.estop import RESUME_RAMP_S, resume_weight
 from ..core.fused_strings import ENUMS
-from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals, param
+from ..core.law import FALSE, TRUE, Ext, In, LawBlock, Layout, Opt, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..units import KGF
@@ -149,22 +149,22 @@ def usv_pid_law(t, sig, sl, st, pa):
         sig[sl[_S.u_speed]] = 0.0
         sig[sl[_S.u_heading]] = 0.0
         return
-    w = st[_X.w] = resume_weight(st[_X.w], False, h, RESUME_RAMP_S)
+    w = st[_X.w] = resume_weight(st[_X.w], FALSE, h, RESUME_RAMP_S)
     r_d = 0.0
     if sig[sl[_S.mode]] == _REMOTE:
         js = max(-1.0, min(1.0, sig[sl[_S.surge]]))
         jy = max(-1.0, min(1.0, sig[sl[_S.yaw]]))
         u_d = js * pa[_P.u_max] if js >= 0 else 0.5 * js * pa[_P.u_max]
         r_d = jy * pa[_P.r_max]
-        u_h = pid_run(st, _X.yaw_rate, pa, _P.yaw_rate, r_d - r, h, 0.0, False, 0.0, w)
+        u_h = pid_run(st, _X.yaw_rate, pa, _P.yaw_rate, r_d - r, h, 0.0, FALSE, 0.0, w)
         psi_d = psi
     else:
         u_d = sig[sl[_S.u_d]] if sl[_S.u_d] >= 0 else pa[_P.u_d]
         psi_d = sig[sl[_S.psi_d]] if sl[_S.psi_d] >= 0 else psi
-        u_h = pid_run(st, _X.heading, pa, _P.heading, wrap(psi_d - psi), h, -r, True, 0.0, w)
+        u_h = pid_run(st, _X.heading, pa, _P.heading, wrap(psi_d - psi), h, -r, TRUE, 0.0, w)
     # heading priority: the speed loop gets what is left of each thruster's range
     s_min, s_max = speed_range(pa[_P.t_min], pa[_P.t_max], u_h)
-    u_s = pid_step_w(st, _X.speed, pa, _P.speed, u_d - u, h, 0.0, False, pa[_P.ff] * u_d, s_min, s_max, w)
+    u_s = pid_step_w(st, _X.speed, pa, _P.speed, u_d - u, h, 0.0, FALSE, pa[_P.ff] * u_d, s_min, s_max, w)
     sig[sl[_S.port]], sig[sl[_S.stbd]] = mix(u_s, u_h)
     sig[sl[_S.u_d_out]] = u_d
     sig[sl[_S.psi_d_out]] = psi_d
@@ -322,9 +322,9 @@ def rate_pid_law(t, sig, sl, st, pa):
         pid_clear(st, _RX.yaw)
     else:
         ff = 0.5 * pa[_RP.d11] * u_d
-        u_speed = pid_run(st, _RX.speed, pa, _RP.speed, u_d - sig[sl[_RS.u]], h, 0.0, False, ff, 1.0)
+        u_speed = pid_run(st, _RX.speed, pa, _RP.speed, u_d - sig[sl[_RS.u]], h, 0.0, FALSE, ff, 1.0)
         ff = pa[_RP.d33] * r_d / pa[_RP.b]
-        u_head = pid_run(st, _RX.yaw, pa, _RP.yaw, r_d - sig[sl[_RS.r]], h, 0.0, False, ff, 1.0)
+        u_head = pid_run(st, _RX.yaw, pa, _RP.yaw, r_d - sig[sl[_RS.r]], h, 0.0, FALSE, ff, 1.0)
     sig[sl[_RS.port]], sig[sl[_RS.stbd]] = mix(u_speed, u_head)
 
 

@@ -29,7 +29,7 @@ from pydantic import Field
 
 from ..core.config import StrictModel
 from ..core.estop import RESUME_RAMP_S, resume_weight
-from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
+from ..core.law import FALSE, TRUE, In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..sensors.filters import lowpass_coefficient, lowpass_step
 from ..units import KGF
@@ -100,7 +100,7 @@ def uuv_pid_law(t, sig, sl, st, pa):
         sig[sl[_S.stbd]] = 0.0
         sig[sl[_S.bow]] = 0.0
         return
-    w = st[_X.w] = resume_weight(st[_X.w], False, h, RESUME_RAMP_S)
+    w = st[_X.w] = resume_weight(st[_X.w], FALSE, h, RESUME_RAMP_S)
     e1 = sig[sl[_S.e_x]]
     d = 0.0 if st[_X.has_e1] == 0.0 else (e1 - st[_X.e1_prev]) / h
     st[_X.e1_prev] = e1
@@ -110,7 +110,7 @@ def uuv_pid_law(t, sig, sl, st, pa):
         st[_X.has_y] = 1.0
     else:
         st[_X.y] = lowpass_step(st[_X.y], pa[_P.a], d)
-    u1 = pid_run(st, _X.pos, pa, _P.pos, e1, h, st[_X.y], True, 0.0, w)
+    u1 = pid_run(st, _X.pos, pa, _P.pos, e1, h, st[_X.y], TRUE, 0.0, w)
     r_uuv = sig[sl[_S.r_uuv]]
     outside = sig[sl[_S.outside]] > 0.5 and pa[_P.angle_only] == 0.0
     loop = 3.0 if outside else 2.0
@@ -123,10 +123,10 @@ def uuv_pid_law(t, sig, sl, st, pa):
             st[_X.ang + _HAS_E] = 0.0
         st[_X.active] = loop
     if loop == 2.0:
-        ub = pid_run(st, _X.ang, pa, _P.ang, sig[sl[_S.rel_err]], h, sig[sl[_S.r_usv]] - r_uuv, True, 0.0, w)
+        ub = pid_run(st, _X.ang, pa, _P.ang, sig[sl[_S.rel_err]], h, sig[sl[_S.r_usv]] - r_uuv, TRUE, 0.0, w)
         psi_d = sig[sl[_S.psi_usv]]
     else:
-        ub = pid_run(st, _X.los, pa, _P.los, sig[sl[_S.los_err]], h, -r_uuv, True, 0.0, w)
+        ub = pid_run(st, _X.los, pa, _P.los, sig[sl[_S.los_err]], h, -r_uuv, TRUE, 0.0, w)
         psi_d = sig[sl[_S.los]]
     sig[sl[_S.port]] = u1
     sig[sl[_S.stbd]] = u1

@@ -31,7 +31,7 @@ from numba import njit
 from pydantic import Field
 
 from ..core.config import StrictModel
-from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
+from ..core.law import FALSE, In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
 
@@ -139,7 +139,7 @@ def winch_depth_law(t, sig, sl, st, pa):
         return
     depth = pa[_WP.altitude] == 0.0
     e = (ref - y) if depth else (y - ref)
-    s = pid_run(st, 0, pa, _WP.pid, e, pa[_WP.period], 0.0, False, rate if depth else 0.0, 1.0)
+    s = pid_run(st, 0, pa, _WP.pid, e, pa[_WP.period], 0.0, FALSE, rate if depth else 0.0, 1.0)
     tension = sig[sl[_WS.tension]] if sl[_WS.tension] >= 0 else 0.0
     sig[sl[_WS.cmd]] = tension_payout(s, tension, pa[_WP.t_margin], pa[_WP.t_gain], pa[_WP.speed_max])
     sig[sl[_WS.target]] = ref

@@ -42,6 +42,11 @@ from .fused_strings import code as _code
 
 IN, OPT, EXT, OUT = "in", "opt", "ext", "out"
 
+#: flags for a law's callees as numpy scalars, not Python literals: numba compiles a callee once per
+#: *literal* argument value, so ``pid_run(..., True, ...)`` and ``pid_run(..., False, ...)`` would be two
+#: compilations of the same function (a first run's compile time, issue 25)
+TRUE, FALSE = np.bool_(True), np.bool_(False)
+
 
 @dataclass(frozen=True)
 class Role:
@@ -235,4 +240,4 @@ class LawBlock(Block):
             bus[k] = float(sig[j])
 
 
-__all__ = ["entry", "param", "In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]
+__all__ = ["TRUE", "FALSE", "entry", "param", "In", "Opt", "Ext", "Out", "Role", "Layout", "Signals", "LawBlock"]

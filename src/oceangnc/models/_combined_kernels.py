@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ._combined_layout import (
@@ -53,6 +54,10 @@ from .usv import _M11, _M22, _M33, usv_rhs
 from ._sea_layout import NCOEF, S_FKSEG, S_MDISP, S_NPT, S_TMID, S_WF, W_DRIFT, W_FD, coef_base, point_kinematics
 from ._usv_waves import wf_rhs
 from .uuv import P_MRB, uuv_deriv, uuv_deriv_flow
+
+# constants as numpy scalars, not Python literals: numba compiles a callee once per *literal* argument value
+# (``_loads(..., 1, ...)`` and ``_loads(..., n, ...)`` would be two compilations of the whole cable law)
+_I0, _I1, _TRUE = np.int64(0), np.int64(1), np.bool_(True)
 
 
 @njit(cache=True)
@@ -131,7 +136,7 @@ def combined_rhs(t, x, u, p, out):
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
     if sea:
-        _loads_sea(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot, 0, t)
+        _loads_sea(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot, _I0, t)
     else:
         _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
     po = int(p[H_PO])
@@ -169,7 +174,7 @@ def combined_rhs(t, x, u, p, out):
         wn, we, wd, an, ae, ad = point_kinematics(p, c, t - p[s + S_TMID], x[o + 2])
         uuv_deriv_flow(
             x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2] + wn, u[3] + we, wd,
-            an, ae, ad, p[s + S_MDISP], fbx, fby, fbz, True,
+            an, ae, ad, p[s + S_MDISP], fbx, fby, fbz, _TRUE,
         )  # fmt: skip
     else:
         uuv_deriv(
@@ -201,9 +206,9 @@ def cable_state(x, p, nodes, ends):
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
     sea = p[H_SEA] > 0.0
     if sea:
-        _loads_sea(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot, 0, p[H_T])
+        _loads_sea(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot, _I0, p[H_T])
     else:
-        _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
+        _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
     for k in range(3):
         ends[k] = F[k]
     b = 3 * (n - 1)
@@ -211,10 +216,10 @@ def cable_state(x, p, nodes, ends):
     lbd = ldot if n == 1 else 0.0
     if sea:
         _loads_sea(
-            p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd, n - 1,
+            p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd, n - 1,
             p[H_T],
         )  # fmt: skip
     else:
-        _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], 1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
+        _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
     for k in range(3):
         ends[3 + k] = F[3 + k]

@@ -27,6 +27,9 @@ from ._combined_winch import winch_command
 from .usv import STATE_NAMES as USV_STATES
 from .uuv import STATE_NAMES as UUV_STATES
 
+# numpy scalars, not literals: one compiled heading_speed for every caller (numba specialises on literals)
+_I2, _I3 = np.int64(2), np.int64(3)
+
 
 @njit(cache=True)
 def _fill_outputs(x, p, o_uuv, nodes, ends, out):
@@ -34,10 +37,10 @@ def _fill_outputs(x, p, o_uuv, nodes, ends, out):
     cable_state(x, p, nodes, ends)
     for i in range(6):
         out[i] = x[i]
-    out[2], out[6] = heading_speed(x, 2, 3, 2)  # as USVPlant.publish
+    out[2], out[6] = heading_speed(x, _I2, _I3, _I2)  # as USVPlant.publish
     for i in range(12):
         out[7 + i] = x[o_uuv + i]
-    out[12], out[19] = heading_speed(x, o_uuv + 5, o_uuv + 6, 3)  # as UUVPlant.publish
+    out[12], out[19] = heading_speed(x, o_uuv + 5, o_uuv + 6, _I3)  # as UUVPlant.publish
     out[20] = math.sqrt(ends[0] ** 2 + ends[1] ** 2 + ends[2] ** 2)
     out[21] = math.sqrt(ends[3] ** 2 + ends[4] ** 2 + ends[5] ** 2)
     m = nodes.size

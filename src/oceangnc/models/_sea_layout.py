@@ -64,9 +64,9 @@ def coef_base(p, s):
 
 
 @njit(cache=True)
-def q_at(p, c, q, tau):
-    """Quantity ``q`` of the point whose coefficients start at ``c``, at tau (s) from the expansion time."""
-    b = c + 3 * q
+def q_at(p, b, tau):
+    """The quantity whose three expansion coefficients start at ``b`` (``c + 3 q`` for quantity ``q`` of the
+    point whose coefficients start at ``c``), at tau (s) from the expansion time."""
     return p[b] + tau * (p[b + 1] + tau * p[b + 2])
 
 
@@ -74,15 +74,16 @@ def q_at(p, c, q, tau):
 def point_kinematics(p, c, tau, depth):
     """(u_N, u_E, w_D, a_N, a_E, a_D) of the point whose coefficients start at ``c`` (m/s, m/s^2, NED), at
     tau (s) from the expansion time; zero when the point (at ``depth``, m) is above the wave surface."""
-    if depth < -q_at(p, c, 0, tau):
+    # offsets computed here, not literal quantity numbers: one compiled q_at for all seven
+    if depth < -q_at(p, c, tau):
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     return (
-        q_at(p, c, 1, tau),
-        q_at(p, c, 2, tau),
-        q_at(p, c, 3, tau),
-        q_at(p, c, 4, tau),
-        q_at(p, c, 5, tau),
-        q_at(p, c, 6, tau),
+        q_at(p, c + 3, tau),
+        q_at(p, c + 6, tau),
+        q_at(p, c + 9, tau),
+        q_at(p, c + 12, tau),
+        q_at(p, c + 15, tau),
+        q_at(p, c + 18, tau),
     )
 
 

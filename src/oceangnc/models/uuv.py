@@ -87,6 +87,9 @@ from ._uuv_params import (
     UUVConfig,
 )
 
+# constants as numpy scalars, not Python literals: numba compiles a callee once per *literal* argument value
+_FALSE, _MRB, _MA = np.bool_(False), np.int64(P_MRB), np.int64(P_MA)
+
 
 @njit(cache=True)
 def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
@@ -95,7 +98,7 @@ def uuv_deriv(x, out, p, tp, ts, tb, vcn, vce, fn_x, fn_y, fn_z):
     ``tp, ts, tb``: port, starboard and bow thrust (N); ``vcn, vce``: current (m/s, NED, toward);
     ``fn_*``: earth-frame force (N) acting at the tow point p[P_RC:P_RC+3] (the cable, 003 eq. 2.32).
     """
-    uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, 0.0, 0.0, 0.0, 0.0, 0.0, fn_x, fn_y, fn_z, False)
+    uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, 0.0, 0.0, 0.0, 0.0, 0.0, fn_x, fn_y, fn_z, _FALSE)
 
 
 @njit(cache=True)
@@ -132,8 +135,8 @@ def uuv_deriv_flow(x, out, p, tp, ts, tb, vcn, vce, vcd, awn, awe, awd, mdisp, f
     vr = v - vcb
     wr = w - wcb
     # generalised forces
-    f0, f1, f2, f3, f4, f5 = _kirchhoff(p, P_MRB, u, v, w, pp, q, r)
-    a0, a1, a2, a3, a4, a5 = _kirchhoff(p, P_MA, ur, vr, wr, pp, q, r)
+    f0, f1, f2, f3, f4, f5 = _kirchhoff(p, _MRB, u, v, w, pp, q, r)
+    a0, a1, a2, a3, a4, a5 = _kirchhoff(p, _MA, ur, vr, wr, pp, q, r)
     t0 = f0 + a0
     t1 = f1 + a1
     t2 = f2 + a2
