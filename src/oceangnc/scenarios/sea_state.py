@@ -9,9 +9,9 @@ yaws) with the waves by Cummins' equation from its hydrodynamic coefficients
 (``environment.usv_motions.enabled = true``, this scenario's default; :mod:`oceangnc.models._usv_waves`):
 the cable's attachment point follows it in 6 DOF. With ``environment.usv_motions.enabled=false`` the
 USV moves as in calm water and the attachment point only heaves with the surface
-(``environment.tow_point_heave``: part A of issue 29). The UUV's stern thrust balances its own drag at the tow speed (its speed
-loop's gains are 0: feed-forward only) and its bow thruster holds the line's heading, so the cable
-carries its weight and the cable's drag: a towed body, as in a survey.
+(``environment.tow_point_heave``: part A of issue 29). The UUV's stern thrust balances its own drag at
+the tow speed (its speed loop's gains are 0: feed-forward only) and its bow thruster holds the line's
+heading, so the cable carries its weight and the cable's drag: a towed body, as in a survey.
 
 **Wave heading relative to the line**: ``environment.waves.direction_deg - command.heading_deg`` (the
 waves travel toward that bearing): 0 following seas, 90 beam seas from port, 180 head seas. With the
