@@ -14,11 +14,12 @@ from ..units import G, RHO_WATER
 class BridleConfig(StrictModel):
     """The three-point bridle of 003 fig. 5-6 ("steel wire was used to connect three points before and
     after the hull"): three tension-only wires from the cable's end (the junction) to a fore, a mid and
-    an aft hull point of the UUV. 003 prints no dimension: the hull points sit on the hull's top line
+    an aft hull point of the UUV. 003 prints no dimension. Chosen: the hull points on the hull's top line
     (z = -d/2 = -0.125 m for table 2-5's 0.25 m hull), 0.6 m fore and aft of the centre of buoyancy (a
-    third of the 1.79 m hull), and the wires are rigged to meet at an apex 0.5 m above the hull, on the centre of
-    buoyancy's vertical, so that the hull hangs level in still water (the usual rule for a sling: apex
-    over the centre of gravity). See docs/combined-vehicle.md, 'The three-point bridle'."""
+    third of the 1.79 m hull); the wires rigged to meet at an apex on the centre of buoyancy's vertical,
+    so that the hull hangs level in still water (the usual rule for a sling), 1.0 m above the centre of
+    buoyancy: the height picked from the sweep docs/validation/bridle_sweep.csv with the field test's
+    pitch in view (a calibration, docs/combined-vehicle.md 'The three-point bridle')."""
 
     fore_x: float = Field(0.6, ge=-10, le=10, description="fore hull point, body x (ahead of the CB), m")
     fore_y: float = Field(0.0, ge=-5, le=5, description="fore hull point, body y (starboard), m")
@@ -33,7 +34,7 @@ class BridleConfig(StrictModel):
         0.0, ge=-10, le=10, description="rigged apex, body x: the wires' default lengths reach it just taut, m"
     )
     apex_y: float = Field(0.0, ge=-5, le=5, description="rigged apex, body y, m")
-    apex_z: float = Field(-0.625, ge=-20, le=5, description="rigged apex, body z (negative: above the CB), m")
+    apex_z: float = Field(-1.0, ge=-20, le=5, description="rigged apex, body z (negative: above the CB), m")
     length_fore: float | None = Field(
         None, gt=0, le=20, description="unstretched length of the fore wire (default: to the rigged apex), m"
     )

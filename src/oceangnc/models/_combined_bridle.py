@@ -171,3 +171,40 @@ def junction_under_force(p, ob, fx, fy, fz):
     p[ob + B_RJ + 1] = ry
     p[ob + B_RJ + 2] = rz
     return rx, ry, rz
+
+
+def pitch_stiffness(cable_cfg, uuv_cfg, tension: float, lean_deg: float = 0.0, dtheta: float = 1e-4):
+    """Pitch stiffness k = -dM/dtheta (N m/rad) of the tow attachment about the UUV's centre of buoyancy,
+    computed through the model, and the point the cable's force acts at (body, m) at theta = 0.
+
+    The cable's force is held fixed in the earth frame: magnitude ``tension`` (N), leaning ``lean_deg``
+    forward of the vertical (upward, in the UUV's vertical plane). At theta = +-dtheta (central difference)
+    the junction is solved under the force (:func:`junction_under_force`; the single point: r_c) and the
+    moment is the one the UUV's right-hand side applies (:func:`~oceangnc.models.uuv.uuv_deriv`: the
+    difference of its accelerations with and without the force, times the mass matrix M_RB + M_A).
+    For a junction fixed in the body (rigid wires) k = r . F_b (the moment r x F_b of 003 eq. 2.33
+    differentiated), positive when the point lies on the side the cable pulls toward.
+    """
+    from ..core.rotations import rzyx_entries
+    from .uuv import NP, P_RC, uuv_deriv
+
+    p = uuv_cfg.params(tow_point=cable_cfg.tow_point)
+    blk = bridle_block(cable_cfg.bridle) if cable_cfg.attachment == "bridle" else None
+    mrb, ma = uuv_cfg.mass_matrices()
+    mass = np.asarray(mrb) + np.asarray(ma)
+    lean = math.radians(lean_deg)
+    fe = np.array([math.sin(lean), 0.0, -math.cos(lean)]) * tension
+    moments, points = [], []
+    for th in (dtheta, -dtheta, 0.0):
+        x = np.zeros(12)
+        x[4] = th
+        R = np.array(rzyx_entries(0.0, th, 0.0)).reshape(3, 3)
+        fb = R.T @ fe
+        if blk is not None:
+            p[P_RC : P_RC + 3] = junction_under_force(blk, 0, fb[0], fb[1], fb[2])
+        points.append(p[P_RC : P_RC + 3].copy())
+        a1, a0 = np.zeros(12), np.zeros(12)
+        uuv_deriv(x, a1, p[:NP], 0.0, 0.0, 0.0, 0.0, 0.0, fe[0], fe[1], fe[2])
+        uuv_deriv(x, a0, p[:NP], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        moments.append(float((mass @ (a1[6:] - a0[6:]))[4]))
+    return -(moments[0] - moments[1]) / (2.0 * dtheta), points[2]
