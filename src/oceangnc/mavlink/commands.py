@@ -358,7 +358,10 @@ class CommandsMixin:
                 self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
                 return M.MAV_RESULT_DENIED
         if num != self.mode:
+            stick_takes_over = num in STICK_MODES and self.mode not in STICK_MODES
             self._switch_mode(num)
+            if stick_takes_over:
+                self._restart_resume_ramp()
             if num == AUTO and self.route.available:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1
@@ -368,6 +371,16 @@ class CommandsMixin:
                 + ("" if num != AUTO or self.route.available else ": the scenario's own guidance (no mission upload)")
             )
         return M.MAV_RESULT_ACCEPTED
+
+    def _restart_resume_ramp(self) -> None:
+        """The stick takes over from a mode where it did not drive (HOLD after a failsafe, AUTO, ...): the
+        thrust restarts from zero on the e-stop's resume ramp (:mod:`oceangnc.core.estop`), so a stick
+        held over at the switch is not applied as a step (issue 26). The blocks see ``_estop`` for this
+        instant only (fired once, as when the e-stop rises); the next pass clears it and they ramp."""
+        sim = self.sim
+        sim.inject({"_estop": True})
+        for b in sim.blocks:
+            b.step(sim.t, sim.bus)
 
     def _estop(self, engage: bool) -> int:
         if engage and not self.estop:

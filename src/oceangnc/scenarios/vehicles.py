@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
-from ..control.thrust_allocation import ThrustAllocation, VehiclePID
+from ..control.thrust_allocation import VehiclePID, allocation_block
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..errors import ConfigError
@@ -122,7 +122,7 @@ class VehicleScenario(Scenario):
                 )
             )  # fmt: skip
         blocks.append(VehiclePID(gains, setpoint, h, "vehicle", self.route, cfg.control.i_max))
-        blocks.append(ThrustAllocation(vf, h, "vehicle"))
+        blocks.append(allocation_block(vf, h, "vehicle"))
         return Simulation([_plant(cfg, vf)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
