@@ -191,6 +191,9 @@ class _Mavlink:
     def __init__(self, name):
         self.clk = FakeClock()
         self.v = MavlinkVehicle(name, listen="udp:127.0.0.1:0", speed=1.0, out_root=None, clock=self.clk)
+        if self.v.sub1 is not None:  # a ROV is an ArduSub system 1: its ramp and failsafes are ArduSub's
+            self.v.stop()
+            pytest.skip("ArduSub system 1 (ROV): tests/test_mavlink_ardusub.py (e-stop ramp, GCS failsafe)")
         self.g = GCS(self.v.address)
         self.outs = actuator_outputs(self.v.sim)
         self.drive = MANUAL if self.v.reads_stick else AUTO
