@@ -80,7 +80,8 @@ def test_field_test_with_sensors_reaches_all_waypoints():
     """003 ch. 6.2: (50,0) (50,-50) (0,-50) (0,0) at a 1.3 m/s target with measured signals."""
     s, df, _ = _run("field-test")
     assert s["usv.waypoints_reached"] == 5
-    assert s["uuv.rel_distance_max_m"] < 1.5  # stays near the USV (R = 1 m), far from the 3 m cable limit
+    # within the formation target l^d = 1 m plus R = 1 m of the USV, far from the 3 m cable's reach
+    assert s["uuv.rel_distance_max_m"] < 2.0
     # the USV cannot make 1.3 m/s (top speed ~0.97 m/s): the speed loop saturates without winding up
     assert df["usv.u"].max() < 1.0
     # AHRS vs GPS-track heading while moving (003: mean 3.53 deg, sd 3.88 deg)

@@ -11,6 +11,61 @@ from ..io.config import StrictModel
 from ..units import G, RHO_WATER
 
 
+class BridleConfig(StrictModel):
+    """The three-point bridle of 003 fig. 5-6 ("steel wire was used to connect three points before and
+    after the hull"): three tension-only wires from the cable's end (the junction) to a fore, a mid and
+    an aft hull point of the UUV. 003 prints no dimension. Chosen: the hull points on the hull's top line
+    (z = -d/2 = -0.125 m for table 2-5's 0.25 m hull), 0.6 m fore and aft of the centre of buoyancy (a
+    third of the 1.79 m hull); the wires rigged to meet at an apex on the centre of buoyancy's vertical,
+    so that the hull hangs level in still water (the usual rule for a sling), 1.0 m above the centre of
+    buoyancy: the height picked from the sweep docs/validation/bridle_sweep.csv with the field test's
+    pitch in view (a calibration, docs/combined-vehicle.md 'The three-point bridle')."""
+
+    fore_x: float = Field(0.6, ge=-10, le=10, description="fore hull point, body x (ahead of the CB), m")
+    fore_y: float = Field(0.0, ge=-5, le=5, description="fore hull point, body y (starboard), m")
+    fore_z: float = Field(-0.125, ge=-5, le=5, description="fore hull point, body z (negative: above the CB), m")
+    mid_x: float = Field(0.0, ge=-10, le=10, description="mid hull point, body x, m")
+    mid_y: float = Field(0.0, ge=-5, le=5, description="mid hull point, body y, m")
+    mid_z: float = Field(-0.125, ge=-5, le=5, description="mid hull point, body z, m")
+    aft_x: float = Field(-0.6, ge=-10, le=10, description="aft hull point, body x, m")
+    aft_y: float = Field(0.0, ge=-5, le=5, description="aft hull point, body y, m")
+    aft_z: float = Field(-0.125, ge=-5, le=5, description="aft hull point, body z, m")
+    apex_x: float = Field(
+        0.0, ge=-10, le=10, description="rigged apex, body x: the wires' default lengths reach it just taut, m"
+    )
+    apex_y: float = Field(0.0, ge=-5, le=5, description="rigged apex, body y, m")
+    apex_z: float = Field(-1.0, ge=-20, le=5, description="rigged apex, body z (negative: above the CB), m")
+    length_fore: float | None = Field(
+        None, gt=0, le=20, description="unstretched length of the fore wire (default: to the rigged apex), m"
+    )
+    length_mid: float | None = Field(
+        None, gt=0, le=20, description="unstretched length of the mid wire (default: to the rigged apex), m"
+    )
+    length_aft: float | None = Field(
+        None, gt=0, le=20, description="unstretched length of the aft wire (default: to the rigged apex), m"
+    )
+    wire_diameter: float = Field(0.003, gt=0, le=0.1, description="wire diameter (chosen: 3 mm), m")
+    wire_E: float = Field(
+        1.0e11, gt=0, le=3e11, description="effective modulus of the wire rope (steel rope ~ 1e11 Pa), Pa"
+    )
+
+    def points(self) -> list[tuple[float, float, float]]:
+        """The three hull points (fore, mid, aft), body frame (m)."""
+        return [(self.fore_x, self.fore_y, self.fore_z), (self.mid_x, self.mid_y, self.mid_z),
+                (self.aft_x, self.aft_y, self.aft_z)]  # fmt: skip
+
+    def lengths(self) -> list[float]:
+        """Unstretched wire lengths (fore, mid, aft), m: the keys, or the distance to the rigged apex."""
+        apex = (self.apex_x, self.apex_y, self.apex_z)
+        given = (self.length_fore, self.length_mid, self.length_aft)
+        return [float(g) if g is not None else math.dist(h, apex) for g, h in zip(given, self.points(), strict=True)]
+
+    @property
+    def EA(self) -> float:
+        """Axial stiffness EA of one wire (N)."""
+        return self.wire_E * math.pi * self.wire_diameter**2 / 4.0
+
+
 class CableConfig(StrictModel):
     """Cable parameters (003 table 2-6) and its attachment points."""
 
@@ -66,6 +121,12 @@ class CableConfig(StrictModel):
     tow_x: float = Field(0.0, ge=-10, le=10, description="UUV tow point r_c, body x (ahead of the CB), m")
     tow_y: float = Field(0.0, ge=-10, le=10, description="UUV tow point r_c, body y, m")
     tow_z: float = Field(-0.125, ge=-10, le=10, description="UUV tow point r_c, body z (negative: above the CB), m")
+    attachment: Literal["single", "bridle"] = Field(
+        "single",
+        description="single: the cable's end on the tow point r_c (003 eq. 2.30-2.33); bridle: three wires "
+        "from the cable's end to fore, mid and aft hull points (003 fig. 5-6, cable.bridle)",
+    )
+    bridle: BridleConfig = Field(BridleConfig(), description="the three-point bridle (cable.attachment = bridle)")
 
     @model_validator(mode="after")
     def _resolve_segments(self):
@@ -82,6 +143,12 @@ class CableConfig(StrictModel):
             self.__dict__["segments"] = n
         elif self.segments is None:
             self.__dict__["segments"] = max(20, math.ceil(self.length / 2.0 - 1e-9))
+        if self.attachment == "bridle":
+            for name, h, ln in zip(("fore", "mid", "aft"), self.bridle.points(), self.bridle.lengths(), strict=True):
+                if ln < 1e-3:
+                    raise ConfigError(
+                        f"cable.bridle.length_{name} = {ln:.3g} m (hull point {h} to the apex): allowed range >= 0.001 m"
+                    )
         return self
 
     @model_serializer(mode="wrap")

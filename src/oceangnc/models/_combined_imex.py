@@ -23,11 +23,15 @@ from ._combined_layout import (
     H_WIN,
     H_WO,
     H_SEA,
+    H_BRI,
     P_SCR,
+    P_UUV,
     top_l0,
     _inv3,
 )
+from ._combined_bridle import B_SAVE
 from ._combined_kernels import combined_rhs
+from .uuv import P_RC
 from ._combined_winch import remesh
 from ._sea_layout import S_WF, W_XO, lever_ned, top_heave
 from .cable import segment
@@ -351,11 +355,18 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
         if n >= 2:
             _imex_factor(x, p, n, gh)
             _imex_solve(x, p, n, k1, gh, t, 1.0)
+        bri = int(p[H_BRI])
+        if bri > 0:  # the bridle's junction at x_n: both stages' end increments use it (one J)
+            for i in range(3):
+                p[bri + B_SAVE + i] = p[P_UUV + P_RC + i]
         for i in range(m):
             xt[i] = x[i] + dt * k1[i]
         combined_rhs(t + dt, xt, u, p, k2)
         for i in range(m):
             k2[i] -= 2.0 * k1[i]
+        if bri > 0:
+            for i in range(3):
+                p[P_UUV + P_RC + i] = p[bri + B_SAVE + i]
         if n >= 2:
             _imex_solve(x, p, n, k2, gh, t, -1.0)
         ok = True

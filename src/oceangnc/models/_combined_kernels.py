@@ -40,20 +40,26 @@ from ._combined_layout import (
     H_BED_Z,
     H_SEA,
     H_T,
+    H_BRI,
     P_USV,
     N_USV,
     P_UUV,
     UUV_NP,
     _gather,
+    _ends,
     top_l0,
     seabed_depth,
+    tow_frame,
+    rot_add,
+    cross_add,
 )
+from ._combined_bridle import B_APEX, B_F, B_J, B_MN, B_POS, B_RJ, B_VEL, NEWTON_MAX, STEP_TOL, add_tangent, newton_step
 from ._combined_winch import _winch_rhs
-from .cable import cable_loads, solve_sym3
+from .cable import cable_loads, segment, solve_sym3
 from .usv import _M11, _M22, _M33, usv_rhs
 from ._sea_layout import NCOEF, S_FKSEG, S_MDISP, S_NPT, S_TMID, S_WF, W_DRIFT, W_FD, coef_base, point_kinematics
 from ._usv_waves import wf_rhs
-from .uuv import P_MRB, uuv_deriv, uuv_deriv_flow
+from .uuv import P_MRB, P_RC, uuv_deriv, uuv_deriv_flow
 
 # constants as numpy scalars, not Python literals: numba compiles a callee once per *literal* argument value
 # (``_loads(..., 1, ...)`` and ``_loads(..., n, ...)`` would be two compilations of the whole cable law)
@@ -120,6 +126,8 @@ def combined_rhs(t, x, u, p, out):
     sea = p[H_SEA] > 0.0
     if sea:
         p[H_T] = t
+    if p[H_BRI] > 0.0:
+        bridle_update(x, p, n, u[2], u[3])
     usv_rhs(t, x[0:6], u[0:6], p[P_USV : P_USV + N_USV], out[0:6])
     if p[H_TOP] > 0.5:
         for k in range(6):
@@ -198,6 +206,8 @@ def cable_state(x, p, nodes, ends):
     from ``ends[6:8]`` (NED, m/s) on entry.
     """
     n = int(p[H_N])
+    if p[H_BRI] > 0.0:
+        bridle_update(x, p, n, ends[6], ends[7])
     pos, vel, F, Mn = _gather(x, p, n)
     for k in range(3 * (n + 1)):
         nodes[k] = pos[k]
@@ -223,3 +233,66 @@ def cable_state(x, p, nodes, ends):
         _loads(p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd)
     for k in range(3):
         ends[3 + k] = F[3 + k]
+
+
+@njit(cache=True)
+def bridle_update(x, p, n, vcn, vce):
+    """The bridle's junction (:mod:`._combined_bridle`) at state ``x``, written into the UUV's tow point
+    r_c: Newton from the rigged apex on the balance of the last cable segment's force on the junction
+    (:func:`_loads` on a one-segment view, as :func:`cable_state`; the junction moving with the hull)
+    and the three wires' pull. Current (m/s, NED) ``vcn``, ``vce``."""
+    ob = int(p[H_BRI])
+    pos = p[ob + B_POS : ob + B_POS + 6]
+    vel = p[ob + B_VEL : ob + B_VEL + 6]
+    F = p[ob + B_F : ob + B_F + 6]
+    Mn = p[ob + B_MN : ob + B_MN + 12]
+    J = p[ob + B_J : ob + B_J + 6]
+    lt = top_l0(x, p, n)
+    if n == 1:  # node n - 1 is the top node
+        _ends(x, p, 1, pos, vel)
+        lb = lt
+        lbd = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+        l0 = lt
+    else:
+        po = int(p[H_PO]) + 3 * (n - 2)
+        vo = int(p[H_VO]) + 3 * (n - 2)
+        for k in range(3):
+            pos[k] = x[po + k]
+            vel[k] = x[vo + k]
+        lb = -1.0
+        lbd = 0.0
+        l0 = p[H_L0]
+    o, R, rx, ry, rz = tow_frame(x, p)
+    rx = p[ob + B_APEX]  # Newton starts from the rigged apex at every call (no history)
+    ry = p[ob + B_APEX + 1]
+    rz = p[ob + B_APEX + 2]
+    sea = p[H_SEA] > 0.0
+    for _ in range(NEWTON_MAX):
+        pos[3], pos[4], pos[5] = rot_add(R, x[o], x[o + 1], x[o + 2], rx, ry, rz)
+        bu, bv, bw = cross_add(x[o + 6], x[o + 7], x[o + 8], x[o + 9], x[o + 10], x[o + 11], rx, ry, rz)
+        vel[3], vel[4], vel[5] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
+        if sea:
+            _loads_sea(p, pos, vel, F, Mn, 1, p[H_CV], vcn, vce, -1.0, lb, lbd, n - 1, p[H_T])
+        else:
+            _loads(p, pos, vel, F, Mn, 1, p[H_CV], vcn, vce, -1.0, lb, lbd)
+        # the segment's force on the junction and its tangent stiffness, in the body frame
+        fx = R[0] * F[3] + R[3] * F[4] + R[6] * F[5]
+        fy = R[1] * F[3] + R[4] * F[4] + R[7] * F[5]
+        fz = R[2] * F[3] + R[5] * F[4] + R[8] * F[5]
+        for k in range(6):
+            J[k] = 0.0
+        dx, dy, dz, ln = segment(pos, 1)
+        if ln > l0:
+            tx = R[0] * dx + R[3] * dy + R[6] * dz
+            ty = R[1] * dx + R[4] * dy + R[7] * dz
+            tz = R[2] * dx + R[5] * dy + R[8] * dz
+            add_tangent(J, p[H_EA] / l0, p[H_EA] * (ln - l0) / l0, ln, tx / ln, ty / ln, tz / ln)
+        rx, ry, rz, s = newton_step(p, ob, rx, ry, rz, fx, fy, fz, J)
+        if s < STEP_TOL:
+            break
+    p[ob + B_RJ] = rx
+    p[ob + B_RJ + 1] = ry
+    p[ob + B_RJ + 2] = rz
+    p[P_UUV + P_RC] = rx
+    p[P_UUV + P_RC + 1] = ry
+    p[P_UUV + P_RC + 2] = rz

@@ -60,6 +60,8 @@ H_BED_Z = 37  # damping ratio of the seabed contact
 # sea (issue 29): offset of the sea block (0: calm water; layout in ._sea_layout), time of the last
 # right-hand-side evaluation (the heaving top point and the published end forces read it)
 H_SEA, H_T = 38, 39
+# the three-point bridle (003 fig. 5-6): offset of its block (0: the single tow point; layout ._combined_bridle)
+H_BRI = 59
 P_USV = 40
 N_USV = 15
 P_UUV = 60

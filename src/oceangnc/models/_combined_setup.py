@@ -20,6 +20,7 @@ from ._combined_layout import (
     H_BED_R,
     H_BED_W,
     H_BED_Z,
+    H_BRI,
     H_CV,
     H_CVE,
     H_EA,
@@ -52,6 +53,7 @@ from ._combined_layout import (
     UUV_NP,
     _ends,
 )
+from ._combined_bridle import bridle_block
 from .cable import CableConfig
 from .usv import STATE_NAMES as USV_STATES
 from .usv import USVConfig
@@ -126,7 +128,13 @@ def build_arrays(usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: st
     else:
         p[H_KDRAG] = 0.5 * c.rho_water * c.cd * c.diameter * l0 if c.drag_on else 0.0
     p[P_USV : P_USV + N_USV] = usv_cfg.params()
-    p[P_UUV : P_UUV + UUV_NP] = uuv_cfg.params(tow_point=c.tow_point)
+    bridle = c.attachment == "bridle"
+    b = c.bridle
+    # with the bridle the cable ends at its junction, which starts at the rigged apex
+    p[P_UUV : P_UUV + UUV_NP] = uuv_cfg.params(tow_point=(b.apex_x, b.apex_y, b.apex_z) if bridle else c.tow_point)
+    if bridle:  # its block at the end of p (layout ._combined_bridle.BRIDLE), its offset in the header
+        p[H_BRI] = p.size
+        p = np.concatenate([p, bridle_block(b)])
     if has_bed:
         sl = math.tan(math.radians(seabed.slope_deg))
         ds = math.radians(seabed.slope_direction_deg)
