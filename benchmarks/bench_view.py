@@ -17,7 +17,7 @@ flagship run with 20 cable segments, in headless Chromium; and the MCAP export t
    (SwiftShader) here and its animation frames are capped at the display rate (60 Hz). Target >= 30.
    With ``--waves`` the run is ``tow-sea-state`` (JONSWAP Hs 1 m, Tp 6 s, 128 components) with 20
    cable segments instead: the page draws the sea surface from the wave components every frame
-   (``WavePatch``, 97 x 97 vertices); the frame rate is measured with the waves and, in the same
+   (``WavePatch``, 49 x 49 vertices); the frame rate is measured with the waves and, in the same
    browser, with ``?waves=0`` (the calm plane), and the mean time of one wave update (``replay.waveMs``).
 5. The console's 3D panel (``--console-viewers N``, default 20; 0 skips it): ``oceangnc console
    combined-survey`` on 127.0.0.1, N - 1 WebSocket viewers reading the state stream (role viewer)
@@ -141,7 +141,7 @@ def main() -> None:
     record("3D replay", f"frames per second playing at 1x ({case})", fps[0], "fps", ">= 30", note)
     record("3D replay", f"frames per second playing at 10x ({case})", fps[1], "fps", ">= 30", note)
     if calm_fps is not None:
-        record("3D replay", f"one update of the wave surface, 97 x 97 x 128 ({case})", wave_ms, "ms", "", note)
+        record("3D replay", f"one update of the wave surface, 49 x 49 vertices x 128 components ({case})", wave_ms, "ms", "", note)
         record("3D replay", f"frames per second at 1x, waves / calm plane ({case})", fps[0] / calm_fps, "x", "", note)
     record("3D replay", f"write replay.html ({case})", t_write, "s", "", "oceangnc.view.replay.write_replay")
     record("3D replay", f"MCAP export ({case})", t_mcap, "s", "", "oceangnc.view.mcap_export.export_mcap")

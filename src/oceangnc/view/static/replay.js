@@ -84,16 +84,20 @@ const objects = {};  // name -> Object3D (for setVisible)
 }
 
 // waves: a patch of the run's wave field (WavePatch, scene3d.js) that follows the camera's target,
-// 4 peak wavelengths (deep water, g Tp^2 / 2 pi) on a side, 60 to 400 m, 96 x 96 cells
+// 4 peak wavelengths (deep water, g Tp^2 / 2 pi) on a side, 60 to 400 m, 48 x 48 cells (?wavecells=N,
+// 8 to 160: 12 vertices a peak wavelength by default; finer costs frames in software WebGL, bench_view.py)
 let waves = null;
 const WAVES = DATA.waves && !/[?&]waves=0\b/.test(location.search);  // ?waves=0: the calm plane only
 if (WAVES) {
   const W = DATA.waves;
   const lp = 9.80665 * W.tp * W.tp / (2 * Math.PI);
   const size = Math.min(400, Math.max(60, 4 * (lp || 50)));
-  const mat = new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.4, metalness: 0.05, transparent: true,
-    opacity: 0.6, depthWrite: false, side: THREE.DoubleSide });
-  waves = new WavePatch(W, size, 96, mat);
+  // unlit (WavePatch shades it), both faces in one pass: software WebGL draws a lit or two-pass surface at
+  // half the frame rate
+  const mat = new THREE.MeshBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.6, depthWrite: false,
+    side: THREE.DoubleSide, forceSinglePass: true });
+  const cells = Math.min(160, Math.max(8, parseInt((location.search.match(/[?&]wavecells=(\d+)/) || [])[1] || "48", 10)));
+  waves = new WavePatch(W, size, cells, mat);
   waves.mesh.renderOrder = 3;
   scene.add(waves.mesh);
   objects.sea = waves.mesh;

