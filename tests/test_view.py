@@ -482,6 +482,36 @@ def test_replay_sea_surface_is_the_runs_wave_field(sea, page):
     assert np.ptp(z_top) < 1e-3 * hs, np.ptp(z_top)
 
 
+@pytest.mark.browser
+def test_still_of_a_run(sea, tmp_path, capsys):
+    """`python -m oceangnc.view.still RUN OUT.png`: the replay drawn by headless Chromium at a set time and
+    camera (how the gallery's stills are made); the PNG has the page's size and shows the sea, not the
+    background alone; the 3D view alone is smaller; bad options are one line and exit 2."""
+    from PIL import Image
+
+    from oceangnc.view import still
+
+    if still.chromium_path() is None:
+        pytest.skip("no Chromium binary")
+    out = tmp_path / "s.png"
+    # in a process of its own (this module's browser fixture keeps Playwright's event loop in this thread)
+    cmd = [sys.executable, "-m", "oceangnc.view.still", str(sea)]
+    subprocess.run([*cmd, str(out), "--t", "6", "--elevation", "20", "--distance", "40"], check=True, timeout=300)
+    img = Image.open(out).convert("RGB")
+    assert img.size == (1280, 720)
+    colours = img.resize((64, 36)).getcolors(64 * 36)
+    assert colours is not None and len(colours) > 50  # a drawn scene, not a blank page
+    subprocess.run([*cmd, str(tmp_path / "v.png"), "--view-only", "--size", "800x600"], check=True, timeout=300)
+    w, h = Image.open(tmp_path / "v.png").size
+    assert w < 800 and h < 600  # the 3D view without the panels and the bar
+    capsys.readouterr()
+    assert still.main([str(sea), str(out), "--size", "10x10"]) == 2
+    assert still.main([str(sea), str(out), "--elevation", "95"]) == 2
+    assert still.main([str(tmp_path / "nothing"), str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 3 and all(e.startswith("error: ") for e in err), err
+
+
 # ---- the Foxglove WebSocket stream ------------------------------------------------------------------
 
 

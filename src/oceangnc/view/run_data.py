@@ -28,10 +28,14 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..environment.waves import WaveField
 
 _NODE = re.compile(r"^cable\.([xyz])(\d+)$")
 _TENSION = re.compile(r"^cable\.tension(\d+)$")
@@ -64,7 +68,7 @@ class RunData:
     seabed: dict | None = None  # {"depth", "slope_deg", "slope_direction_deg"}
     origin: tuple[float, float] | None = None  # (lat, lon) deg of the NED origin
     latlon: tuple[str, str] | None = None  # logged latitude / longitude columns (deg)
-    waves: object | None = None  # the run's oceangnc.environment.waves.WaveField (None: calm water)
+    waves: WaveField | None = None  # the run's wave field (None: calm water)
 
     @property
     def t(self) -> np.ndarray:
@@ -224,6 +228,6 @@ def wave_field(cfg: dict):
     except ValidationError as e:
         err = e.errors()[0]
         raise InputError(f"config environment.{'.'.join(map(str, err['loc']))}: {err['msg']}") from None
-    sim = cfg.get("sim") if isinstance(cfg.get("sim"), dict) else {}
-    seed = sim.get("seed", 0)
+    sim = cfg.get("sim")
+    seed = sim.get("seed", 0) if isinstance(sim, dict) else 0
     return sea.plant_kwargs(int(seed) if isinstance(seed, int) else 0)["waves"]

@@ -76,9 +76,9 @@ const objects = {};  // name -> Object3D (for setVisible)
   objects.grid = grid;
   if (DATA.waves && !/[?&]waves=0\b/.test(location.search)) {
     // the calm plane stays as the far sea, fainter; the waves are drawn about the camera's target; the grid
-    // (at the mean surface, which the waves cross) fainter too
+    // (at the mean surface, which the waves cross) hidden (replay.setVisible('grid', true) shows it)
     m.opacity = 0.1;
-    grid.material.opacity = 0.12;
+    grid.visible = false;
     objects.sea_far = sea;
   }
 }
@@ -484,6 +484,12 @@ const api = {
   pause() { state.playing = false; render(); },
   setSpeed(s) { state.speed = s; $('speed').value = String(s); },
   setFollow(f) { state.follow = f; $('follow').value = f; render(); },
+  // the orbiting camera: azimuth and elevation (rad) and distance (m) about the followed target
+  get orbit() { return { az: orbit.az, el: orbit.el, dist: orbit.dist }; },
+  setOrbit({ az = orbit.az, el = orbit.el, dist = orbit.dist } = {}) {
+    orbit.az = az; orbit.el = Math.min(1.5, Math.max(-1.5, el)); orbit.dist = Math.min(1e4, Math.max(0.5, dist));
+    render(); return api.orbit;
+  },
   setVisible(name, on) {
     const o = objects[name];
     if (!o) return false;
