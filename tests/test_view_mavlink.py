@@ -108,6 +108,14 @@ def test_token_file_and_bad_port(tmp_path, capsys):
     assert "--token-file goes with --foxglove" in capsys.readouterr().err
     assert main(["mavlink", "--foxglove", "70000", "--listen", "udp:127.0.0.1:0"]) == 2
     assert "allowed range 0 <= port <= 65535" in capsys.readouterr().err
+    import socket
+
+    with socket.socket() as busy:  # a port in use
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        assert main(["mavlink", "--foxglove", str(port), "--listen", "udp:127.0.0.1:0"]) == 2
+    assert f"cannot listen on 127.0.0.1:{port}" in capsys.readouterr().err
     (tmp_path / "short").write_text("abc\n")
     assert main(["mavlink", "--foxglove", "0", "--token-file", str(tmp_path / "short")]) == 2
     assert "at least 8 printable characters" in capsys.readouterr().err

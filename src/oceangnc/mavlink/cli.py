@@ -98,7 +98,10 @@ def _cmd(args) -> int:
             raise InputError("--token-file goes with --foxglove")
         if not (0 <= args.foxglove < 65536):
             raise InputError(f"--foxglove {args.foxglove}: allowed range 0 <= port <= 65535 (0: any free port)")
-        from ..console.cli import _given_token
+        from ..console.cli import _check_port, _given_token
+
+        if args.foxglove:
+            _check_port("127.0.0.1", args.foxglove)  # a port in use: one line, exit 2, before the vehicle starts
 
         token, source = _given_token(argparse.Namespace(token_file=args.token_file, token=None))
         if token is not None and (len(token) < 8 or not token.isprintable() or " " in token):
