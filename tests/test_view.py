@@ -440,7 +440,7 @@ def test_replay_sea_surface_is_the_runs_wave_field(sea, page):
       (``environment.tow_point_heave = "surface"``: z0 = z_top - eta, src/oceangnc/models/_combined_sea.py),
       so the logged ``cable.z0`` plus the page's elevation at the logged (``cable.x0``, ``cable.y0``) is
       constant (z_top) within 1 mm (the plant's second-order expansion of eta, its docstring: <= 1e-2
-      of the smallest components; 3e-5 m here) - a wrong seed or phase would leave the sea's own 0.25 m spread.
+      of the smallest components; 3e-5 m here) - a wrong seed or phase would leave the sea's own 0.23 m (Hs / 4) spread.
     """
     from oceangnc.environment import SeaEnvironmentConfig
 
