@@ -4,10 +4,12 @@ Prints, on one core (NUMBA_NUM_THREADS=1):
 
 1. ``tow-sea-state`` end to end (Hs 1 m, Tp 6 s, 128 components, 20-segment cable, imex at 10 ms,
    fused loop, Parquet log at 10 Hz, no plots), 1200 s simulated, after a short warm-up run that
-   compiles: real-time factor (target >= 300x);
+   compiles: real-time factor (target >= 300x), with the USV's wave-frequency motions (the scenario's
+   default, issue 29 part B) and without them (``environment.usv_motions.enabled = false``);
 2. the plant alone (advanced tick by tick, 10 ms, published every tick, as the simulator does) towed at
    1 m/s in the same sea against the number of wave components (0 = calm, 32, 128, 512) and of
-   segments (10, 20, 40): real-time factor, and the cost of one update of the expansions.
+   segments (10, 20, 40): real-time factor, and the cost of one update of the expansions; and at 128
+   components with the USV's wave-frequency motions (Cummins' equation, 6 x 12 radiation states).
 
 3. with ``--sweep``: the operability sweep of 64 sea states (Hs 0.5-2 m x Tp 4-10 s x 4 headings,
    20-min records) on a local Dask cluster of two workers (both cores), report and diagram included:
@@ -25,6 +27,7 @@ import time
 
 import numpy as np
 
+from oceangnc.environment import USVMotionsConfig
 from oceangnc.environment.waves import WaveConfig, WaveField
 from oceangnc.models._combined_sea import sea_update
 from oceangnc.models.cable import CableConfig
@@ -37,15 +40,18 @@ from record import record
 CAP = "sea state: waves on the tow"
 
 
-def towed(components: int, segments: int) -> CombinedPlant:
+def towed(components: int, segments: int, motions: bool = False) -> CombinedPlant:
     sea = None
     if components:
         sea = WaveField.from_config(
             WaveConfig(kind="jonswap", hs=1.0, tp=6.0, components=components), np.random.default_rng(0)
         )
     cc = CableConfig(length=20.0, segments=segments, integrator="imex")
-    heave = "surface" if sea else "none"
-    pl = CombinedPlant(USVConfig(u0=1.0), UUVConfig(u0=0.8, z0=15.0, x0=-12.0), cc, top="usv", waves=sea, heave=heave)
+    heave = "surface" if sea and not motions else "none"
+    mot = USVMotionsConfig(enabled=True) if motions else None
+    pl = CombinedPlant(
+        USVConfig(u0=1.0), UUVConfig(u0=0.8, z0=15.0, x0=-12.0), cc, top="usv", waves=sea, heave=heave, usv_motions=mot
+    )
     pl.u[0] = pl.u[1] = 0.5 * USVConfig().d11 * 1.0  # USV thrust for ~1 m/s
     return pl
 
@@ -99,14 +105,18 @@ def main() -> None:
     import oceangnc
 
     print(f"load average: {os.getloadavg()}")
-    with tempfile.TemporaryDirectory() as d:
-        oceangnc.run("tow-sea-state", duration=5.0, out=f"{d}/warm", plots=False)
-        w0 = time.perf_counter()
-        r = oceangnc.run("tow-sea-state", out=f"{d}/run", plots=False)
-        wall = time.perf_counter() - w0
-    T = r.summary["duration_s"]
-    record(CAP, f"`tow-sea-state` end to end (Hs 1 m, 128 components, {T:.0f} s simulated)", T / wall, "x", ">= 300x")
-    print(f"tow-sea-state {T:.0f} s simulated: {wall:.2f} s wall, RTF {T / wall:.0f}x")
+    for motions in (True, False):
+        over = {"environment.usv_motions.enabled": motions}
+        with tempfile.TemporaryDirectory() as d:
+            oceangnc.run("tow-sea-state", duration=5.0, out=f"{d}/warm", plots=False, overrides=over)
+            w0 = time.perf_counter()
+            r = oceangnc.run("tow-sea-state", out=f"{d}/run", plots=False, overrides=over)
+            wall = time.perf_counter() - w0
+        T = r.summary["duration_s"]
+        lab = "with the USV's wave-frequency motions" if motions else "USV as in calm water, heaving tow point"
+        record(CAP, f"`tow-sea-state` end to end (Hs 1 m, 128 components, {T:.0f} s simulated), {lab}", T / wall, "x",
+               ">= 300x")  # fmt: skip
+        print(f"tow-sea-state {T:.0f} s simulated, {lab}: {wall:.2f} s wall, RTF {T / wall:.0f}x")
     for comps in (0, 32, 128, 512):
         pl = towed(comps, 20)
         r = rtf(pl)
@@ -114,6 +124,12 @@ def main() -> None:
         lab = "calm water" if comps == 0 else f"{comps} components"
         record(CAP, f"plant alone, 20 segments, {lab}, 10 ms ticks + publish", r, "x", "", f"update {us:.0f} us")
         print(f"20 segments, {lab:15s}: RTF {r:6.0f}x, one update of the expansions {us:7.1f} us")
+    pl = towed(128, 20, motions=True)
+    r = rtf(pl)
+    us = update_cost(pl)
+    record(CAP, "plant alone, 20 segments, 128 components, USV motions, 10 ms ticks + publish", r, "x", "",
+           f"update {us:.0f} us")  # fmt: skip
+    print(f"20 segments, 128 components + USV motions: RTF {r:6.0f}x, one update {us:7.1f} us")
     for segs in (10, 40):
         pl = towed(128, segs)
         r = rtf(pl)

@@ -219,7 +219,7 @@ def test_uuv_system_2_answers_version_params_mission_arm(tmp_path):
     g = GCS(v.address)
     try:
         hb = g.wait("HEARTBEAT", 5.0, sysid=2)
-        assert hb.type == M.MAV_TYPE_SUBMARINE and hb.custom_mode == 4  # ArduSub GUIDED: guided by the tow
+        assert hb.type == M.MAV_TYPE_SUBMARINE and hb.custom_mode == 19  # ArduSub boots in MANUAL
 
         def cmd(command, *p, seconds=3.0):
             p = list(p) + [0.0] * (7 - len(p))
@@ -242,10 +242,11 @@ def test_uuv_system_2_answers_version_params_mission_arm(tmp_path):
         lf = next(b for b in v.sim.blocks if type(b).__name__ == "LeaderFollower")
         assert lf.lx_d == -9.0  # the station behind the USV in the running leader-follower law
         g.mav.mission_request_list_send(2, 1, 0)
-        assert g.wait("MISSION_COUNT", 3.0, sysid=2).count == 0
+        assert g.wait("MISSION_COUNT", 3.0, sysid=2).count == 1  # home only (ArduPilot's item 0)
         g.mav.mission_count_send(2, 1, 3, 0)
-        assert g.wait("MISSION_ACK", 3.0, sysid=2).type == M.MAV_MISSION_UNSUPPORTED
-        assert cmd(M.MAV_CMD_DO_SET_MODE, 1, 2) == M.MAV_RESULT_DENIED  # ALT_HOLD: no depth loop of its own
+        assert g.wait("MISSION_REQUEST_INT", 3.0, sysid=2).seq == 0  # an upload (tests/test_mavlink_ardusub.py)
+        assert cmd(M.MAV_CMD_DO_SET_MODE, 1, 2) == M.MAV_RESULT_ACCEPTED  # ALT_HOLD: the winch holds the depth
+        assert cmd(M.MAV_CMD_DO_SET_MODE, 1, 7) == M.MAV_RESULT_DENIED  # CIRCLE: not flown
         assert cmd(M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
         assert v.armed
         g.wait("HEARTBEAT", 3.0, lambda m: m.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED, sysid=2)

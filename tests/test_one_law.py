@@ -50,6 +50,8 @@ SCENARIOS = [
     ("berthing-dock", {"control.mode": "nonlinear"}),
     ("usv-turn", {}),
     ("tow-deploy", {}),
+    ("combined-survey", {"winch.enabled": True}),  # ArduSub's depth reference + the winch (oceangnc.control.ardusub)
+    ("rov-station-keeping", {"control.pilot": "ardusub"}),  # the ROV's ArduSub pilot
 ]
 
 

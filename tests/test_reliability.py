@@ -47,6 +47,12 @@ def main_cli(capsys, *args):
     return rc, out.out, out.err
 
 
+def _foreground_signals():
+    """In the child: SIGINT as in a foreground terminal. A shell's background job ignores SIGINT and
+    passes that on to everything it starts (pytest included), where Ctrl-C could not be tested."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start(*args):
     return subprocess.Popen(
         [sys.executable, "-m", "oceangnc.cli", *args],
@@ -54,6 +60,7 @@ def start(*args):
         stderr=subprocess.PIPE,
         text=True,
         env=ENV,
+        preexec_fn=_foreground_signals,
     )
 
 
@@ -336,7 +343,7 @@ def test_sigint_writes_interrupted_summary(tmp_path):
         _, err = proc.communicate(timeout=60)
     finally:
         proc.kill()
-    assert proc.returncode == 130 and "Traceback" not in err and "interrupted" in err
+    assert proc.returncode == 130 and "Traceback" not in err and "interrupted" in err, (proc.returncode, err[-800:])
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "interrupted" and s["rows"] == len(read_log(out)) > 40
 

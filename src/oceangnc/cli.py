@@ -4,7 +4,8 @@ Exit codes: 0 success, 2 bad input (config, file, name), 1 diverged simulation; 
 
 Subcommands of later capabilities live in their own packages and are registered here through a
 ``register(subparsers)`` function in each module of :data:`PLUGINS` (``identify``, ``console``,
-``sweep``, ``validate``/``check``); a module that is absent or whose optional dependencies are missing is skipped.
+``sweep``, ``validate``/``check``, ``hydro``); a module that is absent or whose optional dependencies are
+missing is skipped.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ PLUGINS = (
     "oceangnc.io.importers.cli",
     "oceangnc.validation.cli",
     "oceangnc.view.cli",
+    "oceangnc.hydro.cli",
 )
 
 

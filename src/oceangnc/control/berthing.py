@@ -151,13 +151,17 @@ _BASE_KEYS = {"u": "ship.u", "r": "ship.r", "u_d": "cmd.u_d", "r_d": "cmd.r_d", 
 
 
 @njit(cache=True)
-def write_commands(sig, sl, o, stop, delta, n, nb, e_u, e_r):
+def write_commands(sig, sl, o, stop, delta, n, nb, e_u, e_r, w=1.0):
     """Write the commands from slot ``o`` on: rudder (rad), propeller, bow and stern thrusters (rev/s,
-    n_S = -n_B), all zero while ``stop``; then the errors e_u (m/s), e_r (rad/s)."""
+    n_S = -n_B), all zero while ``stop``, the shaft speeds times the resume weight ``w``
+    (:func:`oceangnc.core.estop.resume_weight`: no shaft step after an e-stop); then the errors e_u
+    (m/s), e_r (rad/s)."""
     if stop:
         delta = 0.0
         n = 0.0
         nb = 0.0
+    n *= w
+    nb *= w
     sig[sl[o]] = delta
     sig[sl[o + 1]] = n
     sig[sl[o + 2]] = nb
@@ -188,20 +192,23 @@ def open_loop_control(su, sy, n_open_rpm, rudder_open_stick, delta_open, thruste
 
 
 OPEN_SIGNALS = Signals(**_BASE_ROLES, surge=In("1"), yaw=In("1"), estop=Opt("bool"), **_CMD_ROLES)
-OPEN_PARAMS = Layout("n_open_rpm", "rudder_open_stick", "delta_open", "thruster_open", "thruster_rpm_max")
-_OS, _OP = OPEN_SIGNALS.at, OPEN_PARAMS.at
+OPEN_PARAMS = Layout("n_open_rpm", "rudder_open_stick", "delta_open", "thruster_open", "thruster_rpm_max", "h")
+OPEN_STATE = Layout("w")
+_OS, _OP, _OX = OPEN_SIGNALS.at, OPEN_PARAMS.at, OPEN_STATE.at
 
 
 @njit(cache=True)
 def open_loop_law(t, sig, sl, st, pa):
-    """Stick straight to propeller, rudder and thrusters (001 fig. 3, :func:`open_loop_control`)."""
+    """Stick straight to propeller, rudder and thrusters (001 fig. 3, :func:`open_loop_control`); zero
+    on ``_estop`` and the shaft speeds ramped back after it (:mod:`oceangnc.core.estop`)."""
     delta, n, nb = open_loop_control(sig[sl[_OS.surge]], sig[sl[_OS.yaw]], pa[_OP.n_open_rpm],
                                      pa[_OP.rudder_open_stick], pa[_OP.delta_open], pa[_OP.thruster_open],
                                      pa[_OP.thruster_rpm_max])  # fmt: skip
     stop = sl[_OS.estop] >= 0 and sig[sl[_OS.estop]] != 0.0
+    st[_OX.w] = resume_weight(st[_OX.w], stop, pa[_OP.h], RESUME_RAMP_S)
     e_u = sig[sl[_OS.u]] - sig[sl[_OS.u_d]]
     e_r = sig[sl[_OS.r]] - sig[sl[_OS.r_d]]
-    write_commands(sig, sl, _OS.rudder, stop, delta, n, nb, e_u, e_r)
+    write_commands(sig, sl, _OS.rudder, stop, delta, n, nb, e_u, e_r, st[_OX.w])
 
 
 @register_block("ship.open")
@@ -217,8 +224,11 @@ class OpenLoopController(_Base):
         self._setup(cfg, ship, surge="joystick.surge_db", yaw="joystick.yaw_db")
         self.pa = OPEN_PARAMS.pack(n_open_rpm=cfg.n_open_rpm, rudder_open_stick=cfg.rudder_open_stick,
                                    delta_open=math.radians(cfg.delta_open_deg), thruster_open=cfg.thruster_open,
-                                   thruster_rpm_max=ship.thruster_rpm_max)  # fmt: skip
-        self.st = np.zeros(1)
+                                   thruster_rpm_max=ship.thruster_rpm_max, h=self.period)  # fmt: skip
+        self.st = OPEN_STATE.pack(w=1.0)
+
+    def reset(self, rng) -> None:
+        self.st[_OX.w] = 1.0
 
 
 PID_SIGNALS = Signals(**_BASE_ROLES, estop=Opt("bool"), **_CMD_ROLES)
@@ -282,7 +292,7 @@ NL_SIGNALS = Signals(
     **_CMD_ROLES, u_rd=Out("m/s"), u_d_f=Out("m/s"), r_d_f=Out("rad/s"), x_pd=Out("N"),
 )  # fmt: skip
 NL_HEAD = Layout("h", "t_ref", "use_dist", "lambda1", "lambda2", "n_limit", "rate_aware", "u_switch", "c", "d")
-NL_STATE = Layout("u_d", "r_d", "has")
+NL_STATE = Layout("u_d", "r_d", "has", "w")
 _NS, _NP, _NX = NL_SIGNALS.at, NL_HEAD.at, NL_STATE.at
 _SHIP = NL_HEAD.size  #: the ship's parameter array (:data:`oceangnc.models.ship_lowspeed.LAYOUT`) from here on
 
@@ -293,7 +303,8 @@ def nonlinear_law(t, sig, sl, st, pa):
     docstring): set points through the filter T u_d' = u_cmd - u_d (exact discretisation; the first
     command initialises it), the surge force X_pd of (29)-(31) and the propeller speed giving it,
     the yaw-rate pseudo-input u_rd of (32)-(34) allocated to rudder and bow thruster, current and wind
-    in the model when ``use_disturbance``. Commands zero while ``_estop`` is set."""
+    in the model when ``use_disturbance``. Commands zero while ``_estop`` is set, the shaft speeds
+    ramped back after it (:mod:`oceangnc.core.estop`)."""
     p = pa[_SHIP:]
     h = pa[_NP.h]
     t_ref = pa[_NP.t_ref]
@@ -349,7 +360,8 @@ def nonlinear_law(t, sig, sl, st, pa):
     else:
         delta_c, nb_c = allocate(u_rd, ur, vr, r, n, c, d, p, pa[_NP.u_switch], 71, -p[_DELTA_MAX], p[_DELTA_MAX])
     stop = sl[_NS.estop] >= 0 and sig[sl[_NS.estop]] != 0.0
-    write_commands(sig, sl, _NS.rudder, stop, delta_c, n_c, nb_c, e_u, e_r)
+    st[_NX.w] = resume_weight(st[_NX.w], stop, h, RESUME_RAMP_S)
+    write_commands(sig, sl, _NS.rudder, stop, delta_c, n_c, nb_c, e_u, e_r, st[_NX.w])
     sig[sl[_NS.u_rd]] = u_rd
     sig[sl[_NS.u_d_f]] = u_d
     sig[sl[_NS.r_d_f]] = r_d
@@ -383,10 +395,10 @@ class NonlinearController(_Base):
             d=self.d,
         )
         self.pa = np.concatenate([head, self.p])
-        self.st = np.zeros(NL_STATE.size)
+        self.st = NL_STATE.pack(u_d=0.0, r_d=0.0, has=0.0, w=1.0)
 
     def reset(self, rng) -> None:
-        self.st[:] = 0.0
+        self.st[:] = NL_STATE.pack(u_d=0.0, r_d=0.0, has=0.0, w=1.0)
 
 
 def make_controller(cfg: ControlConfig, ship: ShipConfig) -> Block:

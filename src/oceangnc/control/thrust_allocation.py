@@ -7,11 +7,23 @@ tau = [X, Y, Z, K, M, N] (N, N m, body axes), restricted to the vehicle's contro
     f = W^-1 B_c^T (B_c W^-1 B_c^T)^-1 tau_c          (weighted pseudo-inverse, Fossen eq. 11.36)
 
 with B the 6 x n thruster configuration matrix (column i = [d_i; r_i x d_i]) and W = diag(weights).
-With more thrusters than DOFs this is the optimum of min f^T W f subject to B_c f = tau_c. When a
-thrust would pass its limit (forward or reverse), the whole vector f is scaled down to fit: the
-direction of tau_c is kept and its magnitude reduced (uniform saturation handling; a redistributing
-allocator that uses the other thrusters' margin is not implemented). A file with fewer independent
-thrusters than controlled DOFs is refused when read (:func:`oceangnc.models.vehicle.load_vehicle`).
+With more thrusters than DOFs this is the optimum of min f^T W f subject to B_c f = tau_c. Two
+saturation handlings, chosen per vehicle file (``control.allocator``):
+
+* ``"pinv"`` (:func:`allocation_law`): when a thrust would pass its limit (forward or reverse), the
+  whole vector f is scaled down to fit: the direction of tau_c is kept and its magnitude reduced.
+* ``"redistribute"`` (:func:`redistribute_law`, the redistributed pseudo-inverse, Fossen 2021 ch. 11.2;
+  Bordignon & Durham 1995): the thrusters past a limit are fixed at it (set S), and the rest F
+  re-allocated to what remains, f_F = W_F^-1 B_F^T (B_F W_F^-1 B_F^T)^-1 (tau_c - B_S f_S), repeated
+  until no free thrust passes a limit (at most n passes, each fixing one thruster or more). Where this
+  ends feasible, B_c f = tau_c exactly although a thruster saturates, which uniform scaling does not
+  give; where it does not (the free thrusters no longer reach every controlled DOF: B_F W_F^-1 B_F^T
+  singular), it falls back to the uniform scaling of ``"pinv"``. With no thrust past a limit both are
+  the same pseudo-inverse. Compiled, fixed pass count, the k x k system (k <= 6) solved by Cholesky in
+  the block's own work array: no allocation per step.
+
+A file with fewer independent thrusters than controlled DOFs is refused when read
+(:func:`oceangnc.models.vehicle.load_vehicle`).
 
 **PID** (``vehicle.pid``): per DOF, tau_i = k_p e_i + k_i int e_i - k_d nu_i on the errors of a
 position, depth, attitude and heading hold (earth-frame position errors rotated into the body axes by
@@ -50,6 +62,42 @@ AS = _alloc_signals(1).at  #: force, moment and estop slots are the same for eve
 
 
 @njit(cache=True)
+def pinv_apply(pa, p0, n, tau, f):
+    """f = P tau: P the n x 6 weighted pseudo-inverse at ``pa[p0:]``, row-major (then come the n forward
+    and n reverse limits)."""
+    for i in range(n):
+        s = 0.0
+        for j in range(6):
+            s += pa[p0 + 6 * i + j] * tau[j]
+        f[i] = s
+
+
+@njit(cache=True)
+def pinv_scaled(pa, p0, n, tau, f):
+    """f = P tau (:func:`pinv_apply`) scaled as one vector into the limits (the ``"pinv"`` saturation
+    handling): the direction of tau is kept."""
+    pinv_apply(pa, p0, n, tau, f)
+    scale = 1.0
+    for i in range(n):
+        s = f[i]
+        hi = pa[p0 + 6 * n + i]
+        lo = pa[p0 + 7 * n + i]
+        if s > hi and s * scale > hi:
+            scale = hi / s
+        elif s < -lo and s * scale < -lo:
+            scale = -lo / s
+    for i in range(n):
+        f[i] *= scale
+
+
+@njit(cache=True)
+def _read_tau(sig, sl, tau):
+    for j in range(3):
+        tau[j] = sig[sl[AS.force + j]]
+        tau[3 + j] = sig[sl[AS.moment + j]]
+
+
+@njit(cache=True)
 def allocation_law(t, sig, sl, st, pa):
     """Thrust commands (N) for the asked generalised force (module docstring): weighted
     pseudo-inverse, uniform scaling into the limits, zero on an e-stop and the resume ramp after it."""
@@ -57,24 +105,113 @@ def allocation_law(t, sig, sl, st, pa):
     stop = sl[AS.estop] >= 0 and sig[sl[AS.estop]] != 0.0
     st[AX.w] = resume_weight(st[AX.w], stop, pa[A.period], pa[A.ramp_s])
     tau = np.empty(6)
-    for j in range(3):
-        tau[j] = sig[sl[AS.force + j]]
-        tau[3 + j] = sig[sl[AS.moment + j]]
-    scale = 1.0
     f = np.empty(n)
+    _read_tau(sig, sl, tau)
+    pinv_scaled(pa, A_PINV, n, tau, f)
     for i in range(n):
-        s = 0.0
-        for j in range(6):
-            s += pa[A_PINV + 6 * i + j] * tau[j]
-        f[i] = s
-        hi = pa[A_PINV + 6 * n + i]
-        lo = pa[A_PINV + 7 * n + i]
-        if s > hi and s * scale > hi:
-            scale = hi / s
-        elif s < -lo and s * scale < -lo:
-            scale = -lo / s
+        sig[sl[AS.thrust + i]] = f[i] * st[AX.w]
+
+
+#: parameters of :func:`redistribute_law`: this head, then the pseudo-inverse and limits as
+#: :func:`allocation_law`'s (8 n), the controlled rows (6 slots), 1 / weights (n), B_c (k x n, row-major)
+REDIST_HEAD = Layout("n", "k", "period", "ramp_s")
+RA = REDIST_HEAD.at
+#: state: the ramp weight, then the work array (tau, residual, solution, the k x k matrix, f, free flags)
+REDIST_STATE = Layout("w", ("tau", 6), ("r", 6), ("y", 6), ("A", 36))
+RX = REDIST_STATE.at
+R_PINV = REDIST_HEAD.size  #: the pseudo-inverse starts here
+R_WORK = REDIST_STATE.size  #: f (n) and the free flags (n) start here in the state
+
+
+@njit(cache=True)
+def _solve_free(st, pa, n, k, pb):
+    """One pass of the redistribution (module docstring): r = tau_c - B_S f_S, A = B_F W_F^-1 B_F^T,
+    A y = r by Cholesky (in place), f_F = W_F^-1 B_F^T y. False when A is singular (the free
+    thrusters do not reach every controlled DOF)."""
+    f0 = R_WORK
+    fr = f0 + n
+    rows, winv, bc = pb + 8 * n, pb + 8 * n + 6, pb + 9 * n + 6
+    for a in range(k):
+        s = st[RX.tau + int(pa[rows + a])]
+        for i in range(n):
+            if st[fr + i] == 0.0:
+                s -= pa[bc + a * n + i] * st[f0 + i]
+        st[RX.r + a] = s
+        for b in range(k):
+            s = 0.0
+            for i in range(n):
+                if st[fr + i] != 0.0:
+                    s += pa[winv + i] * pa[bc + a * n + i] * pa[bc + b * n + i]
+            st[RX.A + a * k + b] = s
+    trace = 0.0
+    for a in range(k):
+        trace += st[RX.A + a * k + a]
+    for a in range(k):  # Cholesky A = L L^T, L in the lower triangle
+        for b in range(a + 1):
+            s = st[RX.A + a * k + b]
+            for c in range(b):
+                s -= st[RX.A + a * k + c] * st[RX.A + b * k + c]
+            if a == b:
+                if s <= 1e-12 * trace:
+                    return False
+                st[RX.A + a * k + a] = np.sqrt(s)
+            else:
+                st[RX.A + a * k + b] = s / st[RX.A + b * k + b]
+    for a in range(k):  # L z = r, then L^T y = z
+        s = st[RX.r + a]
+        for c in range(a):
+            s -= st[RX.A + a * k + c] * st[RX.y + c]
+        st[RX.y + a] = s / st[RX.A + a * k + a]
+    for a in range(k - 1, -1, -1):
+        s = st[RX.y + a]
+        for c in range(a + 1, k):
+            s -= st[RX.A + c * k + a] * st[RX.y + c]
+        st[RX.y + a] = s / st[RX.A + a * k + a]
     for i in range(n):
-        sig[sl[AS.thrust + i]] = f[i] * scale * st[AX.w]
+        if st[fr + i] != 0.0:
+            s = 0.0
+            for a in range(k):
+                s += pa[bc + a * n + i] * st[RX.y + a]
+            st[f0 + i] = pa[winv + i] * s
+    return True
+
+
+@njit(cache=True)
+def redistribute_law(t, sig, sl, st, pa):
+    """Thrust commands (N) by the redistributed pseudo-inverse (module docstring): the pseudo-inverse,
+    then thrusters past a limit fixed at it and the rest re-allocated, at most n passes; the uniform
+    scaling of :func:`pinv_scaled` where that ends infeasible. Zero on an e-stop, ramped after it."""
+    n = int(pa[RA.n])
+    k = int(pa[RA.k])
+    pb = R_PINV
+    stop = sl[AS.estop] >= 0 and sig[sl[AS.estop]] != 0.0
+    st[RX.w] = resume_weight(st[RX.w], stop, pa[RA.period], pa[RA.ramp_s])
+    f0 = R_WORK
+    fr = f0 + n
+    tau = st[RX.tau : RX.tau + 6]
+    _read_tau(sig, sl, tau)
+    pinv_apply(pa, pb, n, tau, st[f0 : f0 + n])  # the unconstrained optimum first
+    for i in range(n):
+        st[fr + i] = 1.0
+    ok = True
+    for _ in range(n + 1):
+        fixed = False
+        for i in range(n):
+            hi = pa[pb + 6 * n + i]
+            lo = -pa[pb + 7 * n + i]
+            if st[fr + i] != 0.0 and (st[f0 + i] > hi or st[f0 + i] < lo):
+                st[f0 + i] = hi if st[f0 + i] > hi else lo
+                st[fr + i] = 0.0
+                fixed = True
+        if not fixed:
+            break
+        if not _solve_free(st, pa, n, k, pb):
+            ok = False
+            break
+    if not ok:
+        pinv_scaled(pa, pb, n, tau, st[f0 : f0 + n])
+    for i in range(n):
+        sig[sl[AS.thrust + i]] = st[f0 + i] * st[RX.w]
 
 
 def allocation_matrix(vf: VehicleFile) -> np.ndarray:
@@ -117,6 +254,38 @@ class ThrustAllocation(LawBlock):
 
     def reset(self, rng) -> None:
         self.st[AX.w] = 1.0
+
+
+@register_block("vehicle.allocation.redistribute")
+class RedistributingAllocation(ThrustAllocation):
+    """Thrust allocation by the redistributed pseudo-inverse (module docstring; ``control.allocator =
+    "redistribute"`` of a vehicle file): the signals of :class:`ThrustAllocation`, law
+    :func:`redistribute_law`."""
+
+    law = staticmethod(redistribute_law)
+
+    def __init__(self, vehicle: VehicleFile | str, period: float = 0.05, body: str = "vehicle"):
+        super().__init__(vehicle, period, body)
+        vf = self.vehicle
+        n = len(vf.thrusters)
+        rows = [DOF_NAMES.index(d) for d in vf.control.dofs]
+        w = np.asarray(vf.control.weights or [1.0] * n, float)
+        head = REDIST_HEAD.pack(n=n, k=len(rows), period=period, ramp_s=RESUME_RAMP_S)
+        self.pa = np.concatenate(
+            [head, self.pa[A_PINV:], np.r_[rows, np.zeros(6 - len(rows))], 1.0 / w, thruster_matrix(vf)[rows].ravel()]
+        )
+        self.st = np.zeros(REDIST_STATE.size + 2 * n)
+        self.st[RX.w] = 1.0
+
+    def reset(self, rng) -> None:
+        self.st[RX.w] = 1.0
+
+
+def allocation_block(vehicle: VehicleFile | str, period: float = 0.05, body: str = "vehicle") -> ThrustAllocation:
+    """The allocation block a vehicle file asks for (``control.allocator``)."""
+    vf = vehicle if isinstance(vehicle, VehicleFile) else load_vehicle(vehicle)
+    cls = RedistributingAllocation if vf.control.allocator == "redistribute" else ThrustAllocation
+    return cls(vf, period, body)
 
 
 # -- 6-DOF PID -----------------------------------------------------------------------------------------

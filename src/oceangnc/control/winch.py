@@ -14,6 +14,11 @@ payout is a metre of depth). **Tension**: above ``tension_margin`` x the winch's
 command is raised to at least K_T (T - T_margin), so the controller pays out rather than drive the
 tension to the limit (the winch itself renders at the limit as the last resort). The command is
 saturated to +-``speed_max`` (the winch saturates again and logs it).
+
+When a block writes ``uuv.depth_cmd`` (depth mode; the ArduSub depth reference of
+:class:`oceangnc.control.ardusub.SubDepth`), that is the target and ``uuv.depth_rate_cmd`` its
+fed-forward rate, in place of ``target`` / ``profile``. While ``_estop`` is set (a MAVLink vehicle
+disarmed or e-stopped) the command is 0 m/s.
 """
 
 from __future__ import annotations
@@ -101,7 +106,10 @@ def tension_payout(s, tension, t_margin, gain, s_max):
     return s
 
 
-WINCH_SIGNALS = Signals(y=In("m"), tension=Opt("N"), cmd=Out("m/s"), target=Out("m"), error=Out("m"))
+WINCH_SIGNALS = Signals(
+    y=In("m"), tension=Opt("N"), ref=Opt("m"), ref_rate=Opt("m/s"), estop=Opt("bool"), cmd=Out("m/s"),
+    target=Out("m"), error=Out("m"),
+)  # fmt: skip
 #: the winch loop's parameters; the profile's m breakpoint times and depths follow from _WP.pt on
 WINCH_HEAD = Layout(("pid", PID_PARAMS.size), "period", "altitude", "t_margin", "t_gain", "speed_max", "target", "m")
 _WS, _WP = WINCH_SIGNALS.at, WINCH_HEAD.at
@@ -115,12 +123,16 @@ def winch_depth_law(t, sig, sl, st, pa):
     PID's line speed (m/s) raised by :func:`tension_payout` above the tension margin; a non-finite
     measurement gives 0 m/s. Writes the command, the target and the error."""
     m = int(pa[_WP.m])
-    if m > 0:
+    if sl[_WS.ref] >= 0:  # a depth reference on the bus (ArduSub's modes, oceangnc.control.ardusub)
+        ref = sig[sl[_WS.ref]]
+        rate = sig[sl[_WS.ref_rate]] if sl[_WS.ref_rate] >= 0 else 0.0
+    elif m > 0:
         ref, rate = profile_reference(t, pa[_PT : _PT + m], pa[_PT + m : _PT + 2 * m])
     else:
         ref, rate = pa[_WP.target], 0.0
     y = sig[sl[_WS.y]]
-    if not math.isfinite(y):
+    stop = sl[_WS.estop] >= 0 and sig[sl[_WS.estop]] != 0.0
+    if not math.isfinite(y) or stop:
         sig[sl[_WS.cmd]] = 0.0
         sig[sl[_WS.target]] = ref
         sig[sl[_WS.error]] = 0.0
@@ -152,8 +164,9 @@ class WinchDepthController(LawBlock):
         self.period = 1.0 / cfg.rate
         self.tension_max = float(tension_max)
         self.meas = "uuv.z" if cfg.mode == "depth" else "uuv.altitude"
-        self.bind(y=self.meas, tension="cable.top_tension", cmd="winch.speed_cmd", target="winch.target",
-                  error="winch.error")  # fmt: skip
+        ref = "uuv.depth" if cfg.mode == "depth" else "uuv.altitude"  # uuv.depth_cmd / uuv.altitude_cmd
+        self.bind(y=self.meas, tension="cable.top_tension", ref=f"{ref}_cmd", ref_rate=f"{ref}_rate_cmd",
+                  estop="_estop", cmd="winch.speed_cmd", target="winch.target", error="winch.error")  # fmt: skip
         prof = np.asarray(cfg.profile, float) if cfg.profile else np.zeros((0, 2))
         self._pt = prof[:, 0] if len(prof) else None
         self._pz = prof[:, 1] if len(prof) else None

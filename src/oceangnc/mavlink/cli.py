@@ -11,10 +11,11 @@ from ..cli_options import add_live_options, needs_package, set_overrides
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "mavlink",
-        help="serve a live scenario as a MAVLink vehicle (ArduPilot Rover modes) "
+        help="serve a live scenario as a MAVLink vehicle (ArduPilot Rover / ArduSub modes) "
         "for QGroundControl, Mission Planner, MAVProxy",
         description="The running scenario appears as a MAVLink 2 vehicle: USV system 1 "
-        "(SURFACE_BOAT), UUV system 2 (SUBMARINE). See docs/mavlink-and-logs.md.",
+        "(SURFACE_BOAT, Rover's modes), the towed UUV system 2 (SUBMARINE, ArduSub's modes, depth by the "
+        "winch), a ROV of a vehicle file system 1 (SUBMARINE, ArduSub's modes). See docs/mavlink-and-logs.md.",
     )
     p.add_argument(
         "scenario",

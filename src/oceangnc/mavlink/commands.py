@@ -100,7 +100,8 @@ class CommandsMixin:
             if m.target_system in (0, self.cfg_mav.system_id):
                 self._ftp_nak(m)
             return
-        if self.has_uuv and getattr(m, "target_system", 0) == self.cfg_mav.uuv_system_id:
+        target = m.target if kind == "MANUAL_CONTROL" else getattr(m, "target_system", 0)
+        if self.has_uuv and target == self.cfg_mav.uuv_system_id:
             self._handle_uuv(m, kind)  # system 2 (oceangnc.mavlink.uuv)
             return
         if not self._for_us(m):
@@ -109,6 +110,8 @@ class CommandsMixin:
         if kind in _COMMANDING:
             self._take_control(m)
         self._link_alive(m)
+        if self.sub1 is not None and self._handle_sub(self.sub1, m, kind):
+            return  # system 1 is a ROV: ArduSub's modes, sticks, targets and missions (oceangnc.mavlink.sub)
         h = getattr(self, "_on_" + kind.lower(), None)
         if h is None:
             self.counts["rx_ignored"] += 1
@@ -150,7 +153,13 @@ class CommandsMixin:
             self._oor(f"COMMAND_LONG {cmd}: {why}")
             self._ack(cmd, M.MAV_RESULT_DENIED)
             return
-        if cmd == M.MAV_CMD_COMPONENT_ARM_DISARM:
+        res = None
+        if self.sub1 is not None:
+            p = (m.param1, m.param2, m.param3, m.param4)
+            res = self._sub_command(self.sub1, m, cmd, p, m.param5, m.param6, m.param7)
+        if res is not None:
+            self._ack(cmd, res)
+        elif cmd == M.MAV_CMD_COMPONENT_ARM_DISARM:
             self._ack(cmd, self._arm(m.param1 > 0.5))
         elif cmd == M.MAV_CMD_DO_SET_MODE:
             self._ack(cmd, self._set_mode(round(m.param2), "DO_SET_MODE"))
@@ -265,7 +274,13 @@ class CommandsMixin:
             self._oor(f"COMMAND_INT {m.command}: {why}")
             self._ack(m.command, M.MAV_RESULT_DENIED)
             return
-        if m.command == M.MAV_CMD_DO_SET_MODE:
+        res = None
+        if self.sub1 is not None:
+            p = (m.param1, m.param2, m.param3, m.param4)
+            res = self._sub_command(self.sub1, m, m.command, p, m.x * 1e-7, m.y * 1e-7, float(m.z))
+        if res is not None:
+            self._ack(m.command, res)
+        elif m.command == M.MAV_CMD_DO_SET_MODE:
             self._ack(m.command, self._set_mode(round(m.param2), "DO_SET_MODE"))
         elif m.command in _NAV_COMMANDS:
             if m.command in (M.MAV_CMD_DO_REPOSITION, M.MAV_CMD_DO_SET_HOME) and m.frame not in _GLOBAL_FRAMES:
@@ -358,7 +373,10 @@ class CommandsMixin:
                 self.event("AUTO refused: no waypoint in the mission", M.MAV_SEVERITY_WARNING)
                 return M.MAV_RESULT_DENIED
         if num != self.mode:
+            stick_takes_over = num in STICK_MODES and self.mode not in STICK_MODES
             self._switch_mode(num)
+            if stick_takes_over:
+                self._restart_resume_ramp()
             if num == AUTO and self.route.available:
                 if self.mission_current >= len(self.mission):
                     self.mission_current = 1
@@ -368,6 +386,16 @@ class CommandsMixin:
                 + ("" if num != AUTO or self.route.available else ": the scenario's own guidance (no mission upload)")
             )
         return M.MAV_RESULT_ACCEPTED
+
+    def _restart_resume_ramp(self) -> None:
+        """The stick takes over from a mode where it did not drive (HOLD after a failsafe, AUTO, ...): the
+        thrust restarts from zero on the e-stop's resume ramp (:mod:`oceangnc.core.estop`), so a stick
+        held over at the switch is not applied as a step (issue 26). The blocks see ``_estop`` for this
+        instant only (fired once, as when the e-stop rises); the next pass clears it and they ramp."""
+        sim = self.sim
+        sim.inject({"_estop": True})
+        for b in sim.blocks:
+            b.step(sim.t, sim.bus)
 
     def _estop(self, engage: bool) -> int:
         if engage and not self.estop:

@@ -5,14 +5,18 @@ from __future__ import annotations
 import math
 
 from .geo import latlon_to_ned, ned_to_latlon
-from .protocol import AUTO, HOLD, mavlink
+from .protocol import AUTO, GUIDED, HOLD, mavlink
 
 M = mavlink
 
 
 class MissionMixin:
     """Mission items (item 0 is home), upload / download / clear / set-current, and following the mission
-    through the scenario's :class:`oceangnc.mavlink.live.RouteHook`."""
+    through the scenario's :class:`oceangnc.mavlink.live.RouteHook`. The protocol code serves every system
+    (system 1's Rover, and ArduSub's systems through :class:`oceangnc.mavlink.sub.SubAutopilot`, which
+    brings its own store, mode numbers ``_AUTO`` / ``_GUIDED`` and mission following)."""
+
+    _AUTO, _GUIDED = AUTO, GUIDED
 
     def _item(self, seq: int, n: float, e: float, command: int = M.MAV_CMD_NAV_WAYPOINT, alt: float = 0.0) -> dict:
         c = self.cfg_mav
@@ -95,10 +99,8 @@ class MissionMixin:
 
     def _on_mission_item_int(self, m, scale: float = 1e-7) -> None:
         if m.current == 2 and getattr(m, "mission_type", 0) == 0:  # a GUIDED destination, not a mission item
-            from .protocol import GUIDED
-
             ok = (
-                self.mode == GUIDED
+                self.mode == self._GUIDED
                 and m.command == M.MAV_CMD_NAV_WAYPOINT
                 and m.frame in (M.MAV_FRAME_GLOBAL, M.MAV_FRAME_GLOBAL_INT, M.MAV_FRAME_GLOBAL_RELATIVE_ALT,
                                 M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
@@ -156,7 +158,7 @@ class MissionMixin:
         self._mission_ack(M.MAV_MISSION_ACCEPTED)
         n_nav = len(self._nav_points(1)[0])
         self.event(f"Mission: {len(self.mission)} items, {n_nav} waypoints")
-        if self.mode == AUTO:
+        if self.mode == self._AUTO:
             self._start_mission()
 
     def _on_mission_item(self, m) -> None:
@@ -212,7 +214,7 @@ class MissionMixin:
             self._oor(f"mission current {seq}")
             return M.MAV_RESULT_DENIED
         self.mission_current = seq
-        if self.mode == AUTO:
+        if self.mode == self._AUTO:
             self._start_mission()
         self._send(self.mav.mission_current_encode(seq))
         return M.MAV_RESULT_ACCEPTED

@@ -7,7 +7,6 @@ import math
 from .. import __version__
 from .geo import ned_to_latlon
 from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
-from .uuv import SUB_GUIDED
 
 M = mavlink
 
@@ -29,11 +28,12 @@ class TelemetryMixin:
         self._next_tx[name] = 0.0
 
     def _heartbeat(self, uuv: bool = False) -> None:
+        sub = self.sub2 if uuv else self.sub1
         base = M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
         if self.armed:
             base |= M.MAV_MODE_FLAG_SAFETY_ARMED
-        if uuv:  # ArduSub's GUIDED: the UUV is guided by the tow (oceangnc.mavlink.uuv)
-            base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
+        if sub is not None:  # an ArduSub system (oceangnc.mavlink.sub)
+            base = sub.base_mode(self.armed)
         elif self.mode in STICK_MODES:
             base |= M.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
         elif self.mode == AUTO:
@@ -42,14 +42,14 @@ class TelemetryMixin:
             base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
         if self.estop:
             status = M.MAV_STATE_EMERGENCY
-        elif self.failsafe:
+        elif self.failsafe or (sub is not None and sub.failsafe):
             status = M.MAV_STATE_CRITICAL
         else:
             status = M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY
         typ = M.MAV_TYPE_SUBMARINE if uuv else self.mav_type
         self._send(
             (self.mav_uuv if uuv else self.mav).heartbeat_encode(
-                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, SUB_GUIDED if uuv else self.mode, status
+                typ, M.MAV_AUTOPILOT_ARDUPILOTMEGA, base, self.mode if sub is None else sub.mode, status
             ),
             uuv=uuv,
         )
@@ -204,7 +204,12 @@ class TelemetryMixin:
                 )
             )
         if self._due("MISSION_CURRENT", now):
-            self._send_mission_current()
+            if self.sub1 is not None:
+                self.sub1.send_mission_current()
+            else:
+                self._send_mission_current()
+            if self.sub2 is not None:
+                self.sub2.send_mission_current()
         if self._due("BATTERY_STATUS", now):
             self._send_battery_status()
         if self._due("HOME_POSITION", now) and self.home is not None:

@@ -69,8 +69,9 @@ from .mission import MissionMixin
 from .nav import NavMixin
 from .params import ParamsMixin, build_params, read_param_file
 from .protocol import AUTO, HOLD, MANUAL, RTL, SMART_RTL, STICK_MODES, TELEMETRY, mavlink, mode_name
+from .sub import SubAutopilot, sub_mode_name
 from .telemetry import TelemetryMixin
-from .uuv import UUVMixin, build_uuv_params
+from .uuv import UUVMixin, build_uuv_params, rov_params
 
 __all__ = [
     "INT16_MAX",
@@ -90,6 +91,23 @@ def _vehicle_kind(name_or_path: str) -> str:
     from ..models.vehicle import load_vehicle
 
     return load_vehicle(name_or_path).kind
+
+
+def _ardusub_overrides(cfg, overrides: dict) -> dict:
+    """Overrides that give a scenario's ArduSub systems their laws: the winch (and its depth reference) of a
+    combined scenario's towed UUV, the ArduSub pilot (``control.pilot = "ardusub"``) of an underwater
+    vehicle of a file; none where the operator set the key."""
+    keys = {str(k) for k in overrides}
+    out: dict = {}
+    combined = getattr(cfg, "winch", None) is not None and hasattr(cfg, "formation")  # the towed-UUV family
+    if combined and "winch.enabled" not in keys:
+        out["winch.enabled"] = True
+    ctl = getattr(cfg, "control", None)
+    vname = getattr(cfg, "vehicle", None)
+    if hasattr(ctl, "pilot") and isinstance(vname, str) and "control.pilot" not in keys:
+        if _vehicle_kind(vname) == "underwater":
+            out["control.pilot"] = "ardusub"
+    return out
 
 
 class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMixin, TelemetryMixin, UUVMixin):
@@ -157,6 +175,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             raise InputError(
                 f"scenario {sc.name} has no live simulation; live scenarios: {', '.join(live_scenarios())}"
             )
+        extra = _ardusub_overrides(cfg, overrides or {})
+        if extra:  # the ArduSub systems' laws (oceangnc.control.ardusub) are part of the scenario's build
+            sc, cfg = resolve_config(scenario or "usv-remote", overrides={**(overrides or {}), **extra})
         self.scenario, self.cfg = sc, cfg
         self.sim = sim = sc.build(cfg, np.random.default_rng(cfg.sim.seed))
         _gate_pilots(sim)
@@ -168,6 +189,13 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         vname = getattr(cfg, "vehicle", None)
         kind = _vehicle_kind(vname) if isinstance(vname, str) else "surface"
         self.mav_type = mavlink.MAV_TYPE_SUBMARINE if kind == "underwater" else mavlink.MAV_TYPE_SURFACE_BOAT
+        # ArduSub systems (oceangnc.mavlink.sub): the towed UUV (system 2), a ROV of a vehicle file (system 1)
+        c = self.cfg_mav
+        self.sub2 = SubAutopilot(self, c.uuv_system_id, "uuv", None, horizontal=False) if self.has_uuv else None
+        if self.sub2 is not None and not any(type(b).__name__ == "SubDepth" for b in sim.blocks):
+            self.sub2.available = False  # no depth law in this scenario (e.g. the tow scenarios): seen, not flown
+        rov = next((b for b in sim.blocks if type(b).__name__ == "SubROV"), None)
+        self.sub1 = SubAutopilot(self, c.system_id, self.body, None, horizontal=True) if rov is not None else None
         # -- state
         self.armed = False
         self.estop = False
@@ -205,6 +233,10 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._batt_t = 0.0
         self._batt_warned = 1.0
         self.params = build_params(self)
+        if self.sub1 is not None:  # ArduSub's failsafes in place of Rover's (oceangnc.mavlink.sub)
+            for name in ("FS_GCS_ENABLE", "FS_TIMEOUT", "FS_ACTION", "LOIT_RADIUS"):
+                self.params.pop(name, None)
+            self.params.update({p.name: p for p in rov_params(self, self.sub1, rov, vname)})
         self.uuv_params = build_uuv_params(self) if self.has_uuv else {}
         self.run_dir = None
         self.load_params(dict(start_params or {}))  # before the socket: a refused value leaves nothing open
@@ -226,6 +258,10 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         c = self.cfg_mav
         self.mav = M.MAVLink(self._tx, srcSystem=c.system_id, srcComponent=M.MAV_COMP_ID_AUTOPILOT1)
         self.mav_uuv = M.MAVLink(self._tx, srcSystem=c.uuv_system_id, srcComponent=M.MAV_COMP_ID_AUTOPILOT1)
+        if self.sub2 is not None:
+            self.sub2.mav = self.mav_uuv
+        if self.sub1 is not None:
+            self.sub1.mav = self.mav
         self._parser = M.MAVLink(None)
         self._parser.robust_parsing = True
         self._next_tx = {k: 0.0 for k in TELEMETRY}
@@ -331,7 +367,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
     def _push_bus(self) -> None:
         # thrust zero while disarmed or e-stopped, and when holding (HOLD, a loiter inside its radius) if the
         # scenario cannot take a zero stick
-        driving = self.mode in STICK_MODES or self.route_active()
+        driving = self.mode in STICK_MODES or self.route_active() or self.sub1 is not None
         stop = (not self.armed) or self.estop or (not driving and not self.reads_stick)
         stick = self.stick if self.mode in STICK_MODES else (0.0, 0.0)
         vals = {
@@ -343,13 +379,16 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             "console.failsafe": float(self.failsafe),
             "console.estop": float(self.estop),
             "mavlink.armed": float(self.armed),
-            "mavlink.mode": float(self.mode),
+            "mavlink.mode": float(self.mode if self.sub1 is None else self.sub1.mode),
             "mavlink.mission_current": float(self.mission_current),
             "mavlink.batt_v": float(self.battery.voltage),
             "mavlink.batt_a": float(self.battery.current),
             "mavlink.batt_soc": float(self.battery.soc),
         }
         vals.update({f"mavlink.{k}": float(v) for k, v in self.counts.items() if not k.startswith("tx_")})
+        for sub in (self.sub1, self.sub2):
+            if sub is not None:
+                vals.update(sub.bus_values())
         self.sim.inject(vals)
 
     def step_once(self) -> None:
@@ -359,6 +398,10 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             self._receive()
             self._upload_watchdog(now)
             self._watchdog(now)
+            for sub in (self.sub1, self.sub2):
+                if sub is not None:
+                    sub._upload_watchdog(now)
+                    sub.watchdog(now, gcs=sub is self.sub1)
             sim = self.sim
             was = bool(sim.bus.get("_estop", False))
             self._push_bus()
@@ -388,6 +431,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
                     self._end(f"duration {self.duration:g} s reached")
             self._follow_mission()
+            for sub in (self.sub1, self.sub2):
+                if sub is not None:
+                    sub._follow_mission()
             self._nav_step()
             self._battery_step()
             try:
@@ -475,13 +521,16 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 "source": "mavlink",
                 "duration_s": float(self.sim.t),
                 "armed_at_end": self.armed,
-                "mode_at_end": mode_name(self.mode),
-                "waypoints_reached": list(self.reached),
+                "mode_at_end": mode_name(self.mode) if self.sub1 is None else sub_mode_name(self.sub1.mode),
+                "waypoints_reached": list(self.reached if self.sub1 is None else self.sub1.reached),
                 "battery": self._battery_summary(),
                 "params": self.param_values(),
                 **{f"mavlink.{k}": v for k, v in self.counts.items()},
                 "events": [f"{t:.2f} {s}" for t, s in self.events[-200:]],
             }
+            if self.sub2 is not None:
+                summary["uuv_mode_at_end"] = sub_mode_name(self.sub2.mode)
+                summary["uuv_waypoints_reached"] = list(self.sub2.reached)
             if self.error:
                 summary["error"] = self.error
             (self.run_dir / "summary.json").write_text(json.dumps(summary, indent=2))

@@ -51,6 +51,18 @@ def _sea_lines(plant, imports: list[str]) -> list[str]:
     return ["_sea_update(t, {x}, {p}, n * dt)"]
 
 
+def _wf_lines(plant, slot_of, args: dict) -> list[str]:
+    """With the USV's wave-frequency motions: the lines publishing its heave, roll and pitch from the
+    state (as :meth:`CombinedPlant.publish`); none otherwise."""
+    if not getattr(plant, "_wf", False):
+        return []
+    from ._usv_waves import WF_OUTPUTS
+
+    args["wfidx"] = plant._wf_idx
+    args["wfslots"] = np.array([slot_of(k) for k, _ in WF_OUTPUTS], dtype=np.int64)
+    return ["for j in range({wfslots}.size):", "    sig[{wfslots}[j]] = {x}[{wfidx}[j]]"]
+
+
 def combined_plant_form(plant, slot_of) -> PlantForm | None:
     """The :class:`~oceangnc.core.fused.PlantForm` of a ``CombinedPlant``: :func:`var_plant_form`
     with a winch or a seabed, else the fixed-node form (module docstring)."""
@@ -81,6 +93,7 @@ def combined_plant_form(plant, slot_of) -> PlantForm | None:
         "_fill_outputs({x}, {p}, {o_uuv}, {nodes}, {ends}, {out})",
         "for j in range({oslots}.size):",
         "    sig[{oslots}[j]] = {out}[j]",
+        *_wf_lines(plant, slot_of, args),
     ]
     return PlantForm(imports, args, code)
 
@@ -123,5 +136,6 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
         "_fill_outputs_var({x}, {p}, {o_uuv}, {nodes}, {ends}, {full}, {u}, {nmax})",
         "for j in range({oslots}.size):",
         "    sig[{oslots}[j]] = {full}[{oidx}[j]]",
+        *_wf_lines(plant, slot_of, args),
     ]
     return PlantForm(imports, args, code)

@@ -29,7 +29,7 @@ from ._combined_layout import (
 )
 from ._combined_kernels import combined_rhs
 from ._combined_winch import remesh
-from ._sea_layout import top_heave
+from ._sea_layout import S_WF, W_XO, lever_ned, top_heave
 from .cable import segment
 
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -180,9 +180,21 @@ def _imex_end_increments(x, k, p, n, e, t=0.0, kt=0.0):
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
     if p[H_SEA] > 0.0:
-        _, wz, az = top_heave(p, int(p[H_SEA]), t)
+        sb = int(p[H_SEA])
+        _, wz, az = top_heave(p, sb, t)
         e[2] += kt * wz
         e[5] += kt * az
+        w = int(p[sb + S_WF])
+        if w > 0 and p[H_TOP] < 0.5:  # the USV's wave-frequency motion moves the top node (part B)
+            ow = int(p[w + W_XO])
+            dn, de, dd = lever_ned(k, ow, w, p, x[2])
+            e[0] += dn
+            e[1] += de
+            e[2] += dd
+            dn, de, dd = lever_ned(k, ow + 6, w, p, x[2])
+            e[3] += dn
+            e[4] += de
+            e[5] += dd
     o, R, cx, cy, cz = tow_frame(x, p)
     # a_n = k_eta1 + R (Omega x r_c), Omega ~ the Euler-angle increments (small-angle rate map)
     bx, by, bz = cross_add(0.0, 0.0, 0.0, k[o + 3], k[o + 4], k[o + 5], cx, cy, cz)

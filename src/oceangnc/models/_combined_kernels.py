@@ -49,8 +49,9 @@ from ._combined_layout import (
 )
 from ._combined_winch import _winch_rhs
 from .cable import cable_loads, solve_sym3
-from .usv import usv_rhs
-from ._sea_layout import NCOEF, S_FKSEG, S_MDISP, S_NPT, S_TMID, coef_base, point_kinematics
+from .usv import _M11, _M22, _M33, usv_rhs
+from ._sea_layout import NCOEF, S_FKSEG, S_MDISP, S_NPT, S_TMID, S_WF, W_DRIFT, W_FD, coef_base, point_kinematics
+from ._usv_waves import wf_rhs
 from .uuv import P_MRB, uuv_deriv, uuv_deriv_flow
 
 
@@ -118,6 +119,14 @@ def combined_rhs(t, x, u, p, out):
     if p[H_TOP] > 0.5:
         for k in range(6):
             out[k] = 0.0
+    if sea and p[int(p[H_SEA]) + S_WF] > 0.0:  # the USV's wave-frequency motion (._usv_waves)
+        s = int(p[H_SEA])
+        wf_rhs(t, x, p, s, out)
+        w = int(p[s + S_WF])
+        if p[w + W_DRIFT] != 0.0:  # mean drift: external X, Y, N of 003 eq. 2.3 (diagonal mass)
+            out[3] += p[w + W_FD] / p[P_USV + _M11]
+            out[4] += p[w + W_FD + 1] / p[P_USV + _M22]
+            out[5] += p[w + W_FD + 2] / p[P_USV + _M33]
     pos, vel, F, Mn = _gather(x, p, n)
     lt = top_l0(x, p, n)
     ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0

@@ -13,7 +13,7 @@ import math
 from numba import njit
 
 from ..core.rotations import rzyx_entries
-from ._sea_layout import top_heave
+from ._sea_layout import top_heave, usv_motion_offset
 from .uuv import NP as UUV_NP
 from .uuv import P_RC
 
@@ -90,9 +90,17 @@ def _ends(x, p, n, pos, vel):
         vel[1] = s * ub + c * vb
         vel[2] = 0.0
     if p[H_SEA] > 0.0:  # a heaving top point (with the waves, or prescribed)
-        dz, wz, _ = top_heave(p, int(p[H_SEA]), p[H_T])
+        s = int(p[H_SEA])
+        dz, wz, _ = top_heave(p, s, p[H_T])
         pos[2] += dz
         vel[2] += wz
+        dn, de, dd, vn, ve, vd = usv_motion_offset(x, p, s)  # the USV's wave-frequency motion (part B)
+        pos[0] += dn
+        pos[1] += de
+        pos[2] += dd
+        vel[0] += vn
+        vel[1] += ve
+        vel[2] += vd
     # bottom node (003 eq. 2.30-2.31)
     o, R, cx, cy, cz = tow_frame(x, p)
     b = 3 * n

@@ -44,6 +44,7 @@ from numba import njit
 
 from ..units import G
 from ._combined_layout import H_N, H_SEA, H_T, _gather, tow_frame
+from ._usv_waves import wf_update
 from ._sea_layout import (
     NCOEF,
     S_COMP,
@@ -61,6 +62,7 @@ from ._sea_layout import (
     S_T0,
     S_TMID,
     S_TNEXT,
+    S_WF,
     S_WHEEL,
     coef_base,
     sea_size,
@@ -120,7 +122,8 @@ def reset_sea(p) -> None:
         p[s + S_T0] = math.inf
         p[s + S_NLAST] = -1.0
         p[H_T] = 0.0
-        p[coef_base(p, s) :] = 0.0
+        end = int(p[s + S_WF]) if p[s + S_WF] > 0 else p.size  # the USV's block after the coefficients
+        p[coef_base(p, s) : end] = 0.0
 
 
 @njit(cache=True)
@@ -246,6 +249,8 @@ def sea_update(t, x, p, span):
     _expand(
         p, s, c0 + NCOEF * (npt - 2), x[o] + vn * half, x[o + 1] + ve * half, x[o + 2] + vd * half, vn, ve, tm, True
     )
+    if p[s + S_WF] > 0.0:  # the USV's excitation forces along its track (._usv_waves)
+        wf_update(x, p, s, tm, half)
     if p[s + S_HEAVE] == 1.0:  # the top point: elevation along the USV's track
         _expand(
             p, s, c0 + NCOEF * (npt - 1), pos[0] + vel[0] * half, pos[1] + vel[1] * half, 0.0, vel[0], vel[1], tm, False

@@ -57,6 +57,8 @@ from ._combined_layout import (
 )
 from ._combined_outputs import _fill_outputs, _fill_outputs_var, _unit_of, output_keys
 from ._combined_sea import HEAVE_MODES, reset_sea, sea_block, sea_update
+from ._sea_layout import S_WF, W_XO
+from ._usv_waves import WF_OUTPUTS, attach_usv_motions
 from ._combined_setup import build_arrays
 from ._combined_split import damping_substep, split_advance  # noqa: F401
 from ._combined_winch import remesh, winch_command  # noqa: F401
@@ -91,6 +93,7 @@ class CombinedPlant(Plant):
         heave_amplitude: float = 0.0,
         heave_period: float = 0.0,
         wave_update_dt: float = 0.1,
+        usv_motions=None,
     ):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
@@ -129,6 +132,10 @@ class CombinedPlant(Plant):
                 uuv_cfg.buoyancy, heave_amplitude, heave_period,
             )  # fmt: skip
             p = np.concatenate([p, block])
+        self._wf = usv_motions is not None and getattr(usv_motions, "enabled", True)
+        wf_limit = math.inf
+        if self._wf:  # the USV's wave-frequency block after the sea block, its states after all others
+            p, x0, names, wf_limit = attach_usv_motions(p, x0, names, usv_motions, waves, cable_cfg, top)
         c = cable_cfg
         mrb = p[P_UUV + P_MRB : P_UUV + P_MRB + 36].reshape(6, 6)
         ma = p[P_UUV + P_MA : P_UUV + P_MA + 36].reshape(6, 6)
@@ -142,6 +149,7 @@ class CombinedPlant(Plant):
             )
             if has_bed:  # the explicit contact spring: RK4 limit 2.785 / w on the imaginary axis
                 self.stability_limit = min(self.stability_limit, 2.0 / seabed.contact_frequency)
+        self.stability_limit = min(self.stability_limit, wf_limit)
         inputs = INPUT_NAMES + (("winch.speed_cmd",) if has_winch else ())
         units = ("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N") + (("m/s",) if has_winch else ())
         super().__init__(
@@ -165,6 +173,11 @@ class CombinedPlant(Plant):
         self._out_keys, self._out_idx, n_full = output_keys(nmax, has_winch, has_bed)
         self._out_full = np.zeros(n_full)
         self.output_units = {k: _unit_of(k) for k in self._out_keys}
+        self._wf_idx = np.zeros(0, dtype=np.int64)
+        if self._wf:  # usv.z, usv.phi, usv.theta: the wave-frequency heave, roll and pitch
+            ow = int(self.p[int(self.p[int(self.p[H_SEA]) + S_WF]) + W_XO])
+            self._wf_idx = np.array([ow + k for _, k in WF_OUTPUTS], dtype=np.int64)
+            self.output_units.update({k: _unit_of(k) for k, _ in WF_OUTPUTS})
         self._out = np.zeros(len(self._out_keys))
 
     @property
@@ -219,6 +232,8 @@ class CombinedPlant(Plant):
         else:
             _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
         bus.update(zip(self._out_keys, self._out.tolist()))
+        for (k, _), i in zip(WF_OUTPUTS, self._wf_idx):
+            bus[k] = float(self.x[i])
 
     # -- diagnostics -------------------------------------------------------------------------------
     def energy(self) -> float:

@@ -253,6 +253,11 @@ class Control(StrictModel):
         min_length=1, description="the degrees of freedom the allocation controls"
     )
     weights: list[float] | None = Field(None, description="thruster weights of the allocation (default 1)")
+    allocator: Literal["pinv", "redistribute"] = Field(
+        "pinv",
+        description="pinv: weighted pseudo-inverse scaled into the limits; redistribute: saturated thrusters "
+        "fixed at their limits and the rest re-allocated (oceangnc.control.thrust_allocation)",
+    )
 
 
 class VehicleFile(StrictModel):

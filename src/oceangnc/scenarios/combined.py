@@ -35,13 +35,16 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from ..control.actuators import USVThrusterBlock, UUVThrusterBlock
+from ..control.ardusub import SubDepth
 from ..control.backstepping import BacksteppingConfig
 from ..control.uuv_control import UUVPIDConfig
+from ..control.winch import WinchControlConfig, WinchDepthController
 from ..core.caches import cached
 from ..core.clock import Simulation
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
 from ..environment import SeaEnvironmentConfig
+from ..errors import ConfigError
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
     PurePursuit,
@@ -54,6 +57,7 @@ from ..models.cable import CableConfig
 from ..models.combined import CombinedPlant
 from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
+from ..models.winch import WinchConfig
 from ..sensors import (
     AHRS,
     GPS,
@@ -171,6 +175,8 @@ class CombinedConfig(ScenarioConfig):
     formation: FormationConfig = FormationConfig()
     control: ControlConfig = ControlConfig()
     sensors: SensorsConfig = SensorsConfig()
+    winch: WinchConfig = WinchConfig()
+    winch_control: WinchControlConfig = WinchControlConfig(target=3.0)
 
 
 def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
@@ -267,8 +273,18 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks.append(build_block(c.usv, ctx, "control.usv"))
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
     blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
+    winch = cfg.winch if cfg.winch.enabled else None
+    if winch is not None:  # the UUV's depth by the winch, in ArduSub's modes when a ground station flies it
+        wc = cfg.winch_control
+        if wc.mode != "depth" or wc.profile:
+            raise ConfigError("winch_control.mode: combined scenarios hold a depth ('depth', no profile)")
+        blocks.append(SubDepth(wc.target, 1.0 / wc.rate, "uuv", up=winch.speed_max, dn=winch.speed_max,
+                               z_max=winch.capacity))  # fmt: skip
+        blocks.append(WinchDepthController(wc, winch.tension_max))
     blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
-    plant = CombinedPlant(cfg.usv, cfg.uuv, cfg.cable, top="usv", **cfg.environment.plant_kwargs(cfg.sim.seed))
+    plant = CombinedPlant(
+        cfg.usv, cfg.uuv, cfg.cable, top="usv", winch=winch, **cfg.environment.plant_kwargs(cfg.sim.seed)
+    )
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
 

@@ -4,9 +4,12 @@ The USV tows the UUV on a 20 m cable along a straight survey line (heading ``com
 default north) at ``command.usv_speed`` (1 m/s) in an irregular JONSWAP sea (``environment.waves``:
 Hs 1 m, Tp 6 s, gamma 3.3, 128 components, long-crested). The waves load every cable segment and the
 UUV (Morison drag on the relative velocity, Froude-Krylov and added-mass inertia;
-:mod:`oceangnc.models._combined_sea`) and the cable's attachment point heaves with the surface at the
-USV (``environment.tow_point_heave``); the USV itself moves as in calm water (its wave-frequency
-motions are issue 29 part B). The UUV's stern thrust balances its own drag at the tow speed (its speed
+:mod:`oceangnc.models._combined_sea`), and the USV heaves, rolls and pitches (and surges, sways and
+yaws) with the waves by Cummins' equation from its hydrodynamic coefficients
+(``environment.usv_motions.enabled = true``, this scenario's default; :mod:`oceangnc.models._usv_waves`):
+the cable's attachment point follows it in 6 DOF. With ``environment.usv_motions.enabled=false`` the
+USV moves as in calm water and the attachment point only heaves with the surface
+(``environment.tow_point_heave``: part A of issue 29). The UUV's stern thrust balances its own drag at the tow speed (its speed
 loop's gains are 0: feed-forward only) and its bow thruster holds the line's heading, so the cable
 carries its weight and the cable's drag: a towed body, as in a survey.
 
@@ -132,7 +135,11 @@ class TowSeaState(Scenario):
         "uuv": {"x0": 0.0, "z0": 19.0},
         "cable": {"length": 20.0, "integrator": "imex"},
         "command": {"usv_speed": 1.0, "uuv_speed": 1.0, "uuv_kp_speed": 0.0, "uuv_ki_speed": 0.0, "start_s": 5.0},
-        "environment": {"waves": {"kind": "jonswap", "hs": 1.0, "tp": 6.0, "gamma": 3.3, "components": 128}},
+        "environment": {
+            "waves": {"kind": "jonswap", "hs": 1.0, "tp": 6.0, "gamma": 3.3, "components": 128},
+            # the USV heaves, rolls and pitches in the waves and moves the tow point in 6 DOF (issue 29 B)
+            "usv_motions": {"enabled": True},
+        },
     }
 
     def build(self, cfg, rng):

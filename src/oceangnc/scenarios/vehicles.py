@@ -17,11 +17,13 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 from pydantic import Field
 
-from ..control.thrust_allocation import ThrustAllocation, VehiclePID
+from ..control.ardusub import SubROV, axis_limits
+from ..control.thrust_allocation import VehiclePID, allocation_block, allocation_matrix
 from ..core.clock import Simulation
 from ..environment import EnvironmentConfig
 from ..errors import ConfigError
@@ -39,6 +41,11 @@ class VehicleControl(StrictModel):
     rate: float = Field(20.0, gt=0, le=1000, description="controller and allocation rate, Hz")
     gains: dict[str, Gains] = Field(description="per DOF (surge, sway, heave, roll, pitch, yaw): [k_p, k_i, k_d]")
     i_max: float = Field(50.0, gt=0, le=1e6, description="integral clamp per DOF, m s or rad s")
+    pilot: Literal["pid", "ardusub"] = Field(
+        "pid",
+        description="controller: 'pid' holds the set point (vehicle.pid); 'ardusub' flies ArduSub's modes "
+        "from a ground station (oceangnc.control.ardusub; set by 'oceangnc mavlink' for an underwater vehicle)",
+    )
 
 
 class Setpoint(StrictModel):
@@ -121,8 +128,16 @@ class VehicleScenario(Scenario):
                     body="vehicle", stop_at_end=True,
                 )
             )  # fmt: skip
-        blocks.append(VehiclePID(gains, setpoint, h, "vehicle", self.route, cfg.control.i_max))
-        blocks.append(ThrustAllocation(vf, h, "vehicle"))
+        if cfg.control.pilot == "ardusub":
+            if self.route or vf.kind != "underwater":
+                raise ConfigError(f"control.pilot = 'ardusub': an underwater vehicle holding station, not {self.name}")
+            tau_max = axis_limits(
+                allocation_matrix(vf), [t.max_forward for t in vf.thrusters], [t.max_reverse for t in vf.thrusters]
+            )
+            blocks.append(SubROV(gains, tau_max, setpoint, h, "vehicle"))
+        else:
+            blocks.append(VehiclePID(gains, setpoint, h, "vehicle", self.route, cfg.control.i_max))
+        blocks.append(allocation_block(vf, h, "vehicle"))
         return Simulation([_plant(cfg, vf)], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
     def summarize(self, df, cfg) -> dict:
