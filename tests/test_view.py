@@ -420,9 +420,11 @@ def test_replay_of_other_runs(tmp_path, page):
 
 @pytest.fixture(scope="module")
 def sea(tmp_path_factory) -> Path:
-    """A short irregular-sea tow: JONSWAP Hs 1 m, Tp 6 s, 128 components (the scenario's defaults)."""
+    """A short irregular-sea tow: JONSWAP Hs 1 m, Tp 6 s, 128 components (the scenario's defaults), the
+    USV's own wave motions off (issue 29 part A: the tow point heaves with the surface, z0 = z_top - eta)."""
     out = tmp_path_factory.mktemp("view") / "sea"
     cmd = [sys.executable, "-m", "oceangnc", "run", "tow-sea-state", "--duration", "10", "--no-plots", "--quiet"]
+    cmd += ["--set", "environment.usv_motions.enabled=false"]
     subprocess.run([*cmd, "--out", str(out)], check=True, timeout=600)
     return out
 
@@ -436,8 +438,8 @@ def test_replay_sea_surface_is_the_runs_wave_field(sea, page):
       and times, and the drawn patch's heights (its angle-addition form, the mesh's single precision),
       equal ``WaveField.kinematics`` of the run's field (drawn again here from config.toml and sim.seed)
       within 1e-6 Hs;
-    * against the simulation itself: the cable's top point heaves with the wave elevation at the USV
-      (``environment.tow_point_heave = "surface"``: z0 = z_top - eta, src/oceangnc/models/_combined_sea.py),
+    * against the simulation itself: with the USV's wave motions off, the cable's top point heaves with the
+      wave elevation at the USV (``tow_point_heave = "surface"``: z0 = z_top - eta, models/_combined_sea.py),
       so the logged ``cable.z0`` plus the page's elevation at the logged (``cable.x0``, ``cable.y0``) is
       constant (z_top) within 1 mm (the plant's second-order expansion of eta, its docstring: <= 1e-2
       of the smallest components; 3e-5 m here) - a wrong seed or phase would leave the sea's own 0.23 m (Hs / 4) spread.
