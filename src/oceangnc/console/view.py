@@ -103,9 +103,10 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
                 ro.append({"key": f"{p}.z", "label": f"{p} depth", "unit": "m", "scale": 1.0})
         view["readouts"] = ro
     if "waves" not in view:
+        from ..environment import SeaEnvironmentConfig
+
         env = getattr(cfg, "environment", None)
-        wcfg = getattr(env, "waves", None)
-        if wcfg is not None and wcfg.kind != "none" and hasattr(env, "plant_kwargs"):
+        if isinstance(env, SeaEnvironmentConfig) and env.waves.kind != "none":
             w = env.plant_kwargs(cfg.sim.seed)["waves"]
             view["waves"] = {k: getattr(w, k).tolist() for k in ("a", "omega", "k", "theta", "eps")}
     if "sensors" not in view:
