@@ -15,6 +15,10 @@ flagship run with 20 cable segments, in headless Chromium; and the MCAP export t
 4. Frames per second: the replay plays at 1x, then at 10x, for ``--seconds`` wall seconds each;
    frames drawn (``replay.frames``) over the page's own elapsed time. Headless Chromium renders WebGL in software
    (SwiftShader) here and its animation frames are capped at the display rate (60 Hz). Target >= 30.
+   With ``--waves`` the run is ``tow-sea-state`` (JONSWAP Hs 1 m, Tp 6 s, 128 components) with 20
+   cable segments instead: the page draws the sea surface from the wave components every frame
+   (``WavePatch``, 49 x 49 vertices); the frame rate is measured with the waves and, in the same
+   browser, with ``?waves=0`` (the calm plane), and the mean time of one wave update (``replay.waveMs``).
 5. The console's 3D panel (``--console-viewers N``, default 20; 0 skips it): ``oceangnc console
    combined-survey`` on 127.0.0.1, N - 1 WebSocket viewers reading the state stream (role viewer)
    and one console page in headless Chromium (the operator); the figure is the panel's updates per
@@ -39,11 +43,13 @@ from record import record
 ROUTE = "[[0, 0], [120, 0], [120, 30], [0, 30], [0, 60], [120, 60]]"  # 420 m: 700 s at 0.6 m/s
 
 
-def make_run(path: Path, duration: float) -> Path:
+def make_run(path: Path, duration: float, waves: bool = False) -> Path:
     if (path / "log.parquet").exists() and (path / "summary.json").exists():
         return path
-    cmd = [sys.executable, "-m", "oceangnc", "run", "combined-survey", "--duration", str(duration)]
-    cmd += ["--set", "cable.segments=20", "--set", f"guidance.waypoints={ROUTE}"]
+    scenario = "tow-sea-state" if waves else "combined-survey"
+    cmd = [sys.executable, "-m", "oceangnc", "run", scenario, "--duration", str(duration), "--set", "cable.segments=20"]
+    if not waves:
+        cmd += ["--set", f"guidance.waypoints={ROUTE}"]
     cmd += ["--no-plots", "--quiet", "--out", str(path), "--overwrite"]
     print("making the run:", " ".join(cmd[2:]), flush=True)
     subprocess.run(cmd, check=True)
@@ -64,6 +70,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3, help="page loads")
     ap.add_argument("--run", help="run folder (made when missing)")
     ap.add_argument("--console-viewers", type=int, default=20, help="viewers of the console benchmark (0: skip)")
+    ap.add_argument("--waves", action="store_true", help="a tow-sea-state run (waves drawn) instead of combined-survey")
     args = ap.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -71,12 +78,14 @@ def main() -> None:
     from oceangnc.view.replay import write_replay
     from oceangnc.view.run_data import load_run
 
-    run = Path(args.run or Path(tempfile.gettempdir()) / f"oceangnc-bench-view-{int(args.duration)}s")
-    make_run(run, args.duration)
+    tag = "-waves" if args.waves else ""
+    run = Path(args.run or Path(tempfile.gettempdir()) / f"oceangnc-bench-view{tag}-{int(args.duration)}s")
+    make_run(run, args.duration, args.waves)
     rd = load_run(run)
     if rd.t[-1] < 0.95 * args.duration:
         print(f"warning: the run ended at {rd.t[-1]:.0f} s, before --duration {args.duration:.0f} s", flush=True)
-    case = f"combined-survey {rd.t[-1]:.0f} s, {rd.cable_nodes - 1} cable segments, {rd.rows} rows"
+    scen = "tow-sea-state, waves drawn" if args.waves else "combined-survey"
+    case = f"{scen} {rd.t[-1]:.0f} s, {rd.cable_nodes - 1} cable segments, {rd.rows} rows"
     t0 = time.perf_counter()
     html = write_replay(rd)
     t_write = time.perf_counter() - t0
@@ -108,14 +117,32 @@ def main() -> None:
                 page.wait_for_timeout(args.seconds * 1000)
                 f1, w1 = page.evaluate("[replay.frames, performance.now()]")
                 fps.append((f1 - f0) / ((w1 - w0) / 1000))
+                wave_ms = page.evaluate("replay.waveMs")
+            ctx.close()
+        calm_fps = None
+        if args.waves:  # the same page without the wave surface, for the ratio
+            ctx = b.new_context(viewport={"width": 1280, "height": 720})
+            page = ctx.new_page()
+            page.goto(html.resolve().as_uri() + "?paused&waves=0")
+            page.wait_for_function("window.replay && window.replay.ready === true", timeout=120_000)
+            f0, w0 = page.evaluate("[replay.frames, performance.now()]")
+            page.evaluate("replay.setSpeed(1); replay.play()")
+            page.wait_for_timeout(args.seconds * 1000)
+            f1, w1 = page.evaluate("[replay.frames, performance.now()]")
+            calm_fps = (f1 - f0) / ((w1 - w0) / 1000)
             ctx.close()
         b.close()
     print(f"loads (s): {', '.join(f'{v:.2f}' for v in loads)}; fps 1x {fps[0]:.1f}, 10x {fps[1]:.1f}")
+    if calm_fps is not None:
+        print(f"waves: {wave_ms:.2f} ms per update of the sea surface; fps 1x without them (?waves=0) {calm_fps:.1f}")
     note = f"headless Chromium (software WebGL), 1280x720, page {size_mb:.1f} MB"
     record("3D replay", f"page load, best of {args.repeat} ({case})", min(loads), "s", "< 3 s", note)
     record("3D replay", f"page load, median of {args.repeat} ({case})", statistics.median(loads), "s", "< 3 s", note)
     record("3D replay", f"frames per second playing at 1x ({case})", fps[0], "fps", ">= 30", note)
     record("3D replay", f"frames per second playing at 10x ({case})", fps[1], "fps", ">= 30", note)
+    if calm_fps is not None:
+        record("3D replay", f"one update of the wave surface, 49 x 49 vertices x 128 components ({case})", wave_ms, "ms", "", note)
+        record("3D replay", f"frames per second at 1x, waves / calm plane ({case})", fps[0] / calm_fps, "x", "", note)
     record("3D replay", f"write replay.html ({case})", t_write, "s", "", "oceangnc.view.replay.write_replay")
     record("3D replay", f"MCAP export ({case})", t_mcap, "s", "", "oceangnc.view.mcap_export.export_mcap")
 

@@ -217,3 +217,70 @@ def _live_stream(cmd, ws_client):
         proc.terminate()
         proc.wait(timeout=30)
     return order, got
+
+
+def test_console_3d_panel_draws_the_waves_of_a_sea_state(tmp_path):
+    """`oceangnc console tow-sea-state`: the hello's view carries the scenario's wave components and the
+    3D panel draws the sea surface from them (scene3d.WavePatch, as the replay page): its heights at the
+    time of the state it drew equal oceangnc.environment.waves (WaveField.kinematics of the field the
+    plant is built with) within 1e-6 Hs at every vertex (round trip of the same law, two codes)."""
+    chromium = _chromium()
+    if chromium is None:
+        pytest.skip("no Chromium binary (install Debian's 'chromium' or set CHROMIUM_PATH)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    pytest.importorskip("fastapi", reason="the console needs oceangnc[console]")
+    from oceangnc.api import resolve_config
+
+    _, cfg = resolve_config("tow-sea-state")
+    field = cfg.environment.plant_kwargs(cfg.sim.seed)["waves"]
+    hs = cfg.environment.waves.hs
+    port = free_port()
+    cmd = [sys.executable, "-m", "oceangnc", "console", "tow-sea-state", "--port", str(port), "--out", str(tmp_path)]
+    proc = subprocess.Popen(
+        [*cmd, "--token", TOKEN],
+        env=dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1"),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 180
+        while True:
+            assert proc.poll() is None, "console server exited"
+            try:
+                if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            assert time.monotonic() < deadline, "console server did not start within 180 s"
+            time.sleep(0.5)
+        with sync_api.sync_playwright() as p:
+            b = p.chromium.launch(executable_path=chromium, headless=True)
+            try:
+                page = b.new_page(viewport={"width": 1400, "height": 900})
+                errors: list[str] = []
+                page.on("pageerror", lambda e: errors.append(str(e)))
+                page.goto(f"{url}/?token={TOKEN}")
+                page.wait_for_function("window.view3d && view3d.updates > 5 && view3d.t > 0", timeout=90_000)
+                patches = [page.evaluate("view3d.seaPatch()")]
+                u0 = page.evaluate("view3d.updates")
+                page.wait_for_function(f"view3d.updates > {u0 + 5} && view3d.seaPatch().t !== {patches[0]['t']}")
+                patches.append(page.evaluate("view3d.seaPatch()"))
+                assert not errors, errors
+            finally:
+                b.close()
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    for patch in patches:
+        g1 = patch["cells"] + 1
+        i, j = np.meshgrid(np.arange(g1), np.arange(g1), indexing="ij")
+        n = patch["n0"] + i.ravel() * patch["step"]
+        e = patch["e0"] + j.ravel() * patch["step"]
+        want = field.kinematics(patch["t"], np.c_[n, e, np.zeros_like(n)])[0]
+        assert np.ptp(want) > 0.5 * hs  # a sea, not a flat plane
+        assert np.abs(np.array(patch["eta"]) - want).max() <= 1e-6 * hs
+    assert patches[1]["t"] > patches[0]["t"]  # the surface moves with the live time

@@ -415,6 +415,105 @@ def test_replay_of_other_runs(tmp_path, page):
     assert page.locator("#panels canvas").count() == 1  # the USV's speed
 
 
+# ---- waves on the sea surface --------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def sea(tmp_path_factory) -> Path:
+    """A short irregular-sea tow: JONSWAP Hs 1 m, Tp 6 s, 128 components (the scenario's defaults), the
+    USV's own wave motions off (issue 29 part A: the tow point heaves with the surface, z0 = z_top - eta)."""
+    out = tmp_path_factory.mktemp("view") / "sea"
+    cmd = [sys.executable, "-m", "oceangnc", "run", "tow-sea-state", "--duration", "10", "--no-plots", "--quiet"]
+    cmd += ["--set", "environment.usv_motions.enabled=false"]
+    subprocess.run([*cmd, "--out", str(out)], check=True, timeout=600)
+    return out
+
+
+@pytest.mark.browser
+def test_replay_sea_surface_is_the_runs_wave_field(sea, page):
+    """The page's sea surface is a second implementation of the Airy elevation sum of
+    oceangnc/environment/waves.py (docs/view.md, "Waves"). Two checks:
+
+    * round trip / same law: the page's elevation (double precision, ``replay.seaElevation``) at points
+      and times, and the drawn patch's heights (its angle-addition form, the mesh's single precision),
+      equal ``WaveField.kinematics`` of the run's field (drawn again here from config.toml and sim.seed)
+      within 1e-6 Hs;
+    * against the simulation itself: with the USV's wave motions off, the cable's top point heaves with the
+      wave elevation at the USV (``tow_point_heave = "surface"``: z0 = z_top - eta, models/_combined_sea.py),
+      so the logged ``cable.z0`` plus the page's elevation at the logged (``cable.x0``, ``cable.y0``) is
+      constant (z_top) within 1 mm (the plant's second-order expansion of eta, its docstring: <= 1e-2
+      of the smallest components; 3e-5 m here) - a wrong seed or phase would leave the sea's own 0.23 m (Hs / 4) spread.
+    """
+    from oceangnc.environment import SeaEnvironmentConfig
+
+    cfg = tomllib.loads((sea / "config.toml").read_text())
+    field = SeaEnvironmentConfig.model_validate(cfg["environment"]).plant_kwargs(cfg["sim"]["seed"])["waves"]
+    hs = cfg["environment"]["waves"]["hs"]
+    assert main(["view", str(sea)]) == 0
+    _open(page, (sea / "replay.html").as_uri())
+    info = page.evaluate("replay.waves")
+    assert info["count"] == field.a.size == 128 and info["hs"] == hs
+    assert "sea" in page.evaluate("replay.layers")
+    pts = [(0.0, 0.0, 0.0), (13.7, -4.2, 5.5), (-250.3, 80.1, 9.95), (40.0, 1000.0, 123.4)]
+    for n, e, t in pts:
+        got = page.evaluate(f"replay.seaElevation({n}, {e}, {t})")
+        want = field.kinematics(t, [[n, e, 0.0]])[0][0]
+        assert abs(got - want) <= 1e-6 * hs, (n, e, t, got, want)
+    for t in (2.0, 7.35):
+        page.evaluate(f"replay.seek({t})")
+        patch = page.evaluate("replay.seaPatch()")
+        assert patch["t"] == t
+        g1 = patch["cells"] + 1
+        i, j = np.meshgrid(np.arange(g1), np.arange(g1), indexing="ij")
+        n = patch["n0"] + i.ravel() * patch["step"]
+        e = patch["e0"] + j.ravel() * patch["step"]
+        want = field.kinematics(t, np.c_[n, e, np.zeros_like(n)])[0]
+        assert np.ptp(want) > 0.5 * hs  # a sea, not a flat plane
+        assert np.abs(np.array(patch["eta"]) - want).max() <= 1e-6 * hs
+        assert np.abs(np.array(patch["drawn"]) - want).max() <= 1e-6 * hs
+        # the patch is centred on the vehicles the camera follows (within a grid step)
+        mid = np.mean([b["ned"][:2] for b in page.evaluate("replay.bodies").values()], axis=0)
+        centre = (patch["n0"] + patch["step"] * patch["cells"] / 2, patch["e0"] + patch["step"] * patch["cells"] / 2)
+        assert np.hypot(centre[0] - mid[0], centre[1] - mid[1]) <= patch["step"]
+    df = pd.read_parquet(sea / "log.parquet")
+    rows = df[df["t"] > 0].iloc[::5]  # (the row at t = 0 is the initial state, before the first sea update)
+    js = "replay.seaElevation({0}, {1}, {2})"
+    eta = np.array([page.evaluate(js.format(r["cable.x0"], r["cable.y0"], r["t"])) for _, r in rows.iterrows()])
+    z_top = rows["cable.z0"].to_numpy() + eta
+    assert np.std(rows["cable.z0"]) > 0.1 * hs  # the top point heaves
+    assert np.ptp(z_top) < 1e-3 * hs, np.ptp(z_top)
+
+
+@pytest.mark.browser
+def test_still_of_a_run(sea, tmp_path, capsys):
+    """`python -m oceangnc.view.still RUN OUT.png`: the replay drawn by headless Chromium at a set time and
+    camera (how the gallery's stills are made); the PNG has the page's size and shows the sea, not the
+    background alone; the 3D view alone is smaller; bad options are one line and exit 2."""
+    from PIL import Image
+
+    from oceangnc.view import still
+
+    if still.chromium_path() is None:
+        pytest.skip("no Chromium binary")
+    out = tmp_path / "s.png"
+    # in a process of its own (this module's browser fixture keeps Playwright's event loop in this thread)
+    cmd = [sys.executable, "-m", "oceangnc.view.still", str(sea)]
+    subprocess.run([*cmd, str(out), "--t", "6", "--elevation", "20", "--distance", "40"], check=True, timeout=300)
+    img = Image.open(out).convert("RGB")
+    assert img.size == (1280, 720)
+    colours = img.resize((64, 36)).getcolors(64 * 36)
+    assert colours is not None and len(colours) > 50  # a drawn scene, not a blank page
+    subprocess.run([*cmd, str(tmp_path / "v.png"), "--view-only", "--size", "800x600"], check=True, timeout=300)
+    w, h = Image.open(tmp_path / "v.png").size
+    assert w < 800 and h < 600  # the 3D view without the panels and the bar
+    capsys.readouterr()
+    assert still.main([str(sea), str(out), "--size", "10x10"]) == 2
+    assert still.main([str(sea), str(out), "--elevation", "95"]) == 2
+    assert still.main([str(tmp_path / "nothing"), str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 3 and all(e.startswith("error: ") for e in err), err
+
+
 # ---- the Foxglove WebSocket stream ------------------------------------------------------------------
 
 

@@ -15,7 +15,11 @@ leaves out is inferred from the live bus:
   bus keys naming thrust, rudder, propeller rpm;
 * ``readouts``: ``[{"key", "label", "unit", "scale"}]``; inferred: speed, heading, depth;
 * ``sensors``: ``[{"key", "label"}]`` health flags (1 valid, 0 failed); inferred from keys ending
-  in ``.valid`` or ``.ok``.
+  in ``.valid`` or ``.ok``;
+* ``waves``: the wave components of a scenario at sea (``environment.waves``, kind not none):
+  ``{"a", "omega", "k", "theta", "eps"}`` lists, from the call its plant is built with
+  (:meth:`oceangnc.environment.SeaEnvironmentConfig.plant_kwargs` of ``sim.seed``); the 3D panel draws
+  the sea surface from them (docs/view.md).
 """
 
 from __future__ import annotations
@@ -98,6 +102,13 @@ def infer_view(scenario, cfg, bus: dict) -> dict:
             if f"{p}.z" in keyset:
                 ro.append({"key": f"{p}.z", "label": f"{p} depth", "unit": "m", "scale": 1.0})
         view["readouts"] = ro
+    if "waves" not in view:
+        from ..environment import SeaEnvironmentConfig
+
+        env = getattr(cfg, "environment", None)
+        if isinstance(env, SeaEnvironmentConfig) and env.waves.kind != "none":
+            w = env.plant_kwargs(cfg.sim.seed)["waves"]
+            view["waves"] = {k: getattr(w, k).tolist() for k in ("a", "omega", "k", "theta", "eps")}
     if "sensors" not in view:
         view["sensors"] = [
             {"key": k, "label": k.rsplit(".", 1)[0]} for k in keys if k.endswith(".valid") or k.endswith(".ok")

@@ -1,6 +1,9 @@
-"""``oceangnc mavlink [SCENARIO] --listen udp:127.0.0.1:14550 [--gcs udp:HOST:PORT] [--speed 1]``."""
+"""``oceangnc mavlink [SCENARIO] --listen udp:127.0.0.1:14550 [--gcs udp:HOST:PORT] [--speed 1]
+[--foxglove [PORT] [--token-file F]]``."""
 
 from __future__ import annotations
+
+import argparse
 
 from ..cli_options import add_live_options, needs_package, set_overrides
 
@@ -54,6 +57,28 @@ def register(subparsers) -> None:
         help="start with these parameter values: a run's params.json, or a MAVProxy / Mission Planner "
         ".param file (NAME VALUE per line); see docs/mavlink-and-logs.md",
     )
+    p.add_argument(
+        "--foxglove",
+        nargs="?",
+        type=int,
+        const=8765,
+        metavar="PORT",
+        help="also publish the running vehicle as a live Foxglove WebSocket stream on ws://127.0.0.1:PORT "
+        "(default 8765; 0: any free port) with a session token, printed in its URL (docs/view.md)",
+    )
+    p.add_argument(
+        "--token-file",
+        metavar="PATH",
+        help="--foxglove: read the stream's token from the first line of PATH (default: $OCEANGNC_CONSOLE_TOKEN, "
+        "else a new random one)",
+    )
+    p.add_argument(
+        "--allow-origin",
+        action="append",
+        default=[],
+        metavar="URL",
+        help="--foxglove: a browser origin to accept besides the Foxglove web app and pages of this machine",
+    )
     p.add_argument("--quiet", action="store_true", help="do not print the vehicle's events")
     p.set_defaults(func=_cmd)
 
@@ -68,6 +93,20 @@ def _cmd(args) -> int:
 
     if args.duration is not None and not args.duration > 0:
         raise InputError(f"--duration {args.duration}: must be > 0 s")
+    token = None
+    if args.foxglove is not None or args.token_file is not None:
+        if args.foxglove is None:
+            raise InputError("--token-file goes with --foxglove")
+        if not (0 <= args.foxglove < 65536):
+            raise InputError(f"--foxglove {args.foxglove}: allowed range 0 <= port <= 65535 (0: any free port)")
+        from ..console.cli import _check_port, _given_token
+
+        if args.foxglove:
+            _check_port("127.0.0.1", args.foxglove)  # a port in use: one line, exit 2, before the vehicle starts
+
+        token, source = _given_token(argparse.Namespace(token_file=args.token_file, token=None))
+        if token is not None and (len(token) < 8 or not token.isprintable() or " " in token):
+            raise InputError(f"{source}: the token needs at least 8 printable characters without spaces")
     sets = set_overrides(args)
     mav = {k[len("mavlink.") :]: v for k, v in sets.items() if k.startswith("mavlink.")}
     over = {k: v for k, v in sets.items() if not k.startswith("mavlink.")}
@@ -88,6 +127,14 @@ def _cmd(args) -> int:
         tlog=None if args.no_tlog else "telemetry.tlog",
         params=args.params,
     )
+    stream = None
+    if args.foxglove is not None:
+        from ..view.foxglove_ws import start_vehicle_foxglove
+
+        stream = start_vehicle_foxglove(v, args.foxglove, token, args.allow_origin)
+        if stream is None:
+            v.close()
+            return 2
     if not args.quiet:
         print(
             f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
@@ -98,6 +145,9 @@ def _cmd(args) -> int:
         v.serve()
     except KeyboardInterrupt:
         v.close()
+    finally:
+        if stream is not None:
+            stream.stop()
     if not args.quiet and v.run_dir is not None:
         print(f"log written: {v.run_dir / 'log.parquet'}")
     return 1 if v.error else 0

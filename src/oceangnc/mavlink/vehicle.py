@@ -282,6 +282,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             self.tlog = open(tp, "wb")  # noqa: SIM115 (closed in close())
             self.tlog_path = tp
         self._lock = threading.RLock()
+        #: called with the vehicle after every loop pass, under its lock (the live Foxglove stream:
+        #: oceangnc.view.foxglove_ws.VehicleStates.hook); must be quick and must not raise
+        self.state_hooks: list = []
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self.tick_s = sim.tick * sim.dt
@@ -439,6 +442,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 self.counts["tx_errors"] = self.counts.get("tx_errors", 0) + 1
                 if self.counts["tx_errors"] in (1, 100):
                     self.events.append((float(self.sim.t), f"telemetry error: {type(e).__name__}: {e}"))
+            for hook in self.state_hooks:
+                hook(self)
 
     def _end(self, text: str) -> None:
         self.ended = True

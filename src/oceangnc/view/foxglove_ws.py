@@ -25,11 +25,15 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import math
+import secrets
 import struct
 import sys
 import time
 from pathlib import Path
 from urllib.parse import urlsplit
+
+import numpy as np
 
 from .mcap_export import Channel, build_channels, stamps_ns
 from .run_data import RunData, load_run
@@ -73,6 +77,40 @@ class FoxgloveRunServer:
         self.clients: set[_Client] = set()
         self.rows_sent = 0
         self.done = asyncio.Event()
+
+    #: the session token every connection must present (None: none asked; a recorded run's stream)
+    token: str | None = None
+    _throttle = None
+
+    def process_request(self, connection, request):
+        """The token check of the WebSocket handshake (before the protocol): None lets the connection
+        through; else an HTTP 401 (missing or wrong token) or 429 (too many failed tries from that peer,
+        :class:`oceangnc.console.access.Throttle`: the right token is refused too until a try comes back)."""
+        if not self.token:
+            return None
+        from urllib.parse import parse_qs
+
+        from ..console.access import Throttle
+
+        if self._throttle is None:
+            self._throttle = Throttle()
+        peer = str((connection.remote_address or ("?",))[0])
+        wait = self._throttle.wait_s(peer)
+        if wait > 0.0:
+            resp = connection.respond(
+                429, f"too many wrong or missing tokens from {peer}; retry in {math.ceil(wait)} s\n"
+            )
+            resp.headers["Retry-After"] = str(math.ceil(wait))
+            return resp
+        tok = (parse_qs(urlsplit(request.path).query).get("token") or [""])[0]
+        tok = tok or request.headers.get("X-Oceangnc-Token", "")
+        auth = request.headers.get("Authorization", "")
+        if not tok and auth.lower().startswith("bearer "):
+            tok = auth[7:].strip()
+        if not secrets.compare_digest(tok.encode(), self.token.encode()):
+            self._throttle.failed(peer)
+            return connection.respond(401, "missing or wrong session token (the URL printed at start has it)\n")
+        return None
 
     # -- protocol ----------------------------------------------------------------------------------
     def server_info(self) -> str:
@@ -195,15 +233,20 @@ async def _listening(srv, port: int, source: str, how: str, ready):
     """The Foxglove WebSocket server of ``srv`` on 127.0.0.1:``port`` (0: any free port), announced on
     stdout with its URL and ``how`` (``ready(port)`` told the bound port) while the block runs."""
     from websockets.asyncio.server import serve
+    from websockets.typing import Subprotocol
 
     async with serve(
-        srv.handler, "127.0.0.1", port, subprotocols=[SUBPROTOCOL], max_size=2**20, compression=None
+        srv.handler,
+        "127.0.0.1",
+        port,
+        subprotocols=[Subprotocol(SUBPROTOCOL)],
+        max_size=2**20,
+        compression=None,
+        process_request=srv.process_request,
     ) as server:
         bound = server.sockets[0].getsockname()[1]
-        print(
-            f"Foxglove WebSocket stream of {source} at ws://127.0.0.1:{bound} ({len(srv.channels)} channels{how})",
-            flush=True,
-        )
+        url = f"ws://127.0.0.1:{bound}" + (f"/?token={srv.token}" if srv.token else "")
+        print(f"Foxglove WebSocket stream of {source} at {url} ({len(srv.channels)} channels{how})", flush=True)
         if ready is not None:
             ready(bound)
         yield server
@@ -265,16 +308,21 @@ def state_run(hello: dict, state: dict) -> RunData:
 
 
 class FoxgloveLiveServer(FoxgloveRunServer):
-    """Republishes a running console session (read as a viewer with its token) on the Foxglove
-    WebSocket protocol: the channels of the first state, one message each per state with a new
-    time (the console repeats a state while paused); a new run's states are stamped with its own
-    time, from 0 again."""
+    """Republishes a live simulation on the Foxglove WebSocket protocol. ``states`` is its source: an
+    async iterable of the console's messages (``{"type": "hello", "run", "scenario", "view"}`` then
+    ``{"type": "state", "run", "t", "signals"}``): a running console read as a viewer
+    (:func:`console_states`) or a MAVLink vehicle (:class:`VehicleStates`). The channels are those of
+    the first state, one message each per state with a new time (a console repeats a state while
+    paused); a new run's states are stamped with its own time, from 0 again. ``token`` (the console's
+    token rules): every connection must present it (``?token=``, header ``X-Oceangnc-Token`` or
+    ``Authorization: Bearer``), failed tries throttled per peer (:class:`oceangnc.console.access.Throttle`)."""
 
-    def __init__(self, console_url: str, allow_origins: tuple[str, ...] = ()):
-        self.console_url = console_url
-        self.name = "console"
+    def __init__(self, states, name: str = "live", allow_origins: tuple[str, ...] = (), token: str | None = None):
+        self.states = states
+        self.name = name
         self.channels = []
         self.speed, self.loop, self.allow_origins = 1.0, False, allow_origins
+        self.token = token
         self.clients = set()
         self.rows_sent = 0
         self.done = asyncio.Event()
@@ -282,68 +330,157 @@ class FoxgloveLiveServer(FoxgloveRunServer):
         self.error: str | None = None
 
     async def play(self) -> None:
-        from websockets.asyncio.client import connect
-
         hello = None
         last_t: float | None = None
         index: dict[str, int] = {}
         try:
-            async with connect(self.console_url, open_timeout=30, max_size=2**22) as ws:
-                async for raw in ws:
-                    m = json.loads(raw)
-                    if m.get("type") == "hello":
-                        hello, last_t = m, None
-                    elif m.get("type") == "state" and hello is not None:
-                        t = float(m.get("t", 0.0))
-                        if m.get("run") != hello.get("run"):
-                            continue  # a new run starts with its hello
-                        if last_t is not None and t <= last_t:
-                            continue  # the console repeats its last state while paused or between steps
-                        last_t = t
-                        chans = build_channels(state_run(hello, m))
-                        if not self.channels:
-                            self.channels = chans
-                            index = {c.topic: k for k, c in enumerate(chans)}
-                            self.ready.set()
-                        payloads: list[bytes | None] = [None] * len(self.channels)
-                        for c in chans:  # a topic that appears later than the first state is left out
-                            if c.topic in index and c.schema_name == self.channels[index[c.topic]].schema_name:
-                                payloads[index[c.topic]] = c.payloads[0]
-                        self.emit(int(round(t * 1e9)), payloads)
-        except Exception as e:  # the console went away or refused us
+            async for m in self.states:
+                if m.get("type") == "hello":
+                    hello, last_t = m, None
+                elif m.get("type") == "state" and hello is not None:
+                    t = float(m.get("t", 0.0))
+                    if m.get("run") != hello.get("run"):
+                        continue  # a new run starts with its hello
+                    if last_t is not None and t <= last_t:
+                        continue  # the console repeats its last state while paused or between steps
+                    last_t = t
+                    chans = build_channels(state_run(hello, m))
+                    if not self.channels:
+                        self.channels = chans
+                        index = {c.topic: k for k, c in enumerate(chans)}
+                        self.ready.set()
+                    payloads: list[bytes | None] = [None] * len(self.channels)
+                    for c in chans:  # a topic that appears later than the first state is left out
+                        if c.topic in index and c.schema_name == self.channels[index[c.topic]].schema_name:
+                            payloads[index[c.topic]] = c.payloads[0]
+                    self.emit(int(round(t * 1e9)), payloads)
+        except Exception as e:  # the source went away or refused us
             self.error = f"{type(e).__name__}: {e}"
         finally:
             self.ready.set()
             self.done.set()
 
 
+async def console_states(ws_url: str):
+    """The messages of a running console's viewer WebSocket ``ws_url`` (:func:`console_ws_url`), decoded."""
+    from websockets.asyncio.client import connect
+
+    async with connect(ws_url, open_timeout=30, max_size=2**22) as ws:
+        async for raw in ws:
+            yield json.loads(raw)
+
+
+def bus_signals(bus: dict) -> dict[str, float]:
+    """The numeric scalars of a simulation bus (what a console state's ``signals`` carries for
+    :func:`state_run`): private keys (``_...``), flags, strings and arrays left out."""
+    out = {}
+    for k, v in bus.items():
+        if k.startswith("_") or isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
+            continue
+        out[k] = float(v)
+    return out
+
+
+class VehicleStates:
+    """A :class:`~oceangnc.mavlink.vehicle.MavlinkVehicle` as a source of console messages for
+    :class:`FoxgloveLiveServer`: :meth:`hook` (appended to the vehicle's ``state_hooks``, called by
+    its loop after every pass) takes a copy of the bus at most ``rate_hz`` times a wall second and
+    only when the simulated time moved; the hello's view is the console's (:func:`oceangnc.console.view.infer_view`).
+    The copies cross to the server's event loop through a bounded queue (a stalled loop loses states,
+    it never blocks the vehicle); :meth:`close` ends the stream."""
+
+    QUEUE = 256
+
+    def __init__(self, loop: asyncio.AbstractEventLoop, rate_hz: float = 25.0, clock=time.monotonic):
+        self.loop = loop
+        self.period = 1.0 / float(rate_hz)
+        self.clock = clock
+        self.queue: asyncio.Queue = asyncio.Queue(self.QUEUE)
+        self._hello: dict | None = None
+        self._wall = -math.inf
+        self._t = -math.inf
+        self.dropped = 0
+        self.error: str | None = None
+
+    def _put(self, item) -> None:  # on the event loop
+        try:
+            self.queue.put_nowait(item)
+        except asyncio.QueueFull:
+            self.dropped += 1
+
+    def hook(self, vehicle) -> None:
+        """Called from the vehicle's loop (under its lock): cheap unless a state is due; never raises
+        (a failure is kept in ``error`` and ends the stream, not the vehicle)."""
+        if self.error is not None:
+            return
+        try:
+            self._take(vehicle)
+        except Exception as e:  # noqa: BLE001
+            self.error = f"{type(e).__name__}: {e}"
+            self.close()
+
+    def _take(self, vehicle) -> None:
+        sim = vehicle.sim
+        t, now = float(sim.t), self.clock()
+        if t <= self._t or now - self._wall < self.period:
+            return
+        if self._hello is None:
+            from ..console.view import infer_view
+
+            run = vehicle.run_dir.name if vehicle.run_dir is not None else f"mavlink-{vehicle.scenario.name}"
+            view = infer_view(vehicle.scenario, vehicle.cfg, sim.bus)
+            self._hello = {"type": "hello", "run": run, "scenario": vehicle.scenario.name, "view": view}
+            self.loop.call_soon_threadsafe(self._put, self._hello)
+        self._t, self._wall = t, now
+        state = {"type": "state", "run": self._hello["run"], "t": t, "signals": bus_signals(sim.bus)}
+        self.loop.call_soon_threadsafe(self._put, state)
+
+    def close(self) -> None:
+        """End the stream (any thread)."""
+        with contextlib.suppress(RuntimeError):  # the loop already closed
+            self.loop.call_soon_threadsafe(self._put, None)
+
+    def __aiter__(self):
+        return self
+
+    async def __anext__(self):
+        item = await self.queue.get()
+        if item is None:
+            raise StopAsyncIteration
+        return item
+
+
 def console_ws_url(url: str) -> str:
     """``http://127.0.0.1:8050/?token=T`` (the URL ``oceangnc console`` prints) -> its viewer WebSocket."""
-    from urllib.parse import parse_qs
-
     u = urlsplit(url)
-    token = (parse_qs(u.query).get("token") or [""])[0]
+    token = url_token(url)
     scheme = "wss" if u.scheme in ("https", "wss") else "ws"
     return f"{scheme}://{u.netloc}/ws?token={token}&role=viewer"
 
 
-async def _serve_live(console_url: str, port: int, allow_origins, ready) -> int:
+def url_token(url: str) -> str:
+    """The ``token`` query parameter of ``url`` ("" when it has none)."""
+    from urllib.parse import parse_qs
 
-    srv = FoxgloveLiveServer(console_ws_url(console_url), allow_origins=allow_origins)
+    return (parse_qs(urlsplit(url).query).get("token") or [""])[0]
+
+
+async def _serve_live(srv: FoxgloveLiveServer, source: str, port: int, ready, wait_s: float = FIRST_STATE_S) -> int:
+    """Wait for the first state of ``srv``'s source (its channels), then serve until the source ends."""
     player = asyncio.create_task(srv.play())
-    print(f"waiting for the first state of the console at {console_url.split('?')[0]}", file=sys.stderr, flush=True)
+    print(f"waiting for the first state of {source}", file=sys.stderr, flush=True)
     try:  # the channels are known once the first state arrived
-        await asyncio.wait_for(srv.ready.wait(), FIRST_STATE_S)
+        await asyncio.wait_for(srv.ready.wait(), wait_s)
     except TimeoutError:
-        srv.error = f"no state within {FIRST_STATE_S:g} s"
+        srv.error = f"no state within {wait_s:g} s"
         player.cancel()
     if not srv.channels:
-        print(f"error: no state from the console at {console_url}: {srv.error}", file=sys.stderr)
+        print(f"error: no state from {source}: {srv.error}", file=sys.stderr)
         return 2
-    async with _listening(srv, port, "the console", "; Ctrl-C to stop", ready):
+    async with _listening(srv, port, source, "; Ctrl-C to stop", ready):
         await player
     if srv.error:
-        print(f"console stream ended: {srv.error}", file=sys.stderr)
+        print(f"live stream ended: {srv.error}", file=sys.stderr)
     return 0
 
 
@@ -358,7 +495,74 @@ def serve_console_foxglove(console_url: str, port: int = 8765, allow_origins=(),
         )
         return 2
     try:
-        return asyncio.run(_serve_live(console_url, port, tuple(allow_origins), ready))
+        ws_url = console_ws_url(console_url)
+        srv = FoxgloveLiveServer(
+            console_states(ws_url), "console", allow_origins=tuple(allow_origins), token=url_token(console_url) or None
+        )
+        return asyncio.run(_serve_live(srv, f"the console {console_url.split('?')[0]}", port, ready))
     except KeyboardInterrupt:
         print("stopped", file=sys.stderr)
         return 0
+
+
+class VehicleStream:
+    """The live Foxglove stream of a MAVLink vehicle, served from a thread of its own: see
+    :func:`start_vehicle_foxglove`. ``port`` is the bound port once listening (``listening`` set)."""
+
+    def __init__(self, vehicle, port: int, token: str, allow_origins=(), rate_hz: float = 25.0):
+        import threading
+
+        self.loop = asyncio.new_event_loop()
+        self.states = VehicleStates(self.loop, rate_hz)
+        name = f"mavlink {vehicle.scenario.name}"
+        self.server = FoxgloveLiveServer(self.states, name, allow_origins=tuple(allow_origins), token=token)
+        self.vehicle = vehicle
+        self.listening = threading.Event()
+        self.port: int | None = None
+        self.code: int | None = None
+        vehicle.state_hooks.append(self.states.hook)
+        self.thread = threading.Thread(target=self._run, args=(port,), name="oceangnc-foxglove", daemon=True)
+        self.thread.start()
+
+    def _ready(self, port: int) -> None:
+        self.port = port
+        self.listening.set()
+
+    def _run(self, port: int) -> None:
+        asyncio.set_event_loop(self.loop)
+        try:
+            self.code = self.loop.run_until_complete(_serve_live(self.server, "the MAVLink vehicle", port, self._ready))
+        except Exception as e:  # noqa: BLE001 (a port in use): the vehicle goes on without its stream
+            print(f"error: the Foxglove stream stopped: {type(e).__name__}: {e}", file=sys.stderr, flush=True)
+            self.code = 2
+        finally:
+            self.listening.set()
+            self.loop.close()
+
+    def stop(self, timeout: float = 5.0) -> None:
+        """End the stream (the vehicle's hook is removed) and wait for its thread."""
+        with contextlib.suppress(ValueError):
+            self.vehicle.state_hooks.remove(self.states.hook)
+        if not self.loop.is_closed():
+            self.states.close()
+        self.thread.join(timeout)
+
+
+def start_vehicle_foxglove(
+    vehicle, port: int = 8765, token: str | None = None, allow_origins=(), rate_hz: float = 25.0
+):
+    """Publish the running MAVLink ``vehicle`` (``oceangnc mavlink --foxglove [PORT]``) on
+    ws://127.0.0.1:PORT/?token=TOKEN: :class:`FoxgloveLiveServer` fed by :class:`VehicleStates` (the
+    vehicle's bus after its passes, at most ``rate_hz`` a second), in a thread of its own; ``token``
+    None draws a random one (128 bits, URL-safe, as the console's). Returns the
+    :class:`VehicleStream` (``stop()`` ends it), or None without the ``websockets`` package (after a
+    one-line message)."""
+    try:
+        import websockets.asyncio.server  # noqa: F401
+    except ImportError:
+        print(
+            "error: the Foxglove stream needs the optional package 'websockets': install oceangnc[console]",
+            file=sys.stderr,
+        )
+        return None
+    return VehicleStream(vehicle, port, token or secrets.token_urlsafe(16), allow_origins, rate_hz)

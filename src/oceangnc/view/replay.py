@@ -101,6 +101,29 @@ def replay_data(rd: RunData) -> dict:
         "seabed": rd.seabed,
         "extent": {"n0": n0, "n1": n1, "e0": e0, "e1": e1},
         "panels": panels,
+        "waves": _waves(rd),
+    }
+
+
+def _waves(rd: RunData) -> dict | None:
+    """The run's wave components for the page's sea surface (None in calm water): amplitude a (m),
+    angular frequency omega (rad/s), wave number k (rad/m), travel direction theta (rad from north) and
+    phase eps (rad) of each, as float64 (JSON numbers round-trip them exactly), with Hs, Tp and the
+    mean direction of the config for the legend."""
+    w = rd.waves
+    if w is None:
+        return None
+    cfg = rd.config["environment"]["waves"]
+    return {
+        "a": w.a.tolist(),
+        "omega": w.omega.tolist(),
+        "k": w.k.tolist(),
+        "theta": w.theta.tolist(),
+        "eps": w.eps.tolist(),
+        "kind": str(cfg.get("kind")),
+        "hs": float(cfg.get("hs", w.hs())),
+        "tp": float(cfg.get("tp", 0.0)),
+        "direction_deg": float(cfg.get("direction_deg", 0.0)),
     }
 
 

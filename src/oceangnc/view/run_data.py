@@ -13,6 +13,10 @@ them a :class:`RunData` gathers
   else the end tensions ``cable.top_tension`` / ``cable.bottom_tension``;
 * the **route** (``guidance.waypoints``, north/east pairs) and its acceptance radius;
 * the **seabed** (``environment.seabed``: depth at the origin, slope, direction) when it has a depth;
+* the **waves** (``environment.waves`` with a ``kind`` other than none): the wave field the run's
+  plant had, drawn again from the config and ``sim.seed`` by the same call
+  (:meth:`oceangnc.environment.SeaEnvironmentConfig.plant_kwargs`), so its components (amplitude,
+  frequency, wave number, direction, phase) are the run's;
 * the **geographic origin** (``mavlink.origin_lat_deg``/``origin_lon_deg``) and any logged
   ``lat``/``lon`` columns, for a GPS track.
 """
@@ -24,10 +28,14 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..environment.waves import WaveField
 
 _NODE = re.compile(r"^cable\.([xyz])(\d+)$")
 _TENSION = re.compile(r"^cable\.tension(\d+)$")
@@ -60,6 +68,7 @@ class RunData:
     seabed: dict | None = None  # {"depth", "slope_deg", "slope_direction_deg"}
     origin: tuple[float, float] | None = None  # (lat, lon) deg of the NED origin
     latlon: tuple[str, str] | None = None  # logged latitude / longitude columns (deg)
+    waves: WaveField | None = None  # the run's wave field (None: calm water)
 
     @property
     def t(self) -> np.ndarray:
@@ -189,6 +198,8 @@ def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, s
             "slope_direction_deg": float(bed.get("slope_direction_deg", 0.0)),
         }
 
+    rd.waves = wave_field(cfg)
+
     mav = cfg.get("mavlink", {})
     if isinstance(mav, dict) and isinstance(mav.get("origin_lat_deg"), (int, float)):
         rd.origin = (float(mav["origin_lat_deg"]), float(mav.get("origin_lon_deg", 0.0)))
@@ -197,3 +208,26 @@ def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, s
             rd.latlon = (lat, lon)
             break
     return rd
+
+
+def wave_field(cfg: dict):
+    """The :class:`~oceangnc.environment.waves.WaveField` of a run's config dict (None in calm water or
+    without ``environment.waves``): :meth:`~oceangnc.environment.SeaEnvironmentConfig.plant_kwargs` of
+    its ``environment`` section with its ``sim.seed``, the call the scenarios build their plant with.
+    A section that does not validate is an InputError naming it."""
+    env = cfg.get("environment")
+    waves = env.get("waves") if isinstance(env, dict) else None
+    if not isinstance(waves, dict) or waves.get("kind", "none") == "none":
+        return None
+    from pydantic import ValidationError
+
+    from ..environment import SeaEnvironmentConfig
+
+    try:
+        sea = SeaEnvironmentConfig.model_validate(env)
+    except ValidationError as e:
+        err = e.errors()[0]
+        raise InputError(f"config environment.{'.'.join(map(str, err['loc']))}: {err['msg']}") from None
+    sim = cfg.get("sim")
+    seed = sim.get("seed", 0) if isinstance(sim, dict) else 0
+    return sea.plant_kwargs(int(seed) if isinstance(seed, int) else 0)["waves"]

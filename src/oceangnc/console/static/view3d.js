@@ -3,7 +3,7 @@
 // the sea surface. It reads the state the console page already receives (window.__console, set by
 // console.js) and draws each new state once; it sends nothing. Frames and meshes: oceangnc/scene3d.
 import * as THREE from 'three';
-import { BODY_COLORS, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
+import { BODY_COLORS, WavePatch, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
 
 const box = document.getElementById('view3d');
 const { renderer, scene, camera } = createScene(box);
@@ -61,10 +61,22 @@ function build(hello) {
     line.computeLineDistances();
     objects.push(line);
   }
+  // a scenario at sea: the wave surface (as the replay page's, WavePatch) about the vehicles, 200 m, 48 x 48
+  // cells, at the time of the state drawn; the flat sea fainter and the grid hidden
+  let waves = null;
+  if (v.waves && v.waves.a && v.waves.a.length) {
+    const mat = new THREE.MeshBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.6, depthWrite: false,
+      side: THREE.DoubleSide, forceSinglePass: true });
+    waves = new WavePatch(v.waves, 200, 48, mat);
+    waves.mesh.renderOrder = 3;
+    objects.push(waves.mesh);
+  }
+  sea.material.opacity = waves ? 0.1 : 0.22;
+  grid.visible = !waves;
   for (const o of objects) scene.add(o);
   const L = Math.max(1, ...bodies.map((b) => b.length));
   orbit.dist = Math.max(8, 4 * L);
-  built = { run: hello.run, bodies, cable, objects };
+  built = { run: hello.run, bodies, cable, objects, waves };
 }
 
 const num = (sig, k, d = 0) => (typeof sig[k] === 'number' ? sig[k] : d);
@@ -122,6 +134,7 @@ function placeCamera() {
   const t = orbit.target;
   sea.position.set(Math.round(t.x / 10) * 10, 0, Math.round(t.z / 10) * 10);
   grid.position.copy(sea.position);
+  if (built?.waves && typeof api.t === 'number') built.waves.update(-t.z, t.x, api.t);  // target three (x, z) = (east, -north)
   const c = Math.cos(orbit.el);
   camera.position.set(t.x + orbit.dist * c * Math.sin(orbit.az), t.y + orbit.dist * Math.sin(orbit.el),
     t.z + orbit.dist * c * Math.cos(orbit.az));
@@ -207,6 +220,12 @@ const api = {
       left: r.left, top: r.top, width: r.width, height: r.height };
   },
   nedToThree: (n, e, d) => nedToThree(n, e, d).toArray(),
+  // the drawn wave surface (a scenario at sea), as the replay page's replay.seaPatch()
+  seaPatch() {
+    const w = built?.waves;
+    if (!w) return null;
+    return { t: w.t, n0: w.n0, e0: w.e0, step: w.step, cells: w.cells, eta: Array.from(w.eta) };
+  },
 };
 window.view3d = api;
 requestAnimationFrame(loop);

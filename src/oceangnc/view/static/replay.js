@@ -1,7 +1,8 @@
 // 3D replay of an oceangnc run (oceangnc view RUN; docs/view.md). Data: the JSON in #replay-data
 // (oceangnc.view.replay.replay_data). The page state is on window.replay (for users and tests).
 import * as THREE from 'three';
-import { AA, BACKGROUND, BODY_COLORS, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo } from 'oceangnc/scene3d';
+import { AA, BACKGROUND, BODY_COLORS, WavePatch, bodyMatrix, createScene, hull, nedToThree, tensionColor, torpedo,
+  waveElevation } from 'oceangnc/scene3d';
 
 const DATA = JSON.parse(document.getElementById('replay-data').textContent);
 
@@ -64,6 +65,7 @@ const objects = {};  // name -> Object3D (for setVisible)
   sea.renderOrder = 2;
   scene.add(sea);
   objects.sea = sea;
+
   const step = Math.pow(10, Math.floor(Math.log10(Math.max(spanN, spanE) / 4)));
   const size = Math.ceil(Math.max(spanN, spanE) / step) * step;
   const grid = new THREE.GridHelper(size, Math.round(size / step), 0x3d6d96, 0x24476a);
@@ -72,6 +74,34 @@ const objects = {};  // name -> Object3D (for setVisible)
   nedToThree(midN, midE, 0, grid.position);
   scene.add(grid);
   objects.grid = grid;
+  if (DATA.waves && !/[?&]waves=0\b/.test(location.search)) {
+    // the calm plane stays as the far sea, fainter; the waves are drawn about the camera's target; the grid
+    // (at the mean surface, which the waves cross) hidden (replay.setVisible('grid', true) shows it)
+    m.opacity = 0.1;
+    grid.visible = false;
+    objects.sea_far = sea;
+  }
+}
+
+// waves: a patch of the run's wave field (WavePatch, scene3d.js) that follows the camera's target,
+// 4 peak wavelengths (deep water, g Tp^2 / 2 pi) on a side, 60 to 400 m, 48 x 48 cells (?wavecells=N,
+// 8 to 160: 12 vertices a peak wavelength by default; finer costs frames in software WebGL, bench_view.py)
+let waves = null;
+const WAVES = DATA.waves && !/[?&]waves=0\b/.test(location.search);  // ?waves=0: the calm plane only
+if (WAVES) {
+  const W = DATA.waves;
+  const lp = 9.80665 * W.tp * W.tp / (2 * Math.PI);
+  const size = Math.min(400, Math.max(60, 4 * (lp || 50)));
+  // unlit (WavePatch shades it), both faces in one pass: software WebGL draws a lit or two-pass surface at
+  // half the frame rate
+  const mat = new THREE.MeshBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.6, depthWrite: false,
+    side: THREE.DoubleSide, forceSinglePass: true });
+  const cells = Math.min(160, Math.max(8, parseInt((location.search.match(/[?&]wavecells=(\d+)/) || [])[1] || "48", 10)));
+  waves = new WavePatch(W, size, cells, mat);
+  waves.mesh.renderOrder = 3;
+  scene.add(waves.mesh);
+  objects.sea = waves.mesh;
+  objects.waves = waves.mesh;
 }
 
 // seabed: the plane D + tan(slope) (n cos chi + e sin chi)
@@ -167,9 +197,17 @@ if (NODES) {
     : 'cable nodes by segment (no tension logged)<span class="bar"></span>';
 }
 
+if (DATA.waves) {
+  const lg = document.getElementById('legend'), W = DATA.waves;
+  lg.style.display = 'block';
+  const line = document.createElement('div');
+  line.textContent = `waves: ${W.kind} Hs ${W.hs} m, Tp ${W.tp} s, toward ${W.direction_deg} deg, ${W.a.length} components`;
+  lg.appendChild(line);
+}
+
 // ---- update -------------------------------------------------------------------------------------
 const tmpV = new THREE.Vector3(), tmpC = new THREE.Color();
-const state = { t: T0, k: 0, a: 0, playing: false, speed: 1, follow: 'tow', frames: 0, trails: true };
+const state = { t: T0, k: 0, a: 0, playing: false, speed: 1, follow: 'tow', frames: 0, trails: true, waveMs: 0, waveUpdates: 0 };
 
 function update(t) {
   t = Math.min(Math.max(t, T0), T1);
@@ -403,6 +441,10 @@ function resize() {
 function render() {
   resize();
   placeCamera();
+  if (waves) {  // target three (x, z) = (east, -north)
+    const w0 = performance.now();
+    if (waves.update(-orbit.target.z, orbit.target.x, state.t)) { state.waveMs += performance.now() - w0; state.waveUpdates++; }
+  }
   scene.updateMatrixWorld();
   renderer.render(scene, camera);
   const now = performance.now();  // the panels at most 20 times a second (their canvases cost frames)
@@ -442,6 +484,12 @@ const api = {
   pause() { state.playing = false; render(); },
   setSpeed(s) { state.speed = s; $('speed').value = String(s); },
   setFollow(f) { state.follow = f; $('follow').value = f; render(); },
+  // the orbiting camera: azimuth and elevation (rad) and distance (m) about the followed target
+  get orbit() { return { az: orbit.az, el: orbit.el, dist: orbit.dist }; },
+  setOrbit({ az = orbit.az, el = orbit.el, dist = orbit.dist } = {}) {
+    orbit.az = az; orbit.el = Math.min(1.5, Math.max(-1.5, el)); orbit.dist = Math.min(1e4, Math.max(0.5, dist));
+    render(); return api.orbit;
+  },
   setVisible(name, on) {
     const o = objects[name];
     if (!o) return false;
@@ -471,6 +519,20 @@ const api = {
     const r = renderer.domElement.getBoundingClientRect();
     return { projection: camera.projectionMatrix.elements.slice(), view: camera.matrixWorldInverse.elements.slice(),
       left: r.left, top: r.top, width: r.width, height: r.height };
+  },
+  // the sea surface (runs with waves): the page's elevation (m, up) at north n, east e (m), time t (s),
+  // and the drawn patch: its grid (north n0 + i step, east e0 + l step), heights in double precision
+  // (eta) and as drawn (the mesh's single-precision y)
+  waves: waves ? { count: DATA.waves.a.length, hs: DATA.waves.hs, tp: DATA.waves.tp, size: waves.step * waves.cells,
+    cells: waves.cells } : null,
+  // mean wall time of one update of the wave patch (ms; its share of a frame, for the benchmark)
+  get waveMs() { return state.waveUpdates ? state.waveMs / state.waveUpdates : 0; },
+  seaElevation(n, e, t) { return DATA.waves ? waveElevation(DATA.waves, n, e, t) : 0; },
+  seaPatch() {
+    if (!waves) return null;
+    const y = waves.mesh.geometry.attributes.position.array;
+    return { t: waves.t, n0: waves.n0, e0: waves.e0, step: waves.step, cells: waves.cells, eta: Array.from(waves.eta),
+      drawn: Array.from({ length: waves.eta.length }, (_, v) => y[3 * v + 1]) };
   },
   get layers() { return Object.keys(objects).filter((k) => objects[k].visible); },
   background: '#' + new THREE.Color(BACKGROUND).getHexString(),

@@ -106,3 +106,94 @@ export function hull(L, B, color) {
   return grp;
 }
 
+
+// ---- waves ---------------------------------------------------------------------------------------
+// The sea surface of a run with waves, W = {a, omega, k, theta, eps} (arrays of the components, from
+// the run's oceangnc.environment.waves.WaveField): the linear (Airy) elevation, up positive, m,
+//     eta(n, e, t) = sum_j a_j cos(k_j (n cos theta_j + e sin theta_j) - omega_j t + eps_j)
+// as waves.py (its module docstring and wave_kinematics) evaluates it: a second implementation of
+// that sum, in double precision, which tests/test_view.py compares with waves.py (1e-6 Hs).
+export function waveElevation(W, n, e, t) {
+  let eta = 0;
+  for (let j = 0; j < W.a.length; j++) {
+    eta += W.a[j] * Math.cos(W.k[j] * (n * Math.cos(W.theta[j]) + e * Math.sin(W.theta[j])) - W.omega[j] * t + W.eps[j]);
+  }
+  return eta;
+}
+
+// A square patch of that surface, ``size`` m on a side with ``cells`` x ``cells`` cells, centred on a
+// point (snapped to the grid step, so the drawn waves stay fixed in the world while the patch moves).
+// Its heights are the same sum on the grid, by the angle-addition form
+//     cos(A_i + B_l) = cos A_i cos B_l - sin A_i sin B_l,  A_i = kn n_i - omega t + eps,  B_l = ke e_l
+// (kn = k cos theta, ke = k sin theta): 2 (cells + 1) cosines and sines per component instead of
+// (cells + 1)^2. ``eta`` holds them in double precision, the mesh in single.
+export class WavePatch {
+  constructor(W, size, cells, material) {
+    this.W = W;
+    this.m = W.a.length;
+    this.kn = Float64Array.from(W.k, (k, j) => k * Math.cos(W.theta[j]));
+    this.ke = Float64Array.from(W.k, (k, j) => k * Math.sin(W.theta[j]));
+    this.cells = cells;
+    this.step = size / cells;
+    const g1 = cells + 1;
+    this.g1 = g1;
+    this.eta = new Float64Array(g1 * g1);
+    this.ca = new Float64Array(g1); this.sa = new Float64Array(g1);
+    this.cb = new Float64Array(g1); this.sb = new Float64Array(g1);
+    const pos = new Float32Array(g1 * g1 * 3);
+    const idx = [];
+    for (let i = 0; i < cells; i++) for (let l = 0; l < cells; l++) {
+      const a = i * g1 + l, b = a + 1, c = a + g1, d = c + 1;
+      idx.push(a, b, c, b, d, c);  // counter-clockwise seen from above: the front faces up
+    }
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    geo.setAttribute('color', new THREE.BufferAttribute(new Float32Array(g1 * g1 * 3), 3));
+    geo.setIndex(idx);
+    // colour by elevation (troughs dark, crests light) over +-amp, the largest elevation the
+    // components can reach together (sum of a) scaled down to the usual crest (Hs / 2 ~ 2 sigma)
+    this.amp = Math.max(1e-6, 2 * Math.sqrt(0.5 * W.a.reduce((s, a) => s + a * a, 0)));
+    this.mesh = new THREE.Mesh(geo, material);
+    this.mesh.frustumCulled = false;
+    this.n0 = NaN; this.e0 = NaN; this.t = NaN;
+  }
+  // heights at time t of the patch centred near (cn, ce); nothing to do when neither moved
+  update(cn, ce, t) {
+    const h = this.step, half = this.cells / 2;
+    const n0 = (Math.round(cn / h) - half) * h, e0 = (Math.round(ce / h) - half) * h;
+    if (n0 === this.n0 && e0 === this.e0 && t === this.t) return false;
+    this.n0 = n0; this.e0 = e0; this.t = t;
+    const { W, g1, eta, ca, sa, cb, sb } = this;
+    eta.fill(0);
+    for (let j = 0; j < this.m; j++) {
+      const a = W.a[j], ph = -W.omega[j] * t + W.eps[j], kn = this.kn[j], ke = this.ke[j];
+      for (let i = 0; i < g1; i++) {
+        const A = kn * (n0 + i * h) + ph;
+        ca[i] = a * Math.cos(A); sa[i] = a * Math.sin(A);
+        const B = ke * (e0 + i * h);
+        cb[i] = Math.cos(B); sb[i] = Math.sin(B);
+      }
+      for (let i = 0; i < g1; i++) {
+        const c = ca[i], s = sa[i], row = i * g1;
+        for (let l = 0; l < g1; l++) eta[row + l] += c * cb[l] - s * sb[l];
+      }
+    }
+    const pos = this.mesh.geometry.attributes.position.array, col = this.mesh.geometry.attributes.color.array;
+    // shading computed here, not by the GPU (an unlit material: software WebGL draws it 5 times faster than
+    // a lit one): the colour by elevation times a Lambert factor of the slope (central differences) against
+    // the scene's sun, three direction (0.4, 1, 0.3); the surface normal is (-eta_e, 1, eta_n) in three
+    const Lx = 0.4 / 1.118, Ly = 1 / 1.118, Lz = 0.3 / 1.118, inv = 1 / (2 * h), last = g1 - 1;
+    for (let i = 0; i < g1; i++) for (let l = 0; l < g1; l++) {
+      const v = i * g1 + l;  // three (x, y, z) = (east, up, -north)
+      pos[3 * v] = e0 + l * h; pos[3 * v + 1] = eta[v]; pos[3 * v + 2] = -(n0 + i * h);
+      const en = (eta[(i < last ? i + 1 : i) * g1 + l] - eta[(i > 0 ? i - 1 : i) * g1 + l]) * inv;
+      const ee = (eta[i * g1 + (l < last ? l + 1 : l)] - eta[i * g1 + (l > 0 ? l - 1 : l)]) * inv;
+      const lam = Math.max(0, (-ee * Lx + Ly + en * Lz) / Math.sqrt(ee * ee + 1 + en * en));
+      const f = Math.min(1, Math.max(0, 0.5 + 0.5 * eta[v] / this.amp)), s = 0.35 + 0.75 * lam;
+      col[3 * v] = (0.03 + 0.3 * f) * s; col[3 * v + 1] = (0.2 + 0.4 * f) * s; col[3 * v + 2] = (0.42 + 0.4 * f) * s;
+    }
+    this.mesh.geometry.attributes.position.needsUpdate = true;
+    this.mesh.geometry.attributes.color.needsUpdate = true;
+    return true;
+  }
+}
