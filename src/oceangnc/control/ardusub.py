@@ -67,6 +67,7 @@ from numba import njit
 
 from ..core.estop import RESUME_RAMP_S, resume_weight
 from ..core.law import Ext, In, LawBlock, Layout, Opt, Out, Signals
+from ..core.rotations import wrap
 from .pid import PID_PARAMS, PID_STATE, pid_clear, pid_params, pid_run
 
 #: ArduSub's mode numbers (ArduSub/mode.h)
@@ -277,7 +278,7 @@ def sub_rov_law(t, sig, sl, st, pa):
     e[2] = st[_RX.zc] - z
     e[3] = -sig[sl[_RS.att]]
     e[4] = -sig[sl[_RS.att + 1]]
-    e[5] = math.atan2(math.sin(st[_RX.psic] - psi), math.cos(st[_RX.psic] - psi))
+    e[5] = wrap(st[_RX.psic] - psi)
     # the stick on each axis (z up on the stick is -Z, down positive, in the body axes)
     direct = np.zeros(6)
     direct[0] = stick[0]

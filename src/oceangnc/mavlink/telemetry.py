@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from .. import __version__
+from ..core.rotations import wrap_array
 from .geo import ned_to_latlon
 from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
 
@@ -106,7 +107,7 @@ class TelemetryMixin:
         )
 
     def _attitude(self, s: dict, uuv: bool) -> None:
-        psi = math.atan2(math.sin(s["psi"]), math.cos(s["psi"]))
+        psi = float(wrap_array(s["psi"]))
         self._send(
             (self.mav_uuv if uuv else self.mav).attitude_encode(
                 int(self.sim.t * 1000) & 0xFFFFFFFF, s["phi"], s["theta"], psi, s["p"], s["q"], s["r"]
