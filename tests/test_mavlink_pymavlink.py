@@ -103,6 +103,10 @@ def test_heartbeat_loss_in_manual_goes_to_hold_within_1s(vehicle):
     # before the GCS failsafe (gcs_timeout_s, 5 s) could (the wall-time bound is the benchmark's)
     t_fs = next(t for t, s in v.events if "Failsafe" in s)
     assert any("stick stream lost" in s for _, s in v.events)
+    # stay silent a little longer, so that the failsafe spans logged rows whenever the 1 Hz heartbeat
+    # reporting HOLD came right after the switch (else the link came back within one log period)
+    g.pump(0.5)
+    assert v.failsafe
     g.send_heartbeats = True
     g.pump(1.0)
     assert not v.failsafe and v.mode == 4  # link back: failsafe cleared, mode stays HOLD
