@@ -43,6 +43,7 @@ BENCHMARKS = {
     "batch": ("bench_batch.py", ["1000", "40"], {}),
     "console-soak": ("bench_console_soak.py", ["--seconds", "60", "--viewers", "20"], {}),
     "view": ("bench_view.py", ["--duration", "600", "--seconds", "10", "--repeat", "3"], {}),
+    "view-waves": ("bench_view.py", ["--duration", "600", "--seconds", "10", "--repeat", "3", "--waves"], {}),
 }
 
 
