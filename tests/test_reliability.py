@@ -90,6 +90,31 @@ def test_log_parts_open_as_one_table_in_pandas_pyarrow_and_read_log(tmp_path):
         np.testing.assert_array_equal(df["a.x"].to_numpy(), np.arange(101.0))
 
 
+def test_ctrl_c_while_a_part_is_written_waits_for_the_part_and_its_counters(tmp_path):
+    """A SIGINT that lands inside a flush (here: while the part file is written) comes out after it, with
+    the part on disk counted: close() then merges every row (before: KeyboardInterrupt between the write
+    and the counters, and close() failed with 'need at least one array to concatenate')."""
+
+    class Interrupted(LogWriter):
+        def _write_part(self, table, index, row0, final_part=True):
+            if not final_part and index == 1:
+                signal.raise_signal(signal.SIGINT)  # Ctrl-C in the middle of the flush
+            return super()._write_part(table, index, row0, final_part)
+
+    p = tmp_path / "log.parquet"
+    w = Interrupted(p, flush_period=1.0, compact=True, min_flush_wall_s=0.0)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            for k in range(101):
+                w.append(k * 0.05, {"a.x": float(k)})
+        assert w.parts == len(list_parts(p)) == 2 and w.rows_written == sum(len(read_log(q)) for q in list_parts(p))
+        w.close()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert len(read_log(p)) == w.rows_written > 20
+
+
 def test_a_wall_clock_floor_keeps_a_fast_run_to_few_parts_and_the_same_rows(tmp_path):
     """log.min_flush_wall_s: a run far faster than real time does not write a part per simulated second;
     once the floor has passed, the next row past the flush time flushes (same rows either way)."""
