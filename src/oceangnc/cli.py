@@ -15,9 +15,9 @@ import functools
 import importlib
 import json
 import os
-import signal
 import sys
 
+from .core.interrupts import terminate_like_ctrl_c
 from .errors import OceanGNCError, Terminated
 
 PLUGINS = (
@@ -264,7 +264,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     # a terminated run ends like Ctrl-C (its summary.json says interrupted); other commands keep the
     # default SIGTERM (a server or bridge blocked in its own threads must not outlive the signal)
-    previous = _on_sigterm_like_ctrl_c() if args.command == "run" else None
+    restore = terminate_like_ctrl_c() if args.command == "run" else None
     try:
         rc = _run_command(args)
     except OceanGNCError as e:
@@ -285,10 +285,8 @@ def main(argv: list[str] | None = None) -> int:
             pass
         rc = 0
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
-            signal.setitimer(signal.ITIMER_REAL, 0.0)
-            signal.signal(signal.SIGALRM, signal.SIG_DFL)
+        if restore is not None:
+            restore()
     if program and args.command == "run" and not args.plugin and os.environ.get("OCEANGNC_FAST_EXIT", "1") != "0":
         _fast_exit(rc)
     return rc
@@ -306,37 +304,6 @@ def _run_command(args) -> int:
         warnings.simplefilter("default")
         warnings.showwarning = show
         return int(args.func(args) or 0)
-
-
-def _on_sigterm_like_ctrl_c():
-    """Make SIGTERM raise :class:`~oceangnc.errors.Terminated` (a KeyboardInterrupt) in the main
-    thread, so a terminated command ends as Ctrl-C does (a run closes its log and writes
-    ``summary.json``); a second SIGTERM during that clean-up is ignored. A SIGTERM that arrives while
-    numba compiles is deferred until the compiler returns (an exception raised inside LLVM left the
-    process to crash at exit: SIGSEGV seen in CI). Returns the previous handler (``main`` restores
-    it), or None when not in the main thread."""
-
-    def compiling(frame) -> bool:  # numba / LLVM on the stack: an exception there can corrupt LLVM's state
-        while frame is not None:
-            if str(frame.f_globals.get("__name__", "")).startswith(("numba", "llvmlite")):
-                return True
-            frame = frame.f_back
-        return False
-
-    def handler(signum, frame):
-        if compiling(frame):  # end as soon as the compiler returns: look again in 0.1 s
-            signal.setitimer(signal.ITIMER_REAL, 0.1)
-            return
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        signal.signal(signal.SIGALRM, signal.SIG_IGN)
-        raise Terminated()
-
-    try:
-        previous = signal.signal(signal.SIGTERM, handler)
-        signal.signal(signal.SIGALRM, handler)  # the deferred look (only ever armed by the handler)
-    except ValueError:  # not the main thread of the interpreter
-        return None
-    return signal.SIG_DFL if previous is None else previous  # (None: a handler not set from Python)
 
 
 def _fast_exit(rc: int) -> None:

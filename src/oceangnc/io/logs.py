@@ -52,18 +52,16 @@ from __future__ import annotations
 import math
 import os
 import shutil
-import signal
 import sys
-import threading
 import time
 from collections.abc import Callable
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from ..core.interrupts import deferred
 from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text  # noqa: F401
 from ..errors import InputError
 
@@ -91,37 +89,6 @@ def _f64(a: np.ndarray) -> pa.Array:
     to check its argument, about 0.5 s of a run's start-up)."""
     a = np.ascontiguousarray(a, dtype=np.float64)
     return pa.Array.from_buffers(pa.float64(), len(a), [None, pa.py_buffer(a)])
-
-
-@contextmanager
-def _signals_after():
-    """Hold SIGINT and SIGTERM back for the body (main thread only) and deliver them to their handlers
-    after it. A KeyboardInterrupt raised between writing a part and counting it left the writer with
-    rows counted but no chunk to write (``close`` then failed: seen under load, issue 26)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    got: list[int] = []
-    prev = {}
-    try:
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            prev[sig] = signal.signal(sig, lambda signum, frame: got.append(signum))
-    except (ValueError, OSError):  # not settable here: run the body as it is
-        for sig, h in prev.items():
-            signal.signal(sig, signal.SIG_DFL if h is None else h)
-        yield
-        return
-    try:
-        yield
-    finally:
-        for sig, h in prev.items():
-            signal.signal(sig, signal.SIG_DFL if h is None else h)
-        for signum in got[:1]:
-            h = prev[signum]
-            if callable(h):
-                h(signum, None)
-            elif h == signal.SIG_DFL:
-                signal.raise_signal(signum)
 
 
 class LogWriter:
@@ -332,10 +299,10 @@ class LogWriter:
 
     def flush(self) -> None:
         """Write the buffered rows as one new part file (atomically). A Ctrl-C or SIGTERM that arrives
-        meanwhile is delivered when the part and the writer's counters agree (:func:`_signals_after`)."""
+        meanwhile is delivered when the part and the writer's counters agree (:func:`oceangnc.core.interrupts.deferred`)."""
         if not self.columns or not self._nbuf:
             return
-        with _signals_after():
+        with deferred():
             self._flush()
 
     def _flush(self) -> None:
