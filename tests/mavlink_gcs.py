@@ -158,3 +158,16 @@ def qgc_start_mission(g: GCS, seconds: float = 3.0) -> None:
     g.wait("HEARTBEAT", seconds, lambda m: m.base_mode & M.MAV_MODE_FLAG_SAFETY_ARMED)
     g.mav.command_long_send(1, 1, M.MAV_CMD_MISSION_START, 0, 0, 0, 0, 0, 0, 0, 0)
     assert g.ack(M.MAV_CMD_MISSION_START, seconds).result == M.MAV_RESULT_ACCEPTED
+
+
+def mavsdk_system(vehicle, seconds: float = 10.0):
+    """MAVSDK as a ground station (the ``mavsdk`` wheel's bundled core) connected to ``vehicle`` on
+    127.0.0.1; returns ``(sdk, system)``: the ``Mavsdk`` object (keep it alive while the system is used) and
+    the discovered autopilot (asserted found within ``seconds``)."""
+    from mavsdk import ComponentType, Configuration, Mavsdk
+
+    sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
+    sdk.add_any_connection(f"udpout://127.0.0.1:{vehicle.address[1]}")
+    system = sdk.first_autopilot(seconds)
+    assert system is not None, "MAVSDK found no autopilot"
+    return sdk, system

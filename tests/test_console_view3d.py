@@ -9,13 +9,12 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import httpx
 import numpy as np
 import pytest
-from console_server import free_port
+from console_server import console_server
 from view_helpers import first_line
 
 from oceangnc.view import frames
@@ -35,34 +34,9 @@ def _chromium() -> str | None:
 @pytest.fixture(scope="module")
 def console(tmp_path_factory):
     pytest.importorskip("fastapi", reason="the console needs oceangnc[console]")
-    port = free_port()
     out = tmp_path_factory.mktemp("console3d")
-    cmd = [sys.executable, "-m", "oceangnc", "console", "combined-survey", "--port", str(port), "--out", str(out)]
-    proc = subprocess.Popen(
-        [*cmd, "--token", TOKEN],
-        env=dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1"),
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 180
-        while True:
-            assert proc.poll() is None, "console server exited"
-            try:
-                if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            assert time.monotonic() < deadline, "console server did not start within 180 s"
-            time.sleep(0.5)
-        yield url
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            proc.kill()
+    with console_server(out, TOKEN, 180, scenario="combined-survey") as (port, _):
+        yield f"http://127.0.0.1:{port}"
 
 
 def _project(m: dict, world) -> tuple[float, float]:
@@ -234,26 +208,8 @@ def test_console_3d_panel_draws_the_waves_of_a_sea_state(tmp_path):
     _, cfg = resolve_config("tow-sea-state")
     field = cfg.environment.plant_kwargs(cfg.sim.seed)["waves"]
     hs = cfg.environment.waves.hs
-    port = free_port()
-    cmd = [sys.executable, "-m", "oceangnc", "console", "tow-sea-state", "--port", str(port), "--out", str(tmp_path)]
-    proc = subprocess.Popen(
-        [*cmd, "--token", TOKEN],
-        env=dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONUNBUFFERED="1"),
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 180
-        while True:
-            assert proc.poll() is None, "console server exited"
-            try:
-                if httpx.get(url + "/api/state", params={"token": TOKEN}, timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            assert time.monotonic() < deadline, "console server did not start within 180 s"
-            time.sleep(0.5)
+    with console_server(tmp_path, TOKEN, 180, scenario="tow-sea-state") as (port, _):
+        url = f"http://127.0.0.1:{port}"
         with sync_api.sync_playwright() as p:
             b = p.chromium.launch(executable_path=chromium, headless=True)
             try:
@@ -269,12 +225,6 @@ def test_console_3d_panel_draws_the_waves_of_a_sea_state(tmp_path):
                 assert not errors, errors
             finally:
                 b.close()
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            proc.kill()
     for patch in patches:
         g1 = patch["cells"] + 1
         i, j = np.meshgrid(np.arange(g1), np.arange(g1), indexing="ij")

@@ -9,6 +9,7 @@ import time
 
 import pytest
 
+from mavlink_gcs import mavsdk_system
 from oceangnc.mavlink.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -17,7 +18,6 @@ mavsdk = pytest.importorskip("mavsdk")
 
 
 def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
-    from mavsdk import ComponentType, Configuration, Mavsdk
     from mavsdk.plugins.action import Action
     from mavsdk.plugins.mission_raw import MissionItem, MissionRaw
     from mavsdk.plugins.telemetry import Telemetry
@@ -25,10 +25,7 @@ def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
     v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path)
     v.start()
     try:
-        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
-        system = sdk.first_autopilot(10.0)
-        assert system is not None
+        sdk, system = mavsdk_system(v)  # noqa: F841 (sdk kept alive)
         tel, act, mis = Telemetry(system), Action(system), MissionRaw(system)
         time.sleep(1.0)  # let telemetry arrive
         assert not tel.armed()  # disarmed at start
@@ -79,17 +76,13 @@ def test_mavsdk_mission_raw_arm_start_progress(tmp_path):
 def test_mavsdk_goto_location_and_return_to_launch(tmp_path):
     """MAVSDK's Action.goto_location (DO_SET_MODE GUIDED, then DO_REPOSITION as COMMAND_INT) and
     Action.return_to_launch (DO_SET_MODE RTL) succeed, and the boat goes there and back."""
-    from mavsdk import ComponentType, Configuration, Mavsdk
     from mavsdk.plugins.action import Action
     from mavsdk.plugins.telemetry import Telemetry
 
     v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path)
     v.start()
     try:
-        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
-        system = sdk.first_autopilot(10.0)
-        assert system is not None
+        sdk, system = mavsdk_system(v)  # noqa: F841 (sdk kept alive)
         tel, act = Telemetry(system), Action(system)
         time.sleep(1.0)
         act.arm()
@@ -116,7 +109,6 @@ def test_mavsdk_goto_location_and_return_to_launch(tmp_path):
 def test_mavsdk_armable_battery_and_version(tmp_path):
     """MAVSDK reports the vehicle armable (SYS_STATUS pre-arm check), a battery (the model: 8 LiFePO4 cells,
     full) and the package's version from AUTOPILOT_VERSION."""
-    from mavsdk import ComponentType, Configuration, Mavsdk
     from mavsdk.plugins.info import Info
     from mavsdk.plugins.telemetry import Telemetry
 
@@ -125,10 +117,7 @@ def test_mavsdk_armable_battery_and_version(tmp_path):
     v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=1.0, out_root=None)
     v.start()
     try:
-        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
-        system = sdk.first_autopilot(10.0)
-        assert system is not None
+        sdk, system = mavsdk_system(v)  # noqa: F841 (sdk kept alive)
         tel, info = Telemetry(system), Info(system)
         t_end = time.monotonic() + 10.0
         while time.monotonic() < t_end and not tel.health().is_armable:

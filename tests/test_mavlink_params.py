@@ -12,7 +12,7 @@ import time
 import pandas as pd
 import pytest
 
-from mavlink_gcs import GCS
+from mavlink_gcs import GCS, mavsdk_system
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 
@@ -116,16 +116,12 @@ def test_params_file_reloads_and_refuses(tmp_path, capsys):
 
 def test_mavsdk_set_and_get_param(tmp_path):
     pytest.importorskip("mavsdk")
-    from mavsdk import ComponentType, Configuration, Mavsdk
     from mavsdk.plugins.param import Param
 
     v = MavlinkVehicle("combined-survey", listen="udp:127.0.0.1:0", speed=1.0, out_root=tmp_path)
     v.start()
     try:
-        sdk = Mavsdk(Configuration.create_with_component_type(ComponentType.GROUND_STATION))
-        sdk.add_any_connection(f"udpout://127.0.0.1:{v.address[1]}")
-        system = sdk.first_autopilot(10.0)
-        assert system is not None
+        sdk, system = mavsdk_system(v)  # noqa: F841 (sdk kept alive)
         par = Param(system)
         assert par.get_param_float("WP_RADIUS") == pytest.approx(2.0)
         par.set_param_float("WP_RADIUS", 4.5)
