@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import socket
 import time
 
@@ -171,3 +172,20 @@ def mavsdk_system(vehicle, seconds: float = 10.0):
     system = sdk.first_autopilot(seconds)
     assert system is not None, "MAVSDK found no autopilot"
     return sdk, system
+
+
+@contextlib.contextmanager
+def served(scenario: str = "usv-remote", *, out_root=None, **kw):
+    """Yield ``(vehicle, gcs)``: a :class:`~oceangnc.mavlink.vehicle.MavlinkVehicle` serving ``scenario`` on a
+    free UDP port of 127.0.0.1 (``kw``: its ``speed``, ``mav`` overrides...) and a :class:`GCS` client of it;
+    both stopped at the end."""
+    from oceangnc.mavlink.vehicle import MavlinkVehicle
+
+    v = MavlinkVehicle(scenario, listen="udp:127.0.0.1:0", out_root=out_root, **kw)
+    v.start()
+    g = GCS(v.address)
+    try:
+        yield v, g
+    finally:
+        g.close()
+        v.stop()

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mavlink_gcs import GCS
+from mavlink_gcs import GCS, served
 from oceangnc import __version__
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -28,12 +28,8 @@ from oceangnc.mavlink.vehicle import MavlinkVehicle
 
 @pytest.fixture
 def vehicle(tmp_path):
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
-    v.start()
-    g = GCS(v.address)
-    yield v, g
-    g.close()
-    v.stop()
+    with served(out_root=tmp_path, speed=4.0) as vg:
+        yield vg
 
 
 def _count(g, kind, seconds):

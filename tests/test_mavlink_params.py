@@ -12,7 +12,7 @@ import time
 import pandas as pd
 import pytest
 
-from mavlink_gcs import GCS, mavsdk_system
+from mavlink_gcs import mavsdk_system, served
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 
@@ -32,12 +32,8 @@ def _set(g, name, value, kind=M.MAV_PARAM_TYPE_REAL32):
 
 @pytest.fixture
 def vehicle(tmp_path):
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=8.0, out_root=tmp_path)
-    v.start()
-    g = GCS(v.address)
-    yield v, g
-    g.close()
-    v.stop()
+    with served(out_root=tmp_path, speed=8.0) as vg:
+        yield vg
 
 
 def test_list_read_set_echo_refuse_and_effect(vehicle, tmp_path):

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mavlink_gcs import GCS
+from mavlink_gcs import GCS, served
 from oceangnc.mavlink.geo import latlon_to_ned, ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -18,12 +18,8 @@ from oceangnc.mavlink.vehicle import MavlinkVehicle
 
 @pytest.fixture
 def vehicle(tmp_path):
-    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
-    v.start()
-    g = GCS(v.address)
-    yield v, g
-    g.close()
-    v.stop()
+    with served(out_root=tmp_path, speed=4.0) as vg:
+        yield vg
 
 
 def _mode(g, num, seconds=3.0):

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from mavlink_gcs import GCS
+from mavlink_gcs import GCS, served
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 
@@ -18,12 +18,8 @@ MANUAL, HOLD, AUTO = 0, 4, 10
 
 @pytest.fixture
 def vehicle(tmp_path):
-    v = MavlinkVehicle("usv-remote", mav={"gcs_timeout_s": 1.0}, listen="udp:127.0.0.1:0", speed=2.0, out_root=None)
-    v.start()
-    g = GCS(v.address)
-    yield v, g
-    g.close()
-    v.stop()
+    with served(mav={"gcs_timeout_s": 1.0}, speed=2.0) as vg:
+        yield vg
 
 
 class Intruder(GCS):
