@@ -11,8 +11,9 @@ simulation* (class prediction: nothing in the file was fitted to either): Fossen
 otter.py of his Python Vehicle Simulator at the revision our file follows, run at the same thrusts
 (the run is stated in :data:`FOSSEN_RUN`; its numbers are constants here, the program is not part of
 oceangnc). Both deviate, for reasons measured by re-running his model with each of our choices in turn
-(docs/vehicles.md). No published *measured* turning circle of the Otter nor numeric step response of
-the BlueROV2 benchmark could be found and read (each case's note says so); none is invented.
+(docs/vehicles.md). The BlueROV2's steady forward speed at full thrust is a prediction against the
+manufacturer's rated speed. No published *measured* turning circle of the Otter nor numeric step
+response of the BlueROV2 benchmark could be found and read (each case's note says so); none is invented.
 """
 
 from __future__ import annotations
@@ -49,6 +50,12 @@ FOSSEN_TURN_D = 14.3536
 FOSSEN_HALF_U = 1.6388
 #: the BlueROV2's trials: a pure yaw moment through its allocation, and its 4 vertical thrusters at full
 ROV_YAW_NM = 1.0
+BLUE_SPEC = (
+    "Blue Robotics, BlueROV2 specifications (undated page, 2-D drawing of 2018), 'Performance' table: maximum "
+    "forward speed 1 m/s (2 knots), for the standard 6-thruster vehicle (bluerobotics.github.io "
+    "brov2/specifications.md at commit 010fce3d4c773d9905404d9e13e679cc79d67f4a); the Heavy has the same 4 "
+    "vectored horizontal thrusters"
+)
 _NO_OTTER_TURN = (
     "no published turning circle of the Otter was found: neither Fossen (2021) nor the otter.py / otter.m "
     "documentation of his MSS and Python Vehicle Simulator print a diameter for stated thrusts; the value is "
@@ -176,6 +183,54 @@ def rov_yaw_rate(r):
     ref = _quadratic_speed(vf.damping.linear[5], vf.damping.quadratic[5], ROV_YAW_NM)
     note = f"thrusts {', '.join(f'{x:.2f}' for x in f)} N (all within their limits); {_NO_ROV_STEP}"
     return history(float(rr[-1]), [("BlueROV2 Heavy, 1 N m yaw", t, rr)], "r [rad/s]", published=ref, note=note)
+
+
+def rov_forward_speed(r):
+    """Steady surge speed (m/s) of the BlueROV2 file with its 4 horizontal thrusters at full forward thrust
+    (the largest pure surge force the allocation gives, 4 x 51.48 N x cos 45 deg = 145.6 N), attitude held as
+    the pilot's STABILIZE mode does: open loop the benchmark's model diverges in pitch within a second at
+    1 m/s (the Munk moment (Z_wdot - X_udot) u w against W BG = 1.3 N m, docs/vehicles.md), so a PD on roll,
+    pitch, yaw rate and heave rate is added to the surge force through the allocation (RK4, 0.01 s)."""
+    from ...control.thrust_allocation import allocation_matrix
+    from ...models.vehicle import load_vehicle
+
+    vf = load_vehicle("bluerov2-heavy")
+    m = vehicle_model_with(vf, r.section("bluerov2-heavy"))
+    n = len(vf.thrusters)
+    A = allocation_matrix(vf)
+    hi = np.array([t.max_forward for t in vf.thrusters])
+    lo = -np.array([t.max_reverse for t in vf.thrusters])
+    horizontal = [i for i, t in enumerate(vf.thrusters) if abs(t.direction[2]) < 0.5]
+    force = sum(
+        hi[i] * abs(vf.thrusters[i].direction[0]) / np.linalg.norm(vf.thrusters[i].direction) for i in horizontal
+    )
+    dt, x, u_in = 0.01, np.zeros(m.nx), np.zeros(m.nu)
+    t = np.arange(1, 501) * dt
+    X = np.empty((t.size, m.nx))
+    for k in range(t.size):
+        phi, th, w, p, q, rr = x[3], x[4], x[8], x[9], x[10], x[11]
+        tau = np.array([force, 0.0, -40.0 * w, -20.0 * phi - 5.0 * p, -20.0 * th - 5.0 * q, -5.0 * rr])
+        u_in[:n] = np.clip(A @ tau, lo, hi)
+        k1 = m.deriv(x, u_in)
+        k2 = m.deriv(x + 0.5 * dt * k1, u_in)
+        k3 = m.deriv(x + 0.5 * dt * k2, u_in)
+        k4 = m.deriv(x + dt * k3, u_in)
+        x = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        X[k] = x
+    d_l, d_q = m.p[m.layout.index("D_L[0]")], m.p[m.layout.index("D_Q[0]")]
+    note = (
+        f"surge force {force:.1f} N (T200 at 16 V, 5.25 kgf each); pitch held at {np.degrees(X[-1, 4]):.2f} deg; "
+        f"closed form of the damping {_quadratic_speed(d_l, d_q, force):.4f} m/s; at the 9 kgf forward bollard "
+        f"thrust the same page prints, {_quadratic_speed(d_l, d_q, 9.0 * 9.80665):.3f} m/s"
+    )
+    return history(float(X[-1, 6]), [("BlueROV2 Heavy, full forward, attitude held", t, X[:, 6])], "u [m/s]", note=note)
+
+
+def vehicle_model_with(vf, overrides):
+    """The vehicle file's model with parameters changed by name (the runner's ``<vehicle>.<param>`` keys)."""
+    from ...models.vehicle import vehicle_model
+
+    return vehicle_model(vf).with_params(**overrides)
 
 
 def rov_heave_speed(r):
@@ -312,5 +367,19 @@ CASES: list[Case] = in_group(
             "sin 1.73 deg = 7.4 N forward (+0.096 m/s); in ours weight and buoyancy both act in G eta. His model "
             "without that force gives 1.5432 m/s, ours to 4 digits"
         ),
+    ),
+    Case(
+        "vehicle-bluerov2-rated-speed",
+        "BlueROV2 Heavy (file bluerov2-heavy.toml), 4 horizontal thrusters at full forward thrust, attitude held",
+        f"{BLUE_SPEC}; the model: {BENZON}",
+        "steady forward speed",
+        "m/s",
+        1.0,
+        "1 m/s (2 knots), the manufacturer's rating",
+        ("range", 0.77, 1.29),
+        "the rating is given in whole knots: 2 knots covers 1.5 … 2.5 knots = 0.77 … 1.29 m/s",
+        rov_forward_speed,
+        kind="prediction",
+        basis="Wu's (2018) surge damping from tank tests and the T200 data sheet's thrust; nothing fitted to the rating",
     ),
 )
