@@ -9,7 +9,7 @@ turning circle by Newton on the equations of motion, the ROV's speeds in closed 
 The Otter's turning circle and its speed at half thrust are also compared with the *authors'
 simulation* (class prediction: nothing in the file was fitted to either): Fossen's own Otter model,
 otter.py of his Python Vehicle Simulator at the revision our file follows, run at the same thrusts
-(the run is stated in :data:`FOSSEN_RUN`; its numbers are constants here, the program is not part of
+(the run and its numbers are in :mod:`._fossen_otter`; the program is not part of
 oceangnc). Both deviate, for reasons measured by re-running his model with each of our choices in turn
 (docs/vehicles.md). The BlueROV2's steady forward speed at full thrust is a prediction against the
 manufacturer's rated speed. No published *measured* turning circle of the Otter nor numeric step
@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import Case
+from . import _fossen_otter as fossen
 from ._common import history, in_group, plan
 
 FOSSEN_OTTER = "Fossen (2021), Handbook of Marine Craft Hydrodynamics and Motion Control, 2nd ed.: the Otter USV model"
@@ -37,17 +38,6 @@ FOSSEN_PVS = (
     "(2023-10-15, github.com/cybergalactic/PythonVehicleSimulator): the last revision with Y_v = 0 and the Munk "
     "moment in yaw neglected, as our file"
 )
-#: how the authors' simulation was run (the reference numbers below are its output)
-FOSSEN_RUN = (
-    "otter() of that commit (payload 25 kg at (0.05, 0, -0.35) m, rho 1026), shaft speeds held constant "
-    "(n_max = 103.931 rad/s gives k_pos n_max^2 = 119.682 N), stepped with its own dynamics() and attitudeEuler() "
-    "(forward Euler) at h = 0.02 s for 200 s from rest; the same at h = 0.005 s agrees to 1e-4"
-)
-#: the authors' simulation, left propeller at n_max, right stopped: steady circle read from the track after
-#: 150 s (= 2 U / r), with u = 1.5631 m/s, v = -0.3513 m/s, r = 0.22324 rad/s
-FOSSEN_TURN_D = 14.3536
-#: the authors' simulation, both propellers at n_max / sqrt 2 (59.841 N each): steady surge speed
-FOSSEN_HALF_U = 1.6388
 #: the BlueROV2's trials: a pure yaw moment through its allocation, and its 4 vertical thrusters at full
 ROV_YAW_NM = 1.0
 BLUE_SPEC = (
@@ -128,7 +118,7 @@ def otter_turning_circle(r):
 
 def otter_turn_fossen(r):
     """Steady turning-circle diameter (m) of the Otter's file, left propeller full (119.682 N), right stopped,
-    read from the simulated track after 150 s, for comparison with the authors' simulation (FOSSEN_TURN_D)."""
+    read from the simulated track after 150 s, for comparison with the authors' simulation (fossen.TURN_DIAMETER)."""
     m = _otter(r)
     t = np.arange(0.0, 200.0, 0.05)
     U = np.zeros((t.size, m.nu))
@@ -137,22 +127,25 @@ def otter_turn_fossen(r):
     late = t > 150.0
     d = 0.5 * (np.ptp(X[late, 0]) + np.ptp(X[late, 1]))
     u, v, rr = X[-1, 6], X[-1, 7], X[-1, 11]
+    fu, fv, fr = fossen.TURN_STEADY
     note = (
-        f"ours: u = {u:.3f} m/s, v = {v:.3f} m/s, r = {rr:.4f} rad/s; the authors' simulation: u = 1.563 m/s, "
-        f"v = -0.351 m/s, r = 0.2232 rad/s ({FOSSEN_RUN})"
+        f"ours: u = {u:.3f} m/s, v = {v:.3f} m/s, r = {rr:.4f} rad/s; the authors' simulation: u = {fu} m/s, "
+        f"v = {fv} m/s, r = {fr} rad/s ({fossen.RUN})"
     )
-    return plan(float(d), [("Otter file, left full, right stopped", X[:, 1], X[:, 0])], note=note)
+    north, east = np.array(fossen.TURN_TRACK).T
+    ref = [("Fossen's otter.py (95213c1), the same thrusts", east, north)]
+    return plan(float(d), [("Otter file, left full, right stopped", X[:, 1], X[:, 0])], ref, note=note)
 
 
 def otter_speed_fossen(r):
     """Steady surge speed (m/s) of the Otter's file with both propellers at half thrust (59.841 N each), for
-    comparison with the authors' simulation (FOSSEN_HALF_U)."""
+    comparison with the authors' simulation (fossen.HALF_THRUST_SPEED)."""
     m = _otter(r)
     t = np.arange(0.0, 120.0, 0.1)
     U = np.zeros((t.size, m.nu))
     U[:, :2] = OTTER_HALF_N
     X = m.simulate(t, U, np.zeros(m.nx), substeps=5)
-    note = f"ours: pitch {np.degrees(X[-1, 4]):.2f} deg; {FOSSEN_RUN}"
+    note = f"ours: pitch {np.degrees(X[-1, 4]):.2f} deg; {fossen.RUN}"
     return history(float(X[-1, 6]), [("Otter file, both propellers at half thrust", t, X[:, 6])], "u [m/s]", note=note)
 
 
@@ -325,10 +318,10 @@ CASES: list[Case] = in_group(
     Case(
         "vehicle-otter-turning-circle-fossen",
         "Otter USV (file otter.toml), left propeller at full forward thrust (119.7 N), right stopped",
-        f"{FOSSEN_PVS}; the run: {FOSSEN_RUN}",
+        f"{FOSSEN_PVS}; the run: {fossen.RUN}",
         "steady turning-circle diameter",
         "m",
-        FOSSEN_TURN_D,
+        fossen.TURN_DIAMETER,
         "14.35 m (the authors' simulation of their model, not a measurement)",
         ("rel", 0.05),
         "the reference is a simulation's output, exact to 1e-4 (h = 0.02 s and 0.005 s agree); 5 % covers the "
@@ -349,10 +342,10 @@ CASES: list[Case] = in_group(
     Case(
         "vehicle-otter-speed-fossen",
         "Otter USV (file otter.toml), both propellers at half thrust (59.84 N each, n = n_max / sqrt 2)",
-        f"{FOSSEN_PVS}; the run: {FOSSEN_RUN}",
+        f"{FOSSEN_PVS}; the run: {fossen.RUN}",
         "steady surge speed",
         "m/s",
-        FOSSEN_HALF_U,
+        fossen.HALF_THRUST_SPEED,
         "1.639 m/s (the authors' simulation of their model, not a measurement)",
         ("rel", 0.02),
         "the reference is a simulation's output, exact to 1e-4; surge is linear in both models (X_u u = thrust), "
