@@ -244,6 +244,44 @@ def test_rov_is_an_ardusub_vehicle_with_its_frame_modes_and_sticks(tmp_path, veh
     assert abs(p1[2] - z_alt) < 0.1
 
 
+def test_rov_takes_mavproxys_rc_override_with_ardusubs_channel_map(tmp_path):
+    """RC_CHANNELS_OVERRIDE as MAVProxy sends it (``rc 5 1700``: all 18 channels, 0 on those not overridden,
+    MAVProxy's mavproxy_rc.send_rc) flies the ROV by ArduSub's map: channel 5 forward, 6 lateral, 3 throttle
+    (above 1500 up), 4 yaw; a released channel (0) is neutral, not full down, and UINT16_MAX keeps its value.
+    In MANUAL and STABILIZE; refused out of range (PWM 3000); ``rc clear`` (all 0) stops the forces."""
+
+    def rc(lp, seconds=1.0, **chans):  # MAVProxy's override array: 18 channels, 0 = not overridden, resent
+        ch = [0] * 18
+        for k, v in chans.items():
+            ch[int(k[2:]) - 1] = v
+        for _ in range(round(seconds / 0.2)):
+            lp.mav.rc_channels_override_send(1, 1, *ch)
+            lp.run(0.2)
+
+    lp = Loop("rov-station-keeping", tmp_path)
+    try:
+        b = lp.v.sim.bus
+        lp.wait("HEARTBEAT", 1)
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        rc(lp, 4.0, ch5=1700)  # rc 5 1700: half forward (after the arming ramp)
+        fwd = float(b["vehicle.tau_X"])
+        assert fwd > 10.0 and b["vehicle.tau_Y"] == 0.0 and b["vehicle.tau_Z"] == 0.0 and b["vehicle.tau_N"] == 0.0
+        rc(lp, ch5=1900)  # full forward: twice the force of half
+        assert float(b["vehicle.tau_X"]) == pytest.approx(2.0 * fwd, rel=1e-6)
+        rc(lp, ch5=65535, ch3=1900, ch4=1600, ch6=1300)  # forward kept; up, yaw to starboard, lateral to port
+        assert float(b["vehicle.tau_X"]) == pytest.approx(2.0 * fwd, rel=1e-6)
+        assert b["vehicle.tau_Z"] < -10.0 and b["vehicle.tau_N"] > 0.0 and b["vehicle.tau_Y"] < -1.0
+        rc(lp, ch5=3000)  # out of range: refused, nothing changes
+        assert float(b["vehicle.tau_X"]) == pytest.approx(2.0 * fwd, rel=1e-6)
+        rc(lp)  # rc clear: every channel released
+        assert b["vehicle.tau_X"] == b["vehicle.tau_Y"] == b["vehicle.tau_Z"] == b["vehicle.tau_N"] == 0.0
+        assert lp.set_mode(1, STABILIZE) == M.MAV_RESULT_ACCEPTED
+        rc(lp, ch5=1700)
+        assert float(b["vehicle.tau_X"]) == pytest.approx(fwd, rel=1e-6)
+    finally:
+        lp.close()
+
+
 def test_rov_goes_to_a_guided_target_and_flies_a_mission(tmp_path):
     """The ROV through the same front end as the towed UUV: GUIDED to SET_POSITION_TARGET_LOCAL_NED (north,
     east, depth), reached within 0.3 m; then a 2-item AUTO mission, both items reached (MISSION_ITEM_REACHED

@@ -133,3 +133,60 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
     for n, e in [*pts[1:], (25.0, 5.0), (0.0, 0.0)]:  # the mission, MAVProxy's guided point, home
         assert (((df["usv.x"] - n) ** 2 + (df["usv.y"] - e) ** 2) ** 0.5).min() < 3.5
     assert df.loc[df["mavlink.mode"] == 15, "usv.u_d"].max() == pytest.approx(1.0, abs=1e-6)  # CRUISE_SPEED
+
+
+@pytest.mark.skipif(not os.path.exists(MAVPROXY), reason="mavproxy.py not installed")
+def test_mavproxy_rc_override_flies_the_rov(tmp_path):
+    """MAVProxy's own ``rc 5 1700`` (RC_CHANNELS_OVERRIDE, 18 channels, resent at 10 Hz) on the BlueROV2 of
+    rov-station-keeping (an ArduSub vehicle, MANUAL): a forward force by ArduSub's channel map, no heave force
+    from the channels MAVProxy leaves at 0, and ``rc clear`` takes it away."""
+    v = MavlinkVehicle("rov-station-keeping", listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
+    v.start()
+    cmd = [sys.executable, MAVPROXY, f"--master=udpout:127.0.0.1:{v.address[1]}", "--no-state",
+           "--target-system=1", "--default-modules=rc,arm,cmdlong"]  # fmt: skip
+    pr = subprocess.Popen(
+        cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=tmp_path
+    )
+    lines: queue.Queue = queue.Queue()
+    seen: list[str] = []
+    threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()
+
+    def expect(text, timeout):
+        t_end = time.monotonic() + timeout
+        while time.monotonic() < t_end:
+            try:
+                ln = lines.get(timeout=0.1)
+            except queue.Empty:
+                continue
+            seen.append(ln)
+            if text in ln:
+                return ln
+        raise AssertionError(f"MAVProxy did not print {text!r} within {timeout} s; output:\n{''.join(seen[-30:])}")
+
+    def send(line):
+        pr.stdin.write(line + "\n")
+        pr.stdin.flush()
+
+    def until(cond, timeout):
+        t_end = time.monotonic() + timeout
+        while time.monotonic() < t_end:
+            if cond():
+                return True
+            time.sleep(0.05)
+        return False
+
+    b = v.sim.bus
+    try:
+        expect("Detected vehicle 1:1", 60.0)
+        send("arm throttle")
+        expect("COMPONENT_ARM_DISARM: ACCEPTED", 15.0)
+        send("rc 5 1700")
+        assert until(lambda: b["vehicle.tau_X"] > 10.0, 15.0), b["vehicle.tau_X"]
+        assert b["vehicle.tau_Z"] == 0.0 and b["vehicle.tau_N"] == 0.0 and b["vehicle.tau_Y"] == 0.0
+        send("rc clear")
+        assert until(lambda: b["vehicle.tau_X"] == 0.0, 15.0), b["vehicle.tau_X"]
+        assert v.counts["rx_bad"] == 0
+    finally:
+        pr.kill()
+        pr.wait(10)
+        v.stop()

@@ -118,7 +118,8 @@ ACCEPTED = {
     "SET_MODE": "custom_mode = Rover mode number (table above)",
     "MANUAL_CONTROL": "x: surge, r: yaw, each -1000..1000 (INT16_MAX: axis unused)",
     "RC_CHANNELS_OVERRIDE": "chan1 steering, chan3 throttle, PWM 1100..1900 about 1500 (Rover convention); "
-    "0 / 65535: released",
+    "0 / 65535: released; an ArduSub system (a ROV, the towed UUV): chan5 forward, chan6 lateral, chan3 "
+    "throttle, chan4 yaw (ArduSub's map), 65535 kept, 0 neutral",
     "SET_POSITION_TARGET_GLOBAL_INT": "GUIDED destination (position targets in a global frame; GUIDED only)",
     "MISSION_COUNT / MISSION_ITEM_INT / MISSION_ITEM": "mission upload (vehicle requests with MISSION_REQUEST_INT); "
     "an item with current = 2 is a GUIDED destination",

@@ -13,6 +13,12 @@ modes themselves are flown by compiled laws (:mod:`oceangnc.control.ardusub`: ``
   ``<body>.stick_x/y/z/r`` in [-1, 1] in the pilot's modes, neutral in GUIDED and AUTO. A stick stream that
   stops for FS_PILOT_TIMEOUT (3 s, range 0.1-3 s as ArduSub's) is taken as neutral sticks with a warning
   (ArduSub's pilot-input failsafe with FS_PILOT_INPUT = 1, warn only; disarming is not offered).
+* **RC_CHANNELS_OVERRIDE** for this system (MAVProxy's ``rc 5 1700``, pymavlink's ArduSub example) with
+  ArduSub's default input map: channel 5 forward, 6 lateral, 3 throttle (up above 1500), 4 yaw, PWM 1100..1900
+  about 1500 to [-1, 1] (:data:`RC_STICK`); in the pilot's modes they set the same sticks as MANUAL_CONTROL.
+  A channel at UINT16_MAX keeps its value, 0 releases it to the radio, which a simulated vehicle has not:
+  neutral (MAVProxy sends 0 on every channel it does not override). Channels 1 (pitch) and 2 (roll) are not
+  flown: SubROV holds roll and pitch level in STABILIZE and gives no roll or pitch moment in MANUAL.
 * **GUIDED targets**: SET_POSITION_TARGET_GLOBAL_INT (lat/lon and alt; in a relative-altitude frame the
   depth is -alt, in an AMSL frame origin altitude - alt) and SET_POSITION_TARGET_LOCAL_NED (x, y, z about
   the origin, z the depth), each axis unless its type_mask bit says ignored; DO_REPOSITION (lat/lon,
@@ -47,6 +53,11 @@ PILOT_MODES = (MANUAL, STABILIZE, ACRO, ALT_HOLD, POSHOLD, SURFACE)
 #: depth tolerance of a mission item, m (ours: ArduSub has no separate one)
 DEPTH_ACCEPT_M = 0.5
 INT16_MAX = 32767
+#: ArduSub's default RC input map (RCMAP_FORWARD 5, RCMAP_LATERAL 6, RCMAP_THROTTLE 3, RCMAP_YAW 4):
+#: channel -> index of the stick [x forward, y lateral, z up, r yaw]
+RC_STICK = {5: 0, 6: 1, 3: 2, 4: 3}
+#: ArduSub's RC range about its trim (RCn_MIN 1100, RCn_TRIM 1500, RCn_MAX 1900), and the PWM accepted
+RC_TRIM, RC_HALF_RANGE, RC_ACCEPT = 1500, 400.0, (800, 2200)
 _RELATIVE = (M.MAV_FRAME_GLOBAL_RELATIVE_ALT, M.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
 _GLOBAL = (M.MAV_FRAME_GLOBAL, M.MAV_FRAME_GLOBAL_INT, *_RELATIVE)
 
@@ -158,6 +169,21 @@ class SubAutopilot(MissionMixin):
             self.stick = [x, y, (z - 500) / 500.0, r]
             self.t_stick = self.v.clock()
             self.stick_flowing = True
+
+    def rc_override(self, m) -> None:
+        """RC_CHANNELS_OVERRIDE to this system: channels 5, 6, 3, 4 (ArduSub's map, :data:`RC_STICK`) set the
+        sticks in the pilot's modes; UINT16_MAX keeps a channel, 0 (released, no radio) is neutral."""
+        pwm = {ch: getattr(m, f"chan{ch}_raw") for ch in RC_STICK}
+        if any(v not in (0, 65535) and not (RC_ACCEPT[0] <= v <= RC_ACCEPT[1]) for v in pwm.values()):
+            self.v._oor(f"RC_CHANNELS_OVERRIDE to {self.sysid}: " + " ".join(f"ch{c}={v}" for c, v in pwm.items()))
+            return
+        if self.mode not in PILOT_MODES:
+            return
+        for ch, v in pwm.items():
+            if v != 65535:
+                self.stick[RC_STICK[ch]] = 0.0 if v == 0 else max(-1.0, min(1.0, (v - RC_TRIM) / RC_HALF_RANGE))
+        self.t_stick = self.v.clock()
+        self.stick_flowing = True
 
     def watchdog(self, now: float, gcs: bool = False) -> None:
         """ArduSub's pilot-input failsafe: a stick stream that stopped for FS_PILOT_TIMEOUT: sticks neutral.

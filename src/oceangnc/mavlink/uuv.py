@@ -101,6 +101,10 @@ class UUVMixin:
             self._take_control(m)
             self._link_alive(m)
             sub.manual_control(m)
+        elif kind == "RC_CHANNELS_OVERRIDE":
+            self._take_control(m)
+            self._link_alive(m)
+            sub.rc_override(m)
         elif kind == "SET_POSITION_TARGET_GLOBAL_INT":
             self._take_control(m)
             sub.set_position_target_global_int(m)
