@@ -206,15 +206,17 @@ def test_field_leg_time_deviation_is_the_surge_damping_fitted_to_fig_2_7(runner)
 
 def test_otter_prediction_against_the_authors_model_moves_with_an_unfitted_coefficient():
     """Class prediction against the authors' simulation (docs/vehicles.md): the Otter file's turning circle is
-    held to Fossen's own simulation of his model (14.35 m), not to our equations. Its nonlinear yaw damping
-    N_r|r| (Fossen's 10 N_r plus the cross-flow term; fitted to nothing) 20 % higher or lower moves the diameter
-    by 9-10 % (10.39 -> 11.34 / 9.33 m), and the case stays a documented deviation: a 20 % change of an unfitted
-    coefficient does not close the 28 % gap, which the model's structure (cross-flow form, C_A terms) makes.
-    The analytic turning-circle check, whose reference is computed from the same coefficients, passes at each."""
+    held to Fossen's own simulation of his model (14.35 m), not to our equations. The file expresses his model
+    term by term (Munk pair, cross-flow strip integral, loading) and turns at 12.89 m (-10.2 %: his body-axis
+    payload force, his strip sum and his inertia, each measured). Its nonlinear yaw damping N_r|r| = 10 N_r
+    (Fossen's rule, fitted to nothing) 20 % higher or lower moves the diameter by 6-7 % (12.03 / 13.68 m):
+    +20 % would bring it inside the authors' +-5 %, so the case resolves 20 % of an unfitted coefficient and a
+    fit of N_r|r| could have hidden the named residuals; none was made. The analytic turning-circle check,
+    whose reference is computed from the same coefficients, passes at each."""
     by = {c.id: c for c in CASES}
     pred, ana = by["vehicle-otter-turning-circle-fossen"], by["vehicle-otter-turning-circle"]
     assert pred.kind == "prediction" and pred.deviation and "95213c1" in pred.source
-    n_rr = 454.05234375  # otter.toml damping.quadratic[5]
+    n_rr = 412.993505859375  # otter.toml damping.quadratic[5]
     out = {}
     for f in (0.8, 1.0, 1.2):
         r = Runner({"otter.D_Q[5]": f * n_rr})
@@ -225,11 +227,11 @@ def test_otter_prediction_against_the_authors_model_moves_with_an_unfitted_coeff
                 assert a.status == "pass" and a.measured.value == pytest.approx(a.published, rel=0.01)
         finally:
             r.close()
-    assert {o.status for o in out.values()} == {"deviation"}
-    assert out[1.0].measured.value == pytest.approx(10.39, abs=0.01)
-    assert out[1.2].measured.value > 1.08 * out[1.0].measured.value
-    assert out[0.8].measured.value < 0.92 * out[1.0].measured.value
-    assert out[1.2].measured.value < pred.bounds(pred.published)[0]  # still outside the authors' +-5 %
+    assert out[1.0].status == "deviation" and out[0.8].status == "deviation"
+    assert out[1.0].measured.value == pytest.approx(12.89, abs=0.01)
+    assert out[1.2].measured.value > 1.05 * out[1.0].measured.value
+    assert out[0.8].measured.value < 0.95 * out[1.0].measured.value
+    assert out[1.2].status == "pass"  # 20 % of an unfitted coefficient spans the authors' +-5 %
 
 
 def test_bluerov2_rated_speed_fails_when_its_unfitted_surge_drag_doubles():

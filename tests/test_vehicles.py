@@ -14,9 +14,11 @@ from oceangnc.models.vehicle import (
     P_DL,
     P_DQ,
     P_DU,
+    hoerner_cd,
     load_vehicle,
     shipped_vehicles,
     thruster_matrix,
+    vehicle_deriv,
     vehicle_energy,
     vehicle_model,
 )
@@ -44,18 +46,22 @@ def test_the_003_uuv_in_the_generic_form_flies_like_its_dedicated_model():
         assert np.ptp(a[:, 0]) > 1.0  # the manoeuvre moved the vehicle
 
 
+@pytest.mark.parametrize("munk", [1.0, 0.0], ids=["full-C_A", "munk-yaw-neglected"])
 @pytest.mark.parametrize("name", ["bluerov2-heavy", "otter", "uuv-003"])
-def test_kinetic_energy_is_conserved_without_damping_thrust_or_restoring_work(name):
-    """Physical law: C_RB and C_A are skew-symmetric, so with D = 0, no thrust, and weight and buoyancy
-    balanced at one point (no restoring work) 1/2 nu^T M nu stays constant (RK4: to its order)."""
+def test_kinetic_energy_is_conserved_without_damping_thrust_or_restoring_work(name, munk):
+    """Physical law: C_RB and C_A are skew-symmetric, so with D = 0 (cross-flow drag too), no thrust, and
+    weight and buoyancy balanced at one point (no restoring work) 1/2 nu^T M nu stays constant (RK4: to its
+    order). With the Munk moment in yaw neglected (munk_yaw = 0, the Otter's file) C_A drops it with its
+    surge and sway partners and stays skew-symmetric: dropping the yaw moment alone did work ~ u v r."""
     m = vehicle_model(name)
     p = m.p.copy()
     p[P_DL : P_DL + 36] = 0.0
     p[P_DQ : P_DQ + 6] = 0.0
     p[P_DU : P_DU + 36] = 0.0
     lay = m.layout
+    p[lay.index("cf_strips")] = 0.0
     p[lay.index("linear_restoring")] = 0.0
-    p[lay.index("munk_yaw")] = 1.0  # the full C_A (the Otter's file drops its Munk moment)
+    p[lay.index("munk_yaw")] = munk
     p[lay.index("B")] = p[lay.index("W")]
     p[lay.block("r_b")] = p[lay.block("r_g")]
     x0 = np.zeros(m.nx)
@@ -68,9 +74,64 @@ def test_kinetic_energy_is_conserved_without_damping_thrust_or_restoring_work(na
     # and with its damping back (restoring still neutral), kinetic energy is dissipated
     for blk in (slice(P_DL, P_DL + 36), slice(P_DQ, P_DQ + 6), slice(P_DU, P_DU + 36)):
         p[blk] = m.p[blk]
+    p[lay.index("cf_strips")] = m.p[lay.index("cf_strips")]
     X = m.simulate(t, np.zeros((t.size, m.nu)), x0, substeps=50, p=p)
     e = np.array([vehicle_energy(x, p) for x in X])
     assert e[-1] < 0.5 * e[0] and np.all(np.diff(e) <= 1e-9 * e[0])
+
+
+def _crossflow_only(vf_text, tmp_path):
+    """Parameters of a file with only its cross-flow drag left, M^-1 = I: dnu/dt is then the cross-flow force."""
+    m = vehicle_model(load_vehicle(_write(tmp_path, vf_text)))
+    p = m.p.copy()
+    lay = m.layout
+    for k in ("M_RB", "M_A", "D_L", "D_Q", "D_U", "G_lin"):
+        p[lay.block(k)] = 0.0
+    p[lay.block("M_inv")] = np.eye(6).ravel()
+    return m, p
+
+
+def _crossflow_force(m, p, v, r):
+    x = np.zeros(m.nx)
+    x[7], x[11] = v, r
+    out = np.zeros(m.nx)
+    vehicle_deriv(0.0, x, np.zeros(m.nu), p, out)
+    return out[6:12]
+
+
+def test_crossflow_drag_strip_integral_against_closed_forms(tmp_path):
+    """The cross-flow drag of [damping.crossflow] (strip theory, Fossen 2021 ch. 6; Hoerner 1965) against
+    integrals done by hand. Otter's pontoon: L = 2 m, B = 0.25 m, T = 0.19493 m, so B / (2 T) = 0.64125 and
+    Hoerner's C_d interpolates linearly between his points (0.5585, 1.0836) and (0.6464, 0.9986).
+    Pure sway: Y = -1/2 rho C_d T L v|v| exactly (the integrand is constant). Pure yaw about a centred hull:
+    N = -1/2 rho C_d T r|r| int x^2 |x| dx = -... L^4 / 32, which the midpoint rule on n (even) strips gives
+    as L^4 / 32 (1 - 2 / n^2) (Euler-Maclaurin, exact for a cubic). A hull 0.3 m forward of CO in pure sway
+    feels the sway force at its centre: N = 0.3 Y."""
+    rho, L, T = 1026.0, 2.0, 0.1949317738791423
+    cd = 1.0836 + (0.25 / (2 * T) - 0.5585) / (0.6464 - 0.5585) * (0.9986 - 1.0836)
+    assert hoerner_cd(0.25, T) == pytest.approx(cd, rel=1e-12)
+    k = 0.5 * rho * cd * T
+    m, p = _crossflow_only(_otter_text(), tmp_path)
+    for v in (0.7, -1.3):
+        f = _crossflow_force(m, p, v, 0.0)
+        assert f[1] == pytest.approx(-k * L * v * abs(v), rel=1e-12)
+        assert abs(f[5]) < 1e-12 and np.all(f[[0, 2, 3, 4]] == 0.0)
+    for r, n in ((0.4, 20), (-0.9, 20), (0.4, 200)):
+        text = _otter_text().replace("strips = 20", f"strips = {n}")
+        mn, pn = _crossflow_only(text, tmp_path)
+        f = _crossflow_force(mn, pn, 0.0, r)
+        exact = -k * r * abs(r) * L**4 / 32
+        assert f[5] == pytest.approx(exact * (1 - 2 / n**2), rel=1e-12)
+        assert abs(f[1]) < 1e-12  # symmetric hull: the fore and aft sway forces cancel
+    assert f[5] == pytest.approx(exact, rel=1e-4)  # 200 strips: the integral itself
+    # sway and yaw rate couple through (v + x r)|v + x r|, which a diagonal D_Q cannot hold
+    f_both = _crossflow_force(m, p, 0.5, 0.4)
+    f_sum = _crossflow_force(m, p, 0.5, 0.0) + _crossflow_force(m, p, 0.0, 0.4)
+    assert abs(f_both[5] - f_sum[5]) > 0.1 * abs(f_sum[5])
+    text = _otter_text().replace("strips = 20", "strips = 20\nx_center = 0.3")
+    mx, px = _crossflow_only(text, tmp_path)
+    f = _crossflow_force(mx, px, 0.8, 0.0)
+    assert f[1] == pytest.approx(-k * L * 0.64, rel=1e-12) and f[5] == pytest.approx(0.3 * f[1], rel=1e-12)
 
 
 def test_shipped_vehicles_are_models_by_name():

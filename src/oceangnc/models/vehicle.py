@@ -13,13 +13,26 @@ nu_r = nu - [R^T v_c; 0]:
   must be symmetric and M_RB + M_A positive definite (checked; a file that is not is refused).
 * C_RB, C_A: Kirchhoff's momentum form C(nu) nu = [w x p1; v x p1 + w x p2], p = M nu (Fossen eq.
   6.43-6.44, :func:`oceangnc.models.rigid_body.kirchhoff`): skew-symmetric, so with damping and
-  thrust off and no restoring work the model conserves 1/2 nu^T M nu (tested). A file may drop the
+  thrust off and no restoring work the model conserves 1/2 nu^T M nu (tested). A file may neglect the
   Munk moment in yaw of C_A (``added_mass.munk_yaw_moment = false``, as Fossen's Otter model does:
-  destabilising, balanced in reality by lift the model lacks); the form then no longer conserves it.
-* D(nu_r) nu_r = D_L nu_r + D_Q |nu_r| nu_r (diagonal) + |u_r| D_U nu_r: linear damping (full or
-  diagonal), quadratic drag, and a speed-proportional matrix for body lift and fins (the Prestero
+  destabilising, balanced in reality by lift the model lacks). It is dropped with its partners, the
+  surge and sway terms of the same translational added momentum m = M_A [nu_r; 0]: -(u_r m_1 - v_r m_0)
+  in yaw, r m_1 in surge and -r m_0 in sway (C_A's entries (6, 1-2) and (1-2, 6) as a skew pair, as
+  Fossen's otter.py zeroes them), so C_A stays skew-symmetric and kinetic energy is still conserved (tested).
+* D(nu_r) nu_r = D_L nu_r + D_Q |nu_r| nu_r (diagonal) + |u_r| D_U nu_r + cross-flow drag: linear damping
+  (full or diagonal), quadratic drag, a speed-proportional matrix for body lift and fins (the Prestero
   terms of the 003 UUV). Positive matrices oppose the motion (Fossen's sign convention: D > 0; the
-  hydrodynamic derivatives are X_u = -D_L[0, 0] ...).
+  hydrodynamic derivatives are X_u = -D_L[0, 0] ...). The optional cross-flow drag (``[damping.crossflow]``)
+  is the strip integral of the cross-flow drag principle (Fossen 2021, ch. 6, nonlinear damping; his
+  Otter model uses it) over the hull length L with 2-D drag coefficient C_d (Hoerner 1965's curve of C_d against B / (2 T), or
+  given):
+
+      Y = -1/2 rho T C_d  int_L (v_r + x r)|v_r + x r| dx,    N = -1/2 rho T C_d  int_L x (v_r + x r)|v_r + x r| dx
+
+  evaluated by the midpoint rule on n strips of width L / n (a fixed n; pure sway is then exact,
+  Y = -1/2 rho T C_d L v_r|v_r|, and pure yaw of a hull centred on CO with n even is -1/2 rho T C_d
+  (L^4 / 32)(1 - 2 / n^2) r|r| against the integral's L^4 / 32; both tested). It couples sway and yaw rate, which a diagonal
+  D_Q cannot.
 * g(eta): ``restoring = "submerged"``: weight W at r_g and buoyancy B at r_b (Fossen eq. 4.6, 003
   A-13); ``restoring = "linear"``: G eta with a 6 x 6 spring matrix (a surface craft: heave, roll,
   pitch stiffness rho g A_wp, rho g nabla GM_T, rho g nabla GM_L, Fossen eq. 4.50), eta's heave
@@ -74,7 +87,15 @@ LAYOUT_HEAD = ParamLayout(
         Param("D_L", "N s/m ...", 36, description="linear damping matrix (positive opposes motion)"),
         Param("D_Q", "kg/m, kg m^2", 6, description="quadratic drag, diagonal"),
         Param("D_U", "kg/m ...", 36, description="speed-proportional damping, times |u_r|"),
-        Param("munk_yaw", "1", description="1: keep the Munk moment in yaw of C_A, 0: neglect it (Fossen's Otter)"),
+        Param(
+            "munk_yaw",
+            "1",
+            description="1: keep the Munk moment in yaw of C_A, 0: neglect it with its surge/sway partners (Fossen's Otter)",
+        ),
+        Param("cf_coeff", "kg/m^2", description="cross-flow drag per unit length and U|U|: 1/2 rho C_d T (0: none)"),
+        Param("cf_x0", "m", description="x of the first (aftmost) strip's centre from CO"),
+        Param("cf_dx", "m", description="strip width L / n"),
+        Param("cf_strips", "1", derived=True, description="number of cross-flow strips n (0: no cross-flow drag)"),
         Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
     ]
 )
@@ -82,6 +103,7 @@ P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b
 P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
     "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "munk_yaw", "n_thrusters"
 )
+P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
 T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU = range(NT)
 
@@ -108,8 +130,15 @@ def vehicle_deriv(t, x, u, p, out):
     wr = w - wcb
     f0, f1, f2, f3, f4, f5 = kirchhoff(p, P_MRB, uu, v, w, pp, q, r)
     a0, a1, a2, a3, a4, a5 = kirchhoff(p, P_MA, ur, vr, wr, pp, q, r)
-    if p[P_MUNK].real == 0.0:  # drop the yaw moment of the translational added momentum (Munk moment)
-        a5 += ur * row6(p, P_MA + 6, ur, vr, wr, 0.0, 0.0, 0.0) - vr * row6(p, P_MA, ur, vr, wr, 0.0, 0.0, 0.0)
+    if p[P_MUNK].real == 0.0:
+        # neglect the Munk moment in yaw, -(u_r m1 - v_r m0), with its partners in surge and sway, r m1 and
+        # -r m0 (m = M_A [nu_r; 0], the translational added momentum): the pair of C_A entries (5, 0-1) and
+        # (0-1, 5) goes together, so C_A stays skew-symmetric and does no work (Fossen 2021, the Otter model)
+        m0 = row6(p, P_MA, ur, vr, wr, 0.0, 0.0, 0.0)
+        m1 = row6(p, P_MA + 6, ur, vr, wr, 0.0, 0.0, 0.0)
+        a0 -= r * m1
+        a1 += r * m0
+        a5 += ur * m1 - vr * m0
     tau = out[6:12]  # the generalised force is summed in place, then M^-1 is applied
     tau[0] = f0 + a0
     tau[1] = f1 + a1
@@ -129,6 +158,19 @@ def vehicle_deriv(t, x, u, p, out):
         tau[i] -= row6(p, P_DL + 6 * i, ur, vr, wr, pp, q, r)
         tau[i] -= p[P_DQ + i] * nr[i] * cabs(nr[i])
         tau[i] -= au * row6(p, P_DU + 6 * i, ur, vr, wr, pp, q, r)
+    ns = int(p[P_CFN].real)
+    if ns > 0:  # cross-flow drag by strip theory (module docstring), midpoint rule on ns strips
+        kdx = p[P_CFK] * p[P_CFDX]
+        yh = 0.0 * vr
+        nh = 0.0 * vr
+        for i in range(ns):
+            xi = p[P_CFX0] + i * p[P_CFDX]
+            vx = vr + xi * r
+            f = kdx * vx * cabs(vx)
+            yh -= f
+            nh -= xi * f
+        tau[1] += yh
+        tau[5] += nh
     if p[P_LINR].real != 0.0:
         for i in range(6):
             tau[i] -= row6(p, P_GLIN + 6 * i, x[0], x[1], x[2], x[3], x[4], x[5])
@@ -218,8 +260,45 @@ class AddedMass(StrictModel):
         description="added mass (positive: -X_udot, -Y_vdot, ...), diagonal or 6 x 6, kg, kg m, kg m^2"
     )
     munk_yaw_moment: bool = Field(
-        True, description="keep the destabilising Munk moment in yaw (false: neglected, as Fossen's Otter model)"
+        True,
+        description="keep the destabilising Munk moment in yaw (false: neglected with its surge and sway partners, "
+        "C_A stays skew-symmetric, as Fossen's Otter model)",
     )
+
+
+#: Hoerner's 2-D cross-flow drag coefficient of a rectangular section against B / (2 T): Hoerner (1965),
+#: Fluid-Dynamic Drag, ch. 3 (blunt sections), the curve as digitised in Fossen (2021) and his Python Vehicle
+#: Simulator (``Hoerner(B, T)``), published numbers, linear interpolation between them, clamped at the ends
+HOERNER_B_2T = np.array(
+    [0.0109, 0.1766, 0.3530, 0.4519, 0.4728, 0.4929, 0.4933, 0.5585, 0.6464, 0.8336,
+     0.9880, 1.3081, 1.6392, 1.8600, 2.3129, 2.6000, 3.0088, 3.4508, 3.7379, 4.0031]
+)  # fmt: skip
+HOERNER_CD = np.array(
+    [1.9661, 1.9657, 1.8976, 1.7872, 1.5837, 1.2786, 1.2108, 1.0836, 0.9986, 0.8796,
+     0.8284, 0.7599, 0.6914, 0.6571, 0.6307, 0.5962, 0.5868, 0.5859, 0.5599, 0.5593]
+)  # fmt: skip
+
+
+def hoerner_cd(beam: float, draft: float) -> float:
+    """2-D cross-flow drag coefficient of a section of beam B and draft T from Hoerner's curve at B / (2 T)
+    (:data:`HOERNER_CD`; Hoerner 1965, as used by Fossen 2021 for the cross-flow drag integral)."""
+    return float(np.interp(beam / (2.0 * draft), HOERNER_B_2T, HOERNER_CD))
+
+
+class CrossFlow(StrictModel):
+    """Cross-flow drag of a hull by strip theory (module docstring; Fossen 2021 ch. 6, Hoerner 1965)."""
+
+    length: float = Field(gt=0, le=500, description="hull length L integrated over, m")
+    beam: float = Field(gt=0, le=100, description="beam B of the section for Hoerner's curve (one hull), m")
+    draft: float = Field(gt=0, le=50, description="draft T, the projected height per unit length, m")
+    cd: float | None = Field(None, ge=0, le=5, description="2-D drag coefficient; default Hoerner's curve at B / (2 T)")
+    x_center: float = Field(0.0, ge=-250, le=250, description="x of the hull's mid-length from CO, m")
+    strips: int = Field(20, ge=1, le=200, description="number of strips of the midpoint rule")
+
+    def coefficient(self, rho: float) -> float:
+        """1/2 rho C_d T (kg/m^2): the drag per unit length of U|U|."""
+        cd = hoerner_cd(self.beam, self.draft) if self.cd is None else self.cd
+        return 0.5 * rho * cd * self.draft
 
 
 class Damping(StrictModel):
@@ -230,6 +309,7 @@ class Damping(StrictModel):
     speed: tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
         None, description="D_U, 6 x 6, multiplied by |u_r| (body lift, fins)"
     )
+    crossflow: CrossFlow | None = Field(None, description="cross-flow drag of the hull by strip theory (optional)")
 
 
 class Thruster(StrictModel):
@@ -381,6 +461,7 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
     B = h.rho * G * h.volume if h.volume is not None else W
     mrb = rigid_body_matrix(vf.rigid_body)
     ma = _matrix6(vf.added_mass.M_A, "added_mass.M_A")
+    cf = vf.damping.crossflow
     head = LAYOUT_HEAD.pack(
         {
             "W": W,
@@ -396,6 +477,10 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "D_Q": vf.damping.quadratic,
             "D_U": np.asarray(vf.damping.speed, float) if vf.damping.speed is not None else np.zeros((6, 6)),
             "munk_yaw": 1.0 if vf.added_mass.munk_yaw_moment else 0.0,
+            "cf_coeff": cf.coefficient(h.rho) if cf is not None else 0.0,
+            "cf_x0": cf.x_center - 0.5 * cf.length + 0.5 * cf.length / cf.strips if cf is not None else 0.0,
+            "cf_dx": cf.length / cf.strips if cf is not None else 0.0,
+            "cf_strips": cf.strips if cf is not None else 0,
             "n_thrusters": len(vf.thrusters),
         }
     )

@@ -10,8 +10,9 @@ The Otter's turning circle and its speed at half thrust are also compared with t
 simulation* (class prediction: nothing in the file was fitted to either): Fossen's own Otter model,
 otter.py of his Python Vehicle Simulator at the revision our file follows, run at the same thrusts
 (the run and its numbers are in :mod:`._fossen_otter`; the program is not part of
-oceangnc). Both deviate, for reasons measured by re-running his model with each of our choices in turn
-(docs/vehicles.md). The BlueROV2's steady forward speed at full thrust is a prediction against the
+oceangnc). The file expresses his model term by term (his loading, his Munk-pair neglect, his cross-flow
+strip integral); both cases still deviate, for reasons measured by re-running his model with each remaining
+difference in turn (docs/vehicles.md). The BlueROV2's steady forward speed at full thrust is a prediction against the
 manufacturer's rated speed. No published *measured* turning circle of the Otter nor numeric step
 response of the BlueROV2 benchmark could be found and read (each case's note says so); none is invented.
 """
@@ -324,19 +325,19 @@ CASES: list[Case] = in_group(
         fossen.TURN_DIAMETER,
         "14.35 m (the authors' simulation of their model, not a measurement)",
         ("rel", 0.05),
-        "the reference is a simulation's output, exact to 1e-4 (h = 0.02 s and 0.005 s agree); 5 % covers the "
-        "loading that differs between that revision and our file (his payload 5 cm further forward, rho 1026): "
-        "2.5 % when his model is re-run with ours",
+        "the reference is a simulation's output, exact to 1e-4 (h = 0.02 s and 0.005 s agree); 5 % was set for "
+        "loading differences (worth 2.5 %) and is kept unchanged now that the file has his loading",
         otter_turn_fossen,
         kind="prediction",
         basis="the authors' simulation of their published model; nothing in the file was fitted to a turn",
         deviation=(
-            "ours turns tighter (10.4 m against 14.4 m): re-running his model with each of our choices in turn "
-            "gives 13.57 m when his C_A keeps the surge and sway terms X_udot u r, Y_vdot v r of the dropped Munk "
-            "moment (ours drops only the yaw moment), 11.49 m with our diagonal cross-flow drag (ours: 200 v|v|, "
-            "50 r|r|, C_d = 1 on one pontoon; his: the strip integral of (v + x r)|v + x r| with Hoerner's C_d), "
-            "10.82 m without his body-axis payload force (see vehicle-otter-speed-fossen) and 10.55 m with our "
-            "loading; the last 1.5 % is the inertia about the combined CG and the Kirchhoff form of C_RB (ours)"
+            "ours turns tighter (12.89 m against 14.35 m, -10.2 %). The file has his loading, his neglect of the "
+            "Munk pair and his cross-flow strip integral; his program re-run with the differences that remain, in "
+            "turn, gives 13.31 m without his body-axis payload force (an artefact of his code, not copied: see "
+            "vehicle-otter-speed-fossen; -7.2 %), 13.08 m with the cross-flow integral by the midpoint rule (his "
+            "sum weights 21 stations, both ends included, by L / 20: 5 % more sway force and 21 % more pure-yaw "
+            "moment than the integral; -1.7 %) and 12.89 m with the file's inertia about the combined CG (his I_g "
+            "already holds the parallel-axis terms to CO, which M_RB = H^T M_CG H adds again; -1.5 %), ours to 1e-5"
         ),
     ),
     Case(
@@ -349,7 +350,7 @@ CASES: list[Case] = in_group(
         "1.639 m/s (the authors' simulation of their model, not a measurement)",
         ("rel", 0.02),
         "the reference is a simulation's output, exact to 1e-4; surge is linear in both models (X_u u = thrust), "
-        "so the loading differences move it by less than 0.5 %; 2 % also holds the thrust rounding",
+        "and the file has his loading; 2 % also holds the thrust rounding",
         otter_speed_fossen,
         kind="prediction",
         basis="the authors' simulation at a thrust other than the calibration point (U_max at full thrust)",
