@@ -199,3 +199,54 @@ def test_fast_exit_keeps_every_output(tmp_path):
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout.strip().splitlines()[-1])["status"] == "ok"
     assert (tmp_path / "atexit").read_text() == "ran"
+
+
+AHEAD = """
+import json, os, sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+from oceangnc.core import caches
+import kern
+out = {"outside": caches.compile_ahead([(kern.f, (np.zeros(3), 2))]) is not None}
+with caches.ahead_of_time():
+    jobs = [(kern.f, (np.zeros(3), 2))] + ([(kern.bad, ("text",))] if sys.argv[2] == "1" else [])
+    h = caches.compile_ahead(jobs)
+    out["forked"] = h is not None
+    out["again"] = caches.compile_ahead([(kern.f, (np.zeros(3), 2))]) is not None
+    if h is not None:
+        out["names"] = h.names
+        h.wait()
+out["value"] = float(kern.f(np.ones(3), 2))
+out["hits"] = sum(kern.f.stats.cache_hits.values())
+out["misses"] = sum(kern.f.stats.cache_misses.values())
+print(json.dumps(out))
+"""
+
+
+def test_compile_ahead_compiles_in_a_child_that_this_process_loads_from_and_forks_no_more_once_cached(tmp_path):
+    """A first run's child (``caches.compile_ahead``) compiles into numba's disk cache: the parent then
+    loads the function instead of compiling it; a job that cannot compile leaves no trace (the child
+    prints nothing); a cached function, or a second request, or a call outside ``ahead_of_time``
+    forks nothing."""
+    (tmp_path / "kern.py").write_text(
+        "from numba import njit\n\n\n"
+        "@njit(cache=True)\n"
+        "def f(x, n):\n"
+        "    return x.sum() * n\n\n\n"
+        "@njit(cache=True)\n"
+        "def bad(s):\n"
+        "    return s + 1\n"
+    )
+    env = _env(PYTHONPATH=str(SRC), OCEANGNC_CACHE_DIR=str(tmp_path / "cache"))
+    runs = []
+    for bad in ("1", "0"):
+        r = subprocess.run(
+            [sys.executable, "-c", AHEAD, str(tmp_path), bad], capture_output=True, text=True, env=env, timeout=300
+        )
+        assert r.returncode == 0 and r.stderr == "", r.stderr
+        runs.append(json.loads(r.stdout.strip().splitlines()[-1]))
+    first, second = runs
+    assert first["forked"] and not first["outside"] and not first["again"]
+    assert first["names"] == ["f", "bad"]
+    assert first["value"] == 6.0 and first["hits"] == 1 and first["misses"] == 0  # loaded: the child compiled it
+    assert not second["forked"] and second["hits"] == 1 and second["misses"] == 0

@@ -85,9 +85,11 @@ def _cmd_run(args) -> int:
                 functools.partial(resolve_run_config, args.scenario, args.config, overrides, args.duration, args.model),
                 plots=not args.no_plots,
             )
-        from .core.caches import lean_loads
+        from .core.caches import ahead_of_time, lean_loads
 
-        with lean_loads():  # cached kernels loaded without numba's full target refresh (oceangnc.core.caches)
+        # cached kernels loaded without numba's full target refresh; on a first run, the plants' kernels
+        # compiled by a second process meanwhile (oceangnc.core.caches)
+        with lean_loads(), ahead_of_time():
             return _run(args, overrides, post)
     except BaseException:
         postproc.cancel(post)

@@ -134,6 +134,10 @@ class Plant:
     extra_outputs: dict[str, str] = {}
     #: explicit output declaration (see ``outputs`` above); None: states + extra_outputs
     output_units: dict[str, str] | None = None
+    #: the child process compiling this plant's functions ahead (:func:`oceangnc.core.caches.compile_ahead`),
+    #: started by whoever built the plant (else by the :class:`~oceangnc.core.clock.Simulation`); waited for
+    #: before the plant is first advanced
+    ahead = None
 
     def __init__(
         self,
@@ -231,6 +235,12 @@ class Plant:
                         f"plant '{self.name}' reads '{k}' but no block has written it "
                         f"(declare a producer or give the plant an input default)"
                     ) from None
+
+    def compile_jobs(self) -> list[tuple]:
+        """The compiled functions that advance this plant in the fused loop, each with arguments of the
+        types the loop passes (``[(dispatcher, args)]``, :func:`oceangnc.core.caches.compile_ahead`):
+        its stepper ``advance(t, x, u, p, dt, n, work, bound)``."""
+        return [(self._advance, (0.0, self.x, self.u, self.p, 0.0, 1, self.work, float(self.state_bound)))]
 
     def advance(self, t: float, dt: float, n: int) -> float:
         """Integrate ``n`` RK4 steps of ``dt`` s from time ``t``; raises :class:`DivergenceError`."""

@@ -317,3 +317,150 @@ class lean_loads:  # noqa: N801  (used as a context manager, like contextlib's)
 
             caching.Cache.load_overload = self._orig  # type: ignore[method-assign]
         return False
+
+
+# -- compiling ahead in a second process ----------------------------------------------------------------
+
+#: while :class:`ahead_of_time` is active: ids of the compiled functions handed to a child so far
+_AHEAD: set[int] | None = None
+
+
+class ahead_of_time:  # noqa: N801  (a context manager, like lean_loads)
+    """Within the block, :func:`compile_ahead` may fork (``oceangnc run`` enables it; a Python program
+    calling ``oceangnc.run`` or a sweep keeps one process). ``OCEANGNC_COMPILE_AHEAD=0`` disables it."""
+
+    def __enter__(self):
+        global _AHEAD
+        self._prev = _AHEAD
+        _AHEAD = set() if os.environ.get("OCEANGNC_COMPILE_AHEAD", "1") != "0" else None
+        return self
+
+    def __exit__(self, *exc):
+        global _AHEAD
+        _AHEAD = self._prev
+        return False
+
+
+def _index_path(disp) -> str | None:
+    """The path of numba's cache index of a ``cache=True`` dispatcher (read, not changed), else None."""
+    try:
+        return str(disp._cache._cache_file._index_path)
+    except AttributeError:  # cache=False (NullCache), or a numba that names it otherwise: not ours to compile
+        return None
+
+
+def _child_compile(sigs: list, parent: int) -> None:
+    """In the forked child: compile, which saves each function to numba's cache, then leave silently."""
+    import signal
+
+    code = 1
+    try:
+        try:  # end with the parent (Linux prctl PR_SET_PDEATHSIG = 1), whatever kills it
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM), 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+
+        def stop(signum, frame):
+            raise KeyboardInterrupt  # unwinds numba's writes (a temporary file, then a rename)
+
+        signal.signal(signal.SIGTERM, stop)
+        signal.signal(signal.SIGINT, stop)
+        null = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(null, fd)  # nothing printed, and the parent's pipes are not held open
+        os.closerange(3, 1 << 16)
+        if os.getppid() == parent:
+            for disp, sig in sigs:
+                disp.compile(sig)
+            code = 0
+    except BaseException:  # noqa: BLE001  (a child never reports: the parent compiles what is missing)
+        pass
+    finally:
+        os._exit(code)
+
+
+class Ahead:
+    """A forked child compiling functions into numba's disk cache (:func:`compile_ahead`)."""
+
+    def __init__(self, pid: int, names: list[str]):
+        self.pid = pid
+        self.names = names
+
+    def wait(self) -> None:
+        """Wait for the child (once). On an interrupt the child is stopped and the interrupt goes on."""
+        pid, self.pid = self.pid, 0
+        if not pid:
+            return
+        try:
+            os.waitpid(pid, 0)
+        except ChildProcessError:
+            pass
+        except BaseException:
+            self._stop(pid)
+            raise
+
+    def cancel(self) -> None:
+        """Stop the child (it removes a file it is writing) and reap it."""
+        pid, self.pid = self.pid, 0
+        if pid:
+            self._stop(pid)
+
+    @staticmethod
+    def _stop(pid: int) -> None:
+        import signal
+
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGTERM)
+            os.waitpid(pid, 0)
+
+
+def compile_ahead(jobs: Iterable[tuple]) -> Ahead | None:
+    """Compile ``jobs`` in a forked child process while this one goes on with other work.
+
+    ``jobs``: ``(dispatcher, args)`` pairs, a ``cache=True`` compiled function and arguments of the
+    types it will be called with (they are not run: the child only compiles, for ``numba.typeof`` of
+    each argument, and numba saves the machine code in its disk cache, atomically). When this
+    process later calls a function (or compiles a caller of it), numba's normal dispatch finds it in
+    the cache and loads it instead of compiling: a first run uses both cores. Call :meth:`Ahead.wait`
+    before the work that needs them (the fused driver), so that nothing is compiled twice.
+
+    No child (None) outside :class:`ahead_of_time`, off Linux, with more than one Python thread, for
+    functions already handed to a child in this block, and -- what keeps a cached run from paying
+    anything but a ``stat`` per function -- when every function already has a cache index on disk.
+    The child prints nothing and ends with this process (a child that fails just leaves the work to
+    this one).
+    """
+    if _AHEAD is None or sys.platform != "linux":
+        return None
+    import threading
+
+    if threading.active_count() > 1:
+        return None
+    todo = []
+    for disp, args in jobs:
+        path = _index_path(disp)
+        if path is None or id(disp) in _AHEAD or os.path.exists(path):
+            continue
+        todo.append((disp, args))
+    if not todo:
+        return None
+    from numba import typeof
+
+    sigs = []
+    for disp, args in todo:
+        sig = tuple(typeof(a) for a in args)
+        if sig not in disp.overloads:
+            sigs.append((disp, sig))
+    if not sigs:
+        return None
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    parent = os.getpid()
+    pid = os.fork()
+    if pid == 0:
+        _child_compile(sigs, parent)
+    _AHEAD.update(id(d) for d, _ in sigs)
+    return Ahead(pid, [d.py_func.__qualname__ for d, _ in sigs])

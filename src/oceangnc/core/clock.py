@@ -45,6 +45,26 @@ def _steps(period: float, dt: float, what: str) -> int:
     return n
 
 
+def ahead_jobs(plants: Sequence[Plant], blocks: Sequence[Block], publish: bool = False) -> list[tuple]:
+    """What a child compiles ahead (:func:`oceangnc.core.caches.compile_ahead`) for a simulation of these
+    plants and blocks: each plant's stepper (which the fused driver alone calls, last), its output
+    function (``publish``: when the child starts before the simulation publishes; it shares the cable's
+    kernels with the stepper, which the child then compiled already), then the blocks' laws from the
+    *last* block, so that this process, running the first tick from the first block, meets the child's
+    laws only at the end."""
+    jobs: list[tuple] = []
+    for pl in plants:
+        try:
+            jobs += pl.compile_jobs()
+        except AttributeError:  # a plant without the base class's stepper
+            pass
+    for pl in plants:
+        jobs += pl.publish_jobs() if publish and hasattr(pl, "publish_jobs") else []
+    for b in reversed(blocks):
+        jobs += getattr(b, "compile_jobs", list)()
+    return jobs
+
+
 class Simulation:
     """A multi-rate simulation of plants and discrete blocks sharing one signal bus.
 
@@ -104,6 +124,7 @@ class Simulation:
         children = rng.spawn(len(self.blocks)) if self.blocks else []
         for b, g in zip(self.blocks, children):
             b.reset(g)
+        self._ahead = self._start_ahead()
         for pl in self.plants:
             pl.publish(self.bus)
         self.fire_count = [0] * len(self.blocks)
@@ -115,6 +136,23 @@ class Simulation:
         self.verbose = False
         self._fused: Any = None  # FusedLoop, or the reason string why not, once decided
         self.path = "python"
+
+    def _start_ahead(self) -> list:
+        """The children compiling the plants' functions (:func:`oceangnc.core.caches.compile_ahead`): those
+        the plants' builders started, else one for every plant's stepper, forked now so that it compiles
+        while this process publishes and runs the blocks' first tick (a first run, under ``oceangnc run``)."""
+        started = [pl.ahead for pl in self.plants if getattr(pl, "ahead", None) is not None]
+        if started or not self.plants:
+            return started
+        from .caches import compile_ahead
+
+        child = compile_ahead(ahead_jobs(self.plants, self.blocks))
+        return [child] if child is not None else []
+
+    def _wait_ahead(self) -> None:
+        """Wait for :meth:`_start_ahead`'s children (before a plant is advanced or the fused loop built)."""
+        while self._ahead:
+            self._ahead.pop().wait()
 
     def inject(self, values: dict) -> None:
         """Write values onto the bus between runs (console commands, test stimuli); logged like the
@@ -172,6 +210,7 @@ class Simulation:
                 if self._done_k < 0:  # the first tick in Python: it fixes the signals and log columns
                     self._run_python(n_end, log, bar, wall_limit, t_wall0, max_ticks=1)
                 if self._fused is None:
+                    self._wait_ahead()  # the plants' compiled functions, before the driver that calls them
                     self._decide_fused()
                 if not isinstance(self._fused, str):
                     self._run_fused(n_end, log, bar, wall_limit, t_wall0)
@@ -313,6 +352,8 @@ class Simulation:
             if fresh and self.checkpoint_hook is not None and self.k % self.checkpoint_hook[0] == 0 and self.k > 0:
                 self.checkpoint_hook[1](self)
             n = min(self.tick, n_end - self.k)
+            if self._ahead:
+                self._wait_ahead()
             for pl in self.plants:
                 pl.read_inputs(self.bus)
                 pl.advance(t, self.dt, n)

@@ -218,6 +218,16 @@ class LawBlock(Block):
         """The fused loop's form: the very law :meth:`step` calls, on the block's own state array."""
         return CompiledBlock(type(self).law, self.slot_names(), self.st, self.pa, rng=self.rng if self.draws else None)
 
+    def compile_jobs(self) -> list[tuple]:
+        """The law with arguments of the types :meth:`step` and the fused loop pass
+        (:func:`oceangnc.core.caches.compile_ahead`)."""
+        if type(self).law is None or not hasattr(self, "_sig"):
+            return []
+        args = (0.0, self._sig, self._sl, self.st, self.pa)
+        if self.draws:
+            args += (self.rng if self.rng is not None else np.random.default_rng(0),)
+        return [(type(self).law, args)]
+
     def step(self, t: float, bus: dict) -> None:
         """Gather the bound signals from ``bus``, run the compiled law, write the outputs back."""
         sig, sl = self._sig, self._sl

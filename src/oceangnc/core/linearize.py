@@ -62,10 +62,16 @@ def _call(fn, *args, model=None, mode=""):
         raise
 
 
-def jacobian_columns(model, x, u, cols, p=None, t: float = 0.0, jacobian: str | None = None):
-    """(F, H): columns ``cols`` (indices into [x | p | u]) of df and dh at (t, x, u)."""
+def jacobian_columns(
+    model, x, u, cols, p=None, t: float = 0.0, jacobian: str | None = None, outputs: bool = True, uncompiled=False
+):
+    """(F, H): columns ``cols`` (indices into [x | p | u]) of df and dh at (t, x, u); H is None when not
+    ``outputs``. ``uncompiled``: run the Jacobian function's Python body (the same code, calling the
+    compiled model: the same numbers) instead of compiling it, for a few calls (a trim's Newton steps)."""
     mode = default_mode(model, jacobian)
     fjac, hjac = jacobian_functions(model.f, model.h, model.jac, mode)
+    if uncompiled:
+        fjac, hjac = fjac.py_func, hjac.py_func
     x = np.ascontiguousarray(x, dtype=np.float64)
     u = np.ascontiguousarray(np.atleast_1d(u), dtype=np.float64)
     p = np.ascontiguousarray(model.p if p is None else p, dtype=np.float64)
@@ -75,6 +81,8 @@ def jacobian_columns(model, x, u, cols, p=None, t: float = 0.0, jacobian: str | 
     F = np.zeros((x.size, cols.size))
     H = np.zeros((nz, cols.size))
     _call(fjac, float(t), x, p, u, cols, F, *w, model=model, mode=mode)
+    if not outputs:
+        return F, None
     _call(hjac, float(t), x, p, u, cols, H, *w, model=model, mode=mode)
     return F, H
 
@@ -182,6 +190,7 @@ def trim(
     cols = np.array(col_list, dtype=np.int64)
     rows = np.array(row_list, dtype=np.int64)
     pp = model.p if p is None else np.asarray(p, dtype=np.float64)
+    mode = default_mode(model, jacobian)
 
     def resid(xx, uu):
         return model.deriv(xx, uu, pp, t)[rows]
@@ -201,7 +210,10 @@ def trim(
     for it in range(1, max_iter + 1):
         if float(np.max(np.abs(r))) <= tol * r0:
             break
-        F, _ = jacobian_columns(model, x, u, cols, p=pp, t=t, jacobian=jacobian)
+        # a finite-difference Jacobian uncompiled: a first run compiles only the model (issue 25)
+        F, _ = jacobian_columns(
+            model, x, u, cols, p=pp, t=t, jacobian=jacobian, outputs=False, uncompiled=mode == "finite-difference"
+        )
         try:
             dz = np.linalg.solve(F[rows], -r)
         except np.linalg.LinAlgError:

@@ -42,6 +42,8 @@ from numba import njit
 from ..core.model import ParamLayout
 from .cable import solve_sym3
 
+_I0 = np.int64(0)  # not a literal: numba would compile solve_sym3 once more for the constant 0
+
 #: the bridle's block of the combined plant's parameter array: hull points (fore, mid, aft; body, m),
 #: unstretched lengths (m), wire EA (N), the rigged apex (Newton's start, body, m), the wire tensions (N)
 #: of the last solve, the junction of the last solve (body, m), scratch for the last segment's loads,
@@ -142,7 +144,7 @@ def newton_step(p, ob, rx, ry, rz, fx, fy, fz, J):
     J[0] += EPS_K
     J[3] += EPS_K
     J[5] += EPS_K
-    dx, dy, dz = solve_sym3(J, 0, fx + wx, fy + wy, fz + wz)
+    dx, dy, dz = solve_sym3(J, _I0, fx + wx, fy + wy, fz + wz)
     s = math.sqrt(dx * dx + dy * dy + dz * dz)
     if s > STEP_MAX:
         f = STEP_MAX / s

@@ -99,10 +99,12 @@ def _contact(p, x, y, z, vx, vy, vz, radius, mass):
 
 @njit(cache=True)
 def _loads(p, pos, vel, F, Mn, n, cv, vcn, vce, cv_last, l0_top, ldot_top):
-    """:func:`~oceangnc.models.cable.cable_loads` with the cable's parameters from the header of ``p``."""
+    """:func:`~oceangnc.models.cable.cable_loads` with the cable's parameters from the header of ``p``, in
+    calm water: no wave coefficients (an empty array, so that calm water and waves call one compiled
+    ``cable_loads``: one compilation fewer in a first run)."""
     cable_loads(
         pos, vel, F, Mn, n, p[H_L0], p[H_EA], cv, p[H_MC], p[H_MA], p[H_WSEG], p[H_KDRAG], vcn, vce, cv_last,
-        int(p[H_LAW]), p[H_KDT], l0_top, ldot_top,
+        int(p[H_LAW]), p[H_KDT], l0_top, ldot_top, p[0:0], 0.0, 0.0,
     )  # fmt: skip
 
 
@@ -249,7 +251,7 @@ def bridle_update(x, p, n, vcn, vce):
     J = p[ob + B_J : ob + B_J + 6]
     lt = top_l0(x, p, n)
     if n == 1:  # node n - 1 is the top node
-        _ends(x, p, 1, pos, vel)
+        _ends(x, p, _I1, pos, vel)
         lb = lt
         lbd = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
         l0 = lt
@@ -272,16 +274,16 @@ def bridle_update(x, p, n, vcn, vce):
         bu, bv, bw = cross_add(x[o + 6], x[o + 7], x[o + 8], x[o + 9], x[o + 10], x[o + 11], rx, ry, rz)
         vel[3], vel[4], vel[5] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
         if sea:
-            _loads_sea(p, pos, vel, F, Mn, 1, p[H_CV], vcn, vce, -1.0, lb, lbd, n - 1, p[H_T])
+            _loads_sea(p, pos, vel, F, Mn, _I1, p[H_CV], vcn, vce, -1.0, lb, lbd, n - 1, p[H_T])
         else:
-            _loads(p, pos, vel, F, Mn, 1, p[H_CV], vcn, vce, -1.0, lb, lbd)
+            _loads(p, pos, vel, F, Mn, _I1, p[H_CV], vcn, vce, -1.0, lb, lbd)
         # the segment's force on the junction and its tangent stiffness, in the body frame
         fx = R[0] * F[3] + R[3] * F[4] + R[6] * F[5]
         fy = R[1] * F[3] + R[4] * F[4] + R[7] * F[5]
         fz = R[2] * F[3] + R[5] * F[4] + R[8] * F[5]
         for k in range(6):
             J[k] = 0.0
-        dx, dy, dz, ln = segment(pos, 1)
+        dx, dy, dz, ln = segment(pos, _I1)
         if ln > l0:
             tx = R[0] * dx + R[3] * dy + R[6] * dz
             ty = R[1] * dx + R[4] * dy + R[7] * dz

@@ -146,7 +146,8 @@ def cable_loads(
     acts on the strain rate, C_v l0 d/dt(l / l0) = C_v (dl/dt - (l / l0) dl0/dt), so material paid out
     through the sheave is not "damped".
 
-    **Waves** (issue 29; omitted ``wv``: calm water, the branch is compiled out): ``wv`` holds, per
+    **Waves** (issue 29; omitted ``wv``: calm water, the branch is compiled out; an empty ``wv``: calm
+    water too, with the same compiled function as in waves): ``wv`` holds, per
     segment of this call, the expansion coefficients of the wave kinematics at its centre
     (:mod:`oceangnc.models._sea_layout`, evaluated at ``tau`` s from the expansion time). The drag then
     acts on the velocity relative to current plus wave orbital velocity, and the Morison inertia force
@@ -194,14 +195,17 @@ def cable_loads(
         hy = 0.0
         hz = 0.0
         wn = we = wd = an = ae = ad = 0.0
-        if wv is not None:  # wave kinematics at the segment centre
-            wn, we, wd, an, ae, ad = point_kinematics(wv, NCOEF * (i - 1), tau, 0.5 * (pos[a + 2] + pos[b + 2]))
+        sea = False
+        if wv is not None:  # wave kinematics at the segment centre (an empty ``wv``: calm water)
+            sea = wv.size > 0
+            if sea:
+                wn, we, wd, an, ae, ad = point_kinematics(wv, NCOEF * (i - 1), tau, 0.5 * (pos[a + 2] + pos[b + 2]))
         # drag (eq. 2.24-2.25) on the relative velocity at the segment centre, half to each node
         if kdrag > 0.0 or kdt > 0.0:
             Vx = 0.5 * (vel[a] + vel[b]) - vcn
             Vy = 0.5 * (vel[a + 1] + vel[b + 1]) - vce
             Vz = 0.5 * (vel[a + 2] + vel[b + 2])
-            if wv is not None:
+            if sea:
                 Vx -= wn
                 Vy -= we
                 Vz -= wd
@@ -227,7 +231,7 @@ def cable_loads(
                 hx = cn * px + ct * tx
                 hy = cn * py + ct * ty
                 hz = cn * pz + ct * tz
-        if wv is not None:  # Morison inertia (Froude-Krylov + normal added mass), half to each node
+        if sea:  # Morison inertia (Froude-Krylov + normal added mass), half to each node
             ta = an * tx + ae * ty + ad * tz
             hfk = 0.5 * fk * sc
             hx += hfk * an + ha * (an - ta * tx)

@@ -208,6 +208,23 @@ class CombinedPlant(Plant):
             n -= k
         return t
 
+    def compile_jobs(self) -> list[tuple]:
+        """The stepper of the plant's integrator and, at sea, the wave refresh, with arguments of the
+        fused loop's types (:meth:`oceangnc.core.blocks.Plant.compile_jobs`)."""
+        jobs = super().compile_jobs()
+        if self._sea:
+            jobs.append((sea_update, (0.0, self.x, self.p, 0.0)))
+        return jobs
+
+    def publish_jobs(self) -> list[tuple]:
+        """The output function :meth:`publish` and the fused loop call, with its arguments: compiled
+        ahead with :meth:`compile_jobs` by a builder that starts the child before the simulation
+        (the combined scenarios, before their trims)."""
+        if self._var:
+            args = (self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u, self.n_max)
+            return [(_fill_outputs_var, args)]
+        return [(_fill_outputs, (self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out))]
+
     def compiled_form(self, slot_of):
         """The fused loop's form (:func:`oceangnc.models._combined_form.combined_plant_form`)."""
         return combined_plant_form(self, slot_of)

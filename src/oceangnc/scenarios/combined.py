@@ -40,8 +40,8 @@ from ..control.ardusub import SubDepth
 from ..control.backstepping import BacksteppingConfig
 from ..control.uuv_control import UUVPIDConfig
 from ..control.winch import WinchControlConfig, WinchDepthController
-from ..core.caches import cached
-from ..core.clock import Simulation
+from ..core.caches import cached, compile_ahead
+from ..core.clock import Simulation, ahead_jobs
 from ..core.registry import BlockChoice, BlockContext, build_block
 from ..core.rotations import wrap_array
 from ..environment import SeaEnvironmentConfig
@@ -210,6 +210,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     """Plant, environment, sensors, navigation, guidance, control and thrusters (module docstring)."""
     h = 1.0 / cfg.control.rate
     sens = cfg.sensors.enabled
+    winch = cfg.winch if cfg.winch.enabled else None
     blocks = [*environment_blocks(cfg.environment)]
     if sens:
         s = cfg.sensors
@@ -241,9 +242,8 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         uuv_pos, uuv_psi, uuv_r = ("uuv.x", "uuv.y"), "uuv.psi", "uuv.r"
     for i, choice in enumerate(cfg.sensors.extra):
         blocks.append(build_block(choice, BlockContext(period=h, cfg=cfg), f"sensors.extra.{i}"))
-    l, _, _ = look_ahead_for(cfg)
     g = cfg.guidance
-    blocks.append(PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi))
+    at_guidance = len(blocks)  # the pure pursuit goes here once its look-ahead is known (below)
     f = cfg.formation
     lam = math.radians(f.lambda_d_deg)
     blocks.append(
@@ -274,7 +274,6 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks.append(build_block(c.usv, ctx, "control.usv"))
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
     blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
-    winch = cfg.winch if cfg.winch.enabled else None
     if winch is not None:  # the UUV's depth by the winch, in ArduSub's modes when a ground station flies it
         wc = cfg.winch_control
         if wc.mode != "depth" or wc.profile:
@@ -285,6 +284,13 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     blocks += [USVThrusterBlock(cfg.usv, h), UUVThrusterBlock(cfg.uuv, h)]
     plant = CombinedPlant(
         cfg.usv, cfg.uuv, cfg.cable, top="usv", winch=winch, **cfg.environment.plant_kwargs(cfg.sim.seed)
+    )
+    # a first run: the plant's output function and stepper, then the blocks' laws from the last, compile
+    # in a second process while this one trims the models and runs the first tick (core.caches.compile_ahead)
+    plant.ahead = compile_ahead(ahead_jobs([plant], blocks, publish=True))
+    l, _, _ = look_ahead_for(cfg)
+    blocks.insert(
+        at_guidance, PurePursuit(g.waypoints, l, g.acceptance, 1.0 / g.rate, pos_keys=usv_pos, psi_key=usv_psi)
     )
     return Simulation([plant], blocks, cfg.sim.dt, 1.0 / cfg.sim.log_rate, rng)
 
