@@ -87,7 +87,7 @@ def deferred() -> Iterator[None]:
         for sig, h in prev.items():
             signal.signal(sig, signal.SIG_DFL if h is None else h)
         for signum in got[:1]:
-            h = prev[signum]
+            h = prev[signal.Signals(signum)]
             if callable(h):
                 h(signum, None)
             elif h == signal.SIG_DFL:

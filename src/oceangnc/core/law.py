@@ -223,7 +223,7 @@ class LawBlock(Block):
         (:func:`oceangnc.core.caches.compile_ahead`)."""
         if type(self).law is None or not hasattr(self, "_sig"):
             return []
-        args = (0.0, self._sig, self._sl, self.st, self.pa)
+        args: tuple = (0.0, self._sig, self._sl, self.st, self.pa)
         if self.draws:
             args += (self.rng if self.rng is not None else np.random.default_rng(0),)
         return [(type(self).law, args)]
