@@ -189,3 +189,68 @@ def served(scenario: str = "usv-remote", *, out_root=None, **kw):
     finally:
         g.close()
         v.stop()
+
+
+def wait_for(cond, seconds: float, step: float = 0.01) -> bool:
+    """Poll ``cond()`` every ``step`` s for at most ``seconds`` s; its last value."""
+    t_end = time.monotonic() + seconds
+    while time.monotonic() < t_end:
+        if cond():
+            return True
+        time.sleep(step)
+    return bool(cond())
+
+
+class MAVProxy:
+    """MAVProxy (``mavproxy.py``) as a subprocess on the vehicle at 127.0.0.1:``port``, scripted through its
+    command line on stdin; what it prints is read by a thread and kept in ``seen`` as (time, line)."""
+
+    def __init__(self, mavproxy: str, port: int, *args: str, cwd=None):
+        import queue
+        import subprocess
+        import sys
+        import threading
+
+        cmd = [sys.executable, mavproxy, f"--master=udpout:127.0.0.1:{port}", "--no-state", "--target-system=1", *args]
+        self.proc = subprocess.Popen(
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=cwd
+        )
+        self.lines: queue.Queue = queue.Queue()
+        self.seen: list[tuple[float, str]] = []
+        threading.Thread(target=lambda: [self.lines.put(ln) for ln in self.proc.stdout], daemon=True).start()
+
+    def _next(self, timeout: float) -> str | None:
+        import queue
+
+        try:
+            ln = self.lines.get(timeout=timeout)
+        except queue.Empty:
+            return None
+        self.seen.append((time.monotonic(), ln))
+        return ln
+
+    def expect(self, text: str, timeout: float) -> float:
+        """Wait (bounded) for a printed line containing ``text``; the time it was read."""
+        t_end = time.monotonic() + timeout
+        while time.monotonic() < t_end:
+            ln = self._next(0.1)
+            if ln is not None and text in ln:
+                return time.monotonic()
+        raise AssertionError(f"MAVProxy did not print {text!r} within {timeout} s; output:\n{self.output(30)}")
+
+    def collect(self, seconds: float) -> None:
+        """Keep what it prints for ``seconds`` s."""
+        t_end = time.monotonic() + seconds
+        while time.monotonic() < t_end:
+            self._next(0.1)
+
+    def output(self, last: int | None = None) -> str:
+        return "".join(s for _, s in (self.seen[-last:] if last else self.seen))
+
+    def send(self, line: str) -> None:
+        self.proc.stdin.write(line + "\n")
+        self.proc.stdin.flush()
+
+    def close(self) -> None:
+        self.proc.kill()
+        self.proc.wait(10)

@@ -8,19 +8,15 @@ from __future__ import annotations
 
 import json
 import os
-import queue
 import shutil
 import struct
-import subprocess
 import sys
-import threading
-import time
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from mavlink_gcs import GCS, served
+from mavlink_gcs import GCS, MAVProxy, served
 from oceangnc import __version__
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -165,43 +161,20 @@ def test_mavproxy_default_modules_no_fence_breach_no_ftp_wait(tmp_path):
     pytest.importorskip("MAVProxy")
     v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=1.0, out_root=tmp_path)
     v.start()
-    cmd = [sys.executable, MAVPROXY, f"--master=udpout:127.0.0.1:{v.address[1]}", "--no-state", "--target-system=1"]
-    pr = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                          bufsize=1, cwd=tmp_path)  # fmt: skip
-    lines: queue.Queue = queue.Queue()
-    seen: list[tuple[float, str]] = []
-    threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()
-
-    def expect(text, timeout):
-        t_end = time.monotonic() + timeout
-        while time.monotonic() < t_end:
-            try:
-                ln = lines.get(timeout=0.1)
-            except queue.Empty:
-                continue
-            seen.append((time.monotonic(), ln))
-            if text in ln:
-                return time.monotonic()
-        raise AssertionError(f"MAVProxy did not print {text!r} in {timeout} s:\n{''.join(s for _, s in seen[-30:])}")
+    mp = MAVProxy(MAVPROXY, v.address[1], cwd=tmp_path)
+    expect = mp.expect
 
     try:
         t_detect = expect("Detected vehicle 1:1", 60.0)
         t_params = expect(f"Received {len(v.params)} parameters", 30.0)
         # the FTP attempt got its NAK: no retries until a timeout (MAVProxy retries 10 times before giving up)
         assert t_params - t_detect < 15.0
-        pr.stdin.write("status SYS_STATUS\n")
-        pr.stdin.flush()
-        t_end = time.monotonic() + 3.0
-        while time.monotonic() < t_end:  # collect what it prints over three SYS_STATUS periods
-            try:
-                seen.append((time.monotonic(), lines.get(timeout=0.1)))
-            except queue.Empty:
-                pass
+        mp.send("status SYS_STATUS")
+        mp.collect(3.0)  # what it prints over three SYS_STATUS periods
     finally:
-        pr.kill()
-        pr.wait(10)
+        mp.close()
         v.stop()
-    out = "".join(s for _, s in seen)
+    out = mp.output()
     assert "fence breach" not in out.lower(), out
     assert "timed out" not in out and "FTP: retry" not in out, out
     assert v.counts["rx_bad"] == 0 and v.counts["ftp_naks"] >= 1  # MAVProxy did try MAVFTP first

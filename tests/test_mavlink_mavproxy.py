@@ -5,16 +5,14 @@ forwards to a second UDP output where this test listens. 127.0.0.1 only; every w
 from __future__ import annotations
 
 import os
-import queue
 import shutil
 import socket
-import subprocess
 import sys
-import threading
 import time
 
 import pytest
 
+from mavlink_gcs import MAVProxy, wait_for
 from oceangnc.mavlink.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
@@ -49,37 +47,14 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
     out_port = lsock.getsockname()[1]
     pts = [(0.0, 0.0), (15.0, 0.0), (15.0, 15.0), (0.0, 15.0)]
     _write_wpl(tmp_path / "mission.txt", pts, v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg)
-    cmd = [
-        sys.executable,
+    mp = MAVProxy(
         MAVPROXY,
-        f"--master=udpout:127.0.0.1:{v.address[1]}",
+        v.address[1],
         f"--out=udpout:127.0.0.1:{out_port}",
-        "--no-state",
-        "--target-system=1",
         "--default-modules=wp,arm,mode,cmdlong,param",
-    ]
-    pr = subprocess.Popen(
-        cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=tmp_path
+        cwd=tmp_path,
     )
-    lines: queue.Queue = queue.Queue()
-    seen: list[str] = []
-    threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()
-
-    def expect(text, timeout):
-        t_end = time.monotonic() + timeout
-        while time.monotonic() < t_end:
-            try:
-                ln = lines.get(timeout=0.1)
-            except queue.Empty:
-                continue
-            seen.append(ln)
-            if text in ln:
-                return ln
-        raise AssertionError(f"MAVProxy did not print {text!r} within {timeout} s; output:\n{''.join(seen[-30:])}")
-
-    def send(line):
-        pr.stdin.write(line + "\n")
-        pr.stdin.flush()
+    expect, send = mp.expect, mp.send
 
     parser = M.MAVLink(None)
     parser.robust_parsing = True
@@ -122,8 +97,7 @@ def test_mavproxy_mission_arm_auto_reaches_last_waypoint(tmp_path):
         send("mode RTL")
         expect("Reached home", 60.0)
     finally:
-        pr.kill()
-        pr.wait(10)
+        mp.close()
         lsock.close()
         v.stop()
     # the run's log shows the boat within the acceptance radius (3 m) of each waypoint
@@ -142,38 +116,8 @@ def test_mavproxy_rc_override_flies_the_rov(tmp_path):
     from the channels MAVProxy leaves at 0, and ``rc clear`` takes it away."""
     v = MavlinkVehicle("rov-station-keeping", listen="udp:127.0.0.1:0", speed=4.0, out_root=tmp_path)
     v.start()
-    cmd = [sys.executable, MAVPROXY, f"--master=udpout:127.0.0.1:{v.address[1]}", "--no-state",
-           "--target-system=1", "--default-modules=rc,arm,cmdlong"]  # fmt: skip
-    pr = subprocess.Popen(
-        cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1, cwd=tmp_path
-    )
-    lines: queue.Queue = queue.Queue()
-    seen: list[str] = []
-    threading.Thread(target=lambda: [lines.put(ln) for ln in pr.stdout], daemon=True).start()
-
-    def expect(text, timeout):
-        t_end = time.monotonic() + timeout
-        while time.monotonic() < t_end:
-            try:
-                ln = lines.get(timeout=0.1)
-            except queue.Empty:
-                continue
-            seen.append(ln)
-            if text in ln:
-                return ln
-        raise AssertionError(f"MAVProxy did not print {text!r} within {timeout} s; output:\n{''.join(seen[-30:])}")
-
-    def send(line):
-        pr.stdin.write(line + "\n")
-        pr.stdin.flush()
-
-    def until(cond, timeout):
-        t_end = time.monotonic() + timeout
-        while time.monotonic() < t_end:
-            if cond():
-                return True
-            time.sleep(0.05)
-        return False
+    mp = MAVProxy(MAVPROXY, v.address[1], "--default-modules=rc,arm,cmdlong", cwd=tmp_path)
+    expect, send = mp.expect, mp.send
 
     b = v.sim.bus
     try:
@@ -181,12 +125,11 @@ def test_mavproxy_rc_override_flies_the_rov(tmp_path):
         send("arm throttle")
         expect("COMPONENT_ARM_DISARM: ACCEPTED", 15.0)
         send("rc 5 1700")
-        assert until(lambda: b["vehicle.tau_X"] > 10.0, 15.0), b["vehicle.tau_X"]
+        assert wait_for(lambda: b["vehicle.tau_X"] > 10.0, 15.0, step=0.05), b["vehicle.tau_X"]
         assert b["vehicle.tau_Z"] == 0.0 and b["vehicle.tau_N"] == 0.0 and b["vehicle.tau_Y"] == 0.0
         send("rc clear")
-        assert until(lambda: b["vehicle.tau_X"] == 0.0, 15.0), b["vehicle.tau_X"]
+        assert wait_for(lambda: b["vehicle.tau_X"] == 0.0, 15.0, step=0.05), b["vehicle.tau_X"]
         assert v.counts["rx_bad"] == 0
     finally:
-        pr.kill()
-        pr.wait(10)
+        mp.close()
         v.stop()

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from mavlink_gcs import GCS, served
+from mavlink_gcs import GCS, served, wait_for
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 
@@ -42,15 +42,6 @@ def _arm_manual(g):
     assert g.ack(M.MAV_CMD_COMPONENT_ARM_DISARM).result == M.MAV_RESULT_ACCEPTED
     g.mav.set_mode_send(1, M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, MANUAL)
     g.wait("HEARTBEAT", 3.0, lambda m: m.custom_mode == MANUAL)
-
-
-def _wait_for(cond, seconds):
-    t_end = time.monotonic() + seconds
-    while time.monotonic() < t_end:
-        if cond():
-            return True
-        time.sleep(0.01)
-    return cond()
 
 
 def test_another_systems_heartbeats_do_not_hold_off_the_failsafe(vehicle):
@@ -88,7 +79,7 @@ def test_one_hz_heartbeats_without_a_stick_keep_manual(tmp_path):
         assert v.mode == MANUAL and not v.failsafe
         assert v.cfg_mav.gcs_timeout_s == 5.0
         g.pump(0.6, stick=(300, 0))  # a stick stream starts, then stops: the stick failsafe
-        assert _wait_for(lambda: v.mode == HOLD, 3.0) and v.failsafe
+        assert wait_for(lambda: v.mode == HOLD, 3.0) and v.failsafe
         assert any("stick stream lost" in s for _, s in v.events)
     finally:
         g.close()

@@ -93,20 +93,25 @@ def uuv003_form(r):
     return history(float(err.max()), [("max relative state difference", t, np.maximum(err, 1e-18))], "difference")
 
 
-def otter_turning_circle(r):
-    """Steady turning-circle diameter (m) of the Otter's file, left propeller full, right stopped: the
-    simulated track after 150 s against 2 U / r of the steady turn solved by Newton on the equations of
-    motion (:func:`oceangnc.core.linearize.trim`: u, v, w, p, q, r, heave, roll, pitch, thrusts free)."""
-    from ...core.linearize import trim
-
+def _otter_turn(r):
+    """The Otter's file with the left propeller full and the right stopped for 200 s from rest: (model, states
+    every 0.05 s, diameter of the track after 150 s, m)."""
     m = _otter(r)
     t = np.arange(0.0, 200.0, 0.05)
     U = np.zeros((t.size, m.nu))
     U[:, :2] = OTTER_TURN_N
     X = m.simulate(t, U, np.zeros(m.nx), substeps=5)
     late = t > 150.0
-    x, y = X[late, 0], X[late, 1]
-    d_track = 0.5 * (np.ptp(x) + np.ptp(y))
+    return m, X, float(0.5 * (np.ptp(X[late, 0]) + np.ptp(X[late, 1])))
+
+
+def otter_turning_circle(r):
+    """Steady turning-circle diameter (m) of the Otter's file, left propeller full, right stopped: the
+    simulated track after 150 s against 2 U / r of the steady turn solved by Newton on the equations of
+    motion (:func:`oceangnc.core.linearize.trim`: u, v, w, p, q, r, heave, roll, pitch, thrusts free)."""
+    from ...core.linearize import trim
+
+    m, X, d_track = _otter_turn(r)
     x0 = np.zeros(m.nx)
     x0[6], x0[11] = 1.0, 0.2  # a guess: 1 m/s, 0.2 rad/s
     free = ("u", "v", "w", "p", "q", "r", "z", "phi", "theta", "thrust_left", "thrust_right")
@@ -120,13 +125,7 @@ def otter_turning_circle(r):
 def otter_turn_fossen(r):
     """Steady turning-circle diameter (m) of the Otter's file, left propeller full (119.682 N), right stopped,
     read from the simulated track after 150 s, for comparison with the authors' simulation (fossen.TURN_DIAMETER)."""
-    m = _otter(r)
-    t = np.arange(0.0, 200.0, 0.05)
-    U = np.zeros((t.size, m.nu))
-    U[:, :2] = OTTER_TURN_N
-    X = m.simulate(t, U, np.zeros(m.nx), substeps=5)
-    late = t > 150.0
-    d = 0.5 * (np.ptp(X[late, 0]) + np.ptp(X[late, 1]))
+    _, X, d = _otter_turn(r)
     u, v, rr = X[-1, 6], X[-1, 7], X[-1, 11]
     fu, fv, fr = fossen.TURN_STEADY
     note = (
