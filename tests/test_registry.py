@@ -213,11 +213,15 @@ def test_usv_controller_slot_takes_gains_and_refuses_unknown_ones():
         resolve_config("combined-survey", overrides={"control.usv.speed_kq": 1.0})
 
 
-def test_every_module_registering_blocks_is_an_entry_point():
+def test_every_built_in_kind_is_an_entry_point_named_after_it():
     """The built-in blocks are found like a user's: through the ``oceangnc.blocks`` entry points of
-    pyproject.toml (a module missing there would be unknown until something imports it)."""
+    pyproject.toml, one per kind, named after it, pointing at the module that registers it (a kind
+    missing there would be unknown until something imports its module; a wrong module would make
+    the one-module lookup fall back to importing them all)."""
     import tomllib
     from pathlib import Path
+
+    from oceangnc.core import registry
 
     root = Path(__file__).resolve().parents[1]
     src = root / "src"
@@ -228,3 +232,25 @@ def test_every_module_registering_blocks_is_an_entry_point():
     }
     eps = tomllib.loads((root / "pyproject.toml").read_text())["project"]["entry-points"]["oceangnc.blocks"]
     assert mods and mods == set(eps.values()), (sorted(mods - set(eps.values())), sorted(set(eps.values()) - mods))
+    registry._load_entry_points()
+    own = {k: c.__module__ for k, c in registry._KINDS.items() if c.__module__.startswith("oceangnc.")}
+    assert own == eps
+
+
+def test_a_kind_is_found_by_importing_its_module_only():
+    """Resolving the flagship's kinds imports their modules and no other block module."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from oceangnc.core.registry import full_kind\n"
+        "print(full_kind('pid', 'usv'), full_kind('uuv.backstepping'))\n"
+        "print(sorted(m for m in sys.modules if m.startswith('oceangnc.control.')))\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    kinds, mods = p.stdout.strip().splitlines()
+    assert kinds == "usv.pid uuv.backstepping"
+    assert "oceangnc.control.usv_control" in mods and "oceangnc.control.backstepping" in mods
+    assert "oceangnc.control.berthing" not in mods and "oceangnc.control.joystick" not in mods

@@ -349,6 +349,14 @@ def _index_path(disp) -> str | None:
         return None
 
 
+def cheapest(disp):
+    """``disp`` itself when its machine code is in the disk cache (loading it costs less than running
+    its Python body: a cached run), else its Python body, the same code (a first run, whose child may
+    be compiling it meanwhile, :func:`compile_ahead`). For a one-off call at build time."""
+    path = _index_path(disp)
+    return disp if path is not None and os.path.exists(path) else disp.py_func
+
+
 def _child_compile(sigs: list, parent: int) -> None:
     """In the forked child: compile, which saves each function to numba's cache, then leave silently."""
     import signal

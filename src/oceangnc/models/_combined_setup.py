@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from ..core.caches import cheapest
 from ..errors import ConfigError
 from ._combined_layout import (
     H_ATT,
@@ -180,9 +181,9 @@ def build_arrays(usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: st
         x0[wo] = c.length
     pos = np.zeros(3 * (n + 1))
     vel = np.zeros(3 * (n + 1))
-    # one call at build time: the compiled function's Python body (the same code; the fused loop's
-    # kernels compile _ends meanwhile in a first run's second process, core.caches.compile_ahead)
-    _ends.py_func(x0, p, n, pos, vel)
+    # one call at build time: compiled when cached, else its Python body (the same code; a first run's
+    # second process compiles _ends meanwhile for the fused loop's kernels, core.caches.compile_ahead)
+    cheapest(_ends)(x0, p, n, pos, vel)
     pos = pos.reshape(-1, 3)
     gap = float(np.linalg.norm(pos[n] - pos[0]))
     if gap > c.length * (1.0 + START_SLACK):  # a cable stretched at t = 0: a start-up snap load, not a run
