@@ -7,11 +7,15 @@ import time
 
 import numpy as np
 import pytest
+from numba import njit
 
 from fused_paths import run_both, run_path
 from oceangnc.api import resolve_config
-from oceangnc.core.blocks import FunctionBlock
+from oceangnc.core.blocks import ConstantBlock, FunctionBlock
+from oceangnc.core.clock import Simulation
 from oceangnc.core.fused import build_fused
+from oceangnc.core.law import LawBlock, Opt, Out, Signals
+from oceangnc.io.logs import LogWriter, read_log
 
 #: scenarios (with overrides) that run fused; the test below runs both paths for each
 FUSED = [
@@ -85,3 +89,42 @@ def test_a_python_block_falls_back_with_a_reason(capsys, tmp_path):
     assert "block 'mine' (FunctionBlock) has no compiled form" in capsys.readouterr().err
     assert sim.bus["mine.x"] == pytest.approx(0.5)
     assert build_fused(sim)[0] is None
+
+
+_READER = Signals(y=Opt("m"), x=Out("m"))
+_R = _READER.at
+
+
+@njit(cache=True)
+def _reader_law(t, sig, sl, st, pa):
+    """x = y, or -1 while y is absent (its slot -1)."""
+    sig[sl[_R.x]] = sig[sl[_R.y]] if sl[_R.y] >= 0 else -1.0
+
+
+class _Reader(LawBlock):
+    """Reads an optional input that a block after it writes."""
+
+    law = staticmethod(_reader_law)
+    signals = _READER
+
+    def __init__(self):
+        self.name, self.period = "reader", 0.1
+        self.bind(y="later.y", x="reader.x")
+        self.pa, self.st = np.zeros(1), np.zeros(1)
+
+
+def test_the_driver_runs_the_first_tick_as_the_python_clock(tmp_path, monkeypatch):
+    """With every output declared, the fused driver runs the first tick too (no block's Python step, so
+    no law is loaded on its own): an optional input written by a later block is absent at that tick,
+    as on the Python clock, and present after it; the logs are equal."""
+    logs = {}
+    for fused in (False, True):
+        sim = Simulation([], [_Reader(), ConstantBlock("later", 0.1, {"later.y": 2.0}, {"later.y": "m"})], 0.1, 0.1)
+        sim.use_fused = fused
+        if fused:
+            monkeypatch.setattr(_Reader, "step", None)  # the driver must not need it
+        with LogWriter(tmp_path / f"{fused}.parquet") as log:
+            sim.run(0.3, log=log)
+        assert sim.path == ("fused" if fused else "python")
+        logs[fused] = read_log(tmp_path / f"{fused}.parquet")
+    assert list(logs[True]["reader.x"]) == list(logs[False]["reader.x"]) == [-1.0, 2.0, 2.0, 2.0]

@@ -13,10 +13,12 @@ clock ticks at the greatest common divisor of the block periods and the log peri
 A block may set ``bus["_stop"] = True`` to end the run early (e.g. the last waypoint reached).
 
 **Fused path** (issue 19): with ``use_fused = True`` (what :func:`oceangnc.run` and the sweeps
-set) and a compiled form for every block and plant, the first tick runs here in Python (fixing the
-signal set and the log columns) and the rest in one compiled driver per call
-(:mod:`oceangnc.core.fused`), many ticks at a time, the log buffered in row blocks. Otherwise (or
-with a checkpoint hook) the Python loop runs; ``verbose = True`` says once which path runs and why.
+set) and a compiled form for every block and plant, the ticks run in one compiled driver per call
+(:mod:`oceangnc.core.fused`), many ticks at a time, the log buffered in row blocks. The driver runs
+the first tick too when the declarations fix the signals and log columns
+(:func:`oceangnc.core.fused.first_tick_plan`) and no child process is compiling ahead; otherwise the
+first tick runs here in Python. Without a compiled form (or with a checkpoint hook) the Python loop
+runs; ``verbose = True`` says once which path runs and why.
 """
 
 from __future__ import annotations
@@ -207,7 +209,16 @@ class Simulation:
         t_wall0 = time.perf_counter()
         try:
             if self.use_fused and self.checkpoint_hook is None:
-                if self._done_k < 0:  # the first tick in Python: it fixes the signals and log columns
+                if self._done_k < 0 and self._fused is None and not self._ahead:
+                    # the declarations fix the first tick's signals: the driver runs it, and no law is
+                    # loaded on its own (with a child compiling ahead, this process runs the first tick
+                    # in Python meanwhile)
+                    from .fused import first_tick_plan
+
+                    plan = first_tick_plan(self)
+                    if plan is not None:
+                        self._decide_fused(plan)
+                if self._done_k < 0 and self._fused is None:  # the first tick in Python: it fixes the signals
                     self._run_python(n_end, log, bar, wall_limit, t_wall0, max_ticks=1)
                 if self._fused is None:
                     self._wait_ahead()  # the plants' compiled functions, before the driver that calls them
@@ -226,12 +237,12 @@ class Simulation:
                 bar.close()
         return self.t
 
-    def _decide_fused(self) -> None:
+    def _decide_fused(self, plan=None) -> None:
         import sys
 
         from .fused import build_fused
 
-        fused, why = build_fused(self)
+        fused, why = build_fused(self, plan)
         self._fused = fused if fused is not None else why
         self.path = "fused" if fused is not None else "python"
         if self.verbose:
@@ -261,7 +272,10 @@ class Simulation:
         if flush:  # crash safety: hand the log its rows at least once per flush period of simulated time
             max_ticks = min(max_ticks, max(1, int(flush / (self.tick * self.dt) + 1e-9)))
         args = [fz.args[a] for a in fz.arg_names]
+        # the first tick, when the driver runs it, with its own slots for the optional inputs (FirstTick)
+        first = fz.first_args if self._done_k < 0 else None
         while True:
+            call_args = args if first is None else [first[a] for a in fz.arg_names]
             k, done_k, rows, status, info, t_new = fz.drive(
                 self.k,
                 self._done_k,
@@ -275,10 +289,13 @@ class Simulation:
                 fz.log_slots,
                 fz.nan_ok,
                 fz.buf,
-                max_ticks,
+                max_ticks if first is None else 1,
                 fz.nbs,
-                *args,
+                *call_args,
             )
+            first = None
+            if self._done_k < 0 <= done_k:  # the driver ran the first tick: every block fired
+                self.fire_count = [n + 1 for n in self.fire_count]
             self.k, self._done_k = int(k), int(done_k)
             self.t = self._done_k * self.dt if self._done_k >= 0 else self.k * self.dt
             if rows and log_on:

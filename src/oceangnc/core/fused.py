@@ -6,8 +6,11 @@ method returns a :class:`CompiledBlock`) and every plant has one (:func:`plant_f
 runs the loop fused instead:
 
 * the signals live in one float64 array; each block's signals are resolved to slot numbers once,
-  when the fused loop is built (names from the bus after the first tick, which the Python path
-  handles, so the log columns are exactly those of the Python path);
+  when the fused loop is built. When every part declares its outputs the loop is built before the
+  first tick (:func:`first_tick_plan`: the signals, and the log columns, follow from the
+  declarations) and the driver runs the first tick too, so no law is loaded on its own; otherwise
+  (or while a child process compiles ahead) the Python clock runs the first tick and the names come
+  from the bus after it;
 * a driver is generated as Python source -- one ``@njit(cache=True)`` function that, tick by tick,
   calls each block's kernel ``kernel(t, sig, slots, state, params)`` at its period, logs a row into a
   preallocated buffer, then reads the plants' inputs, advances them with their compiled steppers
@@ -217,8 +220,10 @@ _FLAGS = ("_stop", "_estop")
 class FusedLoop:
     """A built fused loop of one :class:`~oceangnc.core.clock.Simulation` (see the module docstring)."""
 
-    def __init__(self, sim, forms: list[CompiledBlock]):
+    def __init__(self, sim, forms: list[CompiledBlock], plan: FirstTick | None = None):
         bus = sim.bus
+        # the bus keys after the first tick: the bus itself once that tick ran in Python, else the plan's
+        after = bus.keys() if plan is None else plan.after
         self._readers = list(zip(sim.blocks, forms))
         self._plants = list(sim.plants)
         names = sorted(k for k, v in bus.items() if _numeric(v) or k in ENUMS)
@@ -232,7 +237,7 @@ class FusedLoop:
         self.names = names
         self.slot = {k: i for i, k in enumerate(names)}
         self.sig = np.array([_code(k, bus.get(k)) for k in names])
-        self.had = {k for k in names if k in bus}
+        self.had = {k for k in names if k in after}
 
         def slot_of(name: str) -> int:
             if name not in self.slot:
@@ -245,13 +250,17 @@ class FusedLoop:
         args: dict = {}
         imports: list[str] = []
         block_lines: list[str] = []
+        #: the arguments for the first tick when the driver runs it and an optional input written by a later
+        #: block must be absent then (:class:`FirstTick`), else None
+        self.first_args: dict | None = None
+        first: dict = {}
         for i, f in enumerate(forms):
             mod, name = _kernel_ref(f.kernel)
             alias = f"_k{i}"
             imports.append(f"from {mod} import {name} as {alias}")
             slots = np.array(
                 [
-                    (self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in bus or s[1:] in _FLAGS) else -1)
+                    (self.slot[s[1:]] if s[1:] in self.slot and (s[1:] in after or s[1:] in _FLAGS) else -1)
                     if s.startswith("?")
                     else slot_of(s)
                     for s in f.signals
@@ -259,6 +268,13 @@ class FusedLoop:
                 dtype=np.int64,
             )
             args[f"sl{i}"] = slots
+            if plan is not None:  # at the first tick an optional input is there only if already on the bus
+                sl0 = np.array(
+                    [v if not s.startswith("?") or s[1:] in plan.before[i] else -1 for s, v in zip(f.signals, slots)],
+                    dtype=np.int64,
+                )
+                if not np.array_equal(sl0, slots):
+                    first[f"sl{i}"] = sl0
             args[f"st{i}"] = np.ascontiguousarray(f.state, dtype=np.float64)
             args[f"pa{i}"] = np.ascontiguousarray(f.params, dtype=np.float64)
             rg = ""
@@ -288,6 +304,8 @@ class FusedLoop:
         self.nbs = np.array(sim.block_steps, dtype=np.int64)
         self.arg_names = list(args)
         self.args = args
+        if first:
+            self.first_args = {**args, **first}
         arg_src = "".join(f", {a}" for a in self.arg_names)
         bargs = "".join(f", B_{a}" for a in self.arg_names)
         bcall = "".join(f", B_{a}[r]" for a in self.arg_names)
@@ -362,8 +380,46 @@ def _numeric(v) -> bool:
     return isinstance(v, (int, float, bool, np.floating, np.integer, np.bool_))
 
 
-def build_fused(sim):
-    """``(FusedLoop, None)`` when every block and plant of ``sim`` has a compiled form, else ``(None, reason)``."""
+@dataclass(frozen=True)
+class FirstTick:
+    """What the Python clock's first tick would put on the bus (:func:`first_tick_plan`): ``before[i]``, the
+    keys on the bus when block ``i`` fires (the plants' outputs, external inputs, and what the blocks
+    before it wrote), and ``after``, the keys on the bus after the tick."""
+
+    before: list[frozenset]
+    after: frozenset
+
+
+def first_tick_plan(sim) -> FirstTick | None:
+    """The bus of ``sim``'s first tick, known from the declarations, so that the fused driver can run that
+    tick too (the Python clock's :meth:`~oceangnc.core.law.LawBlock.step` would give the same signals); None
+    when a part declares no outputs (the bus after the first tick then fixes the log columns) or a
+    block's required input is not on the bus when it fires (the Python clock reports it).
+
+    A block writes, at each firing, its declared outputs that are numbers (a
+    :class:`~oceangnc.core.law.LawBlock`'s string outputs reach only the fused loop's array), and reads an
+    optional input only when it is on the bus: at the first tick, an optional input written by a later
+    block is absent (its default is used), as on the Python clock."""
+    if any(getattr(p, "outputs", None) is None for p in [*sim.plants, *sim.blocks]):
+        return None
+    present = set(sim.bus)
+    before: list[frozenset] = []
+    for b in sim.blocks:
+        if any(k not in present for k in (b.inputs or {})):
+            return None
+        before.append(frozenset(present))
+        outs = getattr(b, "_outs", None)
+        if outs is not None:
+            present.update(k for _, k in outs)
+        else:
+            present.update(b.outputs)
+    return FirstTick(before, frozenset(present))
+
+
+def build_fused(sim, plan: FirstTick | None = None):
+    """``(FusedLoop, None)`` when every block and plant of ``sim`` has a compiled form, else ``(None, reason)``.
+
+    ``plan`` (:func:`first_tick_plan`): the loop is built before the first tick, which its driver runs."""
     forms = []
     for b in sim.blocks:
         fn = getattr(b, "compiled", None)
@@ -375,7 +431,7 @@ def build_fused(sim):
     if why is not None:
         return None, why
     try:
-        return FusedLoop(sim, forms), None
+        return FusedLoop(sim, forms, plan), None
     except _NoFused as e:
         return None, str(e)
 
@@ -385,4 +441,13 @@ def log_rows_capacity(sim) -> int:
     return 2000
 
 
-__all__ = ["CompiledBlock", "PlantForm", "FusedLoop", "build_fused", "plant_form", "math"]
+__all__ = [
+    "CompiledBlock",
+    "PlantForm",
+    "FusedLoop",
+    "FirstTick",
+    "build_fused",
+    "first_tick_plan",
+    "plant_form",
+    "math",
+]
