@@ -138,6 +138,17 @@ def test_a_wall_clock_floor_keeps_a_fast_run_to_few_parts_and_the_same_rows(tmp_
         np.testing.assert_array_equal(read_log(tmp_path / f"{name}.parquet")["x"].to_numpy(), np.arange(201.0))
 
 
+def test_the_wall_clock_floor_counts_from_the_first_row(tmp_path):
+    """The wall time a run spends before its first row (building, loading cached code) does not make
+    its first rows due: a fast run's rows past the flush time wait for the floor from the first row."""
+    w = LogWriter(tmp_path / "l.parquet", flush_period=1.0, min_flush_wall_s=0.2, compact=False)
+    time.sleep(0.3)  # the build
+    w.append_rows(np.arange(0.0, 3.0, 0.5), ["x"], np.arange(6.0).reshape(6, 1))
+    assert not (tmp_path / "l.parquet").exists()  # t = 1, 2 s passed, not 0.2 s of wall time since the first row
+    w.close()
+    np.testing.assert_array_equal(read_log(tmp_path / "l.parquet")["x"].to_numpy(), np.arange(6.0))
+
+
 def test_close_compacts_into_one_file_and_a_crash_mid_compaction_is_repaired(tmp_path):
     p = tmp_path / "log.parquet"
     w = LogWriter(p, flush_period=1.0, compact=False)

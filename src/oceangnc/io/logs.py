@@ -6,7 +6,8 @@ float64 SI values.
 Layout (crash safety). ``log.parquet`` is a *folder* (a Parquet dataset) holding one complete file
 per flush, ``part-000000.parquet``, ``part-000001.parquet``, ... :class:`LogWriter` buffers rows and
 writes a part every ``flush_period`` s of *simulated* time (``log.flush_period``, default 1 s), but
-no more often than every ``min_flush_wall_s`` of wall time (``log.min_flush_wall_s``). Each
+no more often than every ``min_flush_wall_s`` of wall time (``log.min_flush_wall_s``, counted from
+the first row: a fast run's build and cache loads do not make its first rows due at once). Each
 part is written to a hidden temporary name (``.part-000007.parquet.tmp``), flushed to disk and then
 renamed, so every visible part is a whole Parquet file with its footer: a run killed with SIGKILL
 or a full disk loses at most the rows buffered since the last flush (the kernel keeps what a killed
@@ -129,7 +130,9 @@ class LogWriter:
     ):
         self.path = Path(path)
         self.min_flush_wall_s = float(min_flush_wall_s)
-        self._wall_flush = time.monotonic()
+        # the wall-clock floor counts from the first row (set then): the time a run spends building and
+        # loading before it has any row to lose does not make its first rows due at once
+        self._wall_flush: float | None = None
         self.flush_period = float(flush_period)
         self.flush_rows = int(flush_rows)
         self.compact = bool(compact)
@@ -167,6 +170,8 @@ class LogWriter:
     def append(self, t: float, row: dict[str, float]) -> None:
         """Add one sample at time ``t`` (s)."""
         t = float(t)
+        if self._wall_flush is None:
+            self._wall_flush = time.monotonic()
         if self.columns is None:
             self.columns = ["t", *self.extra.keys(), *[k for k in row if k not in self.extra]]
             self._buf = {c: [] for c in self.columns}
@@ -198,6 +203,8 @@ class LogWriter:
         m = len(t)
         if m == 0:
             return
+        if self._wall_flush is None:
+            self._wall_flush = time.monotonic()
         if self.columns is None:  # e.g. a resumed log: the columns are the names, as append() would fix them
             self.columns = ["t", *self.extra.keys(), *[k for k in names if k not in self.extra]]
             self._buf = {c: [] for c in self.columns}
@@ -241,7 +248,8 @@ class LogWriter:
             i0 = i1
 
     def _wall_due(self) -> bool:
-        return self.min_flush_wall_s <= 0.0 or time.monotonic() - self._wall_flush >= self.min_flush_wall_s
+        since = time.monotonic() - self._wall_flush if self._wall_flush is not None else 0.0
+        return self.min_flush_wall_s <= 0.0 or since >= self.min_flush_wall_s
 
     def _seal_rows(self) -> None:
         """Move the rows appended one by one into an array block (keeps the row order with append_rows)."""
