@@ -250,3 +250,48 @@ def test_compile_ahead_compiles_in_a_child_that_this_process_loads_from_and_fork
     assert first["names"] == ["f", "bad"]
     assert first["value"] == 6.0 and first["hits"] == 1 and first["misses"] == 0  # loaded: the child compiled it
     assert not second["forked"] and second["hits"] == 1 and second["misses"] == 0
+
+
+SHARED = """
+import json, sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+from oceangnc.core import caches
+import kern
+with caches.ahead_of_time():
+    h = caches.compile_ahead([(kern.f, (np.zeros(3), 2)), (kern.g, (np.zeros(3),), True), (kern.h, (np.zeros(3),))])
+    h.wait()
+out = {"f": float(kern.f(np.ones(3), 2)), "g": float(kern.g(np.ones(3))), "h": float(kern.h(np.ones(3)))}
+for name in ("f", "g", "h"):
+    st = getattr(kern, name).stats
+    out[name + "_loaded"] = sum(st.cache_hits.values()) == 1 and sum(st.cache_misses.values()) == 0
+print(json.dumps(out))
+"""
+
+
+def test_a_shared_job_the_child_has_not_reached_is_compiled_by_the_waiting_parent_and_not_twice(tmp_path):
+    """``compile_ahead``: a job marked shared (a stepper's callee) that the child has not reached when the
+    parent starts waiting is compiled by the parent (its own compile, not a load); the child skips it and
+    compiles the rest (the parent loads those), and the unshared caller after it (``h`` calls ``g``)
+    waits for the parent's part and links it in."""
+    (tmp_path / "kern.py").write_text(
+        "from numba import njit\n\n\n"
+        "@njit(cache=True)\n"
+        "def f(x, n):\n"
+        "    return x.sum() * n\n\n\n"
+        "@njit(cache=True)\n"
+        "def g(x):\n"
+        "    return x.sum() + 1.0\n\n\n"
+        "@njit(cache=True)\n"
+        "def h(x):\n"
+        "    return g(x) * 2.0\n"
+    )
+    env = _env(PYTHONPATH=str(SRC), OCEANGNC_CACHE_DIR=str(tmp_path / "cache"))
+    r = subprocess.run(
+        [sys.executable, "-c", SHARED, str(tmp_path)], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    assert (out["f"], out["g"], out["h"]) == (6.0, 4.0, 8.0)
+    assert out["f_loaded"] and out["h_loaded"]  # the child's
+    assert not out["g_loaded"]  # the parent compiled it while it waited
