@@ -357,19 +357,9 @@ def cheapest(disp):
     return disp if path is not None and os.path.exists(path) else disp.py_func
 
 
-#: states of a job in the map a child shares with its parent (:func:`compile_ahead`)
-_FREE, _CHILD, _PARENT, _DONE = 0, 1, 2, 3
-
-
-def _child_compile(sigs: list, parent: int, board) -> None:
-    """In the forked child: compile, which saves each function to numba's cache, then leave silently.
-
-    ``board`` (one byte per job, shared with the parent): a job the parent took while it waits
-    (:meth:`Ahead.wait`) is skipped, and before a job the parent may not take (a caller of those) the
-    child waits until the parent's jobs are on disk, so that numba loads them instead of compiling
-    them twice."""
+def _child_compile(sigs: list, parent: int) -> None:
+    """In the forked child: compile, which saves each function to numba's cache, then leave silently."""
     import signal
-    import time
 
     code = 1
     try:
@@ -390,13 +380,7 @@ def _child_compile(sigs: list, parent: int, board) -> None:
             os.dup2(null, fd)  # nothing printed, and the parent's pipes are not held open
         os.closerange(3, 1 << 16)
         if os.getppid() == parent:
-            for i, (disp, sig, shared) in enumerate(sigs):
-                if board[i] != _FREE:
-                    continue  # the parent took it
-                board[i] = _CHILD
-                if not shared:
-                    while _PARENT in board[:]:
-                        time.sleep(0.01)
+            for disp, sig in sigs:
                 disp.compile(sig)
             code = 0
     except BaseException:  # noqa: BLE001  (a child never reports: the parent compiles what is missing)
@@ -408,33 +392,9 @@ def _child_compile(sigs: list, parent: int, board) -> None:
 class Ahead:
     """A forked child compiling functions into numba's disk cache (:func:`compile_ahead`)."""
 
-    def __init__(self, pid: int, names: list[str], sigs: list | None = None, board=None):
+    def __init__(self, pid: int, names: list[str]):
         self.pid = pid
         self.names = names
-        self._sigs = sigs or []
-        self._board = board
-
-    def _help(self) -> None:
-        """Compile, from the end of the child's list, the jobs marked as shareable that the child has not
-        reached yet (it skips them): the parent's cores are idle while it waits. A job that fails here is
-        left to the normal path, which reports it."""
-        board = self._board
-        if board is None:
-            return
-        for i in range(len(self._sigs) - 1, -1, -1):
-            disp, sig, shared = self._sigs[i]
-            state = board[i]
-            if state == _CHILD:
-                return  # the child got here: every earlier job is its
-            if not shared or state != _FREE:
-                continue
-            board[i] = _PARENT
-            try:
-                disp.compile(sig)
-            except Exception:  # noqa: BLE001  (compiled again, and reported, where it is needed)
-                pass
-            finally:
-                board[i] = _DONE
 
     def wait(self) -> None:
         """Wait for the child (once). On an interrupt the child is stopped and the interrupt goes on."""
@@ -442,7 +402,6 @@ class Ahead:
         if not pid:
             return
         try:
-            self._help()
             os.waitpid(pid, 0)
         except ChildProcessError:
             pass
@@ -468,16 +427,12 @@ class Ahead:
 def compile_ahead(jobs: Iterable[tuple]) -> Ahead | None:
     """Compile ``jobs`` in a forked child process while this one goes on with other work.
 
-    ``jobs``: ``(dispatcher, args)`` pairs, or ``(dispatcher, args, shared)``, a ``cache=True`` compiled
-    function and arguments of the types it will be called with (they are not run: the child only
-    compiles, for ``numba.typeof`` of each argument, and numba saves the machine code in its disk
-    cache, atomically). When this
+    ``jobs``: ``(dispatcher, args)`` pairs, a ``cache=True`` compiled function and arguments of the
+    types it will be called with (they are not run: the child only compiles, for ``numba.typeof`` of
+    each argument, and numba saves the machine code in its disk cache, atomically). When this
     process later calls a function (or compiles a caller of it), numba's normal dispatch finds it in
     the cache and loads it instead of compiling: a first run uses both cores. Call :meth:`Ahead.wait`
-    before the work that needs them (the fused driver), so that nothing is compiled twice. A job marked
-    ``shared`` that the child has not reached when this process starts waiting is compiled by this
-    process instead (from the end of the list, :meth:`Ahead.wait`): list a stepper's callees as shared
-    jobs before the stepper itself, and both cores compile them.
+    before the work that needs them (the fused driver), so that nothing is compiled twice.
 
     No child (None) outside :class:`ahead_of_time`, off Linux, with more than one Python thread, for
     functions already handed to a child in this block, and -- what keeps a cached run from paying
@@ -492,32 +447,28 @@ def compile_ahead(jobs: Iterable[tuple]) -> Ahead | None:
     if threading.active_count() > 1:
         return None
     todo = []
-    for job in jobs:
-        disp, args = job[0], job[1]
+    for disp, args in jobs:
         path = _index_path(disp)
         if path is None or id(disp) in _AHEAD or os.path.exists(path):
             continue
-        todo.append((disp, args, bool(job[2]) if len(job) > 2 else False))
+        todo.append((disp, args))
     if not todo:
         return None
     from numba import typeof
 
     sigs = []
-    for disp, args, shared in todo:
+    for disp, args in todo:
         sig = tuple(typeof(a) for a in args)
         if sig not in disp.overloads:
-            sigs.append((disp, sig, shared))
+            sigs.append((disp, sig))
     if not sigs:
         return None
     for stream in (sys.stdout, sys.stderr):
         with contextlib.suppress(Exception):
             stream.flush()
-    import mmap
-
-    board = mmap.mmap(-1, len(sigs))  # anonymous and shared with the child: one state byte per job
     parent = os.getpid()
     pid = os.fork()
     if pid == 0:
-        _child_compile(sigs, parent, board)
-    _AHEAD.update(id(d) for d, _, _ in sigs)
-    return Ahead(pid, [d.py_func.__qualname__ for d, _, _ in sigs], sigs, board)
+        _child_compile(sigs, parent)
+    _AHEAD.update(id(d) for d, _ in sigs)
+    return Ahead(pid, [d.py_func.__qualname__ for d, _ in sigs])

@@ -47,19 +47,19 @@ def _steps(period: float, dt: float, what: str) -> int:
 
 def ahead_jobs(plants: Sequence[Plant], blocks: Sequence[Block], publish: bool = False) -> list[tuple]:
     """What a child compiles ahead (:func:`oceangnc.core.caches.compile_ahead`) for a simulation of these
-    plants and blocks: each plant's output function first (``publish``: when the child starts before the
-    simulation publishes, which then loads it; it shares the cable's kernels with the stepper), each
-    plant's stepper (which the fused driver alone calls, last), then the blocks' laws from the
+    plants and blocks: each plant's stepper (which the fused driver alone calls, last), its output
+    function (``publish``: when the child starts before the simulation publishes; it shares the cable's
+    kernels with the stepper, which the child then compiled already), then the blocks' laws from the
     *last* block, so that this process, running the first tick from the first block, meets the child's
     laws only at the end."""
     jobs: list[tuple] = []
-    for pl in plants:
-        jobs += pl.publish_jobs() if publish and hasattr(pl, "publish_jobs") else []
     for pl in plants:
         try:
             jobs += pl.compile_jobs()
         except AttributeError:  # a plant without the base class's stepper
             pass
+    for pl in plants:
+        jobs += pl.publish_jobs() if publish and hasattr(pl, "publish_jobs") else []
     for b in reversed(blocks):
         jobs += getattr(b, "compile_jobs", list)()
     return jobs

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ._combined_layout import (
@@ -381,18 +380,3 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
             remesh(x, p)
         t += dt
     return t
-
-
-def imex_jobs(x, u, p, work) -> list[tuple]:
-    """The callees of :func:`imex_advance` as jobs for a first run's compiling child, with arguments of
-    the types :func:`imex_advance` passes them, each marked as one the parent may take while it waits
-    (:func:`oceangnc.core.caches.compile_ahead`): listed before the stepper, they let both cores
-    compile the stepper's parts; the stepper then links them in."""
-    k = work[0]
-    n = np.int64(int(p[H_N]))
-    return [
-        (combined_rhs, (0.0, x, u, p, k), True),
-        (_imex_factor, (x, p, n, 0.0), True),
-        (_imex_solve, (x, p, n, k, 0.0, 0.0, 0.0), True),
-        (remesh, (x, p), True),
-    ]

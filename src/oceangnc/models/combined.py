@@ -38,7 +38,7 @@ from ..units import G
 # the compiled pieces live in ._combined_*; the layout constants and what generated fused modules and
 # tests import are re-exported here
 from ._combined_form import combined_plant_form
-from ._combined_imex import imex_advance, imex_jobs
+from ._combined_imex import imex_advance
 from ._combined_kernels import cable_state, combined_rhs
 from ._combined_layout import *  # noqa: F403
 from ._combined_layout import (
@@ -210,11 +210,8 @@ class CombinedPlant(Plant):
 
     def compile_jobs(self) -> list[tuple]:
         """The stepper of the plant's integrator and, at sea, the wave refresh, with arguments of the
-        fused loop's types (:meth:`oceangnc.core.blocks.Plant.compile_jobs`); the ROS2 stepper's callees
-        first, as jobs the parent may share (:func:`~oceangnc.models._combined_imex.imex_jobs`)."""
+        fused loop's types (:meth:`oceangnc.core.blocks.Plant.compile_jobs`)."""
         jobs = super().compile_jobs()
-        if self._advance is imex_advance:
-            jobs = imex_jobs(self.x, self.u, self.p, self.work) + jobs
         if self._sea:
             jobs.append((sea_update, (0.0, self.x, self.p, 0.0)))
         return jobs
