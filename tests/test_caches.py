@@ -250,3 +250,28 @@ def test_compile_ahead_compiles_in_a_child_that_this_process_loads_from_and_fork
     assert first["names"] == ["f", "bad"]
     assert first["value"] == 6.0 and first["hits"] == 1 and first["misses"] == 0  # loaded: the child compiled it
     assert not second["forked"] and second["hits"] == 1 and second["misses"] == 0
+
+
+def test_python_body_runs_a_compiled_function_and_its_compiled_callees_in_python_compiling_nothing():
+    """``caches.cheapest``'s first-run form (a build-time call before the compiling child is forked):
+    the function's own code and its callees', interpreted; no callee is compiled by the call, and the
+    module's globals still name the compiled functions."""
+    import numpy as np
+
+    from oceangnc.core import caches
+
+    ns: dict = {}
+    exec(
+        "from numba import njit\n"
+        "@njit\n"
+        "def inner(a, b):\n"
+        "    return a * b + 1.0\n"
+        "@njit\n"
+        "def outer(x):\n"
+        "    return inner(x[0], x[1]) - inner(x[1], 2.0)\n",
+        ns,
+    )
+    body = caches.python_body(ns["outer"])
+    assert body(np.array([3.0, 4.0])) == (3.0 * 4.0 + 1.0) - (4.0 * 2.0 + 1.0)
+    assert ns["outer"].signatures == [] and ns["inner"].signatures == []  # nothing compiled
+    assert hasattr(ns["inner"], "py_func")  # the module still names the compiled function

@@ -349,12 +349,35 @@ def _index_path(disp) -> str | None:
         return None
 
 
+def python_body(disp, _memo: dict | None = None):
+    """The Python body of the compiled function ``disp`` calling the Python bodies of the compiled
+    functions it names (recursively): the same code, run by the interpreter, compiling nothing.
+
+    A function object of its own (``disp.py_func``'s code over a copy of its module's globals in which
+    each compiled callee is replaced by its Python body): neither the module nor numba is changed."""
+    import types
+
+    memo = {} if _memo is None else _memo
+    if id(disp) in memo:
+        return memo[id(disp)]
+    fn = disp.py_func
+    env = dict(fn.__globals__)
+    memo[id(disp)] = out = types.FunctionType(fn.__code__, env, fn.__name__, fn.__defaults__, fn.__closure__)
+    for name in fn.__code__.co_names:
+        v = env.get(name)
+        if v is not None and hasattr(v, "py_func") and hasattr(v, "overloads"):
+            env[name] = python_body(v, memo)
+    return out
+
+
 def cheapest(disp):
     """``disp`` itself when its machine code is in the disk cache (loading it costs less than running
-    its Python body: a cached run), else its Python body, the same code (a first run, whose child may
-    be compiling it meanwhile, :func:`compile_ahead`). For a one-off call at build time."""
+    its Python body: a cached run), else its Python body with its callees' (:func:`python_body`; a
+    first run, whose child may be compiling them meanwhile, :func:`compile_ahead`: calling a compiled
+    callee from Python would compile it here, before the child is forked). For a one-off call at build
+    time."""
     path = _index_path(disp)
-    return disp if path is not None and os.path.exists(path) else disp.py_func
+    return disp if path is not None and os.path.exists(path) else python_body(disp)
 
 
 def _child_compile(sigs: list, parent: int) -> None:
