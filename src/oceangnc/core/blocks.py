@@ -71,6 +71,10 @@ class Block:
         """Read inputs from ``bus`` and write outputs to it at time ``t`` (s)."""
         raise NotImplementedError
 
+    def bus_outputs(self) -> list[str]:
+        """The keys :meth:`step` writes on the bus at each firing: the declared outputs."""
+        return list(self.outputs or {})
+
 
 class FunctionBlock(Block):
     """A stateless block made from a function ``fn(t, bus)``; handy for commands and glue."""

@@ -396,7 +396,7 @@ def first_tick_plan(sim) -> FirstTick | None:
     when a part declares no outputs (the bus after the first tick then fixes the log columns) or a
     block's required input is not on the bus when it fires (the Python clock reports it).
 
-    A block writes, at each firing, its declared outputs that are numbers (a
+    A block writes, at each firing, its :meth:`~oceangnc.core.blocks.Block.bus_outputs` (a
     :class:`~oceangnc.core.law.LawBlock`'s string outputs reach only the fused loop's array), and reads an
     optional input only when it is on the bus: at the first tick, an optional input written by a later
     block is absent (its default is used), as on the Python clock."""
@@ -408,11 +408,8 @@ def first_tick_plan(sim) -> FirstTick | None:
         if any(k not in present for k in (b.inputs or {})):
             return None
         before.append(frozenset(present))
-        outs = getattr(b, "_outs", None)
-        if outs is not None:
-            present.update(k for _, k in outs)
-        else:
-            present.update(b.outputs)
+        written = getattr(b, "bus_outputs", None)  # a block not derived from core.blocks.Block: its outputs
+        present.update(written() if written is not None else b.outputs)
     return FirstTick(before, frozenset(present))
 
 

@@ -218,6 +218,11 @@ class LawBlock(Block):
         """The fused loop's form: the very law :meth:`step` calls, on the block's own state array."""
         return CompiledBlock(type(self).law, self.slot_names(), self.st, self.pa, rng=self.rng if self.draws else None)
 
+    def bus_outputs(self) -> list[str]:
+        """The keys :meth:`step` writes on the bus: the declared outputs that are numbers (a string
+        output's code reaches only the fused loop's signal array)."""
+        return [k for _, k in self._outs]
+
     def compile_jobs(self) -> list[tuple]:
         """The law with arguments of the types :meth:`step` and the fused loop pass
         (:func:`oceangnc.core.caches.compile_ahead`)."""

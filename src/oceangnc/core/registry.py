@@ -63,6 +63,11 @@ def _add_package_sources(module: str) -> None:
     add_sources(roots[:1])
 
 
+def _is_own(ep) -> bool:
+    """An entry point of the oceangnc package itself (a built-in kind)."""
+    return ep.module.split(".")[0] == "oceangnc"
+
+
 def _entry_points() -> list:
     """The ``oceangnc.blocks`` entry points of every installed distribution (scanned once)."""
     global _EPS
@@ -70,7 +75,7 @@ def _entry_points() -> list:
         from importlib.metadata import entry_points
 
         _EPS = list(entry_points(group="oceangnc.blocks"))
-        if not any(ep.module.split(".")[0] == "oceangnc" for ep in _EPS):
+        if not any(_is_own(ep) for ep in _EPS):
             raise InputError("oceangnc's block entry points are missing: install the package (pip install -e .)")
     return _EPS
 
@@ -78,7 +83,7 @@ def _entry_points() -> list:
 def _load(ep) -> None:
     """Import one entry point: the package's own as is, a user's with its package in the code key and
     its errors reported in one line."""
-    if ep.module.split(".")[0] == "oceangnc":
+    if _is_own(ep):
         ep.load()
         return
     try:
@@ -122,7 +127,7 @@ def _load_entry_points() -> None:
         return
     _ENTRY_POINTS_LOADED = True
     eps = _entry_points()
-    for ep in sorted(eps, key=lambda ep: ep.module.split(".")[0] != "oceangnc"):
+    for ep in sorted(eps, key=lambda ep: not _is_own(ep)):
         _load(ep)
 
 
