@@ -275,3 +275,16 @@ def test_python_body_runs_a_compiled_function_and_its_compiled_callees_in_python
     assert body(np.array([3.0, 4.0])) == (3.0 * 4.0 + 1.0) - (4.0 * 2.0 + 1.0)
     assert ns["outer"].signatures == [] and ns["inner"].signatures == []  # nothing compiled
     assert hasattr(ns["inner"], "py_func")  # the module still names the compiled function
+    # a closure over a compiled function (a Jacobian closed over its model): the cell's function too
+    exec(
+        "def make(g):\n"
+        "    @njit\n"
+        "    def twice(a):\n"
+        "        return 2.0 * g(a, a)\n"
+        "    return twice\n"
+        "closed = make(inner)\n",
+        ns,
+    )
+    assert caches.python_body(ns["closed"])(3.0) == 2.0 * (3.0 * 3.0 + 1.0)
+    assert ns["closed"].signatures == [] and ns["inner"].signatures == []
+    assert ns["closed"].py_func.__closure__[0].cell_contents is ns["inner"]  # the closure itself unchanged

@@ -232,3 +232,27 @@ def test_closure_kernels_have_their_own_cache_files():
         return k
 
     assert name(cached_closure(make(usv_rhs))) == name(cached_closure(make(usv_rhs)))
+
+
+def test_an_interpreted_trim_compiles_nothing_and_finds_the_compiled_models_root():
+    """trim(interpreted=True) (the combined scenarios' turning radii at start-up): the model's and the
+    finite-difference Jacobian's Python bodies, so a model never compiled stays uncompiled, and the root
+    is the compiled model's to rounding (the fig 2-8 turn of 003: 30 / 15 kgf)."""
+    from numba import njit
+
+    from oceangnc.core.model import Model
+    from oceangnc.models.usv import usv_model
+
+    m = usv_model()
+    fresh = njit(m.f.py_func)  # the same law, never compiled in this process
+    states, inputs = zip(m.state_names, m.state_units), zip(m.input_names, m.input_units)
+    mf = Model(m.name, fresh, tuple(states), tuple(inputs), m.layout, m.p)
+    args = ([0, 0, 0, 0.5, 0.0, 0.1], [30 * KGF, 15 * KGF, 0, 0, 0, 0])
+    kw = dict(free=("u", "v", "r"), zero=("u", "v", "r"), tol=1e-13, jacobian="finite-difference")
+    res = trim(mf, *args, interpreted=True, **kw)
+    assert fresh.signatures == []  # nothing compiled
+    ref = trim(m, *args, **kw)
+    assert np.allclose(res.x, ref.x, rtol=1e-12, atol=1e-15)
+    assert math.degrees(res.x[5]) == pytest.approx(16.0, rel=1e-2)
+    with pytest.raises(InputError, match="interpreted=True needs jacobian='finite-difference'"):
+        trim(m, *args, free=("u", "v", "r"), zero=("u", "v", "r"), interpreted=True)

@@ -354,7 +354,8 @@ def python_body(disp, _memo: dict | None = None):
     functions it names (recursively): the same code, run by the interpreter, compiling nothing.
 
     A function object of its own (``disp.py_func``'s code over a copy of its module's globals in which
-    each compiled callee is replaced by its Python body): neither the module nor numba is changed."""
+    each compiled callee is replaced by its Python body, and over new closure cells in which a compiled
+    function closed over is too): neither the module nor numba is changed."""
     import types
 
     memo = {} if _memo is None else _memo
@@ -362,12 +363,24 @@ def python_body(disp, _memo: dict | None = None):
         return memo[id(disp)]
     fn = disp.py_func
     env = dict(fn.__globals__)
-    memo[id(disp)] = out = types.FunctionType(fn.__code__, env, fn.__name__, fn.__defaults__, fn.__closure__)
+    cells = fn.__closure__
+    if cells and any(_compiled(c.cell_contents) for c in cells):
+        cells = tuple(types.CellType() for _ in cells)
+    memo[id(disp)] = out = types.FunctionType(fn.__code__, env, fn.__name__, fn.__defaults__, cells)
     for name in fn.__code__.co_names:
         v = env.get(name)
-        if v is not None and hasattr(v, "py_func") and hasattr(v, "overloads"):
+        if _compiled(v):
             env[name] = python_body(v, memo)
+    if cells is not fn.__closure__:
+        for new, old in zip(cells, fn.__closure__):
+            v = old.cell_contents
+            new.cell_contents = python_body(v, memo) if _compiled(v) else v
     return out
+
+
+def _compiled(v) -> bool:
+    """Whether ``v`` is a compiled (numba) function."""
+    return v is not None and hasattr(v, "py_func") and hasattr(v, "overloads")
 
 
 def cheapest(disp):

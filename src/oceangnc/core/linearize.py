@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConfigError, InputError
+from .caches import python_body
 from .jacobians import (  # noqa: F401  (re-exported: the EKF and user code import them from here)
     CS_STEP,
     FD_STEP,
@@ -63,14 +64,27 @@ def _call(fn, *args, model=None, mode=""):
 
 
 def jacobian_columns(
-    model, x, u, cols, p=None, t: float = 0.0, jacobian: str | None = None, outputs: bool = True, uncompiled=False
+    model,
+    x,
+    u,
+    cols,
+    p=None,
+    t: float = 0.0,
+    jacobian: str | None = None,
+    outputs: bool = True,
+    uncompiled=False,
+    interpreted=False,
 ):
     """(F, H): columns ``cols`` (indices into [x | p | u]) of df and dh at (t, x, u); H is None when not
     ``outputs``. ``uncompiled``: run the Jacobian function's Python body (the same code, calling the
-    compiled model: the same numbers) instead of compiling it, for a few calls (a trim's Newton steps)."""
+    compiled model: the same numbers) instead of compiling it, for a few calls (a trim's Newton steps).
+    ``interpreted``: run the model's Python body too (:func:`oceangnc.core.caches.python_body`: compiling
+    nothing; the numbers agree with the compiled model's to rounding)."""
     mode = default_mode(model, jacobian)
     fjac, hjac = jacobian_functions(model.f, model.h, model.jac, mode)
-    if uncompiled:
+    if interpreted:
+        fjac, hjac = python_body(fjac), python_body(hjac)
+    elif uncompiled:
         fjac, hjac = fjac.py_func, hjac.py_func
     x = np.ascontiguousarray(x, dtype=np.float64)
     u = np.ascontiguousarray(np.atleast_1d(u), dtype=np.float64)
@@ -152,6 +166,7 @@ def trim(
     tol: float = 1e-10,
     max_iter: int = 100,
     jacobian: str | None = None,
+    interpreted: bool = False,
 ) -> Trim:
     """Equilibrium of ``model``: the derivatives of the states ``zero`` vanish, varying ``free``.
 
@@ -159,6 +174,11 @@ def trim(
     ``x0`` / ``u0``. Newton's method with the model's exact Jacobian (the same code as
     :func:`linearize`) and a backtracking line search on |residual|; raises :class:`InputError`
     if it does not converge (|residual| > ``tol`` x max(1, |residual at start|)).
+
+    ``interpreted``: run the model's Python body and a finite-difference Jacobian's
+    (:func:`oceangnc.core.caches.python_body`), compiling nothing: for a few solves of a small model
+    at start-up, where compiling the model costs seconds and its Python body milliseconds (the root
+    agrees with the compiled model's to rounding).
 
     Example: the USV running straight at thrust T, ``trim(m, x, [T, T, 0, 0, 0, 0], free=("u", "v",
     "r"), zero=("u", "v", "r"))``; positions and heading keep moving (not zeroed).
@@ -191,9 +211,14 @@ def trim(
     rows = np.array(row_list, dtype=np.int64)
     pp = model.p if p is None else np.asarray(p, dtype=np.float64)
     mode = default_mode(model, jacobian)
+    if interpreted and mode != "finite-difference":
+        raise InputError(f"trim: interpreted=True needs jacobian='finite-difference', got {mode!r}")
+    f = python_body(model.f) if interpreted else model.f
 
     def resid(xx, uu):
-        return model.deriv(xx, uu, pp, t)[rows]
+        out = np.zeros(nx)
+        f(float(t), np.asarray(xx, dtype=np.float64), np.asarray(uu, dtype=np.float64), pp, out)
+        return out[rows]
 
     def apply(xx, uu, dz):
         xx, uu = xx.copy(), uu.copy()
@@ -212,7 +237,16 @@ def trim(
             break
         # a finite-difference Jacobian uncompiled: a first run compiles only the model (issue 25)
         F, _ = jacobian_columns(
-            model, x, u, cols, p=pp, t=t, jacobian=jacobian, outputs=False, uncompiled=mode == "finite-difference"
+            model,
+            x,
+            u,
+            cols,
+            p=pp,
+            t=t,
+            jacobian=jacobian,
+            outputs=False,
+            uncompiled=mode == "finite-difference",
+            interpreted=interpreted,
         )
         try:
             dz = np.linalg.solve(F[rows], -r)

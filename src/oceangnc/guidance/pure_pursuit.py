@@ -62,25 +62,25 @@ def look_ahead_distance(*min_turning_radii: float) -> float:
     return 2.0 * max(min_turning_radii)
 
 
-def usv_min_turning_radius(cfg, jacobian: str | None = None) -> float:
+def usv_min_turning_radius(cfg, jacobian: str | None = None, interpreted: bool = False) -> float:
     """Minimum turning radius of the USV (m) from its model: the steady turn with one thruster at its
     full forward thrust and the other at zero (forward-only thrust, what the mixing (3.11) can hold
     while keeping way on), computed with :func:`oceangnc.models.usv.steady_turn` (``jacobian`` its
-    Newton Jacobian mode)."""
+    Newton Jacobian mode, ``interpreted`` its model run as Python: compiling nothing)."""
     from ..models.usv import steady_turn
     from ..units import KGF
 
-    u, v, r = steady_turn(cfg, cfg.max_thrust_kgf * KGF, 0.0, jacobian=jacobian)
-    return hypot(u, v) / abs(r)
+    u, v, r = steady_turn(cfg, cfg.max_thrust_kgf * KGF, 0.0, jacobian=jacobian, interpreted=interpreted)
+    return hypot.py_func(u, v) / abs(r)  # a Python call: compiling it costs 0.5 s of a first run
 
 
-def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None) -> float:
+def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None, interpreted: bool = False) -> float:
     """Turning radius of the UUV (m) at surge speed ``speed`` (m/s) from its model: the stern
     thrusters set to the thrust that holds ``speed`` straight ahead, the bow thruster at full thrust
     (:func:`oceangnc.models.uuv.uuv_steady_planar`). The full-power radius of
     :func:`oceangnc.models.uuv.uuv_min_turning_radius` belongs to a speed (several m/s) the towed
     UUV never reaches, so the radius at the formation's speed is the one that limits the path.
-    ``jacobian``: the Newton Jacobian mode of the trims.
+    ``jacobian``: the Newton Jacobian mode of the trims; ``interpreted``: their model run as Python.
     """
     from ..core.roots import bracket_root
     from ..models.uuv import uuv_steady_planar
@@ -89,11 +89,15 @@ def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None) -> flo
     hi = cfg.max_thrust_kgf * KGF
     if not speed > 0:
         raise ConfigError(f"UUV turning radius: speed must be > 0 m/s, got {speed}")
-    if uuv_steady_planar(cfg, hi, hi, 0.0, jacobian)[0] < speed:
+    if uuv_steady_planar(cfg, hi, hi, 0.0, jacobian, interpreted)[0] < speed:
         raise ConfigError(f"UUV turning radius: the UUV cannot reach {speed} m/s")
-    t0 = bracket_root(lambda T: uuv_steady_planar(cfg, T, T, 0.0, jacobian)[0] - speed, 1e-6, hi, xtol=1e-10)
-    u, v, r = uuv_steady_planar(cfg, t0, t0, hi, jacobian)
-    return hypot(u, v) / abs(r)
+
+    def surplus(T):
+        return uuv_steady_planar(cfg, T, T, 0.0, jacobian, interpreted)[0] - speed
+
+    t0 = bracket_root(surplus, 1e-6, hi, xtol=1e-10)
+    u, v, r = uuv_steady_planar(cfg, t0, t0, hi, jacobian, interpreted)
+    return hypot.py_func(u, v) / abs(r)  # a Python call: compiling it costs 0.5 s of a first run
 
 
 @njit(cache=True)

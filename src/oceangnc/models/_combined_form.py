@@ -26,17 +26,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.fused import PlantForm, _kernel_ref, rk4_stepper_imports
-from ._combined_imex import imex_advance
-from ._combined_outputs import _fill_outputs, _fill_outputs_var
 from ._combined_sea import sea_update
-from ._combined_split import split_advance
 
 
 def combined_advance_imports(plant) -> list[str]:
     """Generated-code lines binding ``{adv}`` to the plant's compiled advance for its integrator:
     the IMEX or split-RK4 stepper, or the RK4 stepper of its rhs."""
     if plant.integrator in ("imex", "rk4-split"):
-        mod, name = _kernel_ref(imex_advance if plant.integrator == "imex" else split_advance)
+        mod, name = _kernel_ref(plant._kernels["imex_advance" if plant.integrator == "imex" else "split_advance"])
         return [f"from {mod} import {name} as {{adv}}"]
     return rk4_stepper_imports(plant.rhs)
 
@@ -81,7 +78,7 @@ def combined_plant_form(plant, slot_of) -> PlantForm | None:
             "oslots": np.array([slot_of(k) for k in plant._out_keys], dtype=np.int64),
         }
     )
-    mod, name = _kernel_ref(_fill_outputs)
+    mod, name = _kernel_ref(plant._kernels["_fill_outputs"])
     imports = [*combined_advance_imports(plant), f"from {mod} import {name} as _fill_outputs"]
     code = [
         "for j in range({uin}.size):",
@@ -124,7 +121,7 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
     }
     # import lines from where the kernels live (robust to their moving between modules)
     imports = combined_advance_imports(plant)
-    mod, name = _kernel_ref(_fill_outputs_var)
+    mod, name = _kernel_ref(plant._kernels["_fill_outputs_var"])
     imports.append(f"from {mod} import {name} as _fill_outputs_var")
     code = [
         "for j in range({uin}.size):",

@@ -39,6 +39,12 @@ from .cable import segment
 ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 
 
+# feature switches (oceangnc.core.variants): True here, so the functions as written handle every
+# configuration (the runtime flags in p decide); ._combined_variants compiles copies with the features
+# a plant does not use switched off, whose code numba then never compiles
+SEA = WINCH = BRIDLE = True
+
+
 @njit(cache=True)
 def _imex_base(n):
     return P_SCR + 40 * (n + 1)
@@ -76,7 +82,7 @@ def _imex_factor(x, p, n, gh):
             G = p[base + 30 * (n + 1) + 30 : base + 30 * (n + 1) + 36]
             for k in range(6):
                 G[k] = 0.0
-            if p[H_WIN] > 0.5 and ln > l0:
+            if WINCH and p[H_WIN] > 0.5 and ln > l0:
                 gl = p[H_EA] * ln / (l0 * l0)
                 gs = cv * ln / l0
                 G[0] = gl * dx / ln
@@ -183,7 +189,7 @@ def _imex_end_increments(x, k, p, n, e, t=0.0, kt=0.0):
         e[3] = c * kub - s * kvb + (-s * ub - c * vb) * kp
         e[4] = s * kub + c * kvb + (c * ub - s * vb) * kp
         e[5] = 0.0
-    if p[H_SEA] > 0.0:
+    if SEA and p[H_SEA] > 0.0:
         sb = int(p[H_SEA])
         _, wz, az = top_heave(p, sb, t)
         e[2] += kt * wz
@@ -280,7 +286,7 @@ def _imex_solve(x, p, n, k, gh, t=0.0, kt=0.0):
             r0 += K[c] * ax_ + K[c + 1] * ay_ + K[c + 2] * az_ + S[c] * bx_ + S[c + 1] * by_ + S[c + 2] * bz_
             r1 += K[c + 1] * ax_ + K[c + 3] * ay_ + K[c + 4] * az_ + S[c + 1] * bx_ + S[c + 3] * by_ + S[c + 4] * bz_
             r2 += K[c + 2] * ax_ + K[c + 4] * ay_ + K[c + 5] * az_ + S[c + 2] * bx_ + S[c + 4] * by_ + S[c + 5] * bz_
-        if i == 1 and p[H_WIN] > 0.5:  # + gh (dF_1/dL k_L + dF_1/ds k_s), the winch's stage known
+        if WINCH and i == 1 and p[H_WIN] > 0.5:  # + gh (dF_1/dL k_L + dF_1/ds k_s), the winch's stage known
             G = p[base + 30 * (n + 1) + 30 : base + 30 * (n + 1) + 36]
             wo = int(p[H_WO])
             kl = gh * k[wo]
@@ -356,7 +362,7 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
             _imex_factor(x, p, n, gh)
             _imex_solve(x, p, n, k1, gh, t, 1.0)
         bri = int(p[H_BRI])
-        if bri > 0:  # the bridle's junction at x_n: both stages' end increments use it (one J)
+        if BRIDLE and bri > 0:  # the bridle's junction at x_n: both stages' end increments use it (one J)
             for i in range(3):
                 p[bri + B_SAVE + i] = p[P_UUV + P_RC + i]
         for i in range(m):
@@ -364,7 +370,7 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
         combined_rhs(t + dt, xt, u, p, k2)
         for i in range(m):
             k2[i] -= 2.0 * k1[i]
-        if bri > 0:
+        if BRIDLE and bri > 0:
             for i in range(3):
                 p[P_UUV + P_RC + i] = p[bri + B_SAVE + i]
         if n >= 2:
@@ -376,7 +382,7 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
                 ok = False
         if not ok:
             return -1.0 - s
-        if winch:
+        if WINCH and winch:
             remesh(x, p)
         t += dt
     return t

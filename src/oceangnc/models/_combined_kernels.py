@@ -66,6 +66,12 @@ from .uuv import P_MRB, P_RC, uuv_deriv, uuv_deriv_flow
 _I0, _I1, _TRUE = np.int64(0), np.int64(1), np.bool_(True)
 
 
+# feature switches (oceangnc.core.variants): True here, so the functions as written handle every
+# configuration (the runtime flags in p decide); ._combined_variants compiles copies with the features
+# a plant does not use switched off, whose code numba then never compiles
+SEA = BED = WINCH = BRIDLE = True
+
+
 @njit(cache=True)
 def _contact(p, x, y, z, vx, vy, vz, radius, mass):
     """Seabed penalty force (N, NED) on a point of contact radius ``radius`` and mass ``mass``.
@@ -126,15 +132,15 @@ def combined_rhs(t, x, u, p, out):
     """dx/dt of the combined USV + cable + UUV (layout in the module docstring); allocates nothing."""
     n = int(p[H_N])
     sea = p[H_SEA] > 0.0
-    if sea:
+    if SEA and sea:
         p[H_T] = t
-    if p[H_BRI] > 0.0:
+    if BRIDLE and p[H_BRI] > 0.0:
         bridle_update(x, p, n, u[2], u[3])
     usv_rhs(t, x[0:6], u[0:6], p[P_USV : P_USV + N_USV], out[0:6])
     if p[H_TOP] > 0.5:
         for k in range(6):
             out[k] = 0.0
-    if sea and p[int(p[H_SEA]) + S_WF] > 0.0:  # the USV's wave-frequency motion (._usv_waves)
+    if SEA and sea and p[int(p[H_SEA]) + S_WF] > 0.0:  # the USV's wave-frequency motion (._usv_waves)
         s = int(p[H_SEA])
         wf_rhs(t, x, p, s, out)
         w = int(p[s + S_WF])
@@ -144,8 +150,8 @@ def combined_rhs(t, x, u, p, out):
             out[5] += p[w + W_FD + 2] / p[P_USV + _M33]
     pos, vel, F, Mn = _gather(x, p, n)
     lt = top_l0(x, p, n)
-    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
-    if sea:
+    ldot = x[int(p[H_WO]) + 1] if WINCH and p[H_WIN] > 0.5 else 0.0
+    if SEA and sea:
         _loads_sea(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot, _I0, t)
     else:
         _loads(p, pos, vel, F, Mn, n, p[H_CVE], u[2], u[3], p[H_CV], lt, ldot)
@@ -155,7 +161,7 @@ def combined_rhs(t, x, u, p, out):
     mnode = p[H_MC] + p[H_MA]
     for i in range(1, n):
         k = 3 * i
-        if bed:
+        if BED and bed:
             fx, fy, fz = _contact(p, pos[k], pos[k + 1], pos[k + 2], vel[k], vel[k + 1], vel[k + 2], 0.0, mnode)
             F[k] += fx
             F[k + 1] += fy
@@ -173,12 +179,12 @@ def combined_rhs(t, x, u, p, out):
     fbx = F[b]
     fby = F[b + 1]
     fbz = F[b + 2]
-    if bed:  # UUV: a sphere of radius H_BED_R around the CB, force applied at the tow point
+    if BED and bed:  # UUV: a sphere of radius H_BED_R around the CB, force applied at the tow point
         cx, cy, cz = _contact(p, x[o], x[o + 1], x[o + 2], vel[b], vel[b + 1], vel[b + 2], p[H_BED_R], p[P_UUV + P_MRB])
         fbx += cx
         fby += cy
         fbz += cz
-    if sea:  # the UUV in the waves: flow velocity and acceleration at its centre of buoyancy
+    if SEA and sea:  # the UUV in the waves: flow velocity and acceleration at its centre of buoyancy
         s = int(p[H_SEA])
         c = coef_base(p, s) + NCOEF * (int(p[s + S_NPT]) - 2)
         wn, we, wd, an, ae, ad = point_kinematics(p, c, t - p[s + S_TMID], x[o + 2])
@@ -190,7 +196,7 @@ def combined_rhs(t, x, u, p, out):
         uuv_deriv(
             x[o : o + 12], out[o : o + 12], p[P_UUV : P_UUV + UUV_NP], u[6], u[7], u[8], u[2], u[3], fbx, fby, fbz
         )
-    if p[H_WIN] > 0.5:
+    if WINCH and p[H_WIN] > 0.5:
         nmax = int(p[H_NMAX])
         for k in range(3 * (n - 1), 3 * (nmax - 1)):  # inactive node slots stay put
             out[po + k] = 0.0
@@ -208,16 +214,16 @@ def cable_state(x, p, nodes, ends):
     from ``ends[6:8]`` (NED, m/s) on entry.
     """
     n = int(p[H_N])
-    if p[H_BRI] > 0.0:
+    if BRIDLE and p[H_BRI] > 0.0:
         bridle_update(x, p, n, ends[6], ends[7])
     pos, vel, F, Mn = _gather(x, p, n)
     for k in range(3 * (n + 1)):
         nodes[k] = pos[k]
     # only the two end segments matter: run the segment loads on one-segment views
     lt = top_l0(x, p, n)
-    ldot = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+    ldot = x[int(p[H_WO]) + 1] if WINCH and p[H_WIN] > 0.5 else 0.0
     sea = p[H_SEA] > 0.0
-    if sea:
+    if SEA and sea:
         _loads_sea(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot, _I0, p[H_T])
     else:
         _loads(p, pos[0:6], vel[0:6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lt, ldot)
@@ -226,7 +232,7 @@ def cable_state(x, p, nodes, ends):
     b = 3 * (n - 1)
     lb = lt if n == 1 else -1.0
     lbd = ldot if n == 1 else 0.0
-    if sea:
+    if SEA and sea:
         _loads_sea(
             p, pos[b : b + 6], vel[b : b + 6], F[0:6], Mn[0:12], _I1, p[H_CV], ends[6], ends[7], -1.0, lb, lbd, n - 1,
             p[H_T],
@@ -253,7 +259,7 @@ def bridle_update(x, p, n, vcn, vce):
     if n == 1:  # node n - 1 is the top node
         _ends(x, p, _I1, pos, vel)
         lb = lt
-        lbd = x[int(p[H_WO]) + 1] if p[H_WIN] > 0.5 else 0.0
+        lbd = x[int(p[H_WO]) + 1] if WINCH and p[H_WIN] > 0.5 else 0.0
         l0 = lt
     else:
         po = int(p[H_PO]) + 3 * (n - 2)
@@ -273,7 +279,7 @@ def bridle_update(x, p, n, vcn, vce):
         pos[3], pos[4], pos[5] = rot_add(R, x[o], x[o + 1], x[o + 2], rx, ry, rz)
         bu, bv, bw = cross_add(x[o + 6], x[o + 7], x[o + 8], x[o + 9], x[o + 10], x[o + 11], rx, ry, rz)
         vel[3], vel[4], vel[5] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
-        if sea:
+        if SEA and sea:
             _loads_sea(p, pos, vel, F, Mn, _I1, p[H_CV], vcn, vce, -1.0, lb, lbd, n - 1, p[H_T])
         else:
             _loads(p, pos, vel, F, Mn, _I1, p[H_CV], vcn, vce, -1.0, lb, lbd)

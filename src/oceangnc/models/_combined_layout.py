@@ -68,6 +68,12 @@ P_UUV = 60
 P_SCR = P_UUV + UUV_NP
 
 
+# feature switches (oceangnc.core.variants): True here, so the functions as written handle every
+# configuration (the runtime flags in p decide); ._combined_variants compiles copies with the features
+# a plant does not use switched off, whose code numba then never compiles
+SEA = WINCH = True
+
+
 @njit(cache=True)
 def _ends(x, p, n, pos, vel):
     """Write the top (node 0) and bottom (node n) positions/velocities into ``pos``/``vel``."""
@@ -91,7 +97,7 @@ def _ends(x, p, n, pos, vel):
         vel[0] = c * ub - s * vb
         vel[1] = s * ub + c * vb
         vel[2] = 0.0
-    if p[H_SEA] > 0.0:  # a heaving top point (with the waves, or prescribed)
+    if SEA and p[H_SEA] > 0.0:  # a heaving top point (with the waves, or prescribed)
         s = int(p[H_SEA])
         dz, wz, _ = top_heave(p, s, p[H_T])
         pos[2] += dz
@@ -156,7 +162,7 @@ def _gather(x, p, n):
 def top_l0(x, p, n):
     """Unstretched length of the top segment (m): the winch's paid-out length minus the n - 1 nominal
     segments below it, or l0 without a winch."""
-    if p[H_WIN] > 0.5:
+    if WINCH and p[H_WIN] > 0.5:
         return x[int(p[H_WO])] - (n - 1) * p[H_L0]
     return p[H_L0]
 

@@ -31,6 +31,12 @@ from .uuv import STATE_NAMES as UUV_STATES
 _I2, _I3 = np.int64(2), np.int64(3)
 
 
+# feature switches (oceangnc.core.variants): True here, so the functions as written handle every
+# configuration (the runtime flags in p decide); ._combined_variants compiles copies with the features
+# a plant does not use switched off, whose code numba then never compiles
+BED = WINCH = True
+
+
 @njit(cache=True)
 def _fill_outputs(x, p, o_uuv, nodes, ends, out):
     """Published outputs in the order of ``CombinedPlant._out_keys`` (see :meth:`CombinedPlant.publish`)."""
@@ -66,7 +72,7 @@ def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
     l0 = p[H_L0]
     lt = top_l0(x, p, n)
     ttop = out[20]
-    if p[H_WIN] > 0.5:
+    if WINCH and p[H_WIN] > 0.5:
         wo = int(p[H_WO])
         L = x[wo]
         sd = x[wo + 1]
@@ -87,7 +93,7 @@ def _fill_outputs_var(x, p, o_uuv, nodes, ends, out, u, nmax):
     out[k + 1] = n + 1.0
     # mass of cable in the water: the segment masses the dynamics use, summed
     out[k + 2] = p[H_MC] * (n - 1) + p[H_MC] * lt / l0
-    if p[H_BED] > 0.5:
+    if BED and p[H_BED] > 0.5:
         out[k + 10] = seabed_depth(p, x[o_uuv], x[o_uuv + 1]) - x[o_uuv + 2]
         cnt = 0
         for i in range(1, n):

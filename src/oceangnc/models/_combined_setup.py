@@ -100,8 +100,11 @@ def segmentation(c: CableConfig, winch) -> tuple[float, int, int]:
     return l0, n, nmax
 
 
-def build_arrays(usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: str, integrator: str, winch, seabed):
-    """(p, x0, state names, n_max) of a combined plant; ``winch``/``seabed`` None when absent."""
+def build_arrays(
+    usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: str, integrator: str, winch, seabed, ends=_ends
+):
+    """(p, x0, state names, n_max) of a combined plant; ``winch``/``seabed`` None when absent; ``ends`` the
+    plant's compiled :func:`._combined_layout._ends` (its copy without the plant's absent features)."""
     _check(c, uuv_cfg)
     has_winch = winch is not None
     has_bed = seabed is not None
@@ -183,7 +186,7 @@ def build_arrays(usv_cfg: USVConfig, uuv_cfg: UUVConfig, c: CableConfig, top: st
     vel = np.zeros(3 * (n + 1))
     # one call at build time: compiled when cached, else its Python body (the same code; a first run's
     # second process compiles _ends meanwhile for the fused loop's kernels, core.caches.compile_ahead)
-    cheapest(_ends)(x0, p, n, pos, vel)
+    cheapest(ends)(x0, p, n, pos, vel)
     pos = pos.reshape(-1, 3)
     gap = float(np.linalg.norm(pos[n] - pos[0]))
     if gap > c.length * (1.0 + START_SLACK):  # a cable stretched at t = 0: a start-up snap load, not a run

@@ -38,8 +38,8 @@ from ..units import G
 # the compiled pieces live in ._combined_*; the layout constants and what generated fused modules and
 # tests import are re-exported here
 from ._combined_form import combined_plant_form
-from ._combined_imex import imex_advance
-from ._combined_kernels import cable_state, combined_rhs
+from ._combined_imex import imex_advance  # noqa: F401
+from ._combined_kernels import cable_state, combined_rhs  # noqa: F401
 from ._combined_layout import *  # noqa: F403
 from ._combined_layout import (
     H_EA,
@@ -55,12 +55,13 @@ from ._combined_layout import (
     UUV_NP,
     top_l0,
 )
-from ._combined_outputs import _fill_outputs, _fill_outputs_var, _unit_of, output_keys
+from ._combined_outputs import _fill_outputs, _fill_outputs_var, _unit_of, output_keys  # noqa: F401
 from ._combined_sea import HEAVE_MODES, reset_sea, sea_block, sea_update
 from ._sea_layout import S_WF, W_XO
 from ._usv_waves import WF_OUTPUTS, attach_usv_motions
 from ._combined_setup import build_arrays
 from ._combined_split import damping_substep, split_advance  # noqa: F401
+from ._combined_variants import kernels
 from ._combined_winch import remesh, winch_command  # noqa: F401
 from .cable import CableConfig, axial_stability_limit
 from .usv import USVConfig
@@ -116,14 +117,18 @@ class CombinedPlant(Plant):
         self.winch_cfg = winch if has_winch else None
         self.seabed_cfg = seabed if has_bed else None
         self.top = top
-        p, x0, names, nmax = build_arrays(usv_cfg, uuv_cfg, cable_cfg, top, integrator, self.winch_cfg, self.seabed_cfg)
-        self.n_max = nmax
         if heave not in HEAVE_MODES:
             raise ConfigError(f"heave = {heave!r}: allowed values " + ", ".join(repr(k) for k in HEAVE_MODES))
         if heave == "sine" and not (heave_period > 0):
             raise ConfigError(f"heave_period = {heave_period}: must be > 0 for a prescribed sine heave")
         self.waves = waves
         self._sea = waves is not None or heave != "none"
+        # the compiled kernels without the features this plant does not have (._combined_variants)
+        self._kernels = k = kernels(self._sea, has_bed, has_winch, cable_cfg.attachment == "bridle")
+        p, x0, names, nmax = build_arrays(
+            usv_cfg, uuv_cfg, cable_cfg, top, integrator, self.winch_cfg, self.seabed_cfg, k["_ends"]
+        )
+        self.n_max = nmax
         self._sea_dt = float(wave_update_dt)
         if self._sea:  # the sea block at the end of p (layout: ._sea_layout), its offset in the header
             p[H_SEA] = p.size
@@ -154,7 +159,7 @@ class CombinedPlant(Plant):
         units = ("N", "N", "m/s", "m/s", "m/s", "m/s", "N", "N", "N") + (("m/s",) if has_winch else ())
         super().__init__(
             name,
-            combined_rhs,
+            k["combined_rhs"],
             x0,
             p,
             names,
@@ -165,7 +170,7 @@ class CombinedPlant(Plant):
             input_defaults=CALM,
         )
         if integrator != "rk4":  # same signature as the RK4 stepper: Plant.advance calls it
-            self._advance = imex_advance if integrator == "imex" else split_advance
+            self._advance = k["imex_advance"] if integrator == "imex" else k["split_advance"]
         self._var = has_winch or has_bed
         self._nodes = np.zeros(3 * (nmax + 1))
         self._ends = np.zeros(8)
@@ -222,8 +227,8 @@ class CombinedPlant(Plant):
         (the combined scenarios, before their trims)."""
         if self._var:
             args = (self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u, self.n_max)
-            return [(_fill_outputs_var, args)]
-        return [(_fill_outputs, (self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out))]
+            return [(self._kernels["_fill_outputs_var"], args)]
+        return [(self._kernels["_fill_outputs"], (self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out))]
 
     def compiled_form(self, slot_of):
         """The fused loop's form (:func:`oceangnc.models._combined_form.combined_plant_form`)."""
@@ -235,7 +240,7 @@ class CombinedPlant(Plant):
         self._ends[6] = self.u[2]
         self._ends[7] = self.u[3]
         m = 3 * (self.n + 1)
-        cable_state(self.x, self.p, self._nodes[:m], self._ends)
+        self._kernels["cable_state"](self.x, self.p, self._nodes[:m], self._ends)
         return self._nodes[:m].reshape(-1, 3), self._ends[0:3], self._ends[3:6]
 
     def publish(self, bus: dict) -> None:
@@ -244,10 +249,12 @@ class CombinedPlant(Plant):
         self._ends[6] = self.u[2]
         self._ends[7] = self.u[3]
         if self._var:
-            _fill_outputs_var(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u, self.n_max)
+            self._kernels["_fill_outputs_var"](
+                self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out_full, self.u, self.n_max
+            )
             self._out[:] = self._out_full[self._out_idx]
         else:
-            _fill_outputs(self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
+            self._kernels["_fill_outputs"](self.x, self.p, self.o_uuv, self._nodes, self._ends, self._out)
         bus.update(zip(self._out_keys, self._out.tolist()))
         for (k, _), i in zip(WF_OUTPUTS, self._wf_idx):
             bus[k] = float(self.x[i])
@@ -261,7 +268,7 @@ class CombinedPlant(Plant):
         """
         n = self.n
         nodes, _, _ = self.cable_snapshot()
-        combined_rhs(0.0, self.x, self.u, self.p, np.zeros_like(self.x))  # fills node velocities and masses
+        self.rhs(0.0, self.x, self.u, self.p, np.zeros_like(self.x))  # fills node velocities and masses
         p = self.p
         m = 3 * (n + 1)
         vel = p[P_SCR + m : P_SCR + 2 * m].reshape(-1, 3)

@@ -216,10 +216,11 @@ class USVThrusters(ThrusterBank):
         super().__init__(body, ("port", "stbd"), hi, lo, period, voltage=mode == "voltage")
 
 
-def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float, jacobian: str | None = None):
+def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float, jacobian: str | None = None, interpreted: bool = False):
     """Steady-state (u, v, r) of the USV in calm water for constant thrusts (N): :func:`oceangnc.core.linearize.trim`
     of the surge, sway and yaw equations (Newton with the exact complex-step Jacobian, or ``jacobian``,
-    one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`)."""
+    one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`; ``interpreted``: the model's Python body,
+    compiling nothing, with ``jacobian="finite-difference"``)."""
     from ..core.linearize import trim
 
     res = trim(
@@ -230,6 +231,7 @@ def steady_turn(cfg: USVConfig, t_port: float, t_stbd: float, jacobian: str | No
         zero=("u", "v", "r"),
         tol=1e-13,
         jacobian=jacobian,
+        interpreted=interpreted,
     )
     return float(res.x[3]), float(res.x[4]), float(res.x[5])
 

@@ -328,12 +328,15 @@ class UUVThrusters(ThrusterBank):
         super().__init__(body, ("port", "stbd", "bow"), hi, lo, period)
 
 
-def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float, jacobian: str | None = None):
+def uuv_steady_planar(
+    cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float, jacobian: str | None = None, interpreted: bool = False
+):
     """Steady (u, v, r) of the UUV in the horizontal plane for constant thrusts (N), calm water.
 
     Solves the surge, sway and yaw rows of the 6-DOF model with w = p = q = 0 and level attitude
     (roll/pitch held: :func:`uuv_planar_rhs`) by :func:`oceangnc.core.linearize.trim` (Newton, exact
-    Jacobian, or ``jacobian``, one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`).
+    Jacobian, or ``jacobian``, one of :data:`oceangnc.core.jacobians.JACOBIAN_MODES`; ``interpreted``:
+    the model's Python body, compiling nothing, with ``jacobian="finite-difference"``).
     """
     from ..core.linearize import trim
 
@@ -351,6 +354,7 @@ def uuv_steady_planar(cfg: UUVConfig, t_port: float, t_stbd: float, t_bow: float
             zero=("u", "v", "r"),
             tol=1e-12,
             jacobian=jacobian,
+            interpreted=interpreted,
         )
     except InputError as e:
         raise RuntimeError(f"uuv_steady_planar: no steady turn found ({e})") from None
