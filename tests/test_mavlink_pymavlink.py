@@ -359,11 +359,69 @@ def test_cli_serves_for_a_duration_and_keeps_the_log(tmp_path, capsys):
     # the run folder also holds the telemetry stream as a .tlog, which `oceangnc import` reads back
     assert main(["import", str(run / "telemetry.tlog"), "--out", str(tmp_path / "imp")]) == 0
     imp = pd.read_parquet(tmp_path / "imp" / "log.parquet")
-    assert len(imp) > 80 and imp["usv.x"].abs().max() < 1e-2  # 10 s at 10 Hz, a boat at rest at the origin
+    # 10 s at 10 Hz per simulated second (the streams keep their rates in simulated time at 20x), no gap
+    assert len(imp) > 80 and not imp["usv.x"].isna().any(), f"{int(imp['usv.x'].isna().sum())} NaN rows of usv.x"
+    assert imp["usv.x"].abs().max() < 1e-2  # a boat at rest at the origin
     assert main(["mavlink", "usv-remote", "--listen", "udp:nowhere", "--quiet", "--out", str(tmp_path)]) == 2
     assert "expected udp:HOST:PORT" in capsys.readouterr().err
     assert main(["mavlink", "usv-remote", "--set", "mavlink.gcs_timeout_s=0", "--quiet", "--out", str(tmp_path)]) == 2
     assert "gcs_timeout_s" in capsys.readouterr().err
+
+
+def _tlog_messages(path):
+    """(simulated time, message type) of every frame of a .tlog the vehicle wrote (stamp - tlog_epoch)."""
+    from pymavlink import mavutil
+
+    log = mavutil.mavlink_connection(str(path))
+    out = []
+    while (m := log.recv_match()) is not None:
+        out.append((m._timestamp - 1.7e9, m.get_type()))
+    log.close()
+    return out
+
+
+def test_telemetry_keeps_its_rates_in_simulated_time_when_faster_than_real_time(tmp_path):
+    """At 20x (loop passes 10 ms of wall time apart on a fake clock) the 10 Hz streams are 10 Hz per simulated
+    second, each message sent at its own instant (the simulation is stopped there), so a .tlog of the run
+    imports without gaps; wall-paced streams gave 0.5 Hz of simulated time. Below real time (0.5x) and after the
+    end of the run, when simulated time crawls or stands still, the streams keep their rates per wall second."""
+    from oceangnc.io.importers import resample
+    from oceangnc.io.importers.formats.ardupilot import read_tlog
+
+    now = [0.0]
+    tlog = tmp_path / "t.tlog"
+    v = MavlinkVehicle(
+        "usv-remote", listen="udp:127.0.0.1:0", out_root=None, speed=20.0, duration=4.0, clock=lambda: now[0], tlog=tlog
+    )
+    while v.sim.t < 2.0 - 1e-9:
+        now[0] += 0.01
+        v.step_once()
+    v._set_speedup(0.5)
+    for _ in range(100):  # 1 s of wall time: 0.5 s simulated
+        now[0] += 0.01
+        v.step_once()
+    v._set_speedup(20.0)
+    while not v.ended:
+        now[0] += 0.01
+        v.step_once()
+    for _ in range(350):  # 3.5 s of wall time after the end (simulated time stands at 4 s)
+        now[0] += 0.01
+        v.step_once()
+    v.close()
+    msgs = _tlog_messages(tlog)
+    pos = np.array([t for t, k in msgs if k == "GLOBAL_POSITION_INT"])
+    fast = pos[pos <= 2.0 + 1e-6]
+    assert fast.size == 21 and np.allclose(fast, 0.1 * np.arange(21), atol=2e-6), fast  # 0, 0.1, ..., 2.0 s
+    slow = pos[(pos > 2.0 + 1e-6) & (pos < 2.5 - 1e-6)]
+    assert 8 <= slow.size <= 11, slow  # 10 Hz per wall second over 1 s of wall time (0.5 s simulated)
+    after = pos[pos > 2.5 + 1e-6]
+    assert np.diff(after).max() <= 0.1 + 2e-6 and after[-1] == pytest.approx(4.0, abs=2e-6)
+    beats = [t for t, k in msgs if k == "HEARTBEAT"]
+    assert sum(t >= 4.0 - 1e-6 for t in beats) >= 3, beats[-5:]  # 1 Hz per wall second after the end
+    series, _ = read_tlog(tlog)
+    cols, report = resample(series, 10.0)
+    assert not report["gaps"] and not np.isnan(cols["usv.x"]).any()
+    assert {j["kind"] for j in report["jumps"]} <= {"backwards"}  # only the repeats at 4 s after the end
 
 
 def test_scenario_without_stick_or_route_hook_holds_by_zero_thrust():

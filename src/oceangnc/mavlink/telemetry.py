@@ -11,22 +11,56 @@ from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
 
 M = mavlink
 
+#: tolerance of the simulated-time schedule, s (``sim.t`` is a sum of clock ticks)
+_T_EPS = 1e-6
+
 
 class TelemetryMixin:
     """Heartbeats, position, attitude, HUD, status and servo outputs of the USV (and the UUV as its own system)."""
 
     def _due(self, name: str, now: float) -> bool:
+        """Whether message ``name`` is due, and if so book it: 1 / rate has passed since it was last sent in
+        simulated time (``sim.t``) or in wall time (``now``), whichever comes first.
+
+        A stream so keeps its rate per simulated second when the simulation runs faster than real time (as
+        ArduPilot SITL at SIM_SPEEDUP > 1, whose scheduler and stream timers run on the simulated clock: a
+        ``.tlog`` of a 20x run, stamped with simulated time, still holds 10 Hz positions) and per wall
+        second when it runs slower or stands still (after ``duration``), so ground stations keep their
+        heartbeat. The simulation is advanced in stretches that end where a message falls due
+        (:meth:`_ticks_to_telemetry`), so each is sent with the state of its own instant."""
         rate = self.rates[name]
-        if rate > 0 and now >= self._next_tx[name]:
-            self._next_tx[name] = max(self._next_tx[name] + 1.0 / rate, now)
-            return True
-        return False
+        if rate <= 0:
+            return False
+        t = float(self.sim.t)
+        by_sim = t >= self._next_sim[name] - _T_EPS
+        if not by_sim and now < self._next_tx[name]:
+            return False
+        period = 1.0 / rate
+        self._next_sim[name] = t + period
+        # the wall schedule keeps its grid when it paces the stream; booked from now when simulated time did
+        self._next_tx[name] = now + period if by_sim else max(self._next_tx[name] + period, now)
+        return True
+
+    def _ticks_to_telemetry(self) -> int:
+        """Whole clock ticks from ``sim.t`` to the first message due in simulated time (at least 1; no limit
+        while nothing is sent: no ground station and no ``.tlog``)."""
+        if not self._sends_telemetry():
+            return 2**62
+        t = float(self.sim.t)
+        nxt = min((self._next_sim[k] for k, r in self.rates.items() if r > 0), default=math.inf)
+        if nxt == math.inf:
+            return 2**62
+        return max(1, math.ceil((nxt - t - _T_EPS) / self.tick_s)) if nxt > t else 1
+
+    def _sends_telemetry(self) -> bool:
+        return bool(self.peers or self.fixed_peers or self.tlog is not None)
 
     def set_rate(self, name: str, hz: float) -> None:
         """Telemetry rate of message ``name`` (Hz; 0 stops it), for every ground station (SET_MESSAGE_INTERVAL,
         REQUEST_DATA_STREAM); the next one is sent at once."""
         self.rates[name] = max(0.0, min(MAX_RATE_HZ, float(hz)))
         self._next_tx[name] = 0.0
+        self._next_sim[name] = -math.inf
 
     def _heartbeat(self, uuv: bool = False) -> None:
         sub = self.sub2 if uuv else self.sub1
@@ -136,7 +170,7 @@ class TelemetryMixin:
         return round(1500 + 400 * max(-1.0, min(1.0, T / full)))
 
     def _telemetry(self, now: float) -> None:
-        if not self.peers and not self.fixed_peers and self.tlog is None:
+        if not self._sends_telemetry():
             return
         c = self.cfg_mav
         usv = self._body(self.body)

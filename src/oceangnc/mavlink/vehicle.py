@@ -20,10 +20,13 @@ One loop (default 100 Hz, run in a thread by :meth:`MavlinkVehicle.start` or in 
    ``mavlink.*`` (battery included) / ``console.failsafe`` / ``console.estop``; when ``_estop`` rises the
    blocks are fired once at that instant (as the console does) so thrust is zero from the next step;
 4. advance the simulation by whole clock ticks to ``t_sim(anchor) + speed (t_wall - t_wall(anchor))``
-   (the console's pacing, re-anchored when it falls more than 0.5 s behind);
-5. follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and the navigation modes'
-   legs (:mod:`.nav`), draw the battery (:mod:`.battery`), and send the telemetry that is due
-   (:data:`oceangnc.mavlink.protocol.TELEMETRY`, at the rates ground stations set).
+   (the console's pacing, re-anchored when it falls more than 0.5 s behind), in stretches that end where a
+   telemetry message falls due in simulated time;
+5. after each stretch, follow the mission (MISSION_CURRENT, MISSION_ITEM_REACHED, HOLD at the end) and the
+   navigation modes' legs (:mod:`.nav`), draw the battery (:mod:`.battery`), and send the telemetry that is
+   due (:data:`oceangnc.mavlink.protocol.TELEMETRY`, at the rates ground stations set, per simulated second
+   when the simulation runs faster than real time and per wall second otherwise:
+   :meth:`~oceangnc.mavlink.telemetry.TelemetryMixin._due`).
 
 The mission feeds the scenario's own guidance through :class:`RouteHook`: a scenario that reads
 ``console.waypoints`` (``console_route_edit = True``, e.g. ``usv-remote``) gets the route on that
@@ -264,7 +267,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             self.sub1.mav = self.mav
         self._parser = M.MAVLink(None)
         self._parser.robust_parsing = True
-        self._next_tx = {k: 0.0 for k in TELEMETRY}
+        self._next_tx = {k: 0.0 for k in TELEMETRY}  # wall time each message is next due at, s
+        self._next_sim = {k: -math.inf for k in TELEMETRY}  # simulated time each message is next due at, s
         self.rates = {k: float(v[0]) for k, v in TELEMETRY.items()}
         # -- log
         self.run_dir = None
@@ -402,48 +406,69 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 if sub is not None:
                     sub._upload_watchdog(now)
                     sub.watchdog(now, gcs=sub is self.sub1)
-            sim = self.sim
-            was = bool(sim.bus.get("_estop", False))
-            self._push_bus()
-            if sim.bus["_estop"] and not was:
-                for b in sim.blocks:  # thrust zero before the next integration step
-                    b.step(sim.t, sim.bus)
-            if not self.ended:
-                w0, s0 = self._anchor
-                lag = s0 + self.speed * (now - w0) - sim.t
-                if lag > self.max_lag:
-                    self._anchor = (now, sim.t)
-                    lag = self.max_lag
-                n = math.floor(lag / self.tick_s + 1e-9)
-                if self.duration is not None:
-                    n = min(n, math.ceil((self.duration - sim.t) / self.tick_s - 1e-9))
-                if n >= 1:
-                    try:
-                        sim.run(n * self.tick_s, log=self.writer)
-                    except DivergenceError as e:
-                        self._end(f"simulation diverged: {e}")
-                    except Exception as e:  # noqa: BLE001
-                        traceback.print_exc()
-                        self._end(f"simulation failed: {type(e).__name__}: {e}")
-                    else:
-                        if sim.bus.get("_stop", False):
-                            self._end(f"scenario finished at t = {sim.t:.1f} s")
-                if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
-                    self._end(f"duration {self.duration:g} s reached")
-            self._follow_mission()
-            for sub in (self.sub1, self.sub2):
-                if sub is not None:
-                    sub._follow_mission()
-            self._nav_step()
-            self._battery_step()
-            try:
-                self._telemetry(now)
-            except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
-                self.counts["tx_errors"] = self.counts.get("tx_errors", 0) + 1
-                if self.counts["tx_errors"] in (1, 100):
-                    self.events.append((float(self.sim.t), f"telemetry error: {type(e).__name__}: {e}"))
+            n = self._ticks_due(now)
+            k = 0  # the first stretch is empty: what is due at the present instant goes out before time moves
+            while True:
+                self._advance(k)
+                n -= k
+                self._follow_mission()
+                for sub in (self.sub1, self.sub2):
+                    if sub is not None:
+                        sub._follow_mission()
+                self._nav_step()
+                self._battery_step()
+                try:
+                    self._telemetry(now)
+                except Exception as e:  # noqa: BLE001 a value outside a field's range must not stop the run
+                    self.counts["tx_errors"] = self.counts.get("tx_errors", 0) + 1
+                    if self.counts["tx_errors"] in (1, 100):
+                        self.events.append((float(self.sim.t), f"telemetry error: {type(e).__name__}: {e}"))
+                if n < 1 or self.ended:
+                    break
+                k = min(n, self._ticks_to_telemetry())
             for hook in self.state_hooks:
                 hook(self)
+
+    def _ticks_due(self, now: float) -> int:
+        """Whole clock ticks the simulation is behind ``t_sim(anchor) + speed (now - t_wall(anchor))`` (the
+        pacing is re-anchored when that exceeds ``max_lag``), cut at ``duration``; 0 once the run has ended."""
+        if self.ended:
+            return 0
+        sim = self.sim
+        w0, s0 = self._anchor
+        lag = s0 + self.speed * (now - w0) - sim.t
+        if lag > self.max_lag:
+            self._anchor = (now, sim.t)
+            lag = self.max_lag
+        n = math.floor(lag / self.tick_s + 1e-9)
+        if self.duration is not None:
+            n = min(n, math.ceil((self.duration - sim.t) / self.tick_s - 1e-9))
+        return max(0, n)
+
+    def _advance(self, n: int) -> None:
+        """Write the vehicle's state on the bus (firing the blocks once when ``_estop`` rises), run ``n``
+        clock ticks, and end the run on a divergence, a failure, the scenario's ``_stop`` or ``duration``."""
+        sim = self.sim
+        was = bool(sim.bus.get("_estop", False))
+        self._push_bus()
+        if sim.bus["_estop"] and not was:
+            for b in sim.blocks:  # thrust zero before the next integration step
+                b.step(sim.t, sim.bus)
+        if self.ended:
+            return
+        if n >= 1:
+            try:
+                sim.run(n * self.tick_s, log=self.writer)
+            except DivergenceError as e:
+                self._end(f"simulation diverged: {e}")
+            except Exception as e:  # noqa: BLE001
+                traceback.print_exc()
+                self._end(f"simulation failed: {type(e).__name__}: {e}")
+            else:
+                if sim.bus.get("_stop", False):
+                    self._end(f"scenario finished at t = {sim.t:.1f} s")
+        if self.duration is not None and sim.t >= self.duration - 1e-9 and not self.ended:
+            self._end(f"duration {self.duration:g} s reached")
 
     def _end(self, text: str) -> None:
         self.ended = True
