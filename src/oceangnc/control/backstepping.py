@@ -149,7 +149,7 @@ def model_from_uuv(uuv_cfg) -> Model3DOF:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def errors(xl, yl, psil, xf, yf, psif, cx, cy, h):
     """(eps1, eps2, e_psi): control-point error in the follower frame (m) and psi_l - psi_f (rad)."""
     tn, te = target_point(xl, yl, psil, cx, cy)  # the target of the control point (003 eq. 3.8)

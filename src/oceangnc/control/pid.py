@@ -44,13 +44,13 @@ _X, _P = PID_STATE.at, PID_PARAMS.at
 _N_STATE = PID_STATE.size
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pid_output(kp, kd, integral, e, e_dot, ff):
     """v = K_p e + I + K_d e_dot + feed-forward: the unsaturated output of eq. 3.10."""
     return kp * e + integral + kd * e_dot + ff
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pid_integral(integral, dt, ki, kw, e, u, v):
     """The integrator after one forward-Euler step of I' = K_i (e + K_w (u - v)) (back-calculation)."""
     return integral + dt * ki * (e + kw * (u - v))
@@ -82,7 +82,7 @@ def pid_step(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, u_min, u_max):
     return pid_step_w(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, u_min, u_max, 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pid_run(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, w):
     """:func:`pid_step_w` within the PID's own output limits (``u_min``, ``u_max`` of its gains)."""
     return pid_step_w(st, o, pa, q, e, dt, e_dot, has_e_dot, ff, pa[q + _P.u_min], pa[q + _P.u_max], w)

@@ -48,7 +48,7 @@ from ..units import KGF
 from .pid import PID, PID_PARAMS, PID_STATE, pid_clear, pid_params, pid_run, pid_step_w
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mix(u_speed, u_heading):
     """Thruster mixing of 003 eq. 3.11: ``(T_port, T_stbd) = (U_speed + U_heading, U_speed - U_heading)`` (N).
 
@@ -58,7 +58,7 @@ def mix(u_speed, u_heading):
     return u_speed + u_heading, u_speed - u_heading
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def speed_range(t_min, t_max, u_heading):
     """Heading priority (003 eq. 3.11): the speed loop's output range (N) is what is left of each
     thruster's range [t_min, t_max] after the heading command, [min(0, t_min + |U_h|), max(0, t_max - |U_h|)]."""

@@ -16,7 +16,7 @@ from numba import njit
 RESUME_RAMP_S = 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def resume_weight(w, stop, period, ramp_s):
     """The ramp weight after one step of ``period`` s: 0 while ``stop``, else w + period / ramp_s
     capped at 1 (1 at once when ``ramp_s`` <= 0)."""

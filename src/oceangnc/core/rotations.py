@@ -20,14 +20,14 @@ from numba import njit
 from .csmath import ccos, csin
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def hypot(a, b):
     """sqrt(a^2 + b^2), the same bits in Python and in compiled code (libm's and numba's ``hypot`` differ
     in the last bit, which would keep the fused and the Python clock from giving identical logs)."""
     return math.sqrt(a * a + b * b)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wrap(a):
     """Wrap one angle (rad) to (-pi, pi]: the one home of the angle wrap (compiled; callable from
     Python blocks and from numba right-hand sides). :func:`wrap_array` is the same for arrays."""
@@ -37,7 +37,7 @@ def wrap(a):
     return w
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def heading_speed(x, i_psi, i_vel, n_vel):
     """(heading wrapped to (-pi, pi], speed): ``wrap(x[i_psi])`` (rad) and the norm of the ``n_vel``
     velocity states from ``x[i_vel]`` (m/s), summed as sqrt(x0 x0 + x1 x1 + ...), the same bits in the
@@ -77,7 +77,7 @@ def rot3(psi):
     return R
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rzyx_entries(phi, theta, psi):
     """The nine entries (r00, r01, r02, r10, ..., r22) of R_b^n(phi, theta, psi) (Fossen 2011 eq. 2.18).
 

@@ -37,7 +37,7 @@ from ..core.registry import register_block
 from ..core.rotations import hypot, wrap
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def relative_position(x_l, y_l, psi_l, x_f, y_f):
     """(l_x, l_y) of the follower in the leader's body frame (003 eq. 3.7), m."""
     dx = x_l - x_f
@@ -47,7 +47,7 @@ def relative_position(x_l, y_l, psi_l, x_f, y_f):
     return -dx * c - dy * s, dx * s - dy * c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def range_bearing(lx, ly):
     """Relative range l (m) and bearing lambda from the leader's bow (rad, in [0, 2 pi))."""
     return hypot(lx, ly), math.atan2(ly, lx) % (2.0 * math.pi)
@@ -58,7 +58,7 @@ def target_offset(l_d, lambda_d):
     return l_d * math.cos(lambda_d), l_d * math.sin(lambda_d)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def target_point(x_l, y_l, psi_l, lx_d, ly_d):
     """Earth-frame (N, E) position of the target offset (l_x^d, l_y^d) of a leader at (x_l, y_l, psi_l)."""
     c = math.cos(psi_l)
@@ -66,7 +66,7 @@ def target_point(x_l, y_l, psi_l, lx_d, ly_d):
     return x_l + c * lx_d - s * ly_d, y_l + s * lx_d + c * ly_d
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def los_bearing(x_f, y_f, x_l, y_l):
     """Bearing from the follower to the leader (rad, NED, from north): the UUV's heading to the USV."""
     return math.atan2(y_l - y_f, x_l - x_f)

@@ -43,7 +43,7 @@ from ..core.rotations import hypot
 from ..errors import ConfigError
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pursuit_radius(l, d):
     """Turning radius R = l^2 / (2 d) (003 eq. 3.5), m; signed like d (positive: turn to starboard).
 
@@ -100,7 +100,7 @@ def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None, interp
     return hypot.py_func(u, v) / abs(r)  # a Python call: compiling it costs 0.5 s of a first run
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def leg_offsets(x, y, a0, a1, b0, b1):
     """``(s, e)`` of the point (x, y) (N, E in m) on the leg a -> b (table 3-1 step 3): s the
     along-track position of the closest point F from a (m, positive toward b), e the signed
@@ -118,7 +118,7 @@ def leg_offsets(x, y, a0, a1, b0, b1):
     return s, e
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def look_ahead_goal(x, y, a0, a1, b0, b1, lookahead, last):
     """``(e, g_n, g_e)``: cross-track distance e (m, :func:`leg_offsets`) of the point (x, y) from the
     leg a -> b, and the look-ahead goal G on the leg at distance ``lookahead`` (m) from the point
@@ -136,7 +136,7 @@ def look_ahead_goal(x, y, a0, a1, b0, b1, lookahead, last):
     return e, a0 + sg * t0, a1 + sg * t1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pursuit_turn(x, y, psi, g0, g1):
     """``(psi_d, l, d, R)`` of the vehicle at (x, y) (m) with heading psi (rad) pursuing the point G =
     (g0, g1) (table 3-1 step 5): psi_d = atan2(G_e - P_e, G_n - P_n) (rad), l = |G - P| (m), d the

@@ -45,7 +45,7 @@ ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 SEA = WINCH = BRIDLE = True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _imex_base(n):
     return P_SCR + 40 * (n + 1)
 

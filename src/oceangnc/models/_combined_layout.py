@@ -117,14 +117,14 @@ def _ends(x, p, n, pos, vel):
     vel[b], vel[b + 1], vel[b + 2] = rot_add(R, 0.0, 0.0, 0.0, bu, bv, bw)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tow_frame(x, p):
     """(o, R, c_x, c_y, c_z): the UUV's state offset, the 9 entries of its R_b^n and its tow point r_c (m, body)."""
     o = int(p[H_UO])
     return o, rzyx_entries(x[o + 3], x[o + 4], x[o + 5]), p[P_UUV + P_RC], p[P_UUV + P_RC + 1], p[P_UUV + P_RC + 2]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rot_add(R, e0, e1, e2, a, b, c):
     """e + R (a, b, c) for ``R`` the 9 row-major entries of a rotation matrix (summed left to right)."""
     return (
@@ -134,7 +134,7 @@ def rot_add(R, e0, e1, e2, a, b, c):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cross_add(u, v, w, p, q, r, cx, cy, cz):
     """(u, v, w) + (p, q, r) x (cx, cy, cz): the body-frame velocity of the body point r_c of a body moving
     at linear velocity (u, v, w) and angular velocity (p, q, r) (003 eq. 2.31)."""

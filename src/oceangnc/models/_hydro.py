@@ -11,7 +11,7 @@ from numba import njit
 from ..core.csmath import cabs, catan2, ccos, csin
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def damping_coefficient(lin, quad, v):
     """d(v) = -(lin + quad |v|): the velocity-dependent damping of one axis for the SNAME linear and
     quadratic coefficients (lin = X_u, quad = X_u|u|, both <= 0), so that the damping force is -d(v) v
@@ -19,7 +19,7 @@ def damping_coefficient(lin, quad, v):
     return -lin - quad * cabs(v)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def relative_velocity(c, s, u, v, fn, fe):
     """(u_r, v_r, u_f, v_f): body-frame velocity (m/s) relative to a fluid moving at (fn, fe) (NED, m/s,
     toward), and the fluid's own body-frame velocity; ``c``, ``s`` = cos, sin of the heading."""
@@ -28,7 +28,7 @@ def relative_velocity(c, s, u, v, fn, fe):
     return u - uf, v - vf, uf, vf
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wind_load(u, v, psi, wn, we, rho, a_front, a_side, loa, c_x, c_y, c_n):
     """Wind force and moment (X, Y, N) in body axes (003 eq. 2.6-2.9); wn, we the wind's NED velocity."""
     urw, vrw, _, _ = relative_velocity(ccos(psi), csin(psi), u, v, wn, we)

@@ -48,7 +48,7 @@ UUV_T_FWD_N = 7.7 * KGF
 UUV_T_REV_N = -3.2 * KGF
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _polyval(c, x):
     y = 0.0
     for a in c:
@@ -56,7 +56,7 @@ def _polyval(c, x):
     return y
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def usv_thrust_from_voltage(v):
     """USV thruster thrust (N) from DAC voltage (V), 003 eq. 2.5 with dead zone and end values imposed."""
     if v < USV_V_MIN:

@@ -55,6 +55,11 @@ from ._cable_config import CableConfig
 from ._sea_layout import NCOEF, point_kinematics
 
 
+# feature switch (oceangnc.core.variants): True here, so cable_loads handles waves; the plain combined
+# plant compiles a copy without them (models/_combined_variants.py)
+SEA = True
+
+
 @njit(cache=True)
 def loading_functions(eta):
     """Loading functions f_p, f_q (003 eq. 2.25) at the cable-to-flow angle eta (rad, 0..pi/2), clipped >= 0."""
@@ -89,7 +94,7 @@ def atan_ratio(y, x):
     return 0.5 * math.pi - r if flip else r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _loading(c, s, eta):
     """f_p, f_q of eq. 2.25 from cos(eta), sin(eta) and eta (no trigonometric calls; cos 2eta = c^2 - s^2)."""
     fp = 0.5 - 0.1 * c + 0.1 * s - 0.4 * (c * c - s * s) - 0.22 * s * c
@@ -97,7 +102,7 @@ def _loading(c, s, eta):
     return max(fp, 0.0), max(fq, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def segment(pos, i):
     """Vector (m, NED) from node i - 1 to node i of the flat node positions ``pos``, and its length (m)."""
     a = 3 * (i - 1)
@@ -196,7 +201,7 @@ def cable_loads(
         hz = 0.0
         wn = we = wd = an = ae = ad = 0.0
         sea = False
-        if wv is not None:  # wave kinematics at the segment centre (an empty ``wv``: calm water)
+        if SEA and wv is not None:  # wave kinematics at the segment centre (an empty ``wv``: calm water)
             sea = wv.size > 0
             if sea:
                 wn, we, wd, an, ae, ad = point_kinematics(wv, NCOEF * (i - 1), tau, 0.5 * (pos[a + 2] + pos[b + 2]))

@@ -13,7 +13,7 @@ from ..core.csmath import ccos, csin
 from ..core.rotations import rzyx_entries
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def row6(p, k, n0, n1, n2, n3, n4, n5):
     """Row product sum_j p[k + j] nu_j of a row-major matrix stored in ``p`` from offset ``k``."""
     return p[k] * n0 + p[k + 1] * n1 + p[k + 2] * n2 + p[k + 3] * n3 + p[k + 4] * n4 + p[k + 5] * n5
@@ -43,7 +43,7 @@ def kirchhoff(p, off, nu0, nu1, nu2, nu3, nu4, nu5):
     return f0, f1, f2, f3, f4, f5
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def euler_kinematics(x, out):
     """eta' = J(eta) nu of the 6-DOF state ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r]`` (zyx Euler
     angles; Fossen 2011 eq. 2.40, 003 eq. 2.13, A-1, A-2) into ``out[0:6]``. Returns the nine entries of

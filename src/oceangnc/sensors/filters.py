@@ -40,7 +40,7 @@ def lowpass_array(x, a, y0):
     return y
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def lowpass_step(y, a, x):
     """One step of the first-order low-pass y <- y + a (x - y) (a from :func:`lowpass_coefficient`)."""
     return y + a * (x - y)
