@@ -50,7 +50,9 @@ from ._combined_layout import (
     H_WSEG,
     INPUT_NAMES,
     INTEGRATORS,
+    N_USV,
     P_SCR,
+    P_USV,
     P_UUV,
     UUV_NP,
     top_l0,
@@ -65,7 +67,8 @@ from ._combined_variants import kernels
 from ._combined_winch import remesh, winch_command  # noqa: F401
 from .cable import CableConfig, axial_stability_limit
 from .usv import USVConfig
-from .uuv import P_MA, P_MRB, UUVConfig, uuv_energy
+from .usv import usv_rhs
+from .uuv import P_MA, P_MRB, UUVConfig, uuv_deriv, uuv_energy
 
 
 class CombinedPlant(Plant):
@@ -215,8 +218,26 @@ class CombinedPlant(Plant):
 
     def compile_jobs(self) -> list[tuple]:
         """The stepper of the plant's integrator and, at sea, the wave refresh, with arguments of the
-        fused loop's types (:meth:`oceangnc.core.blocks.Plant.compile_jobs`)."""
-        jobs = super().compile_jobs()
+        fused loop's types (:meth:`oceangnc.core.blocks.Plant.compile_jobs`).
+
+        The stepper's parts that the output function does not share come first, with the argument types
+        the stepper passes them (the IMEX factorisation and solve, the two vehicles' laws): while a child
+        compiles them (:func:`oceangnc.core.caches.compile_ahead`), the run's own process compiles the
+        output function for its first publish, and with it the cable chain the stepper shares, which
+        the child then loads instead of compiling it a second time at the same moment."""
+        k, x, p, o = self._kernels, self.x, self.p, self.o_uuv
+        n = np.int64(self.n)
+        jobs = []
+        if self.integrator == "imex":
+            jobs += [
+                (k["_imex_factor"], (x, p, n, 0.0)),
+                (k["_imex_solve"], (x, p, n, self.work[0], 0.0, 0.0, 0.0)),
+            ]
+        jobs += [
+            (usv_rhs, (0.0, x[0:6], self.u[0:6], p[P_USV : P_USV + N_USV], x[0:6])),
+            (uuv_deriv, (x[o : o + 12], x[o : o + 12], p[P_UUV : P_UUV + UUV_NP], *([0.0] * 8))),
+        ]
+        jobs += super().compile_jobs()
         if self._sea:
             jobs.append((sea_update, (0.0, self.x, self.p, 0.0)))
         return jobs
