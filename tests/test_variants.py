@@ -23,7 +23,7 @@ def _extra(a):
     return 100.0 * a
 
 
-@njit
+@njit(inline="always")
 def _inner(a, on):
     r = a + 1.0
     if FEAT and on:
@@ -55,6 +55,7 @@ def test_a_copy_without_the_feature_compiles_none_of_its_code_and_computes_the_r
     assert _extra.signatures == []  # not compiled (nor linked) for the copy
     assert "_extra" not in _named_after_pruning(off["_inner"].py_func)
     assert off["_outer"].py_func.__globals__["_inner"] is off["_inner"]  # the copy calls its group's copy
+    assert off["_inner"].targetoptions["inline"] == "always"  # the member's compile options kept
     assert _outer(1.5, True) == 2.0 * (2.5 + 150.0) and _outer(1.5, False) == 2.0 * 2.5
     assert group.get(FEAT=False) is off  # made once per process
     assert group.attribute("_outer__feat0") is off["_outer"]

@@ -119,7 +119,8 @@ class Variants:
             cp.__doc__ = fn.__doc__
             cp.__kwdefaults__ = fn.__kwdefaults__
             envs[name] = env
-            made[name] = njit(cache=True)(cp)
+            opts = {k: v for k, v in d.targetoptions.items() if k != "nopython"}  # inline=..., fastmath=...
+            made[name] = njit(cache=True, **opts)(cp)
         copy_of = {id(d): made[name] for name, d in self._members.items()}
         for env in envs.values():  # every member calls the copies (under whatever name it imports them)
             for k, v in list(env.items()):

@@ -127,7 +127,8 @@ class CombinedPlant(Plant):
         self.waves = waves
         self._sea = waves is not None or heave != "none"
         # the compiled kernels without the features this plant does not have (._combined_variants)
-        self._kernels = k = kernels(self._sea, has_bed, has_winch, cable_cfg.attachment == "bridle")
+        self._features = (self._sea, has_bed, has_winch, cable_cfg.attachment == "bridle")
+        k = self._kernels
         p, x0, names, nmax = build_arrays(
             usv_cfg, uuv_cfg, cable_cfg, top, integrator, self.winch_cfg, self.seabed_cfg, k["_ends"]
         )
@@ -187,6 +188,12 @@ class CombinedPlant(Plant):
             self._wf_idx = np.array([ow + k for _, k in WF_OUTPUTS], dtype=np.int64)
             self.output_units.update({k: _unit_of(k) for k, _ in WF_OUTPUTS})
         self._out = np.zeros(len(self._out_keys))
+
+    @property
+    def _kernels(self):
+        """The compiled kernels by name for this plant's features (:func:`._combined_variants.kernels`; a
+        property, not state: a checkpoint stores the features)."""
+        return kernels(*self._features)
 
     @property
     def n(self) -> int:
