@@ -179,7 +179,7 @@ def law_params(m: Model3DOF, g: BacksteppingConfig, cx=0.0, cy=0.0, period=0.0, 
     return BS_PARAMS.pack(v)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
     """Backstepping law (module docstring), parameters ``pa`` (:data:`PARAMS`). Returns (tau_u (N),
     tau_r (N m), V, Vdot (the nominal V' = -k1 eps1^2 - k2 eps2^2 - k6 u_e^2 - k7 r_e^2), u_e, r_e,
@@ -217,7 +217,7 @@ def law(pa, eps1, eps2, e_psi, u, v, r, ul, vl, rl, dul, dvl, drl):
     return tau_u, tau_r, V, Vdot, u_e, r_e, alpha_u, alpha_r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update(st, pa):
     """One firing of the block on its state ``st`` (19): leader velocities u_l, v_l, r_l of the last
     firing, has them, leader-acceleration estimate (3), then this firing's inputs in the order of

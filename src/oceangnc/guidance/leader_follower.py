@@ -78,7 +78,7 @@ OUTPUTS = {"lf.lx": "m", "lf.ly": "m", "lf.range": "m", "lf.bearing": "rad", "lf
            "lf.los": "rad", "lf.los_err": "rad", "lf.outside": "bool", "lf.psi_d": "rad"}  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def geometry(xl, yl, psil, xf, yf, psif, lx_d, ly_d, R, relative_only):
     """Everything the block publishes (:data:`OUTPUTS`, in order) from the leader's and follower's
     positions and headings: eq. 3.7-3.9, the target point, the error in the follower's frame, the LOS

@@ -158,7 +158,7 @@ def _imex_factor(x, p, n, gh):
             _inv3(A2, 0, Di, 9 * i)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _imex_end_increments(x, k, p, n, e, t=0.0, kt=0.0):
     """Stage increments of the two end nodes (not unknowns of the implicit solve) into ``e`` (12):
     position part a_0, velocity part b_0 of the top node, then a_n, b_n of the UUV's tow point.

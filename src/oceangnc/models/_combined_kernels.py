@@ -205,7 +205,7 @@ def combined_rhs(t, x, u, p, out):
         _winch_rhs(x, u, p, wo, F, out)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def cable_state(x, p, nodes, ends):
     """Node positions into ``nodes`` (3(n+1)) and the end forces (top xyz, bottom xyz, N) into ``ends``.
 

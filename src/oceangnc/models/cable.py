@@ -66,7 +66,7 @@ def loading_functions(eta):
     return _loading(math.cos(eta), math.sin(eta), eta)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def atan_ratio(y, x):
     """atan2(y, x) for y, x >= 0 (rad, 0..pi/2) by the polynomial of Abramowitz & Stegun 4.4.49 (|error| < 2e-8)."""
     if y <= x:
@@ -268,7 +268,7 @@ def cable_loads(
             Mn[ce + 5] += mzz
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def solve_sym3(M, c, fx, fy, fz):
     """Solve the symmetric 3x3 system stored at M[c:c+6] (xx xy xz yy yz zz) for (fx, fy, fz)."""
     a = M[c]

@@ -70,7 +70,7 @@ def euler_kinematics(x, out):
     return r00, r01, r02, r10, r11, r12, r20, r21, r22, cf, sf, ct, st
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def restoring(p, off_w, off_b, off_rg, off_rb, cf, sf, ct, st):
     """g(eta) of weight W = p[off_w] at r_g = p[off_rg:+3] and buoyancy B = p[off_b] at r_b = p[off_rb:+3]
     (Fossen 2011 eq. 4.6, 003 A-13), given cos/sin of roll and pitch; it enters as M nu' + ... + g = tau."""
