@@ -39,7 +39,7 @@ BENCHMARKS = {
     "sea": ("bench_sea.py", [], {"NUMBA_NUM_THREADS": "1"}),
     "sea-sweep": ("bench_sea.py", ["--sweep"], {"NUMBA_NUM_THREADS": "1"}),
     "cable": ("bench_cable.py", [], {"NUMBA_NUM_THREADS": "1"}),
-    "compile": ("bench_compile.py", ["combined-survey"], {}),
+    "compile": ("bench_compile.py", ["combined-survey", "--repeat", "3"], {}),
     "batch": ("bench_batch.py", ["1000", "40"], {}),
     "console-soak": ("bench_console_soak.py", ["--seconds", "60", "--viewers", "20"], {}),
     "view": ("bench_view.py", ["--duration", "600", "--seconds", "10", "--repeat", "3"], {}),
