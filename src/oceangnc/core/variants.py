@@ -93,16 +93,14 @@ class Variants:
     # -- copies ----------------------------------------------------------------------------------------
     def get(self, **on: bool) -> Mapping:
         """The group's functions by name for the switches ``on`` (every switch named): the originals when
-        every switch is on, else the copies (made once per process)."""
+        every switch is on, else the copies (either mapping made once per process)."""
         missing = set(self.switches) ^ set(on)
         if missing:
             raise TypeError(f"Variants.get: give exactly the switches {self.switches} (got {sorted(on)})")
         values = tuple(bool(on[s]) for s in self.switches)
-        if all(values):
-            return dict(self._members)
         made = self._made.get(values)
         if made is None:
-            made = self._made[values] = self._copies(values)
+            made = self._made[values] = dict(self._members) if all(values) else self._copies(values)
         return made
 
     def _copies(self, values: tuple[bool, ...]) -> dict:

@@ -11,6 +11,7 @@ fused driver imports it.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 
 from ..core.variants import Variants
@@ -32,6 +33,7 @@ KERNELS = Variants(
 )  # fmt: skip
 
 
+@functools.cache  # the plant looks its kernels up on every publish (a property: checkpoints hold no dispatcher)
 def kernels(sea: bool, bed: bool, winch: bool, bridle: bool) -> Mapping:
     """The kernels by name (``imex_advance``, ``combined_rhs``, ``_fill_outputs``...) for a plant with
     these features: for the plain plant (none of them: the flagship and most scenarios) the copies
