@@ -271,7 +271,7 @@ def cached(name: str, key, compute: Callable[[], list]) -> list:
 # -- loading cached machine code ------------------------------------------------------------------------
 
 #: blake2b of the source of numba's ``Cache.load_overload`` that :func:`lean_loads` was written for;
-#: any other numba keeps its own loading (tests/test_caches.py fails when numba changes it)
+#: any other numba keeps its own loading (tests/test_caches.py checks both branches)
 LOAD_OVERLOAD_SOURCE = "5ef13fb2a4017d1a"  # numba 0.68
 
 
