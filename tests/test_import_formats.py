@@ -392,7 +392,7 @@ def test_tlog_boat_with_servo_parameters(truth, tmp_path):
     q = tmp_path / "nofix.tlog"
     write_tlog(q, df, LAT0, LON0, mav_type=11, tmax_n=tmax, trev_n=trev, no_fix_s=4.0)
     res = import_log(q, rate=10.0, origin=(LAT0, LON0))
-    assert any("samples while GPS_RAW_INT had no 3D fix (fix_type < 3) dropped" in n for n in res.report["notes"])
+    assert any("positions while GPS_RAW_INT had no 3D fix (fix_type < 3) dropped" in n for n in res.report["notes"])
     assert res.df["t"].iloc[0] + res.report["t0_source_s"] - 1.0 >= 4.0 - 1e-6
     _compare(res, df, t_shift=1.0, pos_tol=0.02)
 

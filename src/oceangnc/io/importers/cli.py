@@ -139,6 +139,10 @@ def _cmd(args) -> int:
         print(f"  gap in {g['signal']}: {g['from_s']:.2f}-{g['to_s']:.2f} s ({g['rows_left_nan']} rows left NaN)")
     for j in res.report.get("jumps", [])[:10]:
         print(f"  time jump in {j['signal']}: {j['kind']} at {j['at_s']:.3f} s")
+    dups = res.report.get("duplicate_stamps", {})
+    if dups:
+        worst = max(dups, key=dups.get)
+        print(f"  note: repeated time stamps (later sample dropped, not a time jump): {worst} {dups[worst]}")
     for n in res.report.get("notes", []):
         print(f"  note: {n}")
     print(f"wrote {path} ({', '.join(c for c in res.df.columns if c != 't')})")

@@ -70,7 +70,8 @@ def detect_format(path: Path, fmt: str | None = None) -> str:
 
 
 def _monotone(t: np.ndarray, v: np.ndarray, jump_s: float):
-    """Keep strictly increasing time stamps; returns (t, v, dropped, jumps list)."""
+    """Keep strictly increasing time stamps; returns (t, v, dropped, jumps list, duplicate stamps). A stamp
+    equal to the latest so far is a duplicate (counted, not a jump); one before it is a backwards jump."""
     t = np.asarray(t, float)
     v = np.asarray(v, float)
     ok = np.isfinite(t) & np.isfinite(v)
@@ -80,15 +81,17 @@ def _monotone(t: np.ndarray, v: np.ndarray, jump_s: float):
     run = np.maximum.accumulate(t)
     keep = np.ones(t.size, bool)
     keep[1:] = t[1:] > run[:-1]
+    dup = np.zeros(t.size, bool)
+    dup[1:] = t[1:] == run[:-1]  # a repeated stamp (two messages in one tick): no jump, the later sample dropped
     jumps = []
-    back = np.nonzero(~keep)[0]
+    back = np.nonzero(~keep & ~dup)[0]
     if back.size:
-        jumps.append({"kind": "backwards", "at_s": float(t[back[0] - 1]), "samples_dropped": int(back.size)})
+        jumps.append({"kind": "backwards", "at_s": float(run[back[0] - 1]), "samples_dropped": int(back.size)})
     t, v = t[keep], v[keep]
     dt = np.diff(t)
     for i in np.nonzero(dt > jump_s)[0][:20]:
         jumps.append({"kind": "forward", "at_s": float(t[i]), "length_s": float(dt[i])})
-    return t, v, int((~keep).sum()), jumps
+    return t, v, int((~keep).sum()), jumps, int(dup.sum())
 
 
 def resample(
@@ -107,12 +110,14 @@ def resample(
     clean = {}
     report: dict[str, Any] = {"gaps": [], "time_jumps": 0, "jumps": [], "dropped_samples": {}, "signals": {}}
     for k, (t, v) in series.items():
-        t, v, dropped, jumps = _monotone(t, v, gap_s)
+        t, v, dropped, jumps, dups = _monotone(t, v, gap_s)
         if t.size < 2:
             continue
         clean[k] = (t, v)
         if dropped:
             report["dropped_samples"][k] = dropped
+        if dups:
+            report.setdefault("duplicate_stamps", {})[k] = dups
         for j in jumps:
             report["jumps"].append({"signal": k, **j})
         report["signals"][k] = {

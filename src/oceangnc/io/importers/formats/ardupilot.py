@@ -99,6 +99,7 @@ def read_tlog(
             out[name] = (np.array([t_of(s, m) for s, m in rows]), np.array([fn(m) for _, m in rows], float))
 
     gp = get("GLOBAL_POSITION_INT")
+    gp_depth = gp  # the depth (relative altitude: barometer / pressure sensor) needs no GPS fix: an ROV has none
     raw = get("GPS_RAW_INT")
     if gp and raw:  # the estimate's position while the GPS had no 3D fix (fix_type < 3) is not used
         tr = np.array([t_of(s, m) for s, m in raw])
@@ -109,8 +110,8 @@ def read_tlog(
         ok = (k >= 0) & fix[np.clip(k, 0, None)]
         if not ok.all():
             meta.setdefault("notes", []).append(
-                f"GLOBAL_POSITION_INT: {int((~ok).sum())} of {ok.size} samples while GPS_RAW_INT had no 3D fix "
-                "(fix_type < 3) dropped"
+                f"GLOBAL_POSITION_INT: {int((~ok).sum())} of {ok.size} positions while GPS_RAW_INT had no 3D fix "
+                "(fix_type < 3) dropped (the depth, relative_alt, is kept)"
             )
             gp = [r for r, keep in zip(gp, ok) if keep]
     if gp:
@@ -121,7 +122,7 @@ def read_tlog(
             meta["origin_deg"] = list(o)
         put("usv.vn", gp, lambda m: m.vx * 0.01)
         put("usv.ve", gp, lambda m: m.vy * 0.01)
-        put("usv.z", gp, lambda m: -m.relative_alt * 1e-3)
+    put("usv.z", gp_depth, lambda m: -m.relative_alt * 1e-3)
     att = get("ATTITUDE")
     put("usv.psi", att, lambda m: m.yaw)
     put("usv.phi", att, lambda m: m.roll)
@@ -130,10 +131,12 @@ def read_tlog(
     params = {}
     for _, m in get("PARAM_VALUE"):
         params[str(m.param_id).rstrip("\x00")] = float(m.param_value)
-    hb = [m for _, m in get("HEARTBEAT")]
-    if hb:
-        mt = int(hb[0].type)
-        meta["vehicle"] = vehicle(mav_type_class(mt), f"HEARTBEAT type {mt} ({mav_type_name(mt)})")
+    hb = autopilot_heartbeat([m for _, m in get("HEARTBEAT")])
+    if hb is not None:
+        mt = int(hb.type)
+        meta["vehicle"] = vehicle(
+            mav_type_class(mt), f"HEARTBEAT type {mt} ({mav_type_name(mt)}) of component {hb.get_srcComponent()}"
+        )
     else:
         meta["vehicle"] = vehicle(None, f"no HEARTBEAT from system {sysid}")
     so = get("SERVO_OUTPUT_RAW")
@@ -164,6 +167,27 @@ def read_tlog(
             f"(it has: {', '.join(meta['messages'][:12]) or 'none'})"
         )
     return out, meta
+
+
+#: MAV_COMP_ID_AUTOPILOT1, and MAV_AUTOPILOT_INVALID (a component that is no flight controller: camera, gimbal,
+#: companion computer, e.g. BlueOS's camera manager, component 100, MAV_TYPE_CAMERA)
+_AUTOPILOT_COMPONENT, _AUTOPILOT_INVALID = 1, 8
+
+
+def autopilot_heartbeat(heartbeats: list):
+    """The heartbeat that types the vehicle: component 1's (the autopilot), else the first from a component
+    whose ``autopilot`` field names a flight stack, else the first (MAVLink common.xml: MAV_COMPONENT,
+    MAV_AUTOPILOT). A BlueOS tlog's first system-1 heartbeat comes from its camera (component 100)."""
+    if not heartbeats:
+        return None
+    for pick in (
+        lambda m: m.get_srcComponent() == _AUTOPILOT_COMPONENT,
+        lambda m: int(m.autopilot) != _AUTOPILOT_INVALID,
+    ):
+        found = next((m for m in heartbeats if pick(m)), None)
+        if found is not None:
+            return found
+    return heartbeats[0]
 
 
 # -- ArduPilot DataFlash (.bin) --------------------------------------------------------------------------
@@ -308,7 +332,7 @@ def read_dataflash(
             if m is None:
                 break
             kind = m.get_type()
-            if kind in ("ATT", "RCOU"):
+            if kind in ("ATT", "RCOU", "CTUN", "BARO"):
                 d = m.to_dict()
                 if "TimeUS" in d:
                     rows.setdefault(kind, []).append(d)
@@ -372,6 +396,9 @@ def read_dataflash(
     c = col("IMU", "GyrZ")
     if c is not None:
         out["usv.r"] = c
+    depth = submarine_depth(rows, meta)
+    if depth is not None:
+        out["usv.z"] = depth
     rc = rows.get("RCOU", [])
     logged = [n for n in range(1, 33) if rc and f"C{n}" in rc[0]]
     smap, notes = servo_map(params, servos, logged, _aerial(meta))
@@ -387,6 +414,23 @@ def read_dataflash(
             f"{path}: DataFlash log has no GPS or ATT records (it has: {', '.join(sorted(log.name_to_id)[:15])})"
         )
     return out, meta
+
+
+def submarine_depth(rows: dict, meta: dict):
+    """An ArduSub log's depth (m, down positive) as ``(t, z)``: ``-CTUN.Alt``, the altitude estimate the
+    depth controller holds (ArduSub ``Log_Write_Control_Tuning``: Alt, m, up, 0 at the surface), else
+    ``-BARO.Alt`` of the first barometer instance (the depth sensor when it is the primary). None for other
+    vehicles: a boat's or a drone's logged altitude is not a depth."""
+    if (meta.get("vehicle") or {}).get("type") != "submarine":
+        return None
+    for kind in ("CTUN", "BARO"):
+        r = rows.get(kind, [])
+        if kind == "BARO":
+            r = [x for x in r if int(x.get("I", 0)) == min(int(y.get("I", 0)) for y in r)] if r else r
+        if r and "Alt" in r[0]:
+            meta.setdefault("notes", []).append(f"usv.z (depth) from -{kind}.Alt")
+            return np.array([x["TimeUS"] * 1e-6 for x in r]), -np.array([x["Alt"] for x in r], float)
+    return None
 
 
 def _aerial(meta: dict) -> str | None:

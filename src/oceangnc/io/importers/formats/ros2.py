@@ -8,6 +8,7 @@ import numpy as np
 
 from ....errors import InputError
 from ._common import north_east, quat_euler
+from .ros2_services import TopicsOnlyReader, service_channels
 
 
 # -- ROS 2 bag ---------------------------------------------------------------------------------------------
@@ -78,6 +79,16 @@ def _open_reader(bag: Path, ros_distro: str | None, meta: dict):
         key = ros_distro.strip().lower()
         if key not in DISTRO_STORES:
             raise InputError(f"--ros-distro {ros_distro}: allowed {', '.join(DISTRO_STORES)}")
+    skipped = service_channels(bag)
+    if skipped:
+        reader = TopicsOnlyReader(bag)
+        meta["typestore"] = "the bag's own message definitions"
+        meta.setdefault("notes", []).append(
+            f"{len(skipped)} service or action channel(s) skipped ({', '.join(skipped[:4])}"
+            f"{', ...' if len(skipped) > 4 else ''}): only topics are imported"
+        )
+        meta["skipped_channels"] = skipped
+        return reader
     reader = AnyReader([bag])
     try:
         reader.open()
@@ -128,9 +139,12 @@ def read_rosbag2(
                     raise InputError(f"{path}: no topic {topic} ({role}); the bag has: {', '.join(sorted(have))}")
             conns = {role: have[t] for role, t in want.items() if t in have}
             if not conns:
+                skipped = meta.get("skipped_channels", [])
                 raise InputError(
                     f"{path}: none of the topics {', '.join(want.values())}; the bag has: "
-                    f"{', '.join(sorted(have))}; name them with --topic odometry=/my/odom"
+                    f"{', '.join(sorted(have))}"
+                    + (f" (and {len(skipped)} service or action channel(s), skipped)" if skipped else "")
+                    + "; name them with --topic odometry=/my/odom"
                 )
             known = set(reader.typestore.fielddefs)
             for role, c in conns.items():
