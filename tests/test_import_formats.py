@@ -564,3 +564,39 @@ def test_px4_vehicle_status_and_gps_fix(truth, tmp_path, capsys):
     sub = tmp_path / "sub.ulg"
     ulog(sub, params={"SYS_AUTOSTART": 60001})
     assert import_log(sub).report["vehicle"] == {"type": "submarine", "from": "SYS_AUTOSTART=60001", "marine": True}
+
+
+@pytest.mark.parametrize(
+    "firmware, kind",
+    [
+        ("APM:Copter V3.4.6 (e707341b)", "multirotor"),
+        ("APM:Copter V3.3.3-rc2 (e5ab6d36)", "multirotor"),
+        ("APM:Plane V3.4.0 (3f4a2db7)", "fixed-wing"),
+    ],
+)
+def test_pre_3_5_firmware_strings_are_recognised_and_refused_as_not_boats(truth, tmp_path, capsys, firmware, kind):
+    """ArduPilot before 3.5 wrote "APM:Copter V3.x" (its THISFIRMWARE): such a log is a drone, refused for
+    boat identification with only --force-vehicle offered, and no --skip-check turns it into a boat model."""
+    df, tmax, trev = truth
+    b = tmp_path / "old.bin"
+    motors = {f"SERVO{n}_FUNCTION": 32 + n for n in range(1, 5)}
+    write_dataflash(b, df.iloc[:300], LAT0, LON0, tmax, trev, firmware, motors)
+    v = import_log(b, rate=10.0).report["vehicle"]
+    assert v["type"] == kind and v["marine"] is False, v
+    skips = [a for c in ("bound", "condition", "fit", "whiteness") for a in ("--skip-check", c)]
+    for extra in ([], skips):
+        err = _cli_error(capsys, ["identify", "first-order", str(b), "--out", str(tmp_path / "o"), *extra])
+        assert f"the log is of a {kind}" in err and "--force-vehicle" in err and "--skip-check" not in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_surface_vehicle_tlog_altitude_is_not_imported_as_depth(truth, tmp_path):
+    """A boat's relative altitude (GLOBAL_POSITION_INT.relative_alt, measured from home; ArduRover's leaps
+    when home is set) is no depth: not imported, with a note, so the leap cannot refuse the file."""
+    df, tmax, trev = truth
+    tl = tmp_path / "boat.tlog"
+    write_tlog(tl, df.iloc[:300], LAT0, LON0, mav_type=11, tmax_n=tmax, trev_n=trev)
+    res = import_log(tl, rate=10.0)
+    assert res.report["vehicle"]["type"] == "boat" and "usv.x" in res.df.columns
+    assert "usv.z" not in res.df.columns
+    assert any("not a depth" in n for n in res.report["notes"])

@@ -122,7 +122,13 @@ def read_tlog(
             meta["origin_deg"] = list(o)
         put("usv.vn", gp, lambda m: m.vx * 0.01)
         put("usv.ve", gp, lambda m: m.vy * 0.01)
-    put("usv.z", gp_depth, lambda m: -m.relative_alt * 1e-3)
+    hb = autopilot_heartbeat([m for _, m in get("HEARTBEAT")])
+    if hb is not None and mav_type_class(int(hb.type)) == "submarine":
+        put("usv.z", gp_depth, lambda m: -m.relative_alt * 1e-3)
+    elif gp_depth:
+        meta.setdefault("notes", []).append(  # ArduRover's leaps when home is set (0.2 -> 584 m in SITL)
+            "GLOBAL_POSITION_INT.relative_alt not imported: a surface vehicle's altitude (above home) is not a depth"
+        )
     att = get("ATTITUDE")
     put("usv.psi", att, lambda m: m.yaw)
     put("usv.phi", att, lambda m: m.roll)
@@ -131,7 +137,6 @@ def read_tlog(
     params = {}
     for _, m in get("PARAM_VALUE"):
         params[str(m.param_id).rstrip("\x00")] = float(m.param_value)
-    hb = autopilot_heartbeat([m for _, m in get("HEARTBEAT")])
     if hb is not None:
         mt = int(hb.type)
         meta["vehicle"] = vehicle(
@@ -226,6 +231,15 @@ FIRMWARE = {
     "AntennaTracker": "antenna tracker",
     "Blimp": "airship",
 }
+#: the firmware strings of ArduPilot before 3.5 (``THISFIRMWARE`` "APM:Copter V3.3", "APM:Rover v2.50", "APM:Plane
+#: V3.4.0", "APM:AntennaTracker V0.7"; ArduSub wrote "ArduSub" from its first release) -> today's name
+LEGACY_FIRMWARE = {
+    "APM:Copter": "ArduCopter",
+    "APM:Rover": "ArduRover",
+    "APM:Plane": "ArduPlane",
+    "APM:AntennaTracker": "AntennaTracker",
+    "APM:Sub": "ArduSub",
+}
 #: VER.BU (APM_BUILD_DIRECTORY) -> firmware
 _BUILD = {
     1: "ArduRover",
@@ -244,6 +258,8 @@ def ardupilot_vehicle(firmware: str | None, params: dict, where: str) -> dict:
     if not firmware:
         return vehicle(None, "no firmware string (MSG / VER) in the log")
     name = next((k for k in FIRMWARE if firmware.startswith(k)), None)
+    if name is None:
+        name = next((v for k, v in LEGACY_FIRMWARE.items() if firmware.startswith(k)), None)
     if name is None:
         return vehicle(None, f"{where} '{firmware}' (not a known ArduPilot firmware)")
     kind = FIRMWARE[name]
@@ -345,7 +361,7 @@ def read_dataflash(
                 params[str(m.Name)] = float(m.Value)
             elif kind == "MSG" and firmware is None:
                 text = str(getattr(m, "Message", ""))
-                if any(text.startswith(k) for k in FIRMWARE):
+                if any(text.startswith(k) for k in (*FIRMWARE, *LEGACY_FIRMWARE)):
                     firmware, where = text.strip(), "MSG"
             elif kind == "VER" and firmware is None:
                 fws = str(getattr(m, "FWS", "") or "").strip()
