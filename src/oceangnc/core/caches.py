@@ -3,8 +3,9 @@
 oceangnc keeps three things on disk so that a second run starts at once: numba's machine code of
 the package's ``@njit(cache=True)`` functions, the generated steppers and fused-loop drivers
 (:func:`oceangnc.core.integrators.load_generated`), and values derived from the models by a
-numerical search (:func:`cached`). All of them live under one **code key**, a hash of the *content*
-of every ``.py`` file of the package::
+numerical search (:func:`cached`). All of them live under one **code key**, a hash of the *meaning*
+(syntax tree, without comments and docstrings) of the package's modules that compiled code can depend
+on (:mod:`oceangnc.core.source_keys`)::
 
     <root>/numba-<version>-<key>/        numba's caches (NUMBA_CACHE_DIR of the process)
     <root>/steppers-<version>-<key>/     generated modules and their numba caches
@@ -12,9 +13,11 @@ of every ``.py`` file of the package::
 
 numba keys a cached function on its *own* source file only, so a kernel that calls a law in another
 file would keep the old law after that file is edited (the mixed result of issue 25). Here any edit
-of any source file gives a new key, hence new, empty folders: a compiled function can never run
-with an old callee. A reinstall of the same files (new mtimes, same content) keeps the key and every
-cache. Old key folders are pruned (:func:`prune`, the newest :data:`KEEP` of each kind stay).
+that compiled code can see gives a new key, hence new, empty folders: a compiled function can never
+run with an old callee. A reinstall of the same files (new mtimes, same content), an edit of a comment
+or a docstring, or of a module no compiled function reaches (a CLI, a server), keeps the key and every
+cache (numba itself recompiles the functions of a file whose time stamp changed). Old key folders are
+pruned (:func:`prune`, the newest :data:`KEEP` of each kind stay).
 
 A user's compiled code (a ``--plugin`` file, an ``oceangnc.blocks`` entry point) is keyed by the
 package *and* its own package's files (:func:`add_sources`, :func:`user_code`): numba caches the
@@ -24,9 +27,9 @@ the fingerprint of the user kernels it calls in its source (:func:`oceangnc.core
 
 The root is ``$OCEANGNC_CACHE_DIR``, else ``$XDG_CACHE_HOME/oceangnc`` (default
 ``~/.cache/oceangnc``); a ``NUMBA_CACHE_DIR`` set by the user is the base of the numba folder
-instead. The key of a tree is computed from the files' content once and remembered under
-``<root>/keys/`` against the files' (name, mtime, size) list, so a process pays a few ``stat`` calls
-(about 1 ms), not a read of 1.2 MB.
+instead. The key of a tree is computed once and remembered under ``<root>/keys/`` against the files'
+(name, mtime, ctime, inode, size) list, so a process pays a few ``stat`` calls (about 1 ms), not a read
+of 1.2 MB; an edit re-parses only the files it touched.
 
 Nothing here imports numba at module level (``import oceangnc`` must stay light); the process's
 numba folder is set through numba's own ``NUMBA_CACHE_DIR`` setting (:func:`configure_numba`), with
@@ -46,6 +49,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from .._version import __version__
+from . import source_keys
 
 #: key folders kept per kind (numba, steppers, derived); older ones are deleted by :func:`prune`
 KEEP = 4
@@ -63,16 +67,6 @@ def cache_root() -> Path:
     return Path(root)
 
 
-def _py_files(path: Path) -> list[Path]:
-    if path.is_file():
-        return [path]
-    out: list[Path] = []
-    for dirpath, dirnames, filenames in os.walk(path):
-        dirnames[:] = sorted(d for d in dirnames if d != "__pycache__" and not d.startswith("."))
-        out.extend(Path(dirpath) / f for f in sorted(filenames) if f.endswith(".py"))
-    return out
-
-
 def _write_atomic(path: Path, data: str) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -83,45 +77,16 @@ def _write_atomic(path: Path, data: str) -> None:
         pass  # a read-only cache folder: computed again next time
 
 
-def tree_key(path: Path) -> str:
-    """Hash (16 hex digits) of the names and contents of the ``.py`` files of a folder (or of one file).
-
-    Remembered against the files' (name, mtime, size) list in ``<root>/keys/``: an unchanged tree costs
-    one ``stat`` per file; a touched but unchanged tree (a reinstall) gets the same key back.
-    """
-    path = Path(path).resolve()
-    files = _py_files(path)
-    stats = hashlib.blake2b(str(path).encode(), digest_size=10)
-    for f in files:
-        try:
-            st = f.stat()
-        except OSError:
-            continue
-        stats.update(f"{f.relative_to(path.parent)}\0{st.st_mtime_ns}\0{st.st_size}\n".encode())
-    memo = cache_root() / "keys" / stats.hexdigest()
-    try:
-        key = memo.read_text()
-        if len(key) == 16:
-            return key
-    except OSError:
-        pass
-    h = hashlib.blake2b(digest_size=8)
-    for f in files:
-        try:
-            data = f.read_bytes()
-        except OSError:
-            continue
-        h.update(str(f.relative_to(path.parent if path.is_file() else path)).encode() + b"\0")
-        h.update(hashlib.blake2b(data, digest_size=16).digest())
-    key = h.hexdigest()
-    _write_atomic(memo, key)
-    return key
+def tree_key(path: Path, closure: bool = False) -> str:
+    """:func:`oceangnc.core.source_keys.tree_key` with its memos under ``<root>/keys/``."""
+    return source_keys.tree_key(path, cache_root() / "keys", _write_atomic, closure)
 
 
 @functools.cache
 def package_key() -> str:
-    """The code key of the oceangnc package's own sources (once per process)."""
-    return tree_key(_PKG)
+    """The code key of the oceangnc package's own sources (once per process): the content, without
+    comments and docstrings, of the modules compiled code can depend on (:func:`compiled_closure`)."""
+    return tree_key(_PKG, closure=True)
 
 
 def code_key() -> str:
