@@ -56,7 +56,8 @@ def _same(a: float, b) -> bool:
 def test_mcap_of_flagship_round_trips(flagship):
     df = pd.read_parquet(flagship / "log.parquet")
     schemas, msgs = read_mcap(flagship / "run.mcap")
-    ns = np.round(df["t"].to_numpy() * 1e9).astype(np.int64)
+    start = json.loads((flagship / "summary.json").read_text())["wall_time_start_unix_s"]  # the run's wall clock
+    ns = np.round(df["t"].to_numpy() * 1e9).astype(np.int64) + np.int64(round(start * 1e9))
     # every channel: a Foxglove well-known schema, or the scalar series of one prefix
     for topic, name in schemas.items():
         if topic.startswith("/signals/"):
@@ -525,7 +526,8 @@ def test_foxglove_websocket_stream(flagship):
 
     ws_client = pytest.importorskip("websockets.sync.client", reason="websockets is not installed")
     df = pd.read_parquet(flagship / "log.parquet")
-    ns = np.round(df["t"].to_numpy() * 1e9).astype(np.int64).tolist()
+    start = json.loads((flagship / "summary.json").read_text())["wall_time_start_unix_s"]  # the run's wall clock
+    ns = (np.round(df["t"].to_numpy() * 1e9).astype(np.int64) + np.int64(round(start * 1e9))).tolist()
     cmd = [sys.executable, "-m", "oceangnc", "view", str(flagship), "--foxglove", "--port", "0"]
     proc = subprocess.Popen(
         [*cmd, "--speed", "10"], stdout=subprocess.PIPE, text=True, env=dict(os.environ, PYTHONUNBUFFERED="1")

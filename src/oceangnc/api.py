@@ -273,7 +273,7 @@ def run(
     # (the command line forks them; a Python caller's later runs reuse its own imports)
     post = _post
     t0 = time.perf_counter()
-    summary: dict = {"scenario": sc.name}
+    summary: dict = {"scenario": sc.name, "wall_time_start_unix_s": time.time()}  # the MCAP export's clock
 
     def write_summary():
         atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2))

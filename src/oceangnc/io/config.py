@@ -157,8 +157,9 @@ def to_dict(cfg: BaseModel) -> dict:
     return drop_none(cfg.model_dump(mode="json"))
 
 
-def dump_toml(cfg: BaseModel, path: str | Path) -> None:
-    """Write the fully resolved config as TOML."""
+def dump_toml(cfg: BaseModel, path: str | Path, extra: dict | None = None) -> None:
+    """Write the fully resolved config as TOML, with the sections of ``extra`` (e.g. a MAVLink session's
+    ``mavlink`` settings) added."""
     import tomli_w
 
-    Path(path).write_text(tomli_w.dumps(to_dict(cfg)))
+    Path(path).write_text(tomli_w.dumps({**to_dict(cfg), **(extra or {})}))

@@ -159,7 +159,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         params: dict | str | Path | None = None,
     ):
         from ..api import new_run_dir, resolve_config
-        from ..io.config import dump_toml, validate
+        from ..io.config import dump_toml, to_dict, validate
 
         if not (0 < speed <= 100 and math.isfinite(speed)):
             raise InputError(f"--speed {speed}: allowed range 0 < speed <= 100 (simulated s per wall s)")
@@ -273,10 +273,12 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         # -- log
         self.run_dir = None
         self.writer = None
+        self.wall_start_unix_s = time.time()  # t = 0 on the wall clock (the MCAP export's log times)
         if out_root is not None:
             self.run_dir = new_run_dir(out_root, f"mavlink-{sc.name}")
             self.run_dir.mkdir(parents=True, exist_ok=True)
-            dump_toml(cfg, self.run_dir / "config.toml")
+            # the endpoint's settings with the scenario's: the geographic origin of the log's GPS track
+            dump_toml(cfg, self.run_dir / "config.toml", extra={"mavlink": to_dict(self.cfg_mav)})
             self.save_params()
             self.writer = LogWriter(self.run_dir / "log.parquet")
         if self._tlog_name is not None:
@@ -545,6 +547,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 "scenario": self.scenario.name,
                 "source": "mavlink",
                 "duration_s": float(self.sim.t),
+                "wall_time_start_unix_s": self.wall_start_unix_s,
                 "armed_at_end": self.armed,
                 "mode_at_end": mode_name(self.mode) if self.sub1 is None else sub_mode_name(self.sub1.mode),
                 "waypoints_reached": list(self.reached if self.sub1 is None else self.sub1.reached),

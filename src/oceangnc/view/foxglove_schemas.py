@@ -63,6 +63,10 @@ LOCATION_FIX = _obj(
             "type": "integer",
             "description": "0 UNKNOWN, 1 APPROXIMATED, 2 DIAGONAL_KNOWN, 3 KNOWN",
         },
+        "metadata": {
+            "type": "array",
+            "items": {"type": "object", "properties": {"key": {"type": "string"}, "value": {"type": "string"}}},
+        },
     },
     ["latitude", "longitude", "altitude"],
 ) | {"description": "A navigation satellite fix for any Global Navigation Satellite System"}

@@ -1,8 +1,10 @@
 """A run folder as an MCAP file for Foxglove, Lichtblick and the ROS 2 tools: :func:`export_mcap`.
 
 Every message is JSON (``message_encoding = "json"``) with a JSON Schema (``jsonschema``) and has
-``log_time = publish_time = round(t * 1e9)`` ns, t the log's time column (the run's simulated time,
-so a run starts at the Unix epoch). One message per log row on each channel:
+``log_time = publish_time`` = the run's wall-clock start plus ``round(t * 1e9)`` ns, t the log's time
+column (:func:`stamps_ns`: a run's or MAVLink session's start from summary.json, an imported log's own
+clock from import.json; a folder that records none starts at the Unix epoch). One message per log row
+on each channel:
 
 =====================  =========================  ================================================
 topic                  schema                     content
@@ -13,8 +15,9 @@ topic                  schema                     content
 ``/scene``             foxglove.SceneUpdate       hulls, torpedo, cable polyline coloured by
                                                   tension, route and waypoints, seabed, sea surface
 ``/<body>/gps``        foxglove.LocationFix       when the run has lat/lon columns or a geographic
-                                                  origin (``mavlink.origin_lat_deg``): the fix of
-                                                  the vehicle (from ``x``/``y`` and the origin)
+                                                  origin (``mavlink.origin_lat_deg``, an import's
+                                                  ``origin_deg``): the fix of each vehicle (from
+                                                  ``x``/``y`` and the origin): Foxglove's Map panel
 ``/signals/<prefix>``  oceangnc.Signals.<prefix>  every numeric column ``<prefix>.<name>`` of the
                                                   log as field ``<name>`` (NaN written as null)
 =====================  =========================  ================================================
@@ -254,8 +257,11 @@ class Channel:
 
 
 def stamps_ns(rd: RunData) -> np.ndarray:
-    """Message times (ns) of the log rows: round(t 1e9), shifted to start at 0 if t < 0 (unsigned)."""
-    ns = np.round(rd.t * 1e9).astype(np.int64)
+    """Message times (ns) of the log rows: the run's wall-clock start (:attr:`RunData.start_unix_s`, a run's
+    or MAVLink session's start, an imported log's own clock) plus round(t 1e9); without a recorded
+    start, t itself from the UNIX epoch. Shifted to start at 0 if negative (MCAP times are unsigned)."""
+    start = 0 if rd.start_unix_s is None else round(rd.start_unix_s * 1e9)
+    ns = np.round(rd.t * 1e9).astype(np.int64) + np.int64(start)
     return ns - ns.min() if np.any(ns < 0) else ns
 
 
@@ -397,7 +403,7 @@ def _write(writer_mod, rd: RunData, tmp: Path) -> None:
             "run": str(rd.path.name),
             "scenario": str(rd.summary.get("scenario", rd.config.get("scenario", ""))),
             "frames": "world: ENU (x east, y north, z up) at the NED origin; vehicles: FLU (REP 103)",
-            "time": "log_time = simulated time t of the log (ns from the Unix epoch)",
+            "time": "log_time = wall-clock start of the run (else the Unix epoch) + simulated time t, ns",
             "summary": json.dumps(rd.summary, default=str),
         }
         w.add_metadata("oceangnc", meta)
@@ -448,13 +454,14 @@ def _gps_messages(rd: RunData, stamps) -> list[tuple[str, list[bytes | None]]]:
                 "altitude": alt if math.isfinite(alt) else 0.0,
                 "position_covariance": cov,
                 "position_covariance_type": 0,
+                "metadata": [],  # required by Foxglove's schema since foxglove-sdk's LocationFix.json of 2025
             }
         )
 
     if rd.latlon:
         lat, lon = (rd.columns[c].tolist() for c in rd.latlon)
         body = rd.latlon[0].rpartition(".")[0] or "gps"
-        out.append((f"/{body}/fix", [fix(i, lat[i], lon[i], 0.0) for i in range(rd.rows)]))
+        out.append((f"/{body}/gps", [fix(i, lat[i], lon[i], 0.0) for i in range(rd.rows)]))
     elif rd.origin:
         from ..mavlink.geo import ned_to_latlon
 

@@ -17,8 +17,12 @@ them a :class:`RunData` gathers
   plant had, drawn again from the config and ``sim.seed`` by the same call
   (:meth:`oceangnc.environment.SeaEnvironmentConfig.plant_kwargs`), so its components (amplitude,
   frequency, wave number, direction, phase) are the run's;
-* the **geographic origin** (``mavlink.origin_lat_deg``/``origin_lon_deg``) and any logged
-  ``lat``/``lon`` columns, for a GPS track.
+* the **geographic origin** (``mavlink.origin_lat_deg``/``origin_lon_deg`` of a MAVLink run's
+  config, else ``origin_deg`` of an imported log's ``import.json``) and any logged ``lat``/``lon``
+  columns, for a GPS track;
+* the **wall-clock start** (UNIX s at t = 0): ``wall_time_start_unix_s`` of ``summary.json`` (a run's,
+  a MAVLink session's), else ``start_unix_s`` of ``import.json`` (the log's own clock: a ``.tlog``'s
+  record stamps, a ROS 2 bag's time), else None.
 """
 
 from __future__ import annotations
@@ -69,6 +73,7 @@ class RunData:
     origin: tuple[float, float] | None = None  # (lat, lon) deg of the NED origin
     latlon: tuple[str, str] | None = None  # logged latitude / longitude columns (deg)
     waves: WaveField | None = None  # the run's wave field (None: calm water)
+    start_unix_s: float | None = None  # wall-clock time (UNIX s) of t = 0, when the folder records one
 
     @property
     def t(self) -> np.ndarray:
@@ -148,7 +153,29 @@ def load_run(run_dir: str | Path) -> RunData:
             summary = json.loads((path / "summary.json").read_text())
         except json.JSONDecodeError:
             summary = {}
-    return describe(path, cols, cfg, summary)
+    rd = describe(path, cols, cfg, summary)
+    _clock_and_origin(rd, path)
+    return rd
+
+
+def _number(v) -> float | None:
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and v == v else None
+
+
+def _clock_and_origin(rd: RunData, path: Path) -> None:
+    """The wall-clock start from summary.json, else import.json; an imported log's origin."""
+    rd.start_unix_s = _number(rd.summary.get("wall_time_start_unix_s")) if isinstance(rd.summary, dict) else None
+    try:
+        imp = json.loads((path / "import.json").read_text())
+    except (OSError, ValueError):
+        return
+    if not isinstance(imp, dict):
+        return
+    if rd.start_unix_s is None:
+        rd.start_unix_s = _number(imp.get("start_unix_s"))
+    o = imp.get("origin_deg")
+    if rd.origin is None and isinstance(o, list) and len(o) >= 2 and all(_number(v) is not None for v in o[:2]):
+        rd.origin = (float(o[0]), float(o[1]))
 
 
 def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, summary: dict | None = None) -> RunData:

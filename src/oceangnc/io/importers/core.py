@@ -360,6 +360,9 @@ def import_log(
             raise InputError(f"--body {body!r}: expected a name such as usv or uuv")
         cols = {(body + k[3:] if k.startswith("usv.") else k): v for k, v in cols.items()}
     report = {"source": str(p), "format": kind, "body": body, **meta, **report}
+    offset = report.pop("unix_offset_s", None)
+    if offset is not None and "t0_source_s" in report:  # the log's own wall clock at t = 0 (MCAP log times)
+        report["start_unix_s"] = float(report["t0_source_s"] + offset)
     return ImportResult(_to_df(cols), str(p), kind, rate, report)
 
 

@@ -84,6 +84,8 @@ def read_tlog(
     # clock offset: record stamp - vehicle time
     offs = [s - m.time_boot_ms * 1e-3 for s, m in get("GLOBAL_POSITION_INT") + get("ATTITUDE")]
     off = float(np.median(offs)) if offs else 0.0
+    if offs:
+        meta["unix_offset_s"] = off  # the records' UNIX stamps minus the vehicle clock
 
     def t_of(s, m):
         if hasattr(m, "time_boot_ms"):

@@ -226,6 +226,8 @@ def read_rosbag2(
             raise InputError(f"{path}: actuator topic {want['actuators']} needs data[0] (left) and data[1] (right)")
         out["act.left"] = (t, np.array([x[0] for x in d]))
         out["act.right"] = (t, np.array([x[1] for x in d]))
+    if any(len(t) and np.nanmin(t) > 1e9 for t, _ in out.values()):
+        meta["unix_offset_s"] = 0.0  # ROS time: seconds since the UNIX epoch
     if "usv.x" not in out and "usv.psi" not in out:
         raise InputError(
             f"{path}: no odometry, IMU or NavSatFix messages on {', '.join(conns[r].topic for r in conns)}"
