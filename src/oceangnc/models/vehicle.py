@@ -41,6 +41,9 @@ nu_r = nu - [R^T v_c; 0]:
   thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
   ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
 
+  A thruster with a ``[thrusters.shaft]`` table is driven by shaft speed instead: its state is n (rad/s),
+  the thrust k n|n| (forward and reverse coefficients) with the lag on n (:mod:`oceangnc.models._shaft`).
+
 State ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r, T_1 ... T_n]``; inputs ``[T_1_cmd ...
 T_n_cmd (N), current_n, current_e (m/s)]``. The parameter vector has a fixed head (offsets are
 compile-time constants of one right-hand side for every vehicle) and the thruster table at its end.
@@ -67,10 +70,11 @@ from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
+from ._shaft import SHAFT_FIELDS, Shaft, shaft_thrust
 from .rigid_body import euler_kinematics, kirchhoff, restoring, row6
 
 DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant")
+THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant", *SHAFT_FIELDS)
 NT = len(THR_FIELDS)  #: values per thruster in the parameter table
 
 LAYOUT_HEAD = ParamLayout(
@@ -105,7 +109,7 @@ P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
 )
 P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
-T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU = range(NT)
+T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU, T_SHAFT = range(10)
 
 
 @njit(cache=True)
@@ -191,7 +195,11 @@ def vehicle_deriv(t, x, u, p, out):
             cmd = hi
         elif cmd.real < lo.real:
             cmd = lo
-        if p[k + T_TAU].real > 0.0:
+        torque = 0.0 * cmd
+        if p[k + T_SHAFT].real > 0.0:  # shaft-speed thruster (oceangnc.models._shaft): the state is n, rad/s
+            dn, thrust, torque = shaft_thrust(p, k + T_SHAFT, cmd, x[12 + i], p[k + T_TAU], ur, vr, wr)
+            out[12 + i] = dn
+        elif p[k + T_TAU].real > 0.0:
             thrust = x[12 + i]
             out[12 + i] = (cmd - thrust) / p[k + T_TAU]
         else:
@@ -206,9 +214,9 @@ def vehicle_deriv(t, x, u, p, out):
         tau[0] += fx
         tau[1] += fy
         tau[2] += fz
-        tau[3] += ry * fz - rz * fy
-        tau[4] += rz * fx - rx * fz
-        tau[5] += rx * fy - ry * fx
+        tau[3] += ry * fz - rz * fy + torque * p[k + T_DX]
+        tau[4] += rz * fx - rx * fz + torque * p[k + T_DY]
+        tau[5] += rx * fy - ry * fx + torque * p[k + T_DZ]
     t0, t1, t2, t3, t4, t5 = tau[0], tau[1], tau[2], tau[3], tau[4], tau[5]
     for i in range(6):
         out[6 + i] = row6(p, P_MINV + 6 * i, t0, t1, t2, t3, t4, t5)
@@ -318,7 +326,10 @@ class Thruster(StrictModel):
     direction: Vec3 = Field(description="thrust direction (normalised when read)")
     max_forward: float = Field(gt=0, le=1e7, description="largest forward thrust, N")
     max_reverse: float = Field(ge=0, le=1e7, description="largest reverse thrust (a positive number), N")
-    time_constant: float = Field(0.0, ge=0, le=100, description="first-order lag of the thrust, s (0: none)")
+    time_constant: float = Field(
+        0.0, ge=0, le=100, description="first-order lag of the thrust (of the shaft speed with [shaft]), s (0: none)"
+    )
+    shaft: Shaft | None = Field(None, description="driven by shaft speed: thrust k n|n| (oceangnc.models._shaft)")
 
     @field_validator("direction")
     @classmethod
@@ -488,22 +499,27 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
     for t in vf.thrusters:
         d = np.asarray(t.direction, float)
         d = d / np.linalg.norm(d)
-        rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant])
+        shaft = t.shaft.row(t.max_forward, t.max_reverse) if t.shaft is not None else [0.0] * len(SHAFT_FIELDS)
+        rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant, *shaft])
     return np.concatenate([head, np.asarray(rows, float).ravel()])
 
 
 def vehicle_layout(vf: VehicleFile) -> ParamLayout:
     """The full parameter layout: the head, then ``<thruster>.<field>`` for each thruster."""
-    extra = [
-        Param(f"{t.name}.{f}", "m" if i < 3 else "1" if i < 6 else "s" if i == 8 else "N")
-        for t in vf.thrusters
-        for i, f in enumerate(THR_FIELDS)
-    ]
+    units = ("m",) * 3 + ("1",) * 3 + ("N", "N", "s", "N s^2", "N s^2", "N s", "N m s^2", "N m s^2", "N m s", "1")
+    units += ("rad/s", "rad/s")
+    extra = [Param(f"{t.name}.{f}", units[i]) for t in vf.thrusters for i, f in enumerate(THR_FIELDS)]
     return ParamLayout([*LAYOUT_HEAD.params, *extra])
 
 
 STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
 STATE_UNITS = ("m", "m", "m", "rad", "rad", "rad", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
+
+
+def thruster_state(t: Thruster) -> tuple[str, str]:
+    """Name and unit of a thruster's state: its thrust ``thrust_<name>`` (N), or the shaft speed
+    ``shaft_<name>`` (rad/s) of a shaft-speed thruster."""
+    return (f"shaft_{t.name}", "rad/s") if t.shaft is not None else (f"thrust_{t.name}", "N")
 
 
 def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
@@ -512,7 +528,7 @@ def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
     ``current_e`` (m/s)."""
     if not isinstance(vf, VehicleFile):
         vf = load_vehicle(vf)
-    states = [*zip(STATE_NAMES, STATE_UNITS), *((f"thrust_{t.name}", "N") for t in vf.thrusters)]
+    states = [*zip(STATE_NAMES, STATE_UNITS), *(thruster_state(t) for t in vf.thrusters)]
     inputs = [*((f"thrust_{t.name}_cmd", "N") for t in vf.thrusters), ("current_n", "m/s"), ("current_e", "m/s")]
     p = vehicle_params(vf) if params is None else np.asarray(params, dtype=np.float64)
     return Model(vf.name, vehicle_rhs, states, inputs, vehicle_layout(vf), p, bound=1e6, description=vf.description)
