@@ -63,13 +63,14 @@ from typing import Literal
 
 import numpy as np
 from numba import njit
-from pydantic import Field, ValidationError, field_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
 from ..core.config import StrictModel, format_validation_error
 from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
+from ._mass_parts import Part, combine_parts
 from ._shaft import SHAFT_FIELDS, Shaft, shaft_thrust
 from .rigid_body import euler_kinematics, kirchhoff, restoring, row6
 
@@ -101,6 +102,10 @@ LAYOUT_HEAD = ParamLayout(
         Param("cf_dx", "m", description="strip width L / n"),
         Param("cf_strips", "1", derived=True, description="number of cross-flow strips n (0: no cross-flow drag)"),
         Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
+        Param(
+            "W_p", "N", description="weight added as a body-axis force on top of G eta (otter.py's payload; 0: none)"
+        ),
+        Param("r_p", "m", 3, description="where W_p acts, from CO"),
     ]
 )
 P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b", "linear_restoring", "G_lin")
@@ -108,6 +113,7 @@ P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
     "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "munk_yaw", "n_thrusters"
 )
 P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
+P_WP, P_RP = LAYOUT_HEAD.indices("W_p", "r_p")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
 T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU, T_SHAFT = range(10)
 
@@ -178,6 +184,16 @@ def vehicle_deriv(t, x, u, p, out):
     if p[P_LINR].real != 0.0:
         for i in range(6):
             tau[i] -= row6(p, P_GLIN + 6 * i, x[0], x[1], x[2], x[3], x[4], x[5])
+        wp = p[P_WP]  # a weight fixed to the vertical at r_p on top of G eta: R^T (0, 0, W_p) and r_p x it
+        fx = wp * r20
+        fy = wp * r21
+        fz = wp * r22
+        tau[0] += fx
+        tau[1] += fy
+        tau[2] += fz
+        tau[3] += p[P_RP + 1] * fz - p[P_RP + 2] * fy
+        tau[4] += p[P_RP + 2] * fx - p[P_RP] * fz
+        tau[5] += p[P_RP] * fy - p[P_RP + 1] * fx
     else:
         g0, g1, g2, g3, g4, g5 = restoring(p, P_W, P_B, P_RG, P_RB, cf, sf, ct, st)
         tau[0] -= g0
@@ -244,11 +260,30 @@ def _matrix6(v, key: str) -> np.ndarray:
 
 
 class RigidBody(StrictModel):
-    mass: float = Field(gt=0, le=1e8, description="mass in air, kg")
-    inertia: Vec3 | tuple[Vec3, Vec3, Vec3] = Field(
-        description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix"
+    mass: float | None = Field(None, gt=0, le=1e8, description="mass in air, kg (or parts)")
+    inertia: Vec3 | tuple[Vec3, Vec3, Vec3] | None = Field(
+        None, description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix (or parts)"
     )
-    r_g: Vec3 = Field((0.0, 0.0, 0.0), description="centre of gravity from the origin CO (body axes), m")
+    r_g: Vec3 | None = Field(None, description="centre of gravity from the origin CO (body axes), m (default 0)")
+    parts: list[Part] | None = Field(None, max_length=16, description="the body as parts (models._mass_parts)")
+    parallel_axis: Literal["exact", "otter.py"] = Field(
+        "exact", description="how parts are summed: exact parallel-axis sum about the CG, or otter.py's (ours: exact)"
+    )
+
+    @model_validator(mode="after")
+    def _one_way(self):
+        given = [k for k in ("mass", "inertia", "r_g") if getattr(self, k) is not None]
+        if (self.parts is None and (self.mass is None or self.inertia is None)) or (self.parts is not None and given):
+            raise ValueError("give either mass and inertia (and r_g) or parts, not both")
+        return self
+
+    def resolved(self) -> tuple[float, np.ndarray, np.ndarray]:
+        """Mass (kg), inertia about the CG (3 x 3, kg m^2) and CG from CO (m), from the values or the parts."""
+        if self.parts is not None:
+            m, r_g, ig = combine_parts(self.parts, self.parallel_axis)
+            return m, ig, r_g
+        ig = np.diag(self.inertia) if np.ndim(self.inertia[0]) == 0 else np.asarray(self.inertia, float)
+        return float(self.mass), ig, np.asarray(self.r_g if self.r_g is not None else (0.0, 0.0, 0.0), float)
 
 
 class Hydrostatics(StrictModel):
@@ -261,6 +296,16 @@ class Hydrostatics(StrictModel):
     G: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
         None, description="linear restoring: spring matrix on eta (diagonal or 6 x 6), N/m, N, N m"
     )
+    body_axis_weight: BodyAxisWeight | None = Field(None, description="linear restoring: otter.py's payload force")
+
+
+class BodyAxisWeight(StrictModel):
+    """A weight m g at r from CO added as a force fixed to the earth's vertical, on top of G eta (``otter.py``'s
+    payload term g_0 = [R^T (0, 0, m_p g); r_p x R^T (0, 0, m_p g)]); ``apply = false`` keeps it out (ours)."""
+
+    mass: float = Field(gt=0, le=1e8, description="mass, kg")
+    r: Vec3 = Field(description="where it acts, from CO, m")
+    apply: bool = Field(False, description="add it (otter.py) or not (ours: the weight is in G eta already)")
 
 
 class AddedMass(StrictModel):
@@ -301,12 +346,27 @@ class CrossFlow(StrictModel):
     draft: float = Field(gt=0, le=50, description="draft T, the projected height per unit length, m")
     cd: float | None = Field(None, ge=0, le=5, description="2-D drag coefficient; default Hoerner's curve at B / (2 T)")
     x_center: float = Field(0.0, ge=-250, le=250, description="x of the hull's mid-length from CO, m")
-    strips: int = Field(20, ge=1, le=200, description="number of strips of the midpoint rule")
+    strips: int = Field(20, ge=1, le=200, description="number of strips n")
+    rule: Literal["midpoint", "stations"] = Field(
+        "midpoint",
+        description="midpoint: n strips of width L / n (ours); stations: n + 1 stations from -L/2 to L/2 each "
+        "weighted L / n (otter.py's crossFlowDrag)",
+    )
+    rho: float | None = Field(
+        None, gt=900, le=1100, description="water density of the drag, kg/m^3 (default hydrostatics.rho)"
+    )
 
     def coefficient(self, rho: float) -> float:
         """1/2 rho C_d T (kg/m^2): the drag per unit length of U|U|."""
         cd = hoerner_cd(self.beam, self.draft) if self.cd is None else self.cd
-        return 0.5 * rho * cd * self.draft
+        return 0.5 * (self.rho or rho) * cd * self.draft
+
+    def stations(self) -> tuple[float, float, int]:
+        """x of the first station (m), spacing (m) and count of the sum, by :attr:`rule`."""
+        dx = self.length / self.strips
+        if self.rule == "stations":
+            return self.x_center - 0.5 * self.length, dx, self.strips + 1
+        return self.x_center - 0.5 * self.length + 0.5 * dx, dx, self.strips
 
 
 class Damping(StrictModel):
@@ -373,9 +433,8 @@ def _skew(a) -> np.ndarray:
 
 def rigid_body_matrix(rb: RigidBody) -> np.ndarray:
     """M_RB about CO (Fossen 2021 eq. 3.44): [[m I, -m S(r_g)], [m S(r_g), I_g - m S(r_g)^2]]."""
-    m = rb.mass
-    ig = np.diag(rb.inertia) if np.ndim(rb.inertia[0]) == 0 else np.asarray(rb.inertia, float)
-    s = _skew(rb.r_g)
+    m, ig, r_g = rb.resolved()
+    s = _skew(r_g)
     M = np.zeros((6, 6))
     M[:3, :3] = m * np.eye(3)
     M[:3, 3:] = -m * s
@@ -468,16 +527,18 @@ def load_vehicle(name_or_path: str | Path) -> VehicleFile:
 def vehicle_params(vf: VehicleFile) -> np.ndarray:
     """The parameter vector: :data:`LAYOUT_HEAD`, then the thruster table (``NT`` values per thruster)."""
     h = vf.hydrostatics
-    W = vf.rigid_body.mass * G
+    mass, _, r_g = vf.rigid_body.resolved()
+    W = mass * G
     B = h.rho * G * h.volume if h.volume is not None else W
     mrb = rigid_body_matrix(vf.rigid_body)
     ma = _matrix6(vf.added_mass.M_A, "added_mass.M_A")
     cf = vf.damping.crossflow
+    bw = h.body_axis_weight
     head = LAYOUT_HEAD.pack(
         {
             "W": W,
             "B": B,
-            "r_g": vf.rigid_body.r_g,
+            "r_g": r_g,
             "r_b": h.r_b,
             "linear_restoring": 1.0 if h.restoring == "linear" else 0.0,
             "G_lin": _matrix6(h.G, "hydrostatics.G") if h.G is not None else np.zeros((6, 6)),
@@ -489,9 +550,11 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "D_U": np.asarray(vf.damping.speed, float) if vf.damping.speed is not None else np.zeros((6, 6)),
             "munk_yaw": 1.0 if vf.added_mass.munk_yaw_moment else 0.0,
             "cf_coeff": cf.coefficient(h.rho) if cf is not None else 0.0,
-            "cf_x0": cf.x_center - 0.5 * cf.length + 0.5 * cf.length / cf.strips if cf is not None else 0.0,
-            "cf_dx": cf.length / cf.strips if cf is not None else 0.0,
-            "cf_strips": cf.strips if cf is not None else 0,
+            "cf_x0": cf.stations()[0] if cf is not None else 0.0,
+            "cf_dx": cf.stations()[1] if cf is not None else 0.0,
+            "cf_strips": cf.stations()[2] if cf is not None else 0,
+            "W_p": bw.mass * G if bw is not None and bw.apply else 0.0,
+            "r_p": bw.r if bw is not None else (0.0, 0.0, 0.0),
             "n_thrusters": len(vf.thrusters),
         }
     )
