@@ -36,7 +36,11 @@ nu_r = nu - [R^T v_c; 0]:
 * g(eta): ``restoring = "submerged"``: weight W at r_g and buoyancy B at r_b (Fossen eq. 4.6, 003
   A-13); ``restoring = "linear"``: G eta with a 6 x 6 spring matrix (a surface craft: heave, roll,
   pitch stiffness rho g A_wp, rho g nabla GM_T, rho g nabla GM_L, Fossen eq. 4.50), eta's heave
-  counted from the floating equilibrium.
+  counted from the floating equilibrium; optionally plus a weight fixed to the vertical at r_p
+  (``hydrostatics.body_axis_weight``, Fossen's Otter payload force g_0; ``apply = false`` by default).
+* M_RB may be given by parts (``[[rigid_body.parts]]``, :mod:`oceangnc.models._mass_parts`): exact
+  parallel-axis sum (default) or ``parallel_axis = "otter.py"``. The cross-flow sum may take Fossen's
+  n + 1 stations of weight L / n instead of the midpoint rule (``damping.crossflow.rule = "stations"``).
 * tau: thrusters i at positions r_i with unit directions d_i: F_i = T_i d_i, M_i = r_i x F_i. Each
   thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
   ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
@@ -63,14 +67,15 @@ from typing import Literal
 
 import numpy as np
 from numba import njit
-from pydantic import Field, ValidationError, field_validator, model_validator
+from pydantic import Field, ValidationError, field_validator
 
 from ..core.config import StrictModel, format_validation_error
 from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
-from ._mass_parts import Part, combine_parts
+from ._crossflow import HOERNER_B_2T, HOERNER_CD, CrossFlow, hoerner_cd  # noqa: F401 (re-exported)
+from ._mass_parts import RigidBody
 from ._shaft import SHAFT_FIELDS, Shaft, shaft_thrust
 from .rigid_body import euler_kinematics, kirchhoff, restoring, row6
 
@@ -259,33 +264,6 @@ def _matrix6(v, key: str) -> np.ndarray:
     return a
 
 
-class RigidBody(StrictModel):
-    mass: float | None = Field(None, gt=0, le=1e8, description="mass in air, kg (or parts)")
-    inertia: Vec3 | tuple[Vec3, Vec3, Vec3] | None = Field(
-        None, description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix (or parts)"
-    )
-    r_g: Vec3 | None = Field(None, description="centre of gravity from the origin CO (body axes), m (default 0)")
-    parts: list[Part] | None = Field(None, max_length=16, description="the body as parts (models._mass_parts)")
-    parallel_axis: Literal["exact", "otter.py"] = Field(
-        "exact", description="how parts are summed: exact parallel-axis sum about the CG, or otter.py's (ours: exact)"
-    )
-
-    @model_validator(mode="after")
-    def _one_way(self):
-        given = [k for k in ("mass", "inertia", "r_g") if getattr(self, k) is not None]
-        if (self.parts is None and (self.mass is None or self.inertia is None)) or (self.parts is not None and given):
-            raise ValueError("give either mass and inertia (and r_g) or parts, not both")
-        return self
-
-    def resolved(self) -> tuple[float, np.ndarray, np.ndarray]:
-        """Mass (kg), inertia about the CG (3 x 3, kg m^2) and CG from CO (m), from the values or the parts."""
-        if self.parts is not None:
-            m, r_g, ig = combine_parts(self.parts, self.parallel_axis)
-            return m, ig, r_g
-        ig = np.diag(self.inertia) if np.ndim(self.inertia[0]) == 0 else np.asarray(self.inertia, float)
-        return float(self.mass), ig, np.asarray(self.r_g if self.r_g is not None else (0.0, 0.0, 0.0), float)
-
-
 class Hydrostatics(StrictModel):
     restoring: Literal["submerged", "linear"] = Field(
         "submerged", description="submerged: weight and buoyancy at r_g, r_b; linear: G eta (surface craft)"
@@ -317,56 +295,6 @@ class AddedMass(StrictModel):
         description="keep the destabilising Munk moment in yaw (false: neglected with its surge and sway partners, "
         "C_A stays skew-symmetric, as Fossen's Otter model)",
     )
-
-
-#: Hoerner's 2-D cross-flow drag coefficient of a rectangular section against B / (2 T): Hoerner (1965),
-#: Fluid-Dynamic Drag, ch. 3 (blunt sections), the curve as digitised in Fossen (2021) and his Python Vehicle
-#: Simulator (``Hoerner(B, T)``), published numbers, linear interpolation between them, clamped at the ends
-HOERNER_B_2T = np.array(
-    [0.0109, 0.1766, 0.3530, 0.4519, 0.4728, 0.4929, 0.4933, 0.5585, 0.6464, 0.8336,
-     0.9880, 1.3081, 1.6392, 1.8600, 2.3129, 2.6000, 3.0088, 3.4508, 3.7379, 4.0031]
-)  # fmt: skip
-HOERNER_CD = np.array(
-    [1.9661, 1.9657, 1.8976, 1.7872, 1.5837, 1.2786, 1.2108, 1.0836, 0.9986, 0.8796,
-     0.8284, 0.7599, 0.6914, 0.6571, 0.6307, 0.5962, 0.5868, 0.5859, 0.5599, 0.5593]
-)  # fmt: skip
-
-
-def hoerner_cd(beam: float, draft: float) -> float:
-    """2-D cross-flow drag coefficient of a section of beam B and draft T from Hoerner's curve at B / (2 T)
-    (:data:`HOERNER_CD`; Hoerner 1965, as used by Fossen 2021 for the cross-flow drag integral)."""
-    return float(np.interp(beam / (2.0 * draft), HOERNER_B_2T, HOERNER_CD))
-
-
-class CrossFlow(StrictModel):
-    """Cross-flow drag of a hull by strip theory (module docstring; Fossen 2021 ch. 6, Hoerner 1965)."""
-
-    length: float = Field(gt=0, le=500, description="hull length L integrated over, m")
-    beam: float = Field(gt=0, le=100, description="beam B of the section for Hoerner's curve (one hull), m")
-    draft: float = Field(gt=0, le=50, description="draft T, the projected height per unit length, m")
-    cd: float | None = Field(None, ge=0, le=5, description="2-D drag coefficient; default Hoerner's curve at B / (2 T)")
-    x_center: float = Field(0.0, ge=-250, le=250, description="x of the hull's mid-length from CO, m")
-    strips: int = Field(20, ge=1, le=200, description="number of strips n")
-    rule: Literal["midpoint", "stations"] = Field(
-        "midpoint",
-        description="midpoint: n strips of width L / n (ours); stations: n + 1 stations from -L/2 to L/2 each "
-        "weighted L / n (otter.py's crossFlowDrag)",
-    )
-    rho: float | None = Field(
-        None, gt=900, le=1100, description="water density of the drag, kg/m^3 (default hydrostatics.rho)"
-    )
-
-    def coefficient(self, rho: float) -> float:
-        """1/2 rho C_d T (kg/m^2): the drag per unit length of U|U|."""
-        cd = hoerner_cd(self.beam, self.draft) if self.cd is None else self.cd
-        return 0.5 * (self.rho or rho) * cd * self.draft
-
-    def stations(self) -> tuple[float, float, int]:
-        """x of the first station (m), spacing (m) and count of the sum, by :attr:`rule`."""
-        dx = self.length / self.strips
-        if self.rule == "stations":
-            return self.x_center - 0.5 * self.length, dx, self.strips + 1
-        return self.x_center - 0.5 * self.length + 0.5 * dx, dx, self.strips
 
 
 class Damping(StrictModel):
