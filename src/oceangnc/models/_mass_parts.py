@@ -74,7 +74,9 @@ class RigidBody(StrictModel):
         None, description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix (or parts)"
     )
     r_g: Vec3 | None = Field(None, description="centre of gravity from the origin CO (body axes), m (default 0)")
-    parts: list[Part] | None = Field(None, max_length=16, description="the body as parts (models._mass_parts)")
+    parts: list[Part] | None = Field(
+        None, min_length=1, max_length=16, description="the body as parts (models._mass_parts)"
+    )
     parallel_axis: Literal["exact", "otter.py"] = Field(
         "exact", description="how parts are summed: exact parallel-axis sum about the CG, or otter.py's (ours: exact)"
     )
