@@ -59,3 +59,41 @@ def test_a_20_percent_error_in_n_r_r_fails_the_yaw_rate_case():
         r1.close()
     assert base.status == "pass" and base.measured.value == pytest.approx(17.639, rel=1e-3)
     assert moved.status == "fail" and moved.measured.value < 0.97 * base.measured.value
+
+
+def _force(vf, x):
+    """Generalised force (N, N m) on the state x with no thrust: M times the model's acceleration."""
+    from oceangnc.models.vehicle import vehicle_model
+
+    m = vehicle_model(vf)
+    M = np.linalg.inv(m.p[m.layout.block("M_inv")].reshape(6, 6))
+    return M @ m.deriv(x, np.zeros(m.nu))[6:12]
+
+
+def test_otter_py_options_payload_force_and_station_sum():
+    """otter.py's payload force: at a pitch theta (at rest, no velocity) R^T (0, 0, m_p g) adds -m_p g sin(theta)
+    in surge and r_p x it in pitch on top of G eta. otter.py's 21 stations of weight L / 20 give 21/20 of the
+    integral's sway force in pure sway (the midpoint rule is exact there)."""
+    from oceangnc.units import G
+
+    vf = load_vehicle("otter")
+    d = vf.model_dump(exclude_none=True)
+    d["hydrostatics"]["body_axis_weight"]["apply"] = True
+    from oceangnc.models.vehicle import VehicleFile
+
+    on = VehicleFile.model_validate(d)
+    x = np.zeros(14)
+    x[4] = np.radians(-2.0)
+    df = _force(on, x) - _force(vf, x)
+    w = 25.0 * G
+    assert df[0] == pytest.approx(-w * np.sin(x[4]), rel=1e-9) and df[0] > 0  # bow down: pushed forward
+    assert df[2] == pytest.approx(w * np.cos(x[4]), rel=1e-9)
+    assert df[4] == pytest.approx(-0.35 * df[0] - 0.05 * df[2], rel=1e-9)  # (r_p x f)_y = z f_x - x f_z
+    d = vf.model_dump(exclude_none=True)
+    d["damping"]["crossflow"]["rule"] = "stations"
+    x = np.zeros(14)
+    x[7] = 0.6
+    base = _force(vf, x)
+    stations = _force(VehicleFile.model_validate(d), x)
+    lin = -load_vehicle("otter").damping.linear[1] * 0.6
+    assert (stations[1] - lin) == pytest.approx(21 / 20 * (base[1] - lin), rel=1e-9)
