@@ -137,3 +137,41 @@ def test_mavsdk_armable_battery_and_version(tmp_path):
         assert (ver.flight_sw_major, ver.flight_sw_minor, ver.flight_sw_patch) == (major, minor, patch)
     finally:
         v.stop()
+
+
+def test_mavsdk_mission_plugin_with_default_items_uploads_starts_completes(tmp_path):
+    """MAVSDK's Mission plugin with MissionItem's defaults (yaw_deg NaN -> NAV_WAYPOINT param4 NaN, which
+    AP_Mission::sanity_check_params accepts): the upload is accepted, start_mission flies it, the mission
+    finishes (issue 39: every MAVSDK mission upload was refused with MAV_MISSION_INVALID_PARAM4)."""
+    from mavsdk.plugins.action import Action
+    from mavsdk.plugins.mission import Mission, MissionItem, MissionPlan
+
+    v = MavlinkVehicle("usv-remote", listen="udp:127.0.0.1:0", speed=12.0, out_root=tmp_path)
+    v.start()
+    try:
+        sdk, system = mavsdk_system(v)  # noqa: F841 (sdk kept alive)
+        act, mis = Action(system), Mission(system)
+        lat0, lon0 = v.cfg_mav.origin_lat_deg, v.cfg_mav.origin_lon_deg
+        items = []
+        for n, e in [(12.0, 0.0), (12.0, 12.0), (0.0, 12.0)]:
+            lat, lon = ned_to_latlon(n, e, lat0, lon0)
+            it = MissionItem(latitude_deg=lat, longitude_deg=lon, relative_altitude_m=0.0)
+            assert math.isnan(it.yaw_deg)  # MAVSDK's default
+            items.append(it)
+        mis.upload_mission(MissionPlan(items))
+        # MAVSDK sends its items from seq 0, and seq 0 is ArduPilot's home slot: items 1.. are flown, as on
+        # ArduPilot; each carries MAVSDK's NaN yaw
+        wps = [it for it in v.mission[1:] if it["command"] == M.MAV_CMD_NAV_WAYPOINT]
+        assert len(v.mission) == 3 and len(wps) == 2 and all(math.isnan(it["p4"]) for it in wps)
+        act.arm()
+        mis.start_mission()
+        t_end = time.monotonic() + 40.0
+        while time.monotonic() < t_end and not (v.reached and v.reached[-1] == v.mission[-1]["seq"]):
+            time.sleep(0.2)
+        assert v.reached == [1, 2], v.reached
+        t_end = time.monotonic() + 5.0
+        while time.monotonic() < t_end and not mis.is_mission_finished():
+            time.sleep(0.2)
+        assert mis.is_mission_finished()
+    finally:
+        v.stop()

@@ -136,4 +136,8 @@ def test_a_refused_mission_item_gets_its_mission_ack(vehicle, lat, param1, error
     )
     ack = g.wait("MISSION_ACK", 3.0)
     assert ack.type == getattr(M, error)
-    assert v.mission == before  # the refused upload changed nothing
+    # no part of the refused upload is kept, and AUTO does not fly the previous mission as if it were this one
+    # (issue 39: AP_Mission refuses the item; the client believes its own mission failed)
+    assert v.mission == before[:1]
+    g.mav.set_mode_send(1, M.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, AUTO)
+    assert g.ack(M.MAVLINK_MSG_ID_SET_MODE).result == M.MAV_RESULT_DENIED

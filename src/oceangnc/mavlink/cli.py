@@ -141,13 +141,22 @@ def _cmd(args) -> int:
             f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop",
             flush=True,
         )
+    # SIGTERM ends the vehicle as Ctrl-C does: serve() closes the log (compacted) and writes summary.json
+    from ..core.interrupts import terminate_like_ctrl_c
+
+    restore = terminate_like_ctrl_c()
     try:
         v.serve()
     except KeyboardInterrupt:
         v.close()
     finally:
+        if restore is not None:
+            restore()
         if stream is not None:
             stream.stop()
-    if not args.quiet and v.run_dir is not None:
-        print(f"log written: {v.run_dir / 'log.parquet'}")
+    if v.run_dir is not None and (not args.quiet or v.stopped_by):
+        status = f" (summary.json status: interrupted by {v.stopped_by})" if v.stopped_by else ""
+        print(f"log written: {v.run_dir / 'log.parquet'}{status}", flush=True)
+    if v.stopped_by:
+        return 143 if v.stopped_by == "SIGTERM" else 130
     return 1 if v.error else 0

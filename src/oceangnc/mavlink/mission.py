@@ -10,6 +10,46 @@ from .protocol import AUTO, GUIDED, HOLD, mavlink
 M = mavlink
 
 
+#: parameters (1-4) that ArduPilot lets be NaN, per command (AP_Mission::sanity_check_params: "param 4 can be
+#: nan" for NAV_WAYPOINT / NAV_LAND / NAV_TAKEOFF / NAV_VTOL_TAKEOFF, 3 and 4 for NAV_VTOL_LAND; none elsewhere)
+NAN_PARAMS = {
+    M.MAV_CMD_NAV_WAYPOINT: (4,),
+    M.MAV_CMD_NAV_LAND: (4,),
+    M.MAV_CMD_NAV_TAKEOFF: (4,),
+    M.MAV_CMD_NAV_VTOL_TAKEOFF: (4,),
+    M.MAV_CMD_NAV_VTOL_LAND: (3, 4),
+}
+#: commands whose x / y / z are a location (AP_Mission::stored_in_location): latitude, longitude and a finite
+#: altitude below LOCATION_ALT_MAX_M are checked; other commands do not read them
+LOCATION_CMDS = {
+    M.MAV_CMD_NAV_WAYPOINT, M.MAV_CMD_NAV_LOITER_UNLIM, M.MAV_CMD_NAV_LOITER_TURNS, M.MAV_CMD_NAV_LOITER_TIME,
+    M.MAV_CMD_NAV_LAND, M.MAV_CMD_NAV_TAKEOFF, M.MAV_CMD_NAV_CONTINUE_AND_CHANGE_ALT, M.MAV_CMD_NAV_LOITER_TO_ALT,
+    M.MAV_CMD_NAV_SPLINE_WAYPOINT, M.MAV_CMD_NAV_GUIDED_ENABLE, M.MAV_CMD_DO_SET_HOME, M.MAV_CMD_DO_LAND_START,
+    M.MAV_CMD_DO_SET_ROI, M.MAV_CMD_NAV_VTOL_TAKEOFF, M.MAV_CMD_NAV_VTOL_LAND, M.MAV_CMD_NAV_PAYLOAD_PLACE,
+}  # fmt: skip
+LOCATION_ALT_MAX_M = 83000.0  # AP_Common/Location.h
+
+
+def _item_refusal(m, lat: float, lon: float) -> int | None:
+    """The MAV_MISSION_RESULT ArduPilot answers a mission item with (AP_Mission::mavlink_int_to_mission_cmd:
+    sanity_check_params, then the location of a command stored in one), or None if accepted. Item 0 (home)
+    carries no checked location here."""
+    errs = (M.MAV_MISSION_INVALID_PARAM1, M.MAV_MISSION_INVALID_PARAM2, M.MAV_MISSION_INVALID_PARAM3,
+            M.MAV_MISSION_INVALID_PARAM4)  # fmt: skip
+    nan_ok = NAN_PARAMS.get(m.command, ())
+    for i, v in enumerate((m.param1, m.param2, m.param3, m.param4), 1):
+        if math.isinf(v) or (math.isnan(v) and i not in nan_ok):
+            return errs[i - 1]
+    if m.command in LOCATION_CMDS and m.seq > 0:
+        if not -90 <= lat <= 90:
+            return M.MAV_MISSION_INVALID_PARAM5_X
+        if not -180 <= lon <= 180:
+            return M.MAV_MISSION_INVALID_PARAM6_Y
+        if not abs(float(m.z)) < LOCATION_ALT_MAX_M:  # (NaN included)
+            return M.MAV_MISSION_INVALID_PARAM7
+    return None
+
+
 class MissionMixin:
     """Mission items (item 0 is home), upload / download / clear / set-current, and following the mission
     through the scenario's :class:`oceangnc.mavlink.live.RouteHook`. The protocol code serves every system
@@ -60,8 +100,8 @@ class MissionMixin:
             self.route.set_route(pts)
             self._progress = self.route.progress(self.sim.bus) if self.route.kind == "pure_pursuit" else 0
 
-    def _mission_ack(self, result: int, mission_type: int = 0) -> None:
-        sysid = self.gcs_sysid or 255
+    def _mission_ack(self, result: int, mission_type: int = 0, to: int | None = None) -> None:
+        sysid = self._src_sysid if to is None else to  # the ground station whose message this answers
         self._send(self.mav.mission_ack_encode(sysid, 0, result, mission_type))
 
     def _on_mission_count(self, m) -> None:
@@ -118,18 +158,15 @@ class MissionMixin:
             self._request_item()  # ask again for the one we need
             return
         lat, lon = m.x * scale, m.y * scale
-        if m.command == M.MAV_CMD_NAV_WAYPOINT and m.seq > 0 and not (-90 <= lat <= 90 and -180 <= lon <= 180):
-            self._oor(f"MISSION_ITEM seq {m.seq} lat {lat} lon {lon}")
+        err = _item_refusal(m, lat, lon)
+        if err is not None:  # refused with its answer (AP_Mission's), and no part of the upload is kept
+            self._oor(f"MISSION_ITEM seq {m.seq} command {m.command}: {M.enums['MAV_MISSION_RESULT'][err].name}")
             self._upload = None
-            self._mission_ack(M.MAV_MISSION_INVALID_PARAM5_X if not abs(lat) <= 90 else M.MAV_MISSION_INVALID_PARAM6_Y)
-            return
-        bad = [i for i, v in enumerate((m.param1, m.param2, m.param3, m.param4, float(m.z)), 1) if not math.isfinite(v)]
-        if bad:  # a NaN or infinite parameter (param1-4, altitude): refused with its answer
-            self._oor(f"MISSION_ITEM seq {m.seq}: non-finite parameter {bad[0]}")
-            self._upload = None
-            errs = (M.MAV_MISSION_INVALID_PARAM1, M.MAV_MISSION_INVALID_PARAM2, M.MAV_MISSION_INVALID_PARAM3,
-                    M.MAV_MISSION_INVALID_PARAM4, M.MAV_MISSION_INVALID_PARAM7)  # fmt: skip
-            self._mission_ack(errs[bad[0] - 1])
+            if self.mode != self._AUTO and len(self.mission) > 1:
+                self.mission = self.mission[:1]  # AUTO must not fly the previous mission as if it were this one
+                self.mission_current = 1
+                self.event("Mission upload refused: mission cleared", M.MAV_SEVERITY_WARNING)
+            self._mission_ack(err)  # (last: the client that reads it finds the mission cleared)
             return
         u["items"].append(
             {
@@ -230,7 +267,7 @@ class MissionMixin:
         u["t"] = now
         if u["tries"] * 1.0 > self.cfg_mav.mission_timeout_s:
             self._upload = None
-            self._mission_ack(M.MAV_MISSION_OPERATION_CANCELLED)
+            self._mission_ack(M.MAV_MISSION_OPERATION_CANCELLED, to=u["sys"])
             self.event("Mission upload timed out", M.MAV_SEVERITY_WARNING)
         else:
             self._request_item()

@@ -224,14 +224,42 @@ def build_params(v) -> dict[str, Param]:
     return seen
 
 
+#: the largest parameter file read, bytes (ArduPilot's full parameter list as a .param file is about 30 kB)
+MAX_PARAM_FILE_BYTES = 1 << 20
+
+
+def _read_bounded(p: Path, what: str) -> str:
+    """The text of a regular file of at most :data:`MAX_PARAM_FILE_BYTES`, else one InputError line: a device,
+    a FIFO or a folder is refused before anything is read from it (``/dev/zero`` read without bound)."""
+    import os
+    import stat
+
+    try:
+        fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)  # (a FIFO must not block the open)
+    except OSError as e:
+        raise InputError(f"{what}: cannot read ({e.strerror or e})") from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode):
+        os.close(fd)
+        raise InputError(f"{what}: not a regular file")
+    if st.st_size > MAX_PARAM_FILE_BYTES:
+        os.close(fd)
+        raise InputError(f"{what}: {st.st_size} bytes, more than the {MAX_PARAM_FILE_BYTES} a parameter file may have")
+    with os.fdopen(fd, "rb") as f:
+        data = f.read(MAX_PARAM_FILE_BYTES + 1)
+    if len(data) > MAX_PARAM_FILE_BYTES:  # grew while read
+        raise InputError(f"{what}: more than the {MAX_PARAM_FILE_BYTES} bytes a parameter file may have")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise InputError(f"{what}: not UTF-8 text (byte {e.start})") from None
+
+
 def read_param_file(path: str | Path) -> dict[str, float]:
     """``{NAME: value}`` from a ``params.json`` (an object of numbers) or a ``.param`` / ``.parm`` file
     (``NAME VALUE`` or ``NAME,VALUE`` per line, ``#`` comments); InputError naming the file otherwise."""
     p = Path(path)
-    try:
-        text = p.read_text()
-    except OSError as e:
-        raise InputError(f"--params {path}: cannot read ({e.strerror or e})") from None
+    text = _read_bounded(p, f"--params {path}")
     if p.suffix == ".json" or text.lstrip().startswith("{"):
         try:
             data = json.loads(text)

@@ -120,6 +120,7 @@ class SubAutopilot(MissionMixin):
         self.mav.send(self.mav.statustext_encode(severity, text[:50].encode()))
 
     def _ack(self, command: int, result: int) -> None:
+        self.v._acked = (command, result)
         self.mav.send(self.mav.command_ack_encode(command, result))
 
     def position(self) -> tuple[float, float, float]:

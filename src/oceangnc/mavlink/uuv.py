@@ -82,6 +82,7 @@ class UUVMixin:
     is a ROV (``self.sub1``)."""
 
     def _uuv_ack(self, command: int, result: int) -> None:
+        self._acked = (command, result)
         self._send(self.mav_uuv.command_ack_encode(command, result), uuv=True)
 
     def _uuv_param_value(self, name: str, index: int | None = None) -> None:
@@ -94,25 +95,17 @@ class UUVMixin:
         """Modes, sticks, GUIDED targets and missions of ArduSub system ``sub``; False if ``kind`` is none
         of these (the caller handles it)."""
         if kind == "SET_MODE":
-            self._take_control(m)
             res = sub.set_mode(int(m.custom_mode), "SET_MODE")
             sub._ack(M.MAVLINK_MSG_ID_SET_MODE, res)
         elif kind == "MANUAL_CONTROL":
-            self._take_control(m)
-            self._link_alive(m)
             sub.manual_control(m)
         elif kind == "RC_CHANNELS_OVERRIDE":
-            self._take_control(m)
-            self._link_alive(m)
             sub.rc_override(m)
         elif kind == "SET_POSITION_TARGET_GLOBAL_INT":
-            self._take_control(m)
             sub.set_position_target_global_int(m)
         elif kind == "SET_POSITION_TARGET_LOCAL_NED":
-            self._take_control(m)
             sub.set_position_target_local_ned(m)
         elif kind in ("MISSION_COUNT", "MISSION_CLEAR_ALL", "MISSION_SET_CURRENT"):
-            self._take_control(m)
             getattr(sub, "_on_" + kind.lower())(m)
         elif kind in ("MISSION_REQUEST_LIST", "MISSION_ITEM_INT", "MISSION_ITEM", "MISSION_REQUEST_INT",
                       "MISSION_REQUEST"):  # fmt: skip
@@ -140,8 +133,6 @@ class UUVMixin:
     def _handle_uuv(self, m, kind: str) -> None:
         sub = self.sub2
         if kind in ("COMMAND_LONG", "COMMAND_INT"):
-            self._take_control(m)
-            self._link_alive(m)
             self._uuv_command(m)
         elif self._handle_sub(sub, m, kind):
             pass
@@ -163,7 +154,6 @@ class UUVMixin:
             if p is None:
                 self.counts["rx_ignored"] += 1
                 return
-            self._take_control(m)
             why = p.refusal(float(m.param_value))
             if why is None:
                 p.set(float(m.param_value))

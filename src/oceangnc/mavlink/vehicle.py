@@ -59,7 +59,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DivergenceError, InputError
+from ..errors import DivergenceError, InputError, Terminated
 from ..io.logs import LogWriter
 from .battery import Battery, thruster_power
 from .commands import INT16_MAX, CommandsMixin
@@ -206,7 +206,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self.mode = HOLD
         self.stick = (0.0, 0.0)
         self.t_gcs = -math.inf  # wall time of the last message from the controlling ground station
-        self.gcs_sysid: int | None = None  # the ground station that armed or last commanded
+        self.gcs_sysid: int | None = None  # the ground station whose control act was last accepted
+        self._src_sysid = 255  # system id of the message being handled
+        self._acked: tuple[int, int] | None = None  # (command, result) of the last COMMAND_ACK sent
         self.t_stick = -math.inf  # wall time of the last stick message in a stick mode
         self.stick_flowing = False
         self.counts = {
@@ -223,6 +225,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self.reached: list[int] = []  # mission seqs reported reached, in order
         self.ended = False
         self.error: str | None = None
+        self.stopped_by: str | None = None  # "SIGINT" / "SIGTERM" when a signal ended serve()
         # -- mission: list of dicts (seq, frame, command, current, autocontinue, p1..p4, lat, lon, alt)
         self.mission: list[dict] = []
         self.mission_current = 1
@@ -301,8 +304,13 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self.event(
             f"vehicle up: scenario {sc.name}, system {c.system_id}"
             + (f" + UUV system {c.uuv_system_id}" if self.has_uuv else "")
-            + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, HOLD"
+            + f", listening on udp:{self.address[0]}:{self.address[1]}, disarmed, {self._mode_text()}"
         )
+
+    def _mode_text(self) -> str:
+        """The flight mode as the ground station sees it: Rover's, or ArduSub's for a ROV (and the towed UUV's)."""
+        text = mode_name(self.mode) if self.sub1 is None else sub_mode_name(self.sub1.mode)
+        return text + (f" (UUV {sub_mode_name(self.sub2.mode)})" if self.sub2 is not None else "")
 
     def _battery_step(self) -> None:
         """Draw the thrusters' and the hotel load's power from the battery since the last pass
@@ -506,6 +514,9 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
                 t0 = self.clock()
                 self.step_once()
                 time.sleep(max(0.0005, self.loop_period - (self.clock() - t0)))
+        except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM under the command line (Terminated): summary says so
+            self.stopped_by = "SIGTERM" if isinstance(e, Terminated) else "SIGINT"
+            raise
         finally:
             self.close()
 
@@ -543,9 +554,12 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             if self.writer is None or self.run_dir is None:
                 return
             self.writer.close()
+            status = "interrupted" if self.stopped_by else ("error" if self.error else "ok")
             summary = {
                 "scenario": self.scenario.name,
                 "source": "mavlink",
+                "status": status,
+                **({"signal": self.stopped_by} if self.stopped_by else {}),
                 "duration_s": float(self.sim.t),
                 "wall_time_start_unix_s": self.wall_start_unix_s,
                 "armed_at_end": self.armed,
