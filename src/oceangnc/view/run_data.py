@@ -136,17 +136,24 @@ def load_run(run_dir: str | Path) -> RunData:
     if not path.is_dir():
         raise InputError(f"run folder not found: {path}")
     cols = _read_columns(path)
+    from ..core.files import LIMIT_JSON, LIMIT_TOML, read_text_bounded
+
     cfg: dict = {}
     if (path / "config.toml").exists():
+        text = read_text_bounded(path / "config.toml", LIMIT_TOML, "config file")
         try:
-            cfg = tomllib.loads((path / "config.toml").read_text())
+            cfg = tomllib.loads(text)
         except tomllib.TOMLDecodeError as e:
             raise InputError(f"{path / 'config.toml'}: {e}") from None
+        except RecursionError:
+            raise InputError(f"{path / 'config.toml'}: nested too deeply to be a config") from None
     summary: dict = {}
     if (path / "summary.json").exists():
         try:
-            summary = json.loads((path / "summary.json").read_text())
-        except json.JSONDecodeError:
+            summary = json.loads(read_text_bounded(path / "summary.json", LIMIT_JSON, "summary"))
+        except (ValueError, RecursionError):
+            summary = {}
+        if not isinstance(summary, dict):
             summary = {}
     return describe(path, cols, cfg, summary)
 
