@@ -185,3 +185,60 @@ def read_json_lines(path: str | Path) -> list:
     if not text.endswith("\n"):
         lines = lines[:-1]  # the last line was never finished
     return [json.loads(s) for s in lines if s.strip()]
+
+
+#: files of a run folder that no export or page may replace
+RUN_FILES = ("config.toml", "summary.json", "checkpoint.npz", "log.parquet", "events.jsonl", "import.json")
+
+
+def check_output(path: str | Path, kind: str, is_same_kind) -> Path:
+    """Check that ``path`` may receive an output of ``kind`` (``--out`` of ``view`` and ``export``);
+    returns it. Refused in one line (InputError): a run's own files (:data:`RUN_FILES`), anything that
+    is not a regular file (a device such as ``/dev/full``, a folder, a FIFO, a symbolic link), and an
+    existing regular file that ``is_same_kind(first_bytes)`` does not recognise as a previous output of
+    the same kind. Its folder is created; one that cannot be is one line too."""
+    p = Path(path)
+    if p.name in RUN_FILES:
+        raise InputError(f"--out {p}: would replace a run's own {p.name}; give another file name")
+    try:
+        st = os.lstat(p)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise InputError(f"--out {p}: cannot use it ({e.strerror or e})") from None
+    if st is not None:
+        if not stat.S_ISREG(st.st_mode):
+            raise InputError(f"--out {p}: exists and is not a regular file (a link, device or folder); refused")
+        try:
+            with open(p, "rb") as f:
+                head = f.read(4096)
+        except OSError as e:
+            raise InputError(f"--out {p}: cannot read it to check it ({e.strerror or e})") from None
+        if not is_same_kind(head):
+            raise InputError(f"--out {p}: exists and is not a {kind} written by oceangnc; refused (remove it first)")
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"--out {p}: cannot create its folder ({e.strerror or e})") from None
+    return p
+
+
+def write_output(path: str | Path, write) -> None:
+    """Write an output file through a temporary file created exclusively beside it (never through a
+    link), then rename it into place: ``write(file)`` fills the temporary file. A failure removes the
+    temporary file and is a one-line InputError; the file at ``path`` is then unchanged."""
+    p = Path(path)
+    tmp = temp_name(p)
+    try:
+        with create_exclusive(tmp) as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, p)
+    except OSError as e:
+        unlink_quietly(tmp)
+        raise InputError(f"--out {p}: cannot write it ({e.strerror or e})") from None
+    except BaseException:
+        unlink_quietly(tmp)
+        raise
+    _fsync_dir(p.parent)

@@ -358,24 +358,27 @@ def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Pat
 
     Raises :class:`MissingMcap` without the ``mcap`` package, InputError for a folder without a log.
     """
+    from ..core.files import check_output, write_output
+
     writer_mod = require_mcap()
     rd = run if isinstance(run, RunData) else load_run(run)
-    out = Path(out) if out is not None else rd.path / "run.mcap"
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(out.name + ".part")
-    try:
-        _write(writer_mod, rd, tmp)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    tmp.replace(out)
+    out = check_output(out if out is not None else rd.path / "run.mcap", "MCAP file", is_mcap)
+    write_output(out, lambda f: _write(writer_mod, rd, f))  # a temporary file created exclusively, renamed
     return out
 
 
-def _write(writer_mod, rd: RunData, tmp: Path) -> None:
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def is_mcap(head: bytes) -> bool:
+    """True when ``head`` (a file's first bytes) starts an MCAP file (``--out`` may replace only one)."""
+    return head.startswith(MCAP_MAGIC)
+
+
+def _write(writer_mod, rd: RunData, f) -> None:
     channels = build_channels(rd)
     ns = stamps_ns(rd).tolist()
-    with open(tmp, "wb") as f:
+    if True:
         w = writer_mod.Writer(f)
         w.start(profile="", library="oceangnc")
         sids: dict[str, int] = {}
