@@ -169,3 +169,43 @@ def test_a_toml_array_nested_100000_deep_and_non_utf8_files_are_one_line(tmp_pat
             assert rc == 0, err  # an unreadable summary only loses the page's summary panel
         rc, _, err = cli(capsys, "run", "--resume", str(d), "--quiet")
         assert rc == 2 and err.count("\n") == 1, err
+
+
+# -- exports stream ---------------------------------------------------------------------------------------------
+
+
+def _messages(path):
+    from mcap.reader import make_reader
+
+    with open(path, "rb") as f:
+        r = make_reader(f)
+        out = [(ch.topic, m.log_time, m.sequence, m.data) for _, ch, m in r.iter_messages(log_time_order=False)]
+        meta = [(m.name, m.metadata) for m in r.iter_metadata()]
+    return out, meta
+
+
+def test_the_mcap_export_streams_the_log_in_bounded_parts_with_the_same_messages(tmp_path, monkeypatch):
+    """An MCAP export of a 5-million-row log failed past 8 GB (issue 41): the log is now read row group
+    by row group in parts of at most ``batch_rows`` rows, and the file holds the same messages as an
+    export of the whole log held in memory."""
+    from oceangnc.view import mcap_export, run_data
+
+    out = tmp_path / "run"
+    oceangnc.run("tow-straight", duration=20, out=out, plots=False)
+    rd = run_data.load_run(out)
+    rows = rd.rows
+    whole = mcap_export.export_mcap(rd, tmp_path / "whole.mcap")
+    sizes: list[int] = []
+    orig = run_data.describe
+
+    def spy(path, cols, *a, **kw):
+        sizes.append(len(cols["t"]))
+        return orig(path, cols, *a, **kw)
+
+    monkeypatch.setattr(run_data, "describe", spy)
+    streamed = mcap_export.export_mcap(out, tmp_path / "streamed.mcap", batch_rows=50)
+    assert sizes[0] == 1  # the one-row probe of the folder, before anything is written
+    parts = sizes[1:]
+    assert max(parts) <= 50 and sum(parts) == 2 * rows  # two passes, each over every row in parts of <= 50
+    a, b = _messages(whole), _messages(streamed)
+    assert len(a[0]) >= 8 * rows and a == b

@@ -128,14 +128,25 @@ def _size(cfg: dict, keys: tuple[str, ...], default: float) -> float:
     return default
 
 
-def load_run(run_dir: str | Path) -> RunData:
-    """Read the run folder ``run_dir`` (or its ``log.parquet``) for a viewer; InputError if it has no log."""
+def _run_path(run_dir: str | Path) -> Path:
     path = Path(run_dir)
     if path.name == "log.parquet":
         path = path.parent
     if not path.is_dir():
         raise InputError(f"run folder not found: {path}")
+    return path
+
+
+def load_run(run_dir: str | Path) -> RunData:
+    """Read the run folder ``run_dir`` (or its ``log.parquet``) for a viewer; InputError if it has no log."""
+    path = _run_path(run_dir)
     cols = _read_columns(path)
+    return describe(path, cols, *run_meta(path))
+
+
+def run_meta(path: Path) -> tuple[dict, dict]:
+    """A run folder's config and summary as dicts, each read bounded (a regular file of UTF-8 text);
+    a config that cannot be read is a one-line InputError, a summary that cannot be is left out."""
     from ..core.files import LIMIT_JSON, LIMIT_TOML, read_text_bounded
 
     cfg: dict = {}
@@ -151,11 +162,48 @@ def load_run(run_dir: str | Path) -> RunData:
     if (path / "summary.json").exists():
         try:
             summary = json.loads(read_text_bounded(path / "summary.json", LIMIT_JSON, "summary"))
-        except (ValueError, RecursionError):
+        except (ValueError, RecursionError, InputError):
             summary = {}
         if not isinstance(summary, dict):
             summary = {}
-    return describe(path, cols, cfg, summary)
+    return cfg, summary
+
+
+def _numeric(pa, tp) -> bool:
+    return pa.types.is_floating(tp) or pa.types.is_integer(tp) or pa.types.is_boolean(tp)
+
+
+def iter_run(run_dir: str | Path, batch_rows: int):
+    """The run folder ``run_dir`` as a sequence of :class:`RunData` of at most ``batch_rows`` rows each,
+    in row order: the log's parts read Parquet row group by row group (``iter_batches``), so that only
+    one batch of rows is in memory at a time (the MCAP export of a long log)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from ..io.log_read import _dataset_path, _live_parts, readable_dataset
+
+    path = _run_path(run_dir)
+    log = readable_dataset(_dataset_path(path / "log.parquet"))
+    if not log.exists():
+        raise InputError(f"{path}: no log.parquet (a run folder written by 'oceangnc run' or 'oceangnc import')")
+    files = _live_parts(log)[0] if log.is_dir() else [log]
+    cfg, summary = run_meta(path)
+    for p in files:
+        try:
+            with pq.ParquetFile(p) as f:
+                for batch in f.iter_batches(batch_size=batch_rows):
+                    cols = {
+                        name: np.asarray(col.to_numpy(zero_copy_only=False), dtype=float)
+                        for name, col in zip(batch.schema.names, batch.columns)
+                        if pa.types.is_floating(col.type)
+                        or pa.types.is_integer(col.type)
+                        or pa.types.is_boolean(col.type)
+                    }
+                    if "t" not in cols:
+                        raise InputError(f"log {log} has no time column 't'")
+                    yield describe(path, cols, cfg, summary)
+        except (pa.ArrowInvalid, OSError) as e:
+            raise InputError(f"cannot read log {p}: {e}") from None
 
 
 def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, summary: dict | None = None) -> RunData:
