@@ -136,14 +136,20 @@ def test_repair_cli_finishes_a_merge_cut_between_the_two_renames(tmp_path):
 
 
 def test_a_resume_after_a_kill_in_the_merge_keeps_the_rows(tmp_path):
-    """_truncate_log (resume) finishes an interrupted merge before it drops the later parts."""
+    """The cut of a resume finishes an interrupted merge before it drops the later rows."""
+    from oceangnc.io.log_resume import cut_to_checkpoint
+
     log = tmp_path / "log.parquet"
     r = subprocess.run(
         [sys.executable, "-c", WRITER, "renames", "moved aside", str(log)], env=ENV, capture_output=True, timeout=300
     )
     assert r.returncode == 9
-    api._truncate_log(log, parts=1)
+    assert cut_to_checkpoint(log, ROWS, (ROWS - 1) * 0.05) == 1
     assert len(read_log(log)) == ROWS and not any(p.exists() for p in merge_folders(log))
+    # the merged part runs past a checkpoint at row 100: it is rewritten with its first 100 rows
+    assert cut_to_checkpoint(log, 100, 99 * 0.05) == 1
+    df = read_log(log)
+    assert len(df) == 100 and df["t"].iloc[-1] == 99 * 0.05
 
 
 def test_a_new_run_into_a_folder_removes_leftovers_of_an_old_merge(tmp_path):
@@ -267,15 +273,22 @@ def test_checkpoint_is_an_npz_of_arrays_and_json_with_a_checksum(tmp_path, capsy
     out = _run_folder(tmp_path)
     with np.load(out / ckpt.FILE, allow_pickle=False) as z:  # no object array anywhere
         members = {k: z[k] for k in z.files}
-    doc = json.loads(members.pop("checkpoint.json").tobytes())
-    assert doc["format"] == "oceangnc-checkpoint" and doc["version"] == 2 and doc["scenario"] == "usv-turn"
+    raw = members.pop("checkpoint.json")
+    doc = json.loads(raw.tobytes())
+    assert doc["format"] == "oceangnc-checkpoint" and doc["version"] == 3 and doc["scenario"] == "usv-turn"
     assert doc["t"] == 2.0 and doc["log"]["rows"] == 41  # flushed right before it was saved
     assert doc["sim"]["block_names"] and all(a.dtype != object for a in members.values())
-    # a changed array is caught by the SHA-256 of the arrays
-    members["a0"] = members["a0"] + 1.0
-    np.savez(out / ckpt.FILE, **{"checkpoint.json": np.frombuffer(json.dumps(doc).encode(), np.uint8)}, **members)
-    rc, err = _resume(capsys, out)
-    assert rc == 2 and "damaged" in err and "SHA-256" in err
+    assert "checkpoint.sha256" in members
+    # a changed array, and a changed number of the JSON document (issue 41: the log position was outside
+    # the checksum), are both caught by the one SHA-256
+    changed = dict(doc, log={"parts": 0, "rows": 41})
+    for text, arrays in (
+        (raw, {**members, "a0": members["a0"] + 1.0}),
+        (np.frombuffer(json.dumps(changed, separators=(",", ":")).encode(), np.uint8), members),
+    ):
+        np.savez(out / ckpt.FILE, **{"checkpoint.json": text}, **arrays)
+        rc, err = _resume(capsys, out)
+        assert rc == 2 and "damaged" in err and "SHA-256" in err and err.count("\n") == 1, err
     (out / ckpt.FILE).write_bytes(b"PK\x03\x04 torn")
     rc, err = _resume(capsys, out)
     assert rc == 2 and "unreadable" in err and err.count("\n") == 1

@@ -232,19 +232,17 @@ def run(
         out_dir = Path(resume)
         if not out_dir.is_dir():
             raise InputError(f"run folder not found: {out_dir}")
-        summ = out_dir / "summary.json"
-        if summ.is_file():
-            try:
-                status = json.loads(summ.read_text()).get("status")
-            except (ValueError, AttributeError):
-                status = None
-            if status == "ok":
-                raise InputError(f"run {out_dir} finished (summary.json status ok); nothing to resume")
+        status = _summary_status(out_dir / "summary.json")
+        if status == "ok":
+            raise InputError(f"run {out_dir} finished (summary.json status ok); nothing to resume")
         state = ckpt.load(out_dir)
+        if checkpoint_every is None:
+            checkpoint_every = state.get("every")  # the run keeps checkpointing at its own period
         sc, cfg = resolve_config(None, load_toml(out_dir / "config.toml"))
-        _truncate_log(out_dir / "log.parquet", state["log"]["parts"])
-        log = LogWriter.for_run(out_dir, cfg.log, start_part=state["log"]["parts"], start_row=state["log"]["rows"])
-        (out_dir / "summary.json").unlink(missing_ok=True)
+        # the log is cut to the checkpoint (by the folder's own parts) only once the checkpoint was restored
+        # into the rebuilt simulation, checked whole: a refused checkpoint leaves the log as it was
+        log = LogWriter.for_run(out_dir, cfg.log, start_part=1, start_row=state["log"]["rows"])
+        state["on_restored"] = lambda: _cut_log(out_dir, log, state)
     else:
         sc, cfg = resolve_run_config(scenario, config, overrides, duration, model)
         if checkpoint_every is not None and not sc.single_simulation(cfg):
@@ -290,7 +288,8 @@ def run(
         raise
     except KeyboardInterrupt as e:  # Ctrl-C, or SIGTERM through the command line's handler (Terminated)
         postproc.cancel(post)
-        log.close()
+        if state is None or state.get("restored"):
+            log.close()
         summary.update(
             {
                 "status": "interrupted",
@@ -303,7 +302,8 @@ def run(
         raise
     except BaseException as e:
         postproc.cancel(post)
-        log.close()
+        if state is None or state.get("restored"):  # a refused resume leaves the log untouched
+            log.close()
         if state is None and created and isinstance(e, OceanGNCError) and log.rows_written == 0:
             import shutil
 
@@ -350,19 +350,30 @@ def log_frame(sc, table):
     return table.to_pandas()
 
 
-def _truncate_log(folder: Path, parts: int) -> None:
-    """Drop the log parts written after a checkpoint (and half-written temporaries) before resuming."""
-    from .io.logs import list_parts, recover_merge
+def _summary_status(path: Path):
+    """The ``status`` of a run's ``summary.json`` (None when absent or not a JSON object); the file is read
+    bounded (:func:`oceangnc.core.files.read_text_bounded`) and an unreadable one is a one-line InputError."""
+    from .core.files import LIMIT_JSON, read_text_bounded
+    from .errors import InputError
 
-    recover_merge(folder)  # a run killed during its final merge: finish or roll it back first
-    if not folder.is_dir():
-        return
-    for p in list(folder.iterdir()):
-        if p.name.startswith(".") and p.name.endswith(".tmp"):
-            p.unlink()
-    for p in list_parts(folder):
-        if int(p.name[5:-8]) >= parts:
-            p.unlink()
+    if not os.path.lexists(path):
+        return None
+    try:
+        s = json.loads(read_text_bounded(path, LIMIT_JSON, "summary"))
+    except (ValueError, RecursionError):
+        raise InputError(f"summary {path}: not a JSON document; remove it to resume") from None
+    return s.get("status") if isinstance(s, dict) else None
+
+
+def _cut_log(out_dir: Path, log, state: dict) -> None:
+    """After the checkpoint was restored: cut the log to it (the folder's own parts decide,
+    :mod:`oceangnc.io.log_resume`), point the writer after it, and drop the stale summary."""
+    from .io.log_resume import cut_to_checkpoint
+
+    log.parts = cut_to_checkpoint(out_dir / "log.parquet", state["log"]["rows"], state["t"])
+    log.rows = log.rows_written = state["log"]["rows"]
+    state["restored"] = True
+    (out_dir / "summary.json").unlink(missing_ok=True)
 
 
 def replot(run_dir: str | Path) -> list[Path]:

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .core.files import atomic_write_text
 from .errors import DivergenceError
 
 
@@ -169,7 +170,7 @@ def run_batch(
                 summary.setdefault("duration_s", float(r["ctx"].info.get("t_end", cfg.sim.duration)))
                 summary["status"] = "ok"
                 summary["wall_time_s"] = time.perf_counter() - r["t0"]
-            (d / "summary.json").write_text(json.dumps(summary, indent=2))
+            atomic_write_text(d / "summary.json", json.dumps(summary, indent=2))  # never through a link
             summaries[r["i"]] = summary
     return summaries
 

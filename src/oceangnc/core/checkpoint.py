@@ -15,15 +15,18 @@ A checkpoint is the *complete* state needed to continue a run bit for bit:
 **Format: data only, never code.** ``checkpoint.npz`` in the run folder is a NumPy ``.npz`` archive
 (written with :func:`numpy.savez`, read with ``allow_pickle=False``: an array of Python objects is
 refused, nothing is unpickled). Its member ``checkpoint.json`` is a UTF-8 JSON document: ``format``,
-``version``, ``scenario``, ``t``, the log position, the state tree and ``arrays_sha256``, the SHA-256
-of every other member (name, dtype, shape and bytes, in name order), checked before anything is
-restored. The state tree holds JSON numbers, strings, ``null`` and booleans as themselves and tags
-the rest with one ``$`` key: ``$l`` list, ``$t`` tuple, ``$q`` deque, ``$s``/``$fs`` set, ``$d`` dict
-(as key/value pairs), ``$a`` an array member, ``$n`` a NumPy scalar (a 0-d array member), ``$g`` a
-generator (bit-generator name from a fixed list of NumPy's, and its ``state``: a dict of integers),
-``$r`` a reference to one of the simulation's own plants or blocks (restored to the live object, so
-shared objects stay shared), ``$e`` an enum member and ``$o`` an object of the simulation's own
-classes (configs, routes) by its class name and attributes.
+``version``, ``scenario``, ``t``, the log position, the checkpoint period and the state tree; its
+member ``checkpoint.sha256`` is the SHA-256 of the document's bytes and every array (name, dtype,
+shape and bytes, in name order), checked before anything is restored
+(:mod:`oceangnc.core.checkpoint_format`, which also bounds the archive and the document's nesting).
+Every array is then matched against the live simulation's: an array where it holds one must have its
+very shape and dtype. The state tree holds JSON numbers, strings, ``null`` and booleans as
+themselves and tags the rest with one ``$`` key: ``$l`` list, ``$t`` tuple, ``$q`` deque,
+``$s``/``$fs`` set, ``$d`` dict (as key/value pairs), ``$a`` an array member, ``$n`` a NumPy scalar
+(a 0-d array member), ``$g`` a generator (bit-generator name from a fixed list of NumPy's, and its
+``state``: a dict of integers), ``$r`` a reference to one of the simulation's own plants or blocks
+(restored to the live object, so shared objects stay shared), ``$e`` an enum member and ``$o`` an
+object of the simulation's own classes (configs, routes) by its class name and attributes.
 
 Restoring never creates an object from a name in the file: the simulation is first rebuilt from the
 run's config and seed, and an ``$o`` or ``$e`` node is written *into* the live object at the same
@@ -51,24 +54,18 @@ from __future__ import annotations
 import collections
 import enum
 import functools
-import hashlib
-import io
-import json
 import types
-import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import ConfigError, InputError
-from .files import atomic_write_bytes
+from .checkpoint_format import DOC, FORMAT, SUM, VERSION, check_run, pack, read  # noqa: F401  (re-exported)
+from .files import LIMIT_CHECKPOINT, atomic_write_bytes, read_bounded
 
-VERSION = 2
-FORMAT = "oceangnc-checkpoint"
 FILE = "checkpoint.npz"
 OLD_FILE = "checkpoint.pkl"  #: the pickle format of older versions: refused, never read
-DOC = "checkpoint.json"  #: the JSON member of the archive
 _PLAIN = (np.ndarray, float, int, bool, str, tuple, list, dict, type(None), np.generic)
 #: the bit generators a checkpoint may name (restoring creates one only from this list)
 _BITGENS = {
@@ -113,10 +110,19 @@ def plant_state(pl) -> dict:
 
 
 def set_plant_state(pl, st: dict) -> None:
+    """Write a plant's attributes back; a live array is written in place and only from an array of its
+    very shape and dtype (compiled code indexes it without bounds checks), else a one-line InputError."""
     for k, v in st.items():
         cur = getattr(pl, k, None)
-        if isinstance(cur, np.ndarray) and isinstance(v, np.ndarray) and cur.shape == v.shape:
-            cur[...] = v  # in place: compiled closures may hold the array
+        if isinstance(cur, np.ndarray):
+            if not (isinstance(v, np.ndarray) and cur.shape == v.shape and cur.dtype == v.dtype):
+                got = f"{v.shape} {v.dtype}" if isinstance(v, np.ndarray) else type(v).__name__
+                raise InputError(
+                    f"checkpoint does not match this simulation (plant '{pl.name}' attribute .{k}: "
+                    f"{got} where the simulation holds {cur.shape} {cur.dtype}); was the config changed?"
+                )
+            if cur is not v:
+                cur[...] = v  # in place: compiled closures may hold the array
         else:
             setattr(pl, k, v)
 
@@ -223,15 +229,6 @@ class _Encoder:
         return {"$o": _qualname(tp), "id": n, "attrs": attrs}
 
 
-def _arrays_sha256(arrays: dict[str, np.ndarray]) -> str:
-    h = hashlib.sha256()
-    for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        h.update(f"{name}\0{a.dtype.str}\0{a.shape}\0".encode())
-        h.update(a.tobytes())
-    return h.hexdigest()
-
-
 def capture(sim, meta: dict | None = None) -> bytes:
     """The complete state of ``sim`` (module docstring) as the bytes of a ``checkpoint.npz``;
     ``meta`` (JSON data: scenario, log position) is stored beside it. Raises a one-line
@@ -274,38 +271,8 @@ def capture(sim, meta: dict | None = None) -> bytes:
             "blocks": blocks,
             "rng": rngs,
         },
-        "arrays_sha256": _arrays_sha256(e.arrays),
     }
-    text = json.dumps(doc, separators=(",", ":"))
-    buf = io.BytesIO()
-    members: dict[str, Any] = {DOC: np.frombuffer(text.encode("utf-8"), dtype=np.uint8), **e.arrays}
-    np.savez(buf, **members)
-    return buf.getvalue()
-
-
-def read(blob: bytes, name: str = "checkpoint") -> tuple[dict, dict[str, np.ndarray]]:
-    """The JSON document and arrays of a checkpoint's bytes, checked (format, version, checksum);
-    a one-line :class:`~oceangnc.errors.InputError` otherwise. Nothing is unpickled."""
-    if not blob.startswith(b"PK\x03\x04"):
-        raise InputError(f"{name} is not an oceangnc checkpoint (not a .npz archive)")
-    try:
-        with np.load(io.BytesIO(blob), allow_pickle=False) as z:
-            members = {k: z[k] for k in z.files}
-        raw = members.pop(DOC)
-        if not (isinstance(raw, np.ndarray) and raw.dtype == np.uint8 and raw.ndim == 1):
-            raise ValueError("bad document member")
-        doc = json.loads(raw.tobytes().decode("utf-8"))
-    except (ValueError, KeyError, OSError, EOFError, UnicodeDecodeError, zipfile.BadZipFile) as e:
-        raise InputError(
-            f"{name} is unreadable: {type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}"
-        ) from None
-    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise InputError(f"{name} has an unknown format")
-    if doc.get("version") != VERSION:
-        raise InputError(f"{name} has format version {doc.get('version')!r}; this oceangnc reads version {VERSION}")
-    if doc.get("arrays_sha256") != _arrays_sha256(members):
-        raise InputError(f"{name} is damaged: its arrays do not match their SHA-256 checksum")
-    return doc, members
+    return pack(doc, e.arrays)
 
 
 class _Decoder:
@@ -332,6 +299,8 @@ class _Decoder:
 
     def dec(self, node, live=None):
         if node is None or isinstance(node, (bool, int, float, str)):
+            if isinstance(live, np.ndarray):
+                raise self.mismatch(f"a {_kind(node)} where the simulation holds an array {live.shape} {live.dtype}")
             return node
         if isinstance(node, list):  # not written by capture (lists are tagged)
             raise self.mismatch("untagged list")
@@ -339,21 +308,25 @@ class _Decoder:
             raise self.mismatch(f"unexpected {type(node).__name__}")
         if "$a" in node:
             a = self.member(node["$a"])
-            if (
-                isinstance(live, np.ndarray)
-                and live.shape == a.shape
-                and live.dtype == a.dtype
-                and live.flags.writeable
-            ):
-                live[...] = a  # in place: compiled closures may hold the array
-                return live
+            if isinstance(live, np.ndarray):  # compiled code holds it: the very shape and dtype, or refused
+                if live.shape != a.shape or live.dtype != a.dtype:
+                    raise self.mismatch(
+                        f"an array of shape {a.shape} {a.dtype} where the simulation holds {live.shape} {live.dtype}"
+                    )
+                if live.flags.writeable:
+                    live[...] = a  # in place: compiled closures may hold the array
+                    return live
             if node["$a"] not in self._fresh:
                 self._fresh[node["$a"]] = np.array(a, copy=True)
             return self._fresh[node["$a"]]
+        if isinstance(live, np.ndarray):
+            raise self.mismatch(f"a {_kind(node)} where the simulation holds an array {live.shape} {live.dtype}")
         if "$n" in node:
             a = self.member(node["$n"])
             if a.ndim != 0:
                 raise self.mismatch("a scalar that is not 0-d")
+            if isinstance(live, np.generic) and live.dtype != a.dtype:
+                raise self.mismatch(f"a {a.dtype} scalar where the simulation holds a {live.dtype}")
             return a[()]
         if "$r" in node:
             kind, i = node["$r"]
@@ -416,27 +389,63 @@ class _Decoder:
             self._path.pop()
 
 
+def _kind(node) -> str:
+    if isinstance(node, dict):
+        tag = next((k for k in node if isinstance(k, str) and k.startswith("$")), "?")
+        return {"$n": "NumPy scalar", "$l": "list", "$t": "tuple", "$d": "dict", "$o": "object"}.get(tag, tag)
+    return type(node).__name__
+
+
+_SCALARS = (bool, int, float, np.number, np.bool_)
+
+
+def _plant_value(d: _Decoder, pl, k: str, node):
+    """A plant attribute decoded against the live plant (compiled code reads it): an array of the very
+    shape and dtype, a number where it holds a number, a string where a string; a name the plant does
+    not hold may only be a number, a string or None."""
+    d._path = [f".{k}"]
+    live = getattr(pl, k, None)
+    v = d.dec(node, live)
+    if live is None and k not in vars(pl) and not (v is None or isinstance(v, (*_SCALARS, str))):
+        raise d.mismatch(f"a {type(v).__name__} the plant does not hold")
+    if isinstance(live, _SCALARS) and not isinstance(v, _SCALARS):
+        raise d.mismatch(f"a {type(v).__name__} where the simulation holds a number")
+    if isinstance(live, (str, list, tuple, dict)) and type(v) is not type(live):
+        raise d.mismatch(f"a {type(v).__name__} where the simulation holds a {type(live).__name__}")
+    d._path = []
+    return v
+
+
 def _seq(live, n: int) -> list:
     return list(live) if isinstance(live, (list, tuple)) and len(live) == n else [None] * n
 
 
 def restore(sim, blob: bytes) -> None:
-    """Put ``sim`` (freshly built from the same config and seed) into a captured state."""
+    """Put ``sim`` (freshly built from the same config and seed) into a captured state.
+
+    Everything is checked before the simulation runs again (one-line InputError, the simulation then
+    discarded): the bytes whole (:func:`~oceangnc.core.checkpoint_format.read`), the plants and blocks
+    by name, every array against the live one (shape and dtype), the clock against the time step."""
     doc, arrays = read(blob)
     st = doc["sim"]
     if st["plant_names"] != [pl.name for pl in sim.plants] or st["block_names"] != [b.name for b in sim.blocks]:
         raise InputError(
             "checkpoint does not match this simulation (different plants or blocks); was the config changed?"
         )
+    if abs(st["t"] - st["k"] * sim.dt) > 1e-6 * max(1.0, st["t"]) or st["done_k"] > st["k"]:
+        raise InputError(
+            f"checkpoint does not match this simulation (clock t = {st['t']!r} s at step {st['k']!r} "
+            f"with sim.dt = {sim.dt:g} s); was the config changed?"
+        )
     d = _Decoder(sim, arrays)
     try:
         for pl, ps in zip(sim.plants, st["plants"]):
             d.where = f"plant '{pl.name}'"
-            set_plant_state(pl, {k: d.dec(v, getattr(pl, k, None)) for k, v in ps.items()})
+            set_plant_state(pl, {k: _plant_value(d, pl, k, v) for k, v in ps.items()})
         for b, (kind, bs) in zip(sim.blocks, st["blocks"]):
             d.where = f"block '{b.name}'"
             if kind == "custom":
-                b.set_state(d.dec(bs))
+                b.set_state(d.dec(bs, b.get_state()))  # matched against what the live block gives
             else:
                 d.update(b, bs)
         for b, rs in zip(sim.blocks, st["rng"]):
@@ -446,7 +455,9 @@ def restore(sim, blob: bytes) -> None:
                     gens[p].bit_generator.state = d.dec(s)
         d.where = "the signal bus"
         bus = d.dec(st["bus"], dict(sim.bus))
-    except (KeyError, TypeError, ValueError, IndexError) as e:
+        if not isinstance(bus, dict) or not all(isinstance(k, str) for k in bus):
+            raise d.mismatch("a signal bus that is not a dict of names")
+    except (KeyError, TypeError, ValueError, IndexError, AttributeError, OverflowError) as e:
         if isinstance(e, InputError):
             raise
         raise d.mismatch(f"{type(e).__name__}: {e}") from None
@@ -478,14 +489,17 @@ def load(run_dir: str | Path) -> dict:
                 "rerun the scenario with --checkpoint-every to write a checkpoint.npz"
             )
         raise InputError(f"no checkpoint in {run_dir} (run with --checkpoint-every S to write one)")
-    blob = p.read_bytes()
+    blob = read_bounded(p, LIMIT_CHECKPOINT, "checkpoint")
     doc, _ = read(blob, f"checkpoint {p}")
-    try:
-        log = {"parts": int(doc["log"]["parts"]), "rows": int(doc["log"]["rows"])}
-        t = float(doc["t"])
-    except (KeyError, TypeError, ValueError):
-        raise InputError(f"checkpoint {p} has no log position or time") from None
-    return {"version": doc["version"], "t": t, "log": log, "scenario": doc.get("scenario"), "sim": blob}
+    check_run(doc, f"checkpoint {p}")
+    return {
+        "version": doc["version"],
+        "t": float(doc["t"]),
+        "log": {"parts": doc["log"]["parts"], "rows": doc["log"]["rows"]},
+        "every": doc.get("every"),
+        "scenario": doc.get("scenario"),
+        "sim": blob,
+    }
 
 
 class Checkpointer:
@@ -531,6 +545,9 @@ class Checkpointer:
         if self.resume_state is not None:
             restore(sim, self.resume_state["sim"])
             restored = True
+            done = self.resume_state.get("on_restored")
+            if done is not None:
+                done()  # e.g. the run's log cut to the checkpoint, only now that it was accepted whole
         if self.every is not None:
             tick_s = sim.tick * sim.dt
             steps = max(1, round(self.every / tick_s)) * sim.tick
@@ -544,6 +561,7 @@ class Checkpointer:
             "scenario": self.scenario,
             "t": float(sim.t),
             "log": {"parts": int(self.log.parts), "rows": int(self.log.rows_written)},
+            "every": self.every,  # a resumed run keeps checkpointing at this period
         }
         save(self.run_dir / FILE, capture(sim, meta))
         self.saved += 1

@@ -30,7 +30,7 @@ from ..core.config import (  # noqa: F401  (re-exported: the configs' base and m
     format_validation_error,
     validate,
 )
-from ..errors import ConfigError
+from ..errors import ConfigError, InputError
 
 
 class SimConfig(StrictModel):
@@ -72,15 +72,29 @@ class ScenarioConfig(StrictModel):
 # -- loading and merging ------------------------------------------------------------------------------
 
 
-def load_toml(path: str | Path) -> dict:
-    """Read a TOML file; a syntax error becomes a ConfigError naming the file and line."""
-    p = Path(path)
-    if not p.is_file():
-        raise ConfigError(f"config file not found: {p}")
+def parse_toml(text: str, where: str) -> dict:
+    """Parse TOML text; a syntax error, or nesting too deep for the parser (an array nested 100,000
+    levels), is a one-line ConfigError starting with ``where``."""
     try:
-        return tomllib.loads(p.read_text())
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise ConfigError(f"config file {p}: {e}") from None
+        raise ConfigError(f"{where}: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{where}: nested too deeply to be a config") from None
+
+
+def load_toml(path: str | Path, what: str = "config file") -> dict:
+    """Read a TOML file, bounded (a regular file of at most 16 MiB of UTF-8,
+    :func:`oceangnc.core.files.read_text_bounded`); a syntax error becomes a ConfigError naming the file
+    and line."""
+    from ..core.files import LIMIT_TOML, read_text_bounded
+
+    p = Path(path)
+    try:
+        text = read_text_bounded(p, LIMIT_TOML, what)
+    except InputError as e:  # a config error, as a syntax error is
+        raise ConfigError(str(e)) from None
+    return parse_toml(text, f"{what} {p}")
 
 
 def parse_value(text: str) -> Any:
@@ -89,6 +103,8 @@ def parse_value(text: str) -> Any:
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise ConfigError(f"--set value {text[:40]!r}...: nested too deeply") from None
 
 
 def parse_sets(items: list[str] | None) -> dict:
@@ -162,4 +178,6 @@ def dump_toml(cfg: BaseModel, path: str | Path, extra: dict | None = None) -> No
     ``mavlink`` settings) added."""
     import tomli_w
 
-    Path(path).write_text(tomli_w.dumps({**to_dict(cfg), **(extra or {})}))
+    from ..core.files import atomic_write_text
+
+    atomic_write_text(path, tomli_w.dumps({**to_dict(cfg), **(extra or {})}))  # never through a link at the name

@@ -146,3 +146,37 @@ def read_log(path: str | Path, columns: list[str] | None = None):
         if missing:
             raise InputError(f"log {p} has no column(s) {', '.join(missing)}; it has: {', '.join(df.columns[:30])}")
     return df
+
+
+def _t_at(p: Path, i: int) -> float | None:
+    try:
+        with pq.ParquetFile(p) as f:
+            col = f.read(columns=["t"]).column("t")
+            return float(col[i].as_py()) if -len(col) <= i < len(col) else None
+    except (KeyError, ValueError, OSError, TypeError, pa.ArrowInvalid):
+        return None
+
+
+def log_gaps(path: str | Path) -> list[str]:
+    """The gaps a damaged or missing part leaves in a log (a run folder or its ``log.parquet``), one
+    phrase each naming the part(s), the rows and the time span between the rows around it; empty when
+    the readable parts hold every row in order (or the log is not a folder of oceangnc parts)."""
+    d = readable_dataset(_dataset_path(Path(path)))
+    if not d.is_dir():
+        return []
+    keep, drop = _live_parts(d)
+    bad = [p.name for p in drop if _part_range(p) is None]
+    out, covered, prev = [], 0, None
+    for p in keep:
+        r = _part_range(p)
+        if r is None or r[0] < 0:
+            return out
+        row0, n = r
+        if row0 > covered:
+            t0 = _t_at(prev, -1) if prev is not None else None
+            t1 = _t_at(p, 0)
+            span = f"t = {t0:.3f} s to {t1:.3f} s" if t0 is not None and t1 is not None else f"before t = {t1} s"
+            which = f" ({', '.join(bad)} unreadable)" if bad else ""
+            out.append(f"log {d}: rows {covered:,} to {row0 - 1:,} are missing{which}: no data between {span}")
+        covered, prev = max(covered, row0 + n), p
+    return out

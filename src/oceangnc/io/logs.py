@@ -63,7 +63,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ..core.interrupts import deferred
-from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text  # noqa: F401
+from ..core.files import _fsync_dir, atomic_write_bytes, atomic_write_text, create_exclusive, unlink_quietly  # noqa: F401
 from ..errors import InputError
 
 # reading lives in oceangnc.io.log_read; importable from here as before
@@ -271,7 +271,7 @@ class LogWriter:
         final = self.path / PART_FMT.format(index)
         tmp = self.path / f".{final.name}.tmp"
         try:
-            with open(tmp, "wb") as f:
+            with create_exclusive(tmp) as f:  # never through a link planted at the temporary name
                 if final_part:
                     pq.write_table(table, f, compression="zstd")
                     f.flush()
@@ -280,7 +280,7 @@ class LogWriter:
                     pq.write_table(table, f, compression="none", use_dictionary=False, write_statistics=False)
             os.replace(tmp, final)
         except OSError as e:
-            tmp.unlink(missing_ok=True)
+            unlink_quietly(tmp)
             raise InputError(
                 f"cannot write the log {self.path}: {e.strerror or e}; the "
                 f"{self.rows_written} rows flushed before are kept"
@@ -472,7 +472,7 @@ def compact_log(folder: str | Path, table: pa.Table | None = None) -> None:
         w = LogWriter(merging)
         w._write_part(table.replace_schema_metadata(None), 0, 0)  # temporary name, fsync, rename
         _step("built")
-        with open(merging / MERGED_MARK, "wb") as f:
+        with create_exclusive(merging / MERGED_MARK) as f:
             os.fsync(f.fileno())
         _fsync_dir(merging)
         _fsync_dir(d.parent)
@@ -534,7 +534,7 @@ def repair_log(path: str | Path) -> dict:
         p.unlink()
         removed.append(p.name)
     if not keep:
-        pq.write_table(pa.table({"t": pa.array([], type=pa.float64())}), d / PART_FMT.format(0))
+        LogWriter(d)._write_part(pa.table({"t": pa.array([], type=pa.float64())}), 0, 0)
     elif len(keep) > 1:
         compact_log(d)
     parts = list_parts(d)

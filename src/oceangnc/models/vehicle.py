@@ -433,15 +433,19 @@ def load_vehicle(name_or_path: str | Path) -> VehicleFile:
         text = resources.files("oceangnc.models").joinpath("vehicles", s + ".toml").read_text()
         where = f"vehicle '{s}'"
     else:
+        from ..core.files import LIMIT_TOML, read_text_bounded
+
         path = Path(s)
-        if not path.is_file():
+        if not path.exists():
             raise ConfigError(f"vehicle {s!r}: neither a shipped vehicle ({', '.join(shipped_vehicles())}) nor a file")
-        text = path.read_text()
+        text = read_text_bounded(path, LIMIT_TOML, "vehicle file")  # a regular file, bounded, UTF-8
         where = f"vehicle file {path}"
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{where}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise ConfigError(f"{where}: not valid TOML: nested too deeply") from None
     try:
         vf = VehicleFile.model_validate(data)
     except ValidationError as e:  # one line naming the key and the allowed range

@@ -225,9 +225,9 @@ def _prepare_dir(out: Path, design: Design, resume: bool) -> None:
                 "--resume needs the same command (choose another --out)"
             )
     out.mkdir(parents=True, exist_ok=True)
-    tmp = spec.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(design.to_json(), indent=2, default=str))
-    os.replace(tmp, spec)
+    from ..core.files import atomic_write_text
+
+    atomic_write_text(spec, json.dumps(design.to_json(), indent=2, default=str))  # never through a link
 
 
 def _start_client(workers: int, scheduler: str | None):

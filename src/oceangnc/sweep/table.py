@@ -105,10 +105,13 @@ class ResultsTable:
     def flush(self) -> Path:
         """Write the table: temporary file, fsync, atomic rename."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        from ..core.files import create_exclusive
+
         tmp = self.path.with_suffix(".parquet.tmp")
         table = pa.Table.from_pandas(self.frame(), preserve_index=False)
-        pq.write_table(table, tmp)
-        with open(tmp, "rb") as f:
+        with create_exclusive(tmp) as f:  # never through a link planted at the temporary name
+            pq.write_table(table, f)
+            f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, self.path)
         return self.path

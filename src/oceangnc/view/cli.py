@@ -76,7 +76,42 @@ def export_mcap_cli(run_dir, out=None) -> int:
 
 
 def _cmd_export(args) -> int:
+    warn_gaps(args.run)
     return export_mcap_cli(args.run, args.out)
+
+
+def warn_gaps(run) -> None:
+    """Say on stderr, one line per gap, which rows and time span of a run's log a damaged or missing
+    part leaves out of an export or page (:func:`oceangnc.io.log_read.log_gaps`)."""
+    from pathlib import Path
+
+    from ..io.log_read import log_gaps
+
+    for g in log_gaps(Path(run)):
+        print(f"warning: {g}", file=sys.stderr)
+
+
+def _port(port: int | None, default: int) -> int:
+    from ..errors import InputError
+
+    port = default if port is None else port
+    if not 0 <= port <= 65535:
+        raise InputError(f"--port {port}: out of range; allowed 0 (any free port) to 65535")
+    return port
+
+
+def _serving(fn, shown: int, /, *a, **kw) -> int:
+    """Run a server; a port that cannot be bound (busy, privileged) is a one-line InputError."""
+    import errno
+
+    from ..errors import InputError
+
+    try:
+        return fn(*a, **kw)
+    except OSError as e:
+        if e.errno in (errno.EADDRINUSE, errno.EACCES, errno.EADDRNOTAVAIL, errno.EPERM):
+            raise InputError(f"--port {shown}: cannot listen on it ({e.strerror}); give another port or 0") from None
+        raise
 
 
 def _cmd_view(args) -> int:
@@ -88,8 +123,8 @@ def _cmd_view(args) -> int:
             return 2
         from .foxglove_ws import serve_console_foxglove
 
-        port = 8765 if args.port is None else args.port
-        return serve_console_foxglove(args.console, port=port, allow_origins=args.allow_origin)
+        port = _port(args.port, 8765)
+        return _serving(serve_console_foxglove, port, args.console, port=port, allow_origins=args.allow_origin)
     if not args.run:
         print("error: a run folder is needed (or --console URL --foxglove)", file=sys.stderr)
         return 2
@@ -99,11 +134,15 @@ def _cmd_view(args) -> int:
         if not args.speed > 0:
             print("error: --speed must be > 0", file=sys.stderr)
             return 2
-        port = 8765 if args.port is None else args.port
+        port = _port(args.port, 8765)
         loop = not args.once
-        return serve_foxglove(args.run, port=port, speed=args.speed, loop=loop, allow_origins=args.allow_origin)
+        return _serving(
+            serve_foxglove, port, args.run, port=port, speed=args.speed, loop=loop, allow_origins=args.allow_origin
+        )
+    warn_gaps(args.run)
     if args.serve:
-        return serve(args.run, port=8060 if args.port is None else args.port, open_browser=args.open, out=args.out)
+        port = _port(args.port, 8060)
+        return _serving(serve, port, args.run, port=port, open_browser=args.open, out=args.out)
     path = write_replay(args.run, args.out)
     print(f"wrote {path} (open it in a web browser)")
     if args.open:

@@ -141,10 +141,11 @@ def extent(rd: RunData, margin: float | None = None) -> tuple[float, float, floa
     return float(n.min() - margin), float(n.max() + margin), float(e.min() - margin), float(e.max() + margin)
 
 
-def _static_entities(rd: RunData) -> list[dict]:
-    """Route, waypoints, seabed and sea surface: the same in every scene message."""
+def _static_entities(rd: RunData, ext: tuple[float, float, float, float] | None = None) -> list[dict]:
+    """Route, waypoints, seabed and sea surface: the same in every scene message (``ext``: the extent
+    of the whole run when ``rd`` is a part of it)."""
     out: list[dict] = []
-    n0, n1, e0, e1 = extent(rd)
+    n0, n1, e0, e1 = extent(rd) if ext is None else ext
     sea = [(e0, n0, 0.0), (e1, n0, 0.0), (e1, n1, 0.0), (e0, n1, 0.0)]
     out.append({"id": "sea_surface", "triangles": [_plane(sea, COLORS["sea"])]})
     if rd.seabed:
@@ -256,18 +257,59 @@ class Channel:
     payloads: list[bytes | None]
 
 
-def stamps_ns(rd: RunData) -> np.ndarray:
-    """Message times (ns) of the log rows: the run's wall-clock start (:attr:`RunData.start_unix_s`, a run's
-    or MAVLink session's start, an imported log's own clock) plus round(t 1e9); without a recorded
-    start, t itself from the UNIX epoch. Shifted to start at 0 if negative (MCAP times are unsigned)."""
+@dataclass
+class Whole:
+    """What the messages of one part of a run take from the whole run: the extent of the tracks (the
+    sea and seabed planes), the largest cable tension (its colour scale) and the time shift (ns)."""
+
+    extent: tuple[float, float, float, float]
+    tmax: float
+    shift: int
+
+    @classmethod
+    def of(cls, parts) -> Whole | None:
+        """Reduced over the :class:`RunData` parts of a run (None when there is none)."""
+        w = None
+        for rd in parts:
+            ten = node_tensions(rd)
+            tmax = float(np.nanmax(ten)) if ten is not None and np.isfinite(ten).any() else 0.0
+            ns = _row_ns(rd)
+            shift = int(ns.min()) if len(ns) and ns.min() < 0 else 0
+            e = extent(rd) if rd.rows else None
+            if w is None:
+                w = cls(e or (0.0, 0.0, 0.0, 0.0), tmax, shift)
+                w._empty = e is None
+                continue
+            if e is not None:
+                a = w.extent
+                w.extent = e if w._empty else (min(a[0], e[0]), max(a[1], e[1]), min(a[2], e[2]), max(a[3], e[3]))
+                w._empty = False
+            w.tmax, w.shift = max(w.tmax, tmax), min(w.shift, shift)
+        return w
+
+    _empty = False
+
+
+def _row_ns(rd: RunData) -> np.ndarray:
+    """The run's wall-clock start (:attr:`RunData.start_unix_s`: a run's or MAVLink session's start, an
+    imported log's own clock; the UNIX epoch when none is recorded) plus round(t 1e9), ns."""
     start = 0 if rd.start_unix_s is None else round(rd.start_unix_s * 1e9)
-    ns = np.round(rd.t * 1e9).astype(np.int64) + np.int64(start)
+    return np.round(rd.t * 1e9).astype(np.int64) + np.int64(start)
+
+
+def stamps_ns(rd: RunData, shift: int | None = None) -> np.ndarray:
+    """Message times (ns) of the log rows (:func:`_row_ns`), shifted to start at 0 if negative (MCAP times
+    are unsigned); ``shift``: the whole run's (:class:`Whole`) when ``rd`` is a part of it."""
+    ns = _row_ns(rd)
+    if shift is not None:
+        return ns - shift
     return ns - ns.min() if np.any(ns < 0) else ns
 
 
-def build_channels(rd: RunData) -> list[Channel]:
-    """Every channel of the export (module docstring) with its messages, for MCAP or a live stream."""
-    stamps = [_time(int(v)) for v in stamps_ns(rd)]
+def build_channels(rd: RunData, whole: Whole | None = None) -> list[Channel]:
+    """Every channel of the export (module docstring) with its messages, for MCAP or a live stream;
+    ``whole``: what a part of a run takes from the whole run (the export streams a log in parts)."""
+    stamps = [_time(int(v)) for v in stamps_ns(rd, whole.shift if whole else None)]
     out: list[Channel] = []
 
     def channel(topic: str, schema: str, payloads: list[bytes | None]) -> None:
@@ -303,9 +345,11 @@ def build_channels(rd: RunData) -> list[Channel]:
         channel(topic, "foxglove.LocationFix", payloads)
 
     # the 3D scene
-    static = _static_entities(rd)
+    static = _static_entities(rd, whole.extent if whole else None)
     tension = node_tensions(rd)
     tmax = float(np.nanmax(tension)) if tension is not None and np.isfinite(tension).any() else 0.0
+    if whole is not None:
+        tmax = whole.tmax
     if rd.cable_nodes:
         cx, cy, cz = (np.stack([rd.col(c, np.nan) for c in rd.node_columns(a)], axis=1) for a in "xyz")
         ce, cn, cu = ned_to_enu(cx, cy, cz)
@@ -359,46 +403,69 @@ def build_channels(rd: RunData) -> list[Channel]:
     return out
 
 
-def export_mcap(run: str | Path | RunData, out: str | Path | None = None) -> Path:
+BATCH_ROWS = 20_000  #: log rows per part of a streamed export (bounds its memory)
+
+
+def export_mcap(run: str | Path | RunData, out: str | Path | None = None, batch_rows: int = BATCH_ROWS) -> Path:
     """Write the run folder ``run`` as MCAP to ``out`` (default ``RUN/run.mcap``); the path written.
 
-    Raises :class:`MissingMcap` without the ``mcap`` package, InputError for a folder without a log.
+    A run folder is streamed: its log is read twice, Parquet row group by row group in parts of at
+    most ``batch_rows`` rows (:func:`~oceangnc.view.run_data.iter_run`), first for what every message
+    takes from the whole run (:class:`Whole`), then to write the messages part by part; memory is
+    bounded by a part, not the log (a 5-million-row log failed past 8 GB before). The messages are
+    the same as from the whole log at once. Raises :class:`MissingMcap` without the ``mcap`` package,
+    InputError for a folder without a log or an ``out`` it must not replace.
     """
+    from ..core.files import check_output, write_output
+    from .run_data import iter_run
+
     writer_mod = require_mcap()
-    rd = run if isinstance(run, RunData) else load_run(run)
-    out = Path(out) if out is not None else rd.path / "run.mcap"
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(out.name + ".part")
-    try:
-        _write(writer_mod, rd, tmp)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    tmp.replace(out)
+    if isinstance(run, RunData):
+        path, parts = run.path, (lambda: iter([run]))
+    else:
+        first = next(iter_run(run, 1), None)  # checks the folder and its log before anything is written
+        path = first.path if first is not None else load_run(run).path
+        parts = (lambda: iter_run(run, batch_rows)) if first is not None else (lambda: iter([load_run(run)]))
+    out = check_output(out if out is not None else path / "run.mcap", "MCAP file", is_mcap)
+    whole = Whole.of(parts())
+    write_output(out, lambda f: _write(writer_mod, parts(), whole, f))  # an exclusive temporary file, renamed
     return out
 
 
-def _write(writer_mod, rd: RunData, tmp: Path) -> None:
-    channels = build_channels(rd)
-    ns = stamps_ns(rd).tolist()
-    with open(tmp, "wb") as f:
-        w = writer_mod.Writer(f)
-        w.start(profile="", library="oceangnc")
-        sids: dict[str, int] = {}
-        ids = []
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def is_mcap(head: bytes) -> bool:
+    """True when ``head`` (a file's first bytes) starts an MCAP file (``--out`` may replace only one)."""
+    return head.startswith(MCAP_MAGIC)
+
+
+def _write(writer_mod, parts, whole: Whole | None, f) -> None:
+    """Write the messages of every part, in time order (one row of every channel after the other:
+    what MCAP readers stream best); the writer's chunks go to the file as they fill."""
+    w = writer_mod.Writer(f)
+    w.start(profile="", library="oceangnc")
+    ids: dict[str, int] = {}
+    sids: dict[str, int] = {}
+    seq: dict[str, int] = {}
+    rd = None
+    for rd in parts:
+        channels = build_channels(rd, whole)
+        ns = stamps_ns(rd, whole.shift if whole else None).tolist()
         for c in channels:
-            if c.schema_name not in sids:
-                sids[c.schema_name] = w.register_schema(name=c.schema_name, encoding="jsonschema", data=c.schema)
-            ids.append(w.register_channel(topic=c.topic, message_encoding="json", schema_id=sids[c.schema_name]))
-        # in time order (one row of every channel after the other): what MCAP readers stream best
-        seq = [0] * len(channels)
+            if c.topic not in ids:
+                if c.schema_name not in sids:
+                    sids[c.schema_name] = w.register_schema(name=c.schema_name, encoding="jsonschema", data=c.schema)
+                ids[c.topic] = w.register_channel(topic=c.topic, message_encoding="json", schema_id=sids[c.schema_name])
+                seq[c.topic] = 0
         for i in range(rd.rows):
-            for j, c in enumerate(channels):
+            for c in channels:
                 data = c.payloads[i]
                 if data is None:
                     continue
-                w.add_message(ids[j], log_time=ns[i], publish_time=ns[i], data=data, sequence=seq[j])
-                seq[j] += 1
+                w.add_message(ids[c.topic], log_time=ns[i], publish_time=ns[i], data=data, sequence=seq[c.topic])
+                seq[c.topic] += 1
+    if rd is not None:
         meta = {
             "run": str(rd.path.name),
             "scenario": str(rd.summary.get("scenario", rd.config.get("scenario", ""))),
@@ -407,7 +474,7 @@ def _write(writer_mod, rd: RunData, tmp: Path) -> None:
             "summary": json.dumps(rd.summary, default=str),
         }
         w.add_metadata("oceangnc", meta)
-        w.finish()
+    w.finish()
 
 
 def _entity(stamp: dict, e: dict) -> dict:

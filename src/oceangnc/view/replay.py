@@ -171,13 +171,19 @@ def build_html(rd: RunData, base: str | None = None) -> str:
 
 def write_replay(run: str | Path | RunData, out: str | Path | None = None) -> Path:
     """Write the self-contained replay page of run folder ``run`` (default ``RUN/replay.html``)."""
+    from ..core.files import check_output, write_output
+
     rd = run if isinstance(run, RunData) else load_run(run)
-    out = Path(out) if out is not None else rd.path / "replay.html"
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(out.name + ".part")
-    tmp.write_text(build_html(rd))
-    tmp.replace(out)
+    out = check_output(out if out is not None else rd.path / "replay.html", "replay page", is_replay_page)
+    page = build_html(rd).encode("utf-8")
+    write_output(out, lambda f: f.write(page))  # a temporary file created exclusively, then renamed
     return out
+
+
+def is_replay_page(head: bytes) -> bool:
+    """True when ``head`` (a file's first bytes) is a replay page this module wrote (``--out`` may
+    replace only such a page)."""
+    return head.lower().startswith(b"<!doctype html>") and b" - oceangnc replay</title>" in head
 
 
 def serve(run, port: int = 8060, open_browser: bool = False, out=None, ready=None) -> int:

@@ -133,49 +133,107 @@ def _size(cfg: dict, keys: tuple[str, ...], default: float) -> float:
     return default
 
 
-def load_run(run_dir: str | Path) -> RunData:
-    """Read the run folder ``run_dir`` (or its ``log.parquet``) for a viewer; InputError if it has no log."""
+def _run_path(run_dir: str | Path) -> Path:
     path = Path(run_dir)
     if path.name == "log.parquet":
         path = path.parent
     if not path.is_dir():
         raise InputError(f"run folder not found: {path}")
+    return path
+
+
+def load_run(run_dir: str | Path) -> RunData:
+    """Read the run folder ``run_dir`` (or its ``log.parquet``) for a viewer; InputError if it has no log."""
+    path = _run_path(run_dir)
     cols = _read_columns(path)
+    return _clock_and_origin(describe(path, cols, *run_meta(path)), path)
+
+
+def run_meta(path: Path) -> tuple[dict, dict]:
+    """A run folder's config and summary as dicts, each read bounded (a regular file of UTF-8 text);
+    a config that cannot be read is a one-line InputError, a summary that cannot be is left out."""
+    from ..core.files import LIMIT_JSON, LIMIT_TOML, read_text_bounded
+
     cfg: dict = {}
     if (path / "config.toml").exists():
+        text = read_text_bounded(path / "config.toml", LIMIT_TOML, "config file")
         try:
-            cfg = tomllib.loads((path / "config.toml").read_text())
+            cfg = tomllib.loads(text)
         except tomllib.TOMLDecodeError as e:
             raise InputError(f"{path / 'config.toml'}: {e}") from None
+        except RecursionError:
+            raise InputError(f"{path / 'config.toml'}: nested too deeply to be a config") from None
     summary: dict = {}
     if (path / "summary.json").exists():
         try:
-            summary = json.loads((path / "summary.json").read_text())
-        except json.JSONDecodeError:
+            summary = json.loads(read_text_bounded(path / "summary.json", LIMIT_JSON, "summary"))
+        except (ValueError, RecursionError, InputError):
             summary = {}
-    rd = describe(path, cols, cfg, summary)
-    _clock_and_origin(rd, path)
-    return rd
+        if not isinstance(summary, dict):
+            summary = {}
+    return cfg, summary
+
+
+def _numeric(pa, tp) -> bool:
+    return pa.types.is_floating(tp) or pa.types.is_integer(tp) or pa.types.is_boolean(tp)
+
+
+def iter_run(run_dir: str | Path, batch_rows: int):
+    """The run folder ``run_dir`` as a sequence of :class:`RunData` of at most ``batch_rows`` rows each,
+    in row order: the log's parts read Parquet row group by row group (``iter_batches``), so that only
+    one batch of rows is in memory at a time (the MCAP export of a long log)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from ..io.log_read import _dataset_path, _live_parts, readable_dataset
+
+    path = _run_path(run_dir)
+    log = readable_dataset(_dataset_path(path / "log.parquet"))
+    if not log.exists():
+        raise InputError(f"{path}: no log.parquet (a run folder written by 'oceangnc run' or 'oceangnc import')")
+    files = _live_parts(log)[0] if log.is_dir() else [log]
+    cfg, summary = run_meta(path)
+    for p in files:
+        try:
+            with pq.ParquetFile(p) as f:
+                for batch in f.iter_batches(batch_size=batch_rows):
+                    cols = {
+                        name: np.asarray(col.to_numpy(zero_copy_only=False), dtype=float)
+                        for name, col in zip(batch.schema.names, batch.columns)
+                        if pa.types.is_floating(col.type)
+                        or pa.types.is_integer(col.type)
+                        or pa.types.is_boolean(col.type)
+                    }
+                    if "t" not in cols:
+                        raise InputError(f"log {log} has no time column 't'")
+                    yield _clock_and_origin(describe(path, cols, cfg, summary), path)
+        except (pa.ArrowInvalid, OSError) as e:
+            raise InputError(f"cannot read log {p}: {e}") from None
 
 
 def _number(v) -> float | None:
     return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and v == v else None
 
 
-def _clock_and_origin(rd: RunData, path: Path) -> None:
-    """The wall-clock start from summary.json, else import.json; an imported log's origin."""
+def _clock_and_origin(rd: RunData, path: Path) -> RunData:
+    """``rd`` with the wall-clock start from summary.json, else import.json, and an imported log's origin."""
+    from ..core.files import LIMIT_JSON, read_text_bounded
+
     rd.start_unix_s = _number(rd.summary.get("wall_time_start_unix_s")) if isinstance(rd.summary, dict) else None
+    if not (path / "import.json").exists():
+        return rd
     try:
-        imp = json.loads((path / "import.json").read_text())
-    except (OSError, ValueError):
-        return
+        imp = json.loads(read_text_bounded(path / "import.json", LIMIT_JSON, "import record"))
+    except (ValueError, RecursionError, InputError):
+        return rd
     if not isinstance(imp, dict):
-        return
+        return rd
     if rd.start_unix_s is None:
         rd.start_unix_s = _number(imp.get("start_unix_s"))
     o = imp.get("origin_deg")
     if rd.origin is None and isinstance(o, list) and len(o) >= 2 and all(_number(v) is not None for v in o[:2]):
         rd.origin = (float(o[0]), float(o[1]))
+    return rd
 
 
 def describe(path: Path, cols: dict[str, np.ndarray], cfg: dict | None = None, summary: dict | None = None) -> RunData:
