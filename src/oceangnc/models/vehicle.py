@@ -39,7 +39,8 @@ nu_r = nu - [R^T v_c; 0]:
   counted from the floating equilibrium.
 * tau: thrusters i at positions r_i with unit directions d_i: F_i = T_i d_i, M_i = r_i x F_i. Each
   thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
-  ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
+  ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once (its
+  state then stays 0 and :class:`~oceangnc.models.vehicle_plant.VehiclePlant` publishes the applied thrust).
 
 State ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r, T_1 ... T_n]``; inputs ``[T_1_cmd ...
 T_n_cmd (N), current_n, current_e (m/s)]``. The parameter vector has a fixed head (offsets are

@@ -31,6 +31,7 @@ from ..guidance.los import WaypointGuidance
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
 from ..models.vehicle import DOF_NAMES, load_vehicle, vehicle_model
+from ..models.vehicle_plant import VehiclePlant
 from ._common import environment_blocks
 from .base import Scenario
 
@@ -90,7 +91,7 @@ def _plant(cfg: VehicleScenarioConfig, vf):
     s = cfg.start
     x0[[0, 1, 2, 5, 6]] = [s.x, s.y, s.z, math.radians(s.psi_deg), s.u]
     names = [f"vehicle.thrust_{t.name}_cmd" for t in vf.thrusters] + ["env.current_n", "env.current_e"]
-    return m.plant("vehicle", x0, input_signals=names)
+    return VehiclePlant(m, "vehicle", x0, names)  # publishes the thrust of lag-free thrusters too
 
 
 class VehicleScenario(Scenario):
