@@ -403,6 +403,13 @@ def _check(vf: VehicleFile, where: str) -> None:
         raise ConfigError(f"{where}: hydrostatics.volume is required with restoring = 'submerged'")
     if h.restoring == "linear" and h.G is None:
         raise ConfigError(f"{where}: hydrostatics.G is required with restoring = 'linear'")
+    for i, t in enumerate(vf.thrusters):  # a thruster farther from CO than the whole hull is long is off the hull
+        dist = math.hypot(*t.position)
+        if dist > vf.length:
+            raise ConfigError(
+                f"{where}: thrusters[{i}].position ('{t.name}') is {dist:.4g} m from the origin, outside the "
+                f"{vf.length:g} m vehicle (length); allowed: within length = {vf.length:g} m of CO"
+            )
     B = thruster_matrix(vf)
     rows = [DOF_NAMES.index(d) for d in vf.control.dofs]
     rank = 0

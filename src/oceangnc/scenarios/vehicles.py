@@ -97,11 +97,17 @@ def _plant(cfg: VehicleScenarioConfig, vf):
 class VehicleScenario(Scenario):
     Config = VehicleScenarioConfig
 
-    def __init__(self, name: str, summary: str, defaults: dict, route: bool):
+    def __init__(self, name: str, summary: str, defaults: dict, route: bool, kind: str):
         self.name, self.summary, self.defaults, self.route = name, summary, defaults, route
+        self.kind = kind  #: the vehicle file's ``kind`` the scenario flies (a surface route, an ROV at depth)
 
     def build(self, cfg, rng):
         vf = load_vehicle(cfg.vehicle)
+        if vf.kind != self.kind:  # an ROV on a surface route, or a boat asked to hold a depth
+            raise ConfigError(
+                f"vehicle: '{vf.name}' is a vehicle of kind = '{vf.kind}'; {self.name} flies kind = '{self.kind}' "
+                f"(choose a {self.kind} vehicle file)"
+            )
         default = self.defaults["control"]["gains"]
         gains = {}
         for dof, g in cfg.control.gains.items():
@@ -210,6 +216,7 @@ SCENARIOS = [
             "control": {"gains": _ROV_GAINS},
         },
         route=False,
+        kind="underwater",
     ),
     VehicleScenario(
         "otter-waypoints",
@@ -222,5 +229,6 @@ SCENARIOS = [
             "analysis": {"settle_s": 20.0},
         },
         route=True,
+        kind="surface",
     ),
 ]
