@@ -10,7 +10,10 @@
   ``guidance.cross_track_max_m``, ``vehicle.speed_mean_mps``, ``guidance.final_leg``.
 
 ``vehicle`` is a shipped name or a path to your own file (``--set vehicle=path/to/my.toml``); the
-controller's gains are per DOF (``control.gains.<dof> = [k_p, k_i, k_d]``).
+controller's gains are per DOF (``control.gains.<dof> = [k_p, k_i, k_d]``). A file of the other ``kind``
+is refused naming ``vehicle`` (an underwater ROV on the surface route, a surface boat asked to hold a depth).
+The plant is :class:`~oceangnc.models.vehicle_plant.VehiclePlant`: the logged ``vehicle.thrust_<name>`` of a
+thruster without ``time_constant`` is the thrust it applies (its saturated command).
 """
 
 from __future__ import annotations
