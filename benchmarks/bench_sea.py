@@ -85,7 +85,7 @@ def sweep() -> None:
     print(f"load average: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as d:
         args = ["sweep", "tow-sea-state", "--grid", "environment.waves.hs=0.5,1,1.5,2"]
-        args += ["--grid", "environment.waves.tp=4,6,8,10", "--grid", "environment.waves.direction_deg=0,90,135,180"]
+        args += ["--grid", "environment.waves.tp=5,6,8,10", "--grid", "environment.waves.direction_deg=0,90,135,180"]
         w0 = time.perf_counter()
         assert cli([*args, "--workers", "2", "--quiet", "--no-keep", "--out", f"{d}/ops"]) == 0
         rep = make_report(f"{d}/ops")

@@ -260,7 +260,7 @@ def test_operability_sweep_on_a_local_dask_cluster(tmp_path):
     from oceangnc.sweep import read_results
 
     out = tmp_path / "ops"
-    args = ["sweep", "tow-sea-state", "--grid", "environment.waves.hs=0.5,2.5", "--grid", "environment.waves.tp=4,8"]
+    args = ["sweep", "tow-sea-state", "--grid", "environment.waves.hs=0.5,2.5", "--grid", "environment.waves.tp=5,8"]
     args += ["--grid", "environment.waves.direction_deg=0,180", "--duration", "30", "--set", "analysis.settle_s=10"]
     assert main([*args, "--workers", "2", "--quiet", "--out", str(out)]) == 0
     df = read_results(out)

@@ -28,7 +28,8 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
     "berthing-dock": ("berthing", "S-175 container ship: joystick approach and stop alongside a berth (001)"),
     "cable-current": (
         "cable",
-        "Cable with fixed top, UUV hanging in a uniform current: equilibrium tension and angle (003 fig 2-10)",
+        "Cable with fixed top, UUV hanging in a uniform current: equilibrium tension and angle "
+        "(003 sec. 2.2.3.3: fig 2-10 of p. 41, figs 2-12/2-13)",
     ),
     "combined-survey": (
         "combined",
@@ -70,7 +71,7 @@ SCENARIO_INDEX: dict[str, tuple[str, str]] = {
     ),
     "usv-straight": ("usv_open_loop", "USV, 30 kgf on both thrusters: steady speed (003 fig 2-7, ~0.8 m/s)"),
     "usv-turn": ("usv_open_loop", "USV, 30/15 kgf: turning circle (003 fig 2-8, R ~1.75 m, ~16 deg/s)"),
-    "usv-turn-current": ("usv_open_loop", "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10)"),
+    "usv-turn-current": ("usv_open_loop", "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10 of p. 25)"),
     "usv-turn-wind": ("usv_open_loop", "USV turning in 1 m/s wind, direction settable (003 fig 2-9)"),
     "usv-waypoints-7": (
         "first_order",

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError, DivergenceError
+from . import compile_note
 from .blocks import Block, Plant
 from .signals import WiringError, check_wiring
 
@@ -204,7 +205,15 @@ class Simulation:
             from tqdm import tqdm
 
             # shown at once as "compiling" (numba compiles on the first step: no rate, no ETA yet)
-            bar = tqdm(total=round(duration, 3), unit="sim s", mininterval=0.5, leave=False, desc="compiling")
+            bar = tqdm(
+                total=round(duration, 3),
+                unit="sim s",
+                mininterval=0.5,
+                leave=False,
+                desc="compiling",
+                bar_format=compile_note.FORMAT,  # no empty bar before the first step (core/compile_note.py)
+            )
+            compile_note.ahead_note(bar, self._ahead)  # what the children compile (a first run only)
         self._t_start, self._k_start, self._last_bar = self.t, self.k, self.t
         t_wall0 = time.perf_counter()
         try:
@@ -224,6 +233,7 @@ class Simulation:
                     self._wait_ahead()  # the plants' compiled functions, before the driver that calls them
                     self._decide_fused()
                 if not isinstance(self._fused, str):
+                    compile_note.driver_note(bar, self, self._fused)
                     self._run_fused(n_end, log, bar, wall_limit, t_wall0)
                     return self.t
             self._run_python(n_end, log, bar, wall_limit, t_wall0)
@@ -302,8 +312,7 @@ class Simulation:
                 log.append_rows(fz.buf[:rows, 0], fz.log_signals, fz.buf[:rows, 1:])
             if status in (2, 3):
                 raise self._fused_error(int(status), int(info), float(t_new))
-            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
-                bar.set_description_str("")
+            if self.k > self._k_start and compile_note.done(bar):
                 bar.reset()
                 self._last_bar = self._t_start
             if bar is not None and self.k * self.dt - self._last_bar >= 0.5:
@@ -376,8 +385,7 @@ class Simulation:
                 pl.advance(t, self.dt, n)
                 pl.publish(self.bus)
             self.k += n
-            if bar is not None and bar.desc == "compiling" and self.k > self._k_start:
-                bar.set_description_str("")
+            if self.k > self._k_start and compile_note.done(bar):
                 bar.reset()  # restart the rate (ETA) clock after compilation
                 self._last_bar = self._t_start
             if bar is not None and self.k * self.dt - self._last_bar >= 0.5:

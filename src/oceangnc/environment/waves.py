@@ -93,6 +93,11 @@ class WaveConfig(StrictModel):
             raise ValueError(f"f_hi ({self.f_hi}) must be above f_lo ({self.f_lo})")
         if self.directions > 1 and self.spreading_s == 0.0:
             raise ValueError("directions > 1 needs spreading_s > 0 (long-crested waves have one direction)")
+        from .sea_limits import steepness_error  # a sea steeper than the breaking limit (DNV-RP-C205 3.5.5)
+
+        err = steepness_error(self.kind, self.hs, self.tp, self.depth)
+        if err is not None:
+            raise ValueError(err)
         return self
 
 

@@ -100,6 +100,21 @@ def uuv_turning_radius_at(cfg, speed: float, jacobian: str | None = None, interp
     return hypot.py_func(u, v) / abs(r)  # a Python call: compiling it costs 0.5 s of a first run
 
 
+def check_acceptance(acceptance: float, r_usv: float) -> None:
+    """Refuse a route the USV cannot finish: pure pursuit ends only inside ``guidance.acceptance`` of the last
+    waypoint (the legs before switch at their end's normal too), and a circle narrower than the USV's minimum
+    turning radius ``r_usv`` (m) is missed on pass after pass: the USV circles it to the end of the run (measured,
+    route (0,0) (20,0) (19,4): acceptance 0.1 m circled for 300 s, 0.3 m took two extra loops, 72 s against
+    44 s at 0.5 m; R_min = 0.36 m)."""
+    if acceptance < r_usv:
+        from ..errors import ConfigError
+
+        raise ConfigError(
+            f"guidance.acceptance: {acceptance:g} m is below the USV's minimum turning radius {r_usv:.3g} m, so "
+            f"the last waypoint can be missed on every pass (endless circles); allowed >= {r_usv:.3g} m"
+        )
+
+
 @njit(cache=True, inline="always")
 def leg_offsets(x, y, a0, a1, b0, b1):
     """``(s, e)`` of the point (x, y) (N, E in m) on the leg a -> b (table 3-1 step 3): s the

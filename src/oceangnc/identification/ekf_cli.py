@@ -16,6 +16,11 @@ started, and warns for every coefficient whose estimate never left its initial v
 than 0.1 of its initial 1-sigma and its sigma shrank by less than 10 %): such a coefficient is not
 identified by the log.
 
+A log that cannot identify the parameters is refused before the filter runs (one line, exit 2;
+``--skip-check excitation|condition`` runs it anyway, with a warning): the Cramer-Rao bound of each
+parameter from the open-loop sensitivity of the measurements along the log, and the conditioning of the
+information matrix (:mod:`oceangnc.identification.ekf_checks`).
+
 Tuning defaults: measurement sigma estimated from the log (second differences: for white noise
 e_k, Var(e_k+1 - 2 e_k + e_k-1) = 6 sigma^2; floor 1e-5 x the channel's RMS), initial state = first
 sample with 2-sigma uncertainty, initial guesses = 0.5 x the model's nominal values (``--initial``,
@@ -33,6 +38,7 @@ import numpy as np
 
 from ..errors import ConfigError, InputError
 from .ekf import get_model, resolve_estimate, run_ekf
+from .ekf_checks import identifiability
 
 
 def _parse_kv(text: str | None, what: str) -> dict[str, float]:
@@ -82,10 +88,13 @@ def identify_log(
     substeps: int = 1,
     jacobian: str | None = None,
     source: dict | None = None,
+    skip_checks=(),
 ) -> dict:
     """Identify ``estimate`` from a log; returns a JSON-able dict (see module docstring).
 
-    ``source``: options of :func:`oceangnc.io.importers.read_any` for field logs.
+    ``source``: options of :func:`oceangnc.io.importers.read_any` for field logs. Before the filter runs the
+    log is checked for excitation and identifiability (:mod:`oceangnc.identification.ekf_checks`); a failed
+    check is an InputError (one line) unless its name is in ``skip_checks`` (then a warning).
     """
     from ..io.importers import read_any
 
@@ -141,6 +150,10 @@ def identify_log(
             f"P0 is not positive definite: initial guess 0 for {', '.join(zero)} gives a zero "
             "variance; give a non-zero --initial"
         )
+    checks, fails = identifiability(model, t, Z, U, idx, names, a0, sd)
+    kept = [f for f in fails if f.split(":", 1)[0] not in skip_checks]
+    if kept:
+        raise InputError(f"log {path}: {kept[0]} (--skip-check {kept[0].split(':', 1)[0]} to run anyway)")
     x0 = Z[0]
     t0 = time.perf_counter()
     a = a0
@@ -164,7 +177,11 @@ def identify_log(
         },
         "warnings": [
             f"{k} never left its initial value {a0[names.index(k)]:.6g} (not identified by this log)" for k in stuck
-        ],
+        ]
+        + [f"check skipped by --skip-check: {f}" for f in fails]
+        + ([f"identifiability not checked: {checks['skipped']}"] if "skipped" in checks else [])
+        + checks.get("warnings", []),
+        "checks": checks,
         "model": model.name,
         "log": str(path),
         "samples": int(t.size),
@@ -203,6 +220,7 @@ def _cmd(args) -> int:
         substeps=args.substeps,
         jacobian=args.jacobian,
         source=source_options(args),
+        skip_checks=tuple(args.skip_check or ()),
     )
     ig = out["initial_guess"]
     print(
@@ -283,6 +301,12 @@ def register(sub) -> None:
     p.add_argument("--passes", type=int, default=1, help="passes over the record")
     p.add_argument("--substeps", type=int, default=1, help="RK4 steps per sample interval")
     p.add_argument("--jacobian", choices=["analytic", "complex-step", "finite-difference"])
+    p.add_argument(
+        "--skip-check",
+        action="append",
+        choices=["excitation", "condition"],
+        help="run the filter although the log fails this identifiability check (repeatable; a warning instead)",
+    )
     p.add_argument(
         "--out", help="run folder for ekf_<model>.json and identified.toml (default: runs/identify-ekf-<time>)"
     )

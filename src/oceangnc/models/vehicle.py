@@ -43,7 +43,8 @@ nu_r = nu - [R^T v_c; 0]:
   n + 1 stations of weight L / n instead of the midpoint rule (``damping.crossflow.rule = "stations"``).
 * tau: thrusters i at positions r_i with unit directions d_i: F_i = T_i d_i, M_i = r_i x F_i. Each
   thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
-  ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
+  ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once (its
+  state then stays 0 and :class:`~oceangnc.models.vehicle_plant.VehiclePlant` publishes the applied thrust).
 
   A thruster with a ``[thrusters.shaft]`` table is driven by shaft speed instead: its state is n (rad/s),
   the thrust k n|n| (forward and reverse coefficients) with the lag on n (:mod:`oceangnc.models._shaft`).
@@ -400,6 +401,13 @@ def _check(vf: VehicleFile, where: str) -> None:
         raise ConfigError(f"{where}: hydrostatics.volume is required with restoring = 'submerged'")
     if h.restoring == "linear" and h.G is None:
         raise ConfigError(f"{where}: hydrostatics.G is required with restoring = 'linear'")
+    for i, t in enumerate(vf.thrusters):  # a thruster farther from CO than the whole hull is long is off the hull
+        dist = math.hypot(*t.position)
+        if dist > vf.length:
+            raise ConfigError(
+                f"{where}: thrusters[{i}].position ('{t.name}') is {dist:.4g} m from the origin, outside the "
+                f"{vf.length:g} m vehicle (length); allowed: within length = {vf.length:g} m of CO"
+            )
     B = thruster_matrix(vf)
     rows = [DOF_NAMES.index(d) for d in vf.control.dofs]
     rank = 0

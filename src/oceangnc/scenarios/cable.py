@@ -1,8 +1,10 @@
-"""Cable and towed-UUV scenarios of document 003 (ch. 2.3 fig 2-10, ch. 4 figs 4-2 to 4-5).
+"""Cable and towed-UUV scenarios of document 003 (ch. 2.3, its open-loop test printed as sec. 2.2.3.3: fig 2-10
+of p. 41 and the tank figs 2-12/2-13 - 003 numbers a second fig 2-10 there, the first being the USV's turn in a
+current on p. 25; ch. 4 figs 4-2 to 4-5).
 
 * ``cable-current``: the cable's top node held fixed at the surface, the UUV hanging below with its
   thrusters off, facing the current (heading 180 deg, current toward 0 deg), a uniform current
-  ``environment.current.speed`` (m/s) switched on at t = 0 (003 fig 2-10: the cable is pushed back,
+  ``environment.current.speed`` (m/s) switched on at t = 0 (003 fig 2-10 of p. 41: the cable is pushed back,
   the tension peaks and settles). The UUV starts 3.25 m deep: the straight cable is then stretched
   about as much as in the still-water hanging equilibrium (3.23 m), so the transient is the
   current's, not that of a dropped UUV. Summary:
@@ -149,7 +151,10 @@ def cable_plots(df, cfg, out_dir: Path, name: str, n_shapes: int = 6) -> list[Pa
 
 class CableCurrent(Scenario):
     name = "cable-current"
-    summary = "Cable with fixed top, UUV hanging in a uniform current: equilibrium tension and angle (003 fig 2-10)"
+    summary = (
+        "Cable with fixed top, UUV hanging in a uniform current: equilibrium tension and angle "
+        "(003 sec. 2.2.3.3: fig 2-10 of p. 41, figs 2-12/2-13)"
+    )
     Config = CableCurrentConfig
     defaults = {
         "sim": {"duration": 60.0, "log_rate": 10.0},

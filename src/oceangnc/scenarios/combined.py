@@ -15,7 +15,9 @@
 The chain each control period (blocks fire in this order): environment -> sensors (if on) -> USBL
 dropout hold and navigation -> pure pursuit (USV) and leader-follower (UUV) guidance -> USV loops
 and UUV controller -> thruster blocks (which honour ``_estop``). The run ends when the last
-waypoint is reached (``_stop``). With ``console.mode == "remote"`` on the bus the USV follows the
+waypoint is reached (``_stop``); a ``guidance.acceptance`` below the USV's minimum turning radius is refused
+(:func:`oceangnc.guidance.pure_pursuit.check_acceptance`: the last waypoint could be circled for
+ever). With ``console.mode == "remote"`` on the bus the USV follows the
 joystick (see :mod:`oceangnc.control.usv_control`); the UUV keeps following the USV.
 
 Summary keys: ``usv.waypoints_reached`` (count, the start point included), ``usv.cross_track_rms_m``
@@ -49,6 +51,7 @@ from ..errors import ConfigError
 from ..guidance.leader_follower import LeaderFollower
 from ..guidance.pure_pursuit import (
     PurePursuit,
+    check_acceptance,
     look_ahead_distance,
     usv_min_turning_radius,
     uuv_turning_radius_at,
@@ -208,6 +211,7 @@ def look_ahead_for(cfg: CombinedConfig) -> tuple[float, float, float]:
 
 def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     """Plant, environment, sensors, navigation, guidance, control and thrusters (module docstring)."""
+    check_acceptance(cfg.guidance.acceptance, look_ahead_for(cfg)[1])  # the trims are cached: cheap again below
     h = 1.0 / cfg.control.rate
     sens = cfg.sensors.enabled
     winch = cfg.winch if cfg.winch.enabled else None

@@ -5,7 +5,7 @@
   at about 16 deg/s).
 * ``usv-turn-wind``: the same turn in 1 m/s wind (fig 2-9; direction settable,
   ``environment.wind.direction_deg``): the circle drifts downwind.
-* ``usv-turn-current``: the same turn in a 0.1 m/s current toward 45 deg (fig 2-10): the circle's
+* ``usv-turn-current``: the same turn in a 0.1 m/s current toward 45 deg (fig 2-10 of p. 25): the circle's
   centre drifts with the current.
 
 Metrics are computed over the last ``analysis.window_s`` seconds: ``usv.steady_speed_mps`` (mean
@@ -158,7 +158,7 @@ SCENARIOS = [
     ),
     USVOpenLoop(
         "usv-turn-current",
-        "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10)",
+        "USV turning in a 0.1 m/s current toward 45 deg (003 fig 2-10 of p. 25)",
         {**_TURN, "environment": {"current": {"speed": 0.1, "direction_deg": 45.0}}},
         True,
     ),

@@ -10,7 +10,10 @@
   ``guidance.cross_track_max_m``, ``vehicle.speed_mean_mps``, ``guidance.final_leg``.
 
 ``vehicle`` is a shipped name or a path to your own file (``--set vehicle=path/to/my.toml``); the
-controller's gains are per DOF (``control.gains.<dof> = [k_p, k_i, k_d]``).
+controller's gains are per DOF (``control.gains.<dof> = [k_p, k_i, k_d]``). A file of the other ``kind``
+is refused naming ``vehicle`` (an underwater ROV on the surface route, a surface boat asked to hold a depth).
+The plant is :class:`~oceangnc.models.vehicle_plant.VehiclePlant`: the logged ``vehicle.thrust_<name>`` of a
+thruster without ``time_constant`` is the thrust it applies (its saturated command).
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
 from ..models._shaft import thrusts_from_states
 from ..models.vehicle import DOF_NAMES, load_vehicle, thruster_state, vehicle_model
+from ..models.vehicle_plant import VehiclePlant
 from ._common import environment_blocks
 from .base import Scenario
 
@@ -91,17 +95,23 @@ def _plant(cfg: VehicleScenarioConfig, vf):
     s = cfg.start
     x0[[0, 1, 2, 5, 6]] = [s.x, s.y, s.z, math.radians(s.psi_deg), s.u]
     names = [f"vehicle.thrust_{t.name}_cmd" for t in vf.thrusters] + ["env.current_n", "env.current_e"]
-    return m.plant("vehicle", x0, input_signals=names)
+    return VehiclePlant(m, "vehicle", x0, names)  # publishes the thrust of lag-free thrusters too
 
 
 class VehicleScenario(Scenario):
     Config = VehicleScenarioConfig
 
-    def __init__(self, name: str, summary: str, defaults: dict, route: bool):
+    def __init__(self, name: str, summary: str, defaults: dict, route: bool, kind: str):
         self.name, self.summary, self.defaults, self.route = name, summary, defaults, route
+        self.kind = kind  #: the vehicle file's ``kind`` the scenario flies (a surface route, an ROV at depth)
 
     def build(self, cfg, rng):
         vf = load_vehicle(cfg.vehicle)
+        if vf.kind != self.kind:  # an ROV on a surface route, or a boat asked to hold a depth
+            raise ConfigError(
+                f"vehicle: '{vf.name}' is a vehicle of kind = '{vf.kind}'; {self.name} flies kind = '{self.kind}' "
+                f"(choose a {self.kind} vehicle file)"
+            )
         default = self.defaults["control"]["gains"]
         gains = {}
         for dof, g in cfg.control.gains.items():
@@ -211,6 +221,7 @@ SCENARIOS = [
             "control": {"gains": _ROV_GAINS},
         },
         route=False,
+        kind="underwater",
     ),
     VehicleScenario(
         "otter-waypoints",
@@ -223,5 +234,6 @@ SCENARIOS = [
             "analysis": {"settle_s": 20.0},
         },
         route=True,
+        kind="surface",
     ),
 ]

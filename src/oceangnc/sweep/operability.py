@@ -13,6 +13,9 @@ limit. A run that failed or diverged counts as not passing: a tow that blows up 
 * ``report/operability.png``: per panel a heat map of the pass fraction (green: every run passes,
   red: none) over Hs x Tp, each cell labelled with the failed limits' letters.
 
+The rows and columns are the first two swept keys (Hs and Tp when both are swept, else e.g. Hs and the wave
+heading), named and labelled from the keys themselves (:func:`axis`), never as Hs and Tp by position.
+
 **Reading it**: the operable envelope at a heading is the green region; its upper edge is the
 limiting Hs at each Tp. Short periods at a given Hs are steeper and faster seas (larger particle
 accelerations a ~ (2 pi / T)^2 Hs / 2), so the envelope usually rises with Tp.
@@ -38,6 +41,31 @@ LIMITS = {
 PASS = "sea.pass"
 
 
+#: axis names of the usual swept keys (by the key's ending): (name, unit)
+AXES = {"waves.hs": ("Hs", "m"), "waves.tp": ("Tp", "s"), "waves.direction_deg": ("wave heading", "deg")}
+#: units of a key by its name's ending (the project's config names carry their unit: ``speed_mps``...)
+UNIT_SUFFIXES = {"_deg": "deg", "_mps": "m/s", "_m": "m", "_s": "s", "_n": "N", "_hz": "Hz"}
+
+
+def axis(key: str | None) -> tuple[str, str]:
+    """(name, unit) of a swept key for the table's and the diagram's axes: :data:`AXES`, else the key's last
+    part with its unit suffix (:data:`UNIT_SUFFIXES`) split off; ``("", "")`` for no key."""
+    if key is None:
+        return "", ""
+    for end, nu in AXES.items():
+        if key.endswith(end):
+            return nu
+    last = key.split(".")[-1]
+    for suf, unit in UNIT_SUFFIXES.items():
+        if last.endswith(suf):
+            return last[: -len(suf)], unit
+    return last, ""
+
+
+def _fmt(v, unit: str) -> str:
+    return f"{v:g} {unit}".rstrip() if isinstance(v, (int, float, np.number)) else str(v)
+
+
 def _key(params: list[str], suffix: str) -> str | None:
     for p in params:
         if p.endswith(suffix):
@@ -57,6 +85,9 @@ def operability_table(df: pd.DataFrame, hs_key: str | None = None, tp_key: str |
         tp_key = tp_key or (rest.pop(0) if rest else None)
     panels = [p for p in params if p not in (hs_key, tp_key)]
     d = df.copy()
+    if tp_key is None:  # one swept key: a single column
+        tp_key = "_one"
+        d[PARAM + tp_key] = 0.0
     ok = d["status"] == "ok"
     d["_pass"] = np.where(ok, d[PASS].fillna(0).astype(float) if PASS in d else 0.0, 0.0)
     for c in LIMITS:
@@ -64,7 +95,7 @@ def operability_table(df: pd.DataFrame, hs_key: str | None = None, tp_key: str |
     by = [PARAM + k for k in [*panels, hs_key, tp_key] if k is not None]
     agg = {"_pass": "mean", "status": "size", **{c: "mean" for c in LIMITS}}
     t = d.groupby(by, sort=True, dropna=False).agg(agg).reset_index()
-    t = t.rename(columns={"_pass": "pass_fraction", "status": "runs", **{PARAM + k: k for k in params}})
+    t = t.rename(columns={"_pass": "pass_fraction", "status": "runs", **{PARAM + k: k for k in [*params, tp_key]}})
     return t, hs_key, tp_key, panels
 
 
@@ -95,20 +126,34 @@ def operability_markdown(t, hs_key, tp_key, panels) -> str:
         "D UUV depth std, P UUV pitch std) and the pass fraction over the runs.",
     ]
     tps = sorted(t[tp_key].unique())
+    (rn, ru), (cn, cu) = axis(hs_key), axis(None if tp_key == "_one" else tp_key)
     for title, g in _panel_groups(t, panels):
-        lines += ["", f"## {title}", "", "| Hs \\ Tp | " + " | ".join(f"{v:g} s" for v in tps) + " |"]
+        lines += ["", f"## {title}", "", f"| {rn} \\ {cn or '-'} | " + " | ".join(_fmt(v, cu) for v in tps) + " |"]
         lines.append("|---" * (len(tps) + 1) + "|")
         for hs in sorted(g[hs_key].unique()):
             cells = []
             for tp in tps:
                 r = g[(g[hs_key] == hs) & (g[tp_key] == tp)]
                 cells.append(_label(r.iloc[0]) if len(r) else "")
-            lines.append(f"| {hs:g} m | " + " | ".join(cells) + " |")
+            lines.append(f"| {_fmt(hs, ru)} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
 def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
     """Heat maps of the pass fraction over Hs x Tp, one panel per combination of the other keys."""
+    import matplotlib.pyplot as plt
+
+    fig = operability_figure(t, hs_key, tp_key, panels, title)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def operability_figure(t, hs_key, tp_key, panels, title: str):
+    """The figure of :func:`plot_operability`: rows and columns named from the swept keys (:func:`axis`),
+    the title wrapped to the figure's width."""
+    import textwrap
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -123,6 +168,8 @@ def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
     )
     tps = sorted(t[tp_key].unique())
     hss = sorted(t[hs_key].unique())
+    (rn, ru), (cn, cu) = axis(hs_key), axis(None if tp_key == "_one" else tp_key)
+    ylab, xlab = f"{rn} [{ru}]" if ru else rn, (f"{cn} [{cu}]" if cu else cn)
     im = None
     for ax, (name, g) in zip(axes.ravel(), groups):
         grid = np.full((len(hss), len(tps)), np.nan)
@@ -135,17 +182,17 @@ def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
         im = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0.0, vmax=1.0, aspect="auto")
         ax.set_xticks(range(len(tps)), [f"{v:g}" for v in tps])
         ax.set_yticks(range(len(hss)), [f"{v:g}" for v in hss])
-        ax.set_xlabel("Tp [s]")
-        ax.set_ylabel("Hs [m]")
+        ax.set_xlabel(xlab)
+        ax.set_ylabel(ylab)
         ax.set_title(name, fontsize=9)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
     if im is not None:
         fig.colorbar(im, ax=axes.ravel().tolist(), label="fraction of runs passing", fraction=0.03)
-    fig.suptitle(title + "  (letters: failed limits - T tension, S snap, D depth std, P pitch std)", fontsize=9)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    text = title + "  (letters: failed limits - T tension, S snap, D depth std, P pitch std)"
+    width = fig.get_size_inches()[0] * 72 / (0.6 * 9)  # characters of 9 pt (about 0.6 em wide) per line
+    fig.suptitle(textwrap.fill(text, max(20, int(width) - 4)), fontsize=9)
+    return fig
 
 
 def operability(df: pd.DataFrame, out_dir: str | Path, title: str = "operability", plots: bool = True) -> list[Path]:
@@ -155,7 +202,7 @@ def operability(df: pd.DataFrame, out_dir: str | Path, title: str = "operability
     out.mkdir(parents=True, exist_ok=True)
     t, hs_key, tp_key, panels = operability_table(df)
     files = [out / "operability.csv", out / "operability.md"]
-    t.to_csv(files[0], index=False)
+    t.drop(columns=["_one"], errors="ignore").to_csv(files[0], index=False)
     files[1].write_text(operability_markdown(t, hs_key, tp_key, panels))
     if plots:
         files.append(plot_operability(t, hs_key, tp_key, panels, out / "operability.png", title))
