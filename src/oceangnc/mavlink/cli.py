@@ -135,17 +135,18 @@ def _cmd(args) -> int:
         if stream is None:
             v.close()
             return 2
-    if not args.quiet:
-        print(
-            f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
-            f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop",
-            flush=True,
-        )
-    # SIGTERM ends the vehicle as Ctrl-C does: serve() closes the log (compacted) and writes summary.json
+    # SIGTERM ends the vehicle as Ctrl-C does: serve() closes the log (compacted) and writes summary.json.
+    # Installed before the line that says the vehicle serves: a SIGTERM right after it must not kill it
     from ..core.interrupts import terminate_like_ctrl_c
 
     restore = terminate_like_ctrl_c()
     try:
+        if not args.quiet:
+            print(
+                f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
+                f"(speed {v.speed:g}x); log {v.run_dir}; Ctrl-C to stop",
+                flush=True,
+            )
         v.serve()
     except KeyboardInterrupt:
         v.close()
