@@ -73,3 +73,25 @@ def test_full_up_thrust_cannot_lift_the_rov_out_of_the_water(heavy):
         update={"hydrostatics": heavy.hydrostatics.model_copy(update={"height": None, "thruster_immersion": None})}
     )
     assert _rise(bare).min() < -3.0
+
+
+def test_bluerov2_heavy_against_blue_robotics_figures():
+    """The new cases (validation/cases/bluerov2_heavy.py) measure the file through its allocation and stay
+    documented deviations: forward 14.85 kgf and vertical 21.0 kgf are the T200 data sheet's sums (4 x 5.25
+    kgf x cos 45 deg, 4 x 5.25 kgf), lateral 11.6 kgf is bound by the reverse thrust, all above Blue
+    Robotics' vehicle figures; at the published 9 kgf the file's surge damping gives 0.744 m/s."""
+    from oceangnc.validation import Runner, run_case
+    from oceangnc.validation.cases import bluerov2_heavy
+
+    r = Runner()
+    try:
+        out = {c.id: run_case(c, r) for c in bluerov2_heavy.CASES}
+    finally:
+        r.close()
+    assert all(o.status == "deviation" for o in out.values()), {k: o.status for k, o in out.items()}
+    v = {k.removeprefix("vehicle-bluerov2-heavy-"): o.measured.value for k, o in out.items()}
+    c45 = np.cos(np.pi / 4)
+    assert v["bollard-forward"] == pytest.approx(4 * 5.25 * c45, rel=2e-3)
+    assert v["bollard-lateral"] == pytest.approx(4 * 4.1 * c45, rel=2e-3)
+    assert v["bollard-vertical"] == pytest.approx(4 * 5.25, rel=2e-3)
+    assert v["speed-published-thrust"] == pytest.approx(0.744, abs=1e-3)
