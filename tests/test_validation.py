@@ -204,36 +204,6 @@ def test_field_leg_time_deviation_is_the_surge_damping_fitted_to_fig_2_7(runner)
     assert o.status == "fail" and o.measured.value == pytest.approx(1.077, abs=0.005)
 
 
-def test_otter_prediction_against_the_authors_model_moves_with_an_unfitted_coefficient():
-    """Class prediction against the authors' simulation (docs/vehicles.md): the Otter file's turning circle is
-    held to Fossen's own simulation of his model (14.35 m), not to our equations. The file expresses his model
-    term by term (Munk pair, cross-flow strip integral, loading) and turns at 12.89 m (-10.2 %: his body-axis
-    payload force, his strip sum and his inertia, each measured). Its nonlinear yaw damping N_r|r| = 10 N_r
-    (Fossen's rule, fitted to nothing) 20 % higher or lower moves the diameter by 6-7 % (12.03 / 13.68 m):
-    +20 % would bring it inside the authors' +-5 %, so the case resolves 20 % of an unfitted coefficient and a
-    fit of N_r|r| could have hidden the named residuals; none was made. The analytic turning-circle check,
-    whose reference is computed from the same coefficients, passes at each."""
-    by = {c.id: c for c in CASES}
-    pred, ana = by["vehicle-otter-turning-circle-fossen"], by["vehicle-otter-turning-circle"]
-    assert pred.kind == "prediction" and pred.deviation and "95213c1" in pred.source
-    n_rr = 412.993505859375  # otter.toml damping.quadratic[5]
-    out = {}
-    for f in (0.8, 1.0, 1.2):
-        r = Runner({"otter.D_Q[5]": f * n_rr})
-        try:
-            out[f] = run_case(pred, r)
-            if f != 1.0:
-                a = run_case(ana, r)
-                assert a.status == "pass" and a.measured.value == pytest.approx(a.published, rel=0.01)
-        finally:
-            r.close()
-    assert out[1.0].status == "deviation" and out[0.8].status == "deviation"
-    assert out[1.0].measured.value == pytest.approx(12.89, abs=0.01)
-    assert out[1.2].measured.value > 1.05 * out[1.0].measured.value
-    assert out[0.8].measured.value < 0.95 * out[1.0].measured.value
-    assert out[1.2].status == "pass"  # 20 % of an unfitted coefficient spans the authors' +-5 %
-
-
 def test_bluerov2_rated_speed_fails_when_its_unfitted_surge_drag_doubles():
     """Class prediction against a rating: the BlueROV2 file's steady forward speed at full thrust, attitude held,
     is 0.969 m/s against Blue Robotics' 1 m/s (2 knots, read as 1.5 … 2.5 knots). Nothing was fitted to it: Wu's
@@ -317,22 +287,27 @@ def test_physical_law_holds_whatever_the_coefficients(runner):
 
 def test_list_and_report_show_the_classes_and_count_them_apart(tmp_path, capsys):
     """`--list` gives each case's class; the report counts predictions, calibration targets, round trips,
-    analytic checks and physical laws apart, and only passing predictions are reproductions."""
-    assert main(["validate", "--list", "--only", "003-fig2-7,000-table2-K_r,003-fig2-9-wind-from-0"]) == 0
+    reference-implementation comparisons, analytic checks (code verification) and physical laws apart, and only
+    passing predictions are reproductions."""
+    only = "003-fig2-7,000-table2-K_r,003-fig2-9-wind-from-0,001-fig8,vehicle-otter-pvs-speed-50-50"
+    assert main(["validate", "--list", "--only", only]) == 0
     out = capsys.readouterr().out
     assert "calibration target (fitted: d11" in out and "round trip (generator:" in out
-    assert "prediction, qualitative" in out
-    only = "003-fig2-7,003-fig2-9-wind-from-0,003-fig2-10-drift-speed,physics-rk4-order"
+    assert "prediction, qualitative" in out and "reference implementation (the file's three departures" in out
+    assert "physical law (re-classed from prediction" in out
+    only = "003-fig2-7,003-fig2-9-wind-from-0,003-fig2-10-drift-speed,physics-rk4-order,vehicle-otter-pvs-speed-50-50"
     assert main(["validate", "--only", only, "--out", str(tmp_path), "--no-plots", "--quiet"]) == 0
     out = capsys.readouterr().out
-    assert "1 prediction (1 pass" in out and "1 calibration target" in out and "0 round trips" in out
-    assert "1 analytic check" in out and "1 physical law" in out and "Reproduced published results: 1" in out
+    assert "0 predictions (0 pass" in out and "1 calibration target" in out and "0 round trips" in out
+    assert "1 reference-implementation comparison" in out
+    assert "1 analytic check (code verification)" in out and "2 physical laws" in out
+    assert "Reproduced published results: 0" in out
     md = (tmp_path / "report.md").read_text()
-    assert "| prediction | 1 | 1 | 0 | 0 | 0 |" in md
+    assert "| reference implementation | 1 | 1 | 0 | 0 | 0 |" in md
     assert "| calibration target | 1 | 1 | 0 | 0 | 0 |" in md
     assert "| [003-fig2-7-usv-speed](#003-fig2-7-usv-speed) | calibration target |" in md
     html = (tmp_path / "report.html").read_text()
-    assert 'id="classes"' in html and "Reproduced published results: 1" in html
+    assert 'id="classes"' in html and "Reproduced published results: 0" in html
 
 
 def test_unknown_pattern_is_an_input_error(tmp_path, capsys):

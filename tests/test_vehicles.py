@@ -102,13 +102,13 @@ def _crossflow_force(m, p, v, r):
 
 def test_crossflow_drag_strip_integral_against_closed_forms(tmp_path):
     """The cross-flow drag of [damping.crossflow] (strip theory, Fossen 2021 ch. 6; Hoerner 1965) against
-    integrals done by hand. Otter's pontoon: L = 2 m, B = 0.25 m, T = 0.19493 m, so B / (2 T) = 0.64125 and
+    integrals done by hand. Otter's pontoon: L = 2 m, B = 0.25 m, T = 0.19512 m, so B / (2 T) = 0.640625 and
     Hoerner's C_d interpolates linearly between his points (0.5585, 1.0836) and (0.6464, 0.9986).
     Pure sway: Y = -1/2 rho C_d T L v|v| exactly (the integrand is constant). Pure yaw about a centred hull:
     N = -1/2 rho C_d T r|r| int x^2 |x| dx = -... L^4 / 32, which the midpoint rule on n (even) strips gives
     as L^4 / 32 (1 - 2 / n^2) (Euler-Maclaurin, exact for a cubic). A hull 0.3 m forward of CO in pure sway
     feels the sway force at its centre: N = 0.3 Y."""
-    rho, L, T = 1026.0, 2.0, 0.1949317738791423
+    rho, L, T = 1026.0, 2.0, 0.19512195121951217  # the file's crossflow.rho (crossFlowDrag's) and draft
     cd = 1.0836 + (0.25 / (2 * T) - 0.5585) / (0.6464 - 0.5585) * (0.9986 - 1.0836)
     assert hoerner_cd(0.25, T) == pytest.approx(cd, rel=1e-12)
     k = 0.5 * rho * cd * T
@@ -168,12 +168,14 @@ def test_a_mass_matrix_that_is_not_positive_definite_is_refused(tmp_path):
 
 
 def test_bad_keys_and_ranges_are_one_line_naming_the_key(tmp_path):
-    text = _otter_text().replace("mass = 80.0", "mass = -80.0")
-    with pytest.raises(ConfigError, match=r"rigid_body\.mass") as e:
+    text = _otter_text().replace("mass = 55.0", "mass = -55.0")
+    with pytest.raises(ConfigError, match=r"rigid_body\.parts\.0\.mass") as e:
         load_vehicle(_write(tmp_path, text))
     assert "\n" not in str(e.value)
     with pytest.raises(ConfigError, match=r"unknown key 'rigid_body\.colour'"):
-        load_vehicle(_write(tmp_path, _otter_text().replace("mass = 80.0", "mass = 80.0\ncolour = 1")))
+        load_vehicle(_write(tmp_path, _otter_text().replace("[rigid_body]\n", "[rigid_body]\ncolour = 1\n")))
+    with pytest.raises(ConfigError, match=r"rigid_body: .*either mass and inertia .* or parts"):
+        load_vehicle(_write(tmp_path, _otter_text().replace("[rigid_body]\n", "[rigid_body]\nmass = 80.0\n")))
     with pytest.raises(ConfigError, match="neither a shipped vehicle"):
         load_vehicle("no-such-vehicle")
 
@@ -299,10 +301,10 @@ def test_trim_and_linearisation_take_a_vehicle_file():
     m = vehicle_model("otter")
     x0 = np.zeros(m.nx)
     x0[6] = 2.0
-    x0[12:] = 50.0  # the thruster states (lagged thrusts) are free too
+    x0[12:] = 50.0  # the thruster states (lagged shaft speeds, rad/s) are free too
     u0 = np.array([50.0, 50.0, 0.0, 0.0])
-    tr = trim(m, x0, u0, free=("thrust_left_cmd", "thrust_right_cmd", "thrust_left", "thrust_right"),
-              zero=("u", "r", "thrust_left", "thrust_right"))  # fmt: skip
+    tr = trim(m, x0, u0, free=("thrust_left_cmd", "thrust_right_cmd", "shaft_left", "shaft_right"),
+              zero=("u", "r", "shaft_left", "shaft_right"))  # fmt: skip
     d_l0 = m.p[m.layout.index("D_L[0]")]
     assert tr.u[0] + tr.u[1] == pytest.approx(d_l0 * 2.0, rel=1e-9)
     A = linearize(m, tr.x, tr.u).A

@@ -36,10 +36,17 @@ nu_r = nu - [R^T v_c; 0]:
 * g(eta): ``restoring = "submerged"``: weight W at r_g and buoyancy B at r_b (Fossen eq. 4.6, 003
   A-13); ``restoring = "linear"``: G eta with a 6 x 6 spring matrix (a surface craft: heave, roll,
   pitch stiffness rho g A_wp, rho g nabla GM_T, rho g nabla GM_L, Fossen eq. 4.50), eta's heave
-  counted from the floating equilibrium.
+  counted from the floating equilibrium; optionally plus a weight fixed to the vertical at r_p
+  (``hydrostatics.body_axis_weight``, Fossen's Otter payload force g_0; ``apply = false`` by default).
+* M_RB may be given by parts (``[[rigid_body.parts]]``, :mod:`oceangnc.models._mass_parts`): exact
+  parallel-axis sum (default) or ``parallel_axis = "otter.py"``. The cross-flow sum may take Fossen's
+  n + 1 stations of weight L / n instead of the midpoint rule (``damping.crossflow.rule = "stations"``).
 * tau: thrusters i at positions r_i with unit directions d_i: F_i = T_i d_i, M_i = r_i x F_i. Each
   thrust T_i follows its command through saturation to [-max_reverse, max_forward] and, when its
   ``time_constant`` > 0, a first-order lag (an extra state); ``time_constant = 0`` applies it at once.
+
+  A thruster with a ``[thrusters.shaft]`` table is driven by shaft speed instead: its state is n (rad/s),
+  the thrust k n|n| (forward and reverse coefficients) with the lag on n (:mod:`oceangnc.models._shaft`).
 
 State ``x = [x, y, z, phi, theta, psi, u, v, w, p, q, r, T_1 ... T_n]``; inputs ``[T_1_cmd ...
 T_n_cmd (N), current_n, current_e (m/s)]``. The parameter vector has a fixed head (offsets are
@@ -68,10 +75,13 @@ from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
 from ._surface import immersed_fraction, lost_buoyancy
+from ._crossflow import HOERNER_B_2T, HOERNER_CD, CrossFlow, hoerner_cd  # noqa: F401 (re-exported)
+from ._mass_parts import RigidBody
+from ._shaft import SHAFT_FIELDS, Shaft, shaft_thrust
 from .rigid_body import euler_kinematics, kirchhoff, restoring, row6
 
 DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant")
+THR_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "max_forward", "max_reverse", "time_constant", *SHAFT_FIELDS)
 NT = len(THR_FIELDS)  #: values per thruster in the parameter table
 
 LAYOUT_HEAD = ParamLayout(
@@ -100,6 +110,10 @@ LAYOUT_HEAD = ParamLayout(
         Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
         Param("hull_height", "m", description="height of the buoyancy ramp at the surface (0: no free surface)"),
         Param("thr_immersion", "m", description="height of a thruster's thrust ramp at the surface (0: none)"),
+        Param(
+            "W_p", "N", description="weight added as a body-axis force on top of G eta (otter.py's payload; 0: none)"
+        ),
+        Param("r_p", "m", 3, description="where W_p acts, from CO"),
     ]
 )
 P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b", "linear_restoring", "G_lin")
@@ -108,8 +122,9 @@ P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
 )
 P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
 P_HH, P_TIMM = LAYOUT_HEAD.indices("hull_height", "thr_immersion")
+P_WP, P_RP = LAYOUT_HEAD.indices("W_p", "r_p")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
-T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU = range(NT)
+T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU, T_SHAFT = range(10)
 
 
 @njit(cache=True)
@@ -178,6 +193,16 @@ def vehicle_deriv(t, x, u, p, out):
     if p[P_LINR].real != 0.0:
         for i in range(6):
             tau[i] -= row6(p, P_GLIN + 6 * i, x[0], x[1], x[2], x[3], x[4], x[5])
+        wp = p[P_WP]  # a weight fixed to the vertical at r_p on top of G eta: R^T (0, 0, W_p) and r_p x it
+        fx = wp * r20
+        fy = wp * r21
+        fz = wp * r22
+        tau[0] += fx
+        tau[1] += fy
+        tau[2] += fz
+        tau[3] += p[P_RP + 1] * fz - p[P_RP + 2] * fy
+        tau[4] += p[P_RP + 2] * fx - p[P_RP] * fz
+        tau[5] += p[P_RP] * fy - p[P_RP + 1] * fx
     else:
         g0, g1, g2, g3, g4, g5 = restoring(p, P_W, P_B, P_RG, P_RB, cf, sf, ct, st)
         if p[P_HH].real > 0.0:  # the buoyancy of the emerged volume is lost (models._surface)
@@ -200,7 +225,11 @@ def vehicle_deriv(t, x, u, p, out):
             cmd = hi
         elif cmd.real < lo.real:
             cmd = lo
-        if p[k + T_TAU].real > 0.0:
+        torque = 0.0 * cmd
+        if p[k + T_SHAFT].real > 0.0:  # shaft-speed thruster (oceangnc.models._shaft): the state is n, rad/s
+            dn, thrust, torque = shaft_thrust(p, k + T_SHAFT, cmd, x[12 + i], p[k + T_TAU], ur, vr, wr)
+            out[12 + i] = dn
+        elif p[k + T_TAU].real > 0.0:
             thrust = x[12 + i]
             out[12 + i] = (cmd - thrust) / p[k + T_TAU]
         else:
@@ -217,9 +246,9 @@ def vehicle_deriv(t, x, u, p, out):
         tau[0] += fx
         tau[1] += fy
         tau[2] += fz
-        tau[3] += ry * fz - rz * fy
-        tau[4] += rz * fx - rx * fz
-        tau[5] += rx * fy - ry * fx
+        tau[3] += ry * fz - rz * fy + torque * p[k + T_DX]
+        tau[4] += rz * fx - rx * fz + torque * p[k + T_DY]
+        tau[5] += rx * fy - ry * fx + torque * p[k + T_DZ]
     t0, t1, t2, t3, t4, t5 = tau[0], tau[1], tau[2], tau[3], tau[4], tau[5]
     for i in range(6):
         out[6 + i] = row6(p, P_MINV + 6 * i, t0, t1, t2, t3, t4, t5)
@@ -246,14 +275,6 @@ def _matrix6(v, key: str) -> np.ndarray:
     return a
 
 
-class RigidBody(StrictModel):
-    mass: float = Field(gt=0, le=1e8, description="mass in air, kg")
-    inertia: Vec3 | tuple[Vec3, Vec3, Vec3] = Field(
-        description="inertia about the CG, kg m^2: [I_x, I_y, I_z] or a 3 x 3 matrix"
-    )
-    r_g: Vec3 = Field((0.0, 0.0, 0.0), description="centre of gravity from the origin CO (body axes), m")
-
-
 class Hydrostatics(StrictModel):
     restoring: Literal["submerged", "linear"] = Field(
         "submerged", description="submerged: weight and buoyancy at r_g, r_b; linear: G eta (surface craft)"
@@ -277,6 +298,16 @@ class Hydrostatics(StrictModel):
     G: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
         None, description="linear restoring: spring matrix on eta (diagonal or 6 x 6), N/m, N, N m"
     )
+    body_axis_weight: BodyAxisWeight | None = Field(None, description="linear restoring: otter.py's payload force")
+
+
+class BodyAxisWeight(StrictModel):
+    """A weight m g at r from CO added as a force fixed to the earth's vertical, on top of G eta (``otter.py``'s
+    payload term g_0 = [R^T (0, 0, m_p g); r_p x R^T (0, 0, m_p g)]); ``apply = false`` keeps it out (ours)."""
+
+    mass: float = Field(gt=0, le=1e8, description="mass, kg")
+    r: Vec3 = Field(description="where it acts, from CO, m")
+    apply: bool = Field(False, description="add it (otter.py) or not (ours: the weight is in G eta already)")
 
 
 class AddedMass(StrictModel):
@@ -288,41 +319,6 @@ class AddedMass(StrictModel):
         description="keep the destabilising Munk moment in yaw (false: neglected with its surge and sway partners, "
         "C_A stays skew-symmetric, as Fossen's Otter model)",
     )
-
-
-#: Hoerner's 2-D cross-flow drag coefficient of a rectangular section against B / (2 T): Hoerner (1965),
-#: Fluid-Dynamic Drag, ch. 3 (blunt sections), the curve as digitised in Fossen (2021) and his Python Vehicle
-#: Simulator (``Hoerner(B, T)``), published numbers, linear interpolation between them, clamped at the ends
-HOERNER_B_2T = np.array(
-    [0.0109, 0.1766, 0.3530, 0.4519, 0.4728, 0.4929, 0.4933, 0.5585, 0.6464, 0.8336,
-     0.9880, 1.3081, 1.6392, 1.8600, 2.3129, 2.6000, 3.0088, 3.4508, 3.7379, 4.0031]
-)  # fmt: skip
-HOERNER_CD = np.array(
-    [1.9661, 1.9657, 1.8976, 1.7872, 1.5837, 1.2786, 1.2108, 1.0836, 0.9986, 0.8796,
-     0.8284, 0.7599, 0.6914, 0.6571, 0.6307, 0.5962, 0.5868, 0.5859, 0.5599, 0.5593]
-)  # fmt: skip
-
-
-def hoerner_cd(beam: float, draft: float) -> float:
-    """2-D cross-flow drag coefficient of a section of beam B and draft T from Hoerner's curve at B / (2 T)
-    (:data:`HOERNER_CD`; Hoerner 1965, as used by Fossen 2021 for the cross-flow drag integral)."""
-    return float(np.interp(beam / (2.0 * draft), HOERNER_B_2T, HOERNER_CD))
-
-
-class CrossFlow(StrictModel):
-    """Cross-flow drag of a hull by strip theory (module docstring; Fossen 2021 ch. 6, Hoerner 1965)."""
-
-    length: float = Field(gt=0, le=500, description="hull length L integrated over, m")
-    beam: float = Field(gt=0, le=100, description="beam B of the section for Hoerner's curve (one hull), m")
-    draft: float = Field(gt=0, le=50, description="draft T, the projected height per unit length, m")
-    cd: float | None = Field(None, ge=0, le=5, description="2-D drag coefficient; default Hoerner's curve at B / (2 T)")
-    x_center: float = Field(0.0, ge=-250, le=250, description="x of the hull's mid-length from CO, m")
-    strips: int = Field(20, ge=1, le=200, description="number of strips of the midpoint rule")
-
-    def coefficient(self, rho: float) -> float:
-        """1/2 rho C_d T (kg/m^2): the drag per unit length of U|U|."""
-        cd = hoerner_cd(self.beam, self.draft) if self.cd is None else self.cd
-        return 0.5 * rho * cd * self.draft
 
 
 class Damping(StrictModel):
@@ -342,7 +338,10 @@ class Thruster(StrictModel):
     direction: Vec3 = Field(description="thrust direction (normalised when read)")
     max_forward: float = Field(gt=0, le=1e7, description="largest forward thrust, N")
     max_reverse: float = Field(ge=0, le=1e7, description="largest reverse thrust (a positive number), N")
-    time_constant: float = Field(0.0, ge=0, le=100, description="first-order lag of the thrust, s (0: none)")
+    time_constant: float = Field(
+        0.0, ge=0, le=100, description="first-order lag of the thrust (of the shaft speed with [shaft]), s (0: none)"
+    )
+    shaft: Shaft | None = Field(None, description="driven by shaft speed: thrust k n|n| (oceangnc.models._shaft)")
 
     @field_validator("direction")
     @classmethod
@@ -393,9 +392,8 @@ def _skew(a) -> np.ndarray:
 
 def rigid_body_matrix(rb: RigidBody) -> np.ndarray:
     """M_RB about CO (Fossen 2021 eq. 3.44): [[m I, -m S(r_g)], [m S(r_g), I_g - m S(r_g)^2]]."""
-    m = rb.mass
-    ig = np.diag(rb.inertia) if np.ndim(rb.inertia[0]) == 0 else np.asarray(rb.inertia, float)
-    s = _skew(rb.r_g)
+    m, ig, r_g = rb.resolved()
+    s = _skew(r_g)
     M = np.zeros((6, 6))
     M[:3, :3] = m * np.eye(3)
     M[:3, 3:] = -m * s
@@ -488,16 +486,18 @@ def load_vehicle(name_or_path: str | Path) -> VehicleFile:
 def vehicle_params(vf: VehicleFile) -> np.ndarray:
     """The parameter vector: :data:`LAYOUT_HEAD`, then the thruster table (``NT`` values per thruster)."""
     h = vf.hydrostatics
-    W = vf.rigid_body.mass * G
+    mass, _, r_g = vf.rigid_body.resolved()
+    W = mass * G
     B = h.rho * G * h.volume if h.volume is not None else W
     mrb = rigid_body_matrix(vf.rigid_body)
     ma = _matrix6(vf.added_mass.M_A, "added_mass.M_A")
     cf = vf.damping.crossflow
+    bw = h.body_axis_weight
     head = LAYOUT_HEAD.pack(
         {
             "W": W,
             "B": B,
-            "r_g": vf.rigid_body.r_g,
+            "r_g": r_g,
             "r_b": h.r_b,
             "linear_restoring": 1.0 if h.restoring == "linear" else 0.0,
             "G_lin": _matrix6(h.G, "hydrostatics.G") if h.G is not None else np.zeros((6, 6)),
@@ -509,9 +509,11 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "D_U": np.asarray(vf.damping.speed, float) if vf.damping.speed is not None else np.zeros((6, 6)),
             "munk_yaw": 1.0 if vf.added_mass.munk_yaw_moment else 0.0,
             "cf_coeff": cf.coefficient(h.rho) if cf is not None else 0.0,
-            "cf_x0": cf.x_center - 0.5 * cf.length + 0.5 * cf.length / cf.strips if cf is not None else 0.0,
-            "cf_dx": cf.length / cf.strips if cf is not None else 0.0,
-            "cf_strips": cf.strips if cf is not None else 0,
+            "cf_x0": cf.stations()[0] if cf is not None else 0.0,
+            "cf_dx": cf.stations()[1] if cf is not None else 0.0,
+            "cf_strips": cf.stations()[2] if cf is not None else 0,
+            "W_p": bw.mass * G if bw is not None and bw.apply else 0.0,
+            "r_p": bw.r if bw is not None else (0.0, 0.0, 0.0),
             "n_thrusters": len(vf.thrusters),
             "hull_height": h.height or 0.0,
             "thr_immersion": h.thruster_immersion or 0.0,
@@ -521,22 +523,27 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
     for t in vf.thrusters:
         d = np.asarray(t.direction, float)
         d = d / np.linalg.norm(d)
-        rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant])
+        shaft = t.shaft.row(t.max_forward, t.max_reverse) if t.shaft is not None else [0.0] * len(SHAFT_FIELDS)
+        rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant, *shaft])
     return np.concatenate([head, np.asarray(rows, float).ravel()])
 
 
 def vehicle_layout(vf: VehicleFile) -> ParamLayout:
     """The full parameter layout: the head, then ``<thruster>.<field>`` for each thruster."""
-    extra = [
-        Param(f"{t.name}.{f}", "m" if i < 3 else "1" if i < 6 else "s" if i == 8 else "N")
-        for t in vf.thrusters
-        for i, f in enumerate(THR_FIELDS)
-    ]
+    units = ("m",) * 3 + ("1",) * 3 + ("N", "N", "s", "N s^2", "N s^2", "N s", "N m s^2", "N m s^2", "N m s", "1")
+    units += ("rad/s", "rad/s")
+    extra = [Param(f"{t.name}.{f}", units[i]) for t in vf.thrusters for i, f in enumerate(THR_FIELDS)]
     return ParamLayout([*LAYOUT_HEAD.params, *extra])
 
 
 STATE_NAMES = ("x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
 STATE_UNITS = ("m", "m", "m", "rad", "rad", "rad", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s")
+
+
+def thruster_state(t: Thruster) -> tuple[str, str]:
+    """Name and unit of a thruster's state: its thrust ``thrust_<name>`` (N), or the shaft speed
+    ``shaft_<name>`` (rad/s) of a shaft-speed thruster."""
+    return (f"shaft_{t.name}", "rad/s") if t.shaft is not None else (f"thrust_{t.name}", "N")
 
 
 def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
@@ -545,7 +552,7 @@ def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
     ``current_e`` (m/s)."""
     if not isinstance(vf, VehicleFile):
         vf = load_vehicle(vf)
-    states = [*zip(STATE_NAMES, STATE_UNITS), *((f"thrust_{t.name}", "N") for t in vf.thrusters)]
+    states = [*zip(STATE_NAMES, STATE_UNITS), *(thruster_state(t) for t in vf.thrusters)]
     inputs = [*((f"thrust_{t.name}_cmd", "N") for t in vf.thrusters), ("current_n", "m/s"), ("current_e", "m/s")]
     p = vehicle_params(vf) if params is None else np.asarray(params, dtype=np.float64)
     return Model(vf.name, vehicle_rhs, states, inputs, vehicle_layout(vf), p, bound=1e6, description=vf.description)

@@ -30,7 +30,8 @@ from ..errors import ConfigError
 from ..guidance.los import WaypointGuidance
 from ..io.config import ScenarioConfig, StrictModel
 from ..io.plots import plot_signals, plot_track
-from ..models.vehicle import DOF_NAMES, load_vehicle, vehicle_model
+from ..models._shaft import thrusts_from_states
+from ..models.vehicle import DOF_NAMES, load_vehicle, thruster_state, vehicle_model
 from ._common import environment_blocks
 from .base import Scenario
 
@@ -142,7 +143,8 @@ class VehicleScenario(Scenario):
 
     def summarize(self, df, cfg) -> dict:
         vf = load_vehicle(cfg.vehicle)
-        thr = np.column_stack([df[f"vehicle.thrust_{t.name}"].to_numpy() for t in vf.thrusters])
+        states = np.column_stack([df[f"vehicle.{thruster_state(t)[0]}"].to_numpy() for t in vf.thrusters])
+        thr = thrusts_from_states(vf, states)
         lim = np.array([t.max_forward for t in vf.thrusters])
         limr = np.array([t.max_reverse for t in vf.thrusters])
         sat = (thr >= lim * 0.999) | (thr <= -limr * 0.999)

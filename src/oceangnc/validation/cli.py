@@ -107,7 +107,8 @@ def register(subparsers) -> None:
         help="run the validation cases (published figures and physical checks) and write a report",
         description="Run every validation case: each published figure of the seed documents the project "
         "reproduces and the physical checks, with its tolerance. Every case has a class: prediction (no "
-        "parameter fitted to it), calibration target, round trip, analytic check or physical law; only passing "
+        "parameter fitted to it), calibration target, round trip, reference implementation (another program, "
+        "same equations), analytic check (code verification) or physical law; only passing "
         "predictions count as reproductions. Writes DIR/report.md and DIR/report.html (one plot per case). "
         "Exit 1 if a case fails.",
         formatter_class=argparse.RawDescriptionHelpFormatter,

@@ -21,7 +21,10 @@ KIND_MEANING = {
     "prediction": "a published result reproduced with no parameter fitted to it (the only reproductions)",
     "calibration": "a fit holds: the named parameters were fitted or chosen to it (not a reproduction)",
     "round-trip": "the method's algebra on data the project generated itself (not a reproduction)",
-    "analytic": "the simulation agrees with a closed-form or independent solution",
+    "reference": "another program running the same model equations gives the same result (the implementation, "
+    "not the physics)",
+    "analytic": "code verification: the simulation agrees with a closed-form or independent solution of its own "
+    "equations and coefficients",
     "law": "a physical law holds whatever the coefficients",
 }
 
@@ -102,7 +105,8 @@ def evidence_text(outcomes: Sequence[Outcome]) -> str:
         f"{p['fail'] + p['error']} fail/error)",
         _plural(k["calibration"]["cases"], "calibration target"),
         _plural(k["round-trip"]["cases"], "round trip"),
-        _plural(k["analytic"]["cases"], "analytic check"),
+        _plural(k["reference"]["cases"], "reference-implementation comparison"),
+        _plural(k["analytic"]["cases"], "analytic check") + " (code verification)",
         _plural(k["law"]["cases"], "physical law"),
     ]
     return (

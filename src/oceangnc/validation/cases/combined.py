@@ -404,7 +404,11 @@ CASES: list[Case] = in_group(
         "the waypoint acceptance radius is unprinted: ours (2 m at 0.6 m/s) moves the USV's turn, and so the "
         "UUV's desired heading, by 3.3 s; plus the figure reading",
         uuv_heading_switch,
-        **_PRED,
+        kind="calibration",
+        basis="re-classed from prediction (issue 38): what passes is the time of the USV's own leg switch (first "
+        "leg length over the USV's surge speed, d11 fitted to 003 fig 2-7, and our 2 m acceptance radius) passed "
+        "on to the UUV by the relative-angle loop; the mechanism 003 describes, the UUV switching its heading to "
+        "the USV's centre, never engages (the UUV stays inside R)",
     ),
     Case(
         "003-fig4-15-distance-growth",

@@ -74,7 +74,10 @@ def ekf_sigma(maneuver, r):
     )
 
 
-_GENERATOR = "002's vertical-plane submarine (eq. 2.1-2.2, table 4.1 coefficients), noise-free zig-zag"
+_GENERATOR = (
+    "002's vertical-plane submarine (eq. 2.1-2.2; the true coefficients of tables 5.2/5.3, table 4.1's constants "
+    "and initial state), noise-free zig-zag"
+)
 _WORST = "no worse than 002's worst estimate for the same zig-zag (tables 5.2-5.3)"
 _CONVERGE = (
     "coefficients within 3 sigma at the end",

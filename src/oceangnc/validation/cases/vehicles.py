@@ -6,13 +6,9 @@ form. The Otter's turning circle and the BlueROV2's steady speeds are analytic c
 against the steady state of the published coefficients, solved independently at run time (the
 turning circle by Newton on the equations of motion, the ROV's speeds in closed form).
 
-The Otter's turning circle and its speed at half thrust are also compared with the *authors'
-simulation* (class prediction: nothing in the file was fitted to either): Fossen's own Otter model,
-otter.py of his Python Vehicle Simulator at the revision our file follows, run at the same thrusts
-(the run and its numbers are in :mod:`._fossen_otter`; the program is not part of
-oceangnc). The file expresses his model term by term (his loading, his Munk-pair neglect, his cross-flow
-strip integral); both cases still deviate, for reasons measured by re-running his model with each remaining
-difference in turn (docs/vehicles.md). The BlueROV2's steady forward speed at full thrust is a prediction against the
+The Otter's comparisons with Fossen's own program (class reference implementation) are in
+:mod:`.otter_pvs`. Its speed at half thrust is an analytic check: surge is linear, so half of the calibrated
+full thrust gives half of U_max (the closed form of its own coefficients: code verification). The BlueROV2's steady forward speed at full thrust is a prediction against the
 manufacturer's rated speed. No published *measured* turning circle of the Otter nor numeric step
 response of the BlueROV2 benchmark could be found and read (each case's note says so); none is invented.
 """
@@ -22,7 +18,6 @@ from __future__ import annotations
 import numpy as np
 
 from .. import Case
-from . import _fossen_otter as fossen
 from ._common import history, in_group, plan
 
 FOSSEN_OTTER = "Fossen (2021), Handbook of Marine Craft Hydrodynamics and Motion Control, 2nd ed.: the Otter USV model"
@@ -34,11 +29,6 @@ BENZON = (
 OTTER_TURN_N = (119.682, 0.0)
 #: the Otter's half-thrust trial: each propeller at half its full thrust (shaft speed n_max / sqrt 2)
 OTTER_HALF_N = (59.841, 59.841)
-FOSSEN_PVS = (
-    "Fossen (2023), Python Vehicle Simulator, otter.py at commit 95213c15852e91380be7d8a4c45613ab0338c40a "
-    "(2023-10-15, github.com/cybergalactic/PythonVehicleSimulator): the last revision with Y_v = 0 and the Munk "
-    "moment in yaw neglected, as our file"
-)
 #: the BlueROV2's trials: a pure yaw moment through its allocation, and its 4 vertical thrusters at full
 ROV_YAW_NM = 1.0
 BLUE_SPEC = (
@@ -114,7 +104,7 @@ def otter_turning_circle(r):
     m, X, d_track = _otter_turn(r)
     x0 = np.zeros(m.nx)
     x0[6], x0[11] = 1.0, 0.2  # a guess: 1 m/s, 0.2 rad/s
-    free = ("u", "v", "w", "p", "q", "r", "z", "phi", "theta", "thrust_left", "thrust_right")
+    free = ("u", "v", "w", "p", "q", "r", "z", "phi", "theta", "shaft_left", "shaft_right")
     tr = trim(m, x0, np.r_[OTTER_TURN_N, 0.0, 0.0], free=free, zero=free)
     u, v, rr = tr.x[6], tr.x[7], tr.x[11]
     d_trim = 2.0 * float(np.hypot(u, v)) / abs(float(rr))
@@ -122,31 +112,23 @@ def otter_turning_circle(r):
     return plan(float(d_track), [("Otter, left full, right stopped", X[:, 1], X[:, 0])], published=d_trim, note=note)
 
 
-def otter_turn_fossen(r):
-    """Steady turning-circle diameter (m) of the Otter's file, left propeller full (119.682 N), right stopped,
-    read from the simulated track after 150 s, for comparison with the authors' simulation (fossen.TURN_DIAMETER)."""
-    _, X, d = _otter_turn(r)
-    u, v, rr = X[-1, 6], X[-1, 7], X[-1, 11]
-    fu, fv, fr = fossen.TURN_STEADY
-    note = (
-        f"ours: u = {u:.3f} m/s, v = {v:.3f} m/s, r = {rr:.4f} rad/s; the authors' simulation: u = {fu} m/s, "
-        f"v = {fv} m/s, r = {fr} rad/s ({fossen.RUN})"
-    )
-    north, east = np.array(fossen.TURN_TRACK).T
-    ref = [("Fossen's otter.py (95213c1), the same thrusts", east, north)]
-    return plan(float(d), [("Otter file, left full, right stopped", X[:, 1], X[:, 0])], ref, note=note)
-
-
 def otter_speed_fossen(r):
-    """Steady surge speed (m/s) of the Otter's file with both propellers at half thrust (59.841 N each), for
-    comparison with the authors' simulation (fossen.HALF_THRUST_SPEED)."""
+    """Steady surge speed (m/s) of the Otter's file with both propellers at half thrust (59.841 N each), against
+    the closed form 2 x 59.841 N / X_u of its own linear surge damping (surge is linear: no other surge force)."""
     m = _otter(r)
     t = np.arange(0.0, 120.0, 0.1)
     U = np.zeros((t.size, m.nu))
     U[:, :2] = OTTER_HALF_N
     X = m.simulate(t, U, np.zeros(m.nx), substeps=5)
-    note = f"ours: pitch {np.degrees(X[-1, 4]):.2f} deg; {fossen.RUN}"
-    return history(float(X[-1, 6]), [("Otter file, both propellers at half thrust", t, X[:, 6])], "u [m/s]", note=note)
+    ref = sum(OTTER_HALF_N) / m.p[m.layout.index("D_L")]
+    note = f"pitch {np.degrees(X[-1, 4]):.2f} deg; closed form {ref:.4f} m/s = 2 x 59.841 N / X_u"
+    return history(
+        float(X[-1, 6]),
+        [("Otter file, both propellers at half thrust", t, X[:, 6])],
+        "u [m/s]",
+        published=ref,
+        note=note,
+    )
 
 
 def _rov_steady(tau_or_thrusts, col, t_end=30.0):
@@ -316,50 +298,21 @@ CASES: list[Case] = in_group(
         basis="closed form of the published heave damping, weight and volume",
     ),
     Case(
-        "vehicle-otter-turning-circle-fossen",
-        "Otter USV (file otter.toml), left propeller at full forward thrust (119.7 N), right stopped",
-        f"{FOSSEN_PVS}; the run: {fossen.RUN}",
-        "steady turning-circle diameter",
-        "m",
-        fossen.TURN_DIAMETER,
-        "14.35 m (the authors' simulation of their model, not a measurement)",
-        ("rel", 0.05),
-        "the reference is a simulation's output, exact to 1e-4 (h = 0.02 s and 0.005 s agree); 5 % was set for "
-        "loading differences (worth 2.5 %) and is kept unchanged now that the file has his loading",
-        otter_turn_fossen,
-        kind="prediction",
-        basis="the authors' simulation of their published model; nothing in the file was fitted to a turn",
-        deviation=(
-            "ours turns tighter (12.89 m against 14.35 m, -10.2 %). The file has his loading, his neglect of the "
-            "Munk pair and his cross-flow strip integral; his program re-run with the differences that remain, in "
-            "turn, gives 13.31 m without his body-axis payload force (an artefact of his code, not copied: see "
-            "vehicle-otter-speed-fossen; -7.2 %), 13.08 m with the cross-flow integral by the midpoint rule (his "
-            "sum weights 21 stations, both ends included, by L / 20: 5 % more sway force and 21 % more pure-yaw "
-            "moment than the integral; -1.7 %) and 12.89 m with the file's inertia about the combined CG (his I_g "
-            "already holds the parallel-axis terms to CO, which M_RB = H^T M_CG H adds again; -1.5 %), ours to 1e-5"
-        ),
-    ),
-    Case(
         "vehicle-otter-speed-fossen",
         "Otter USV (file otter.toml), both propellers at half thrust (59.84 N each, n = n_max / sqrt 2)",
-        f"{FOSSEN_PVS}; the run: {fossen.RUN}",
+        f"{FOSSEN_OTTER}; the surge law X_u u = thrust, X_u = 24.4 g / U_max",
         "steady surge speed",
         "m/s",
-        fossen.HALF_THRUST_SPEED,
-        "1.639 m/s (the authors' simulation of their model, not a measurement)",
-        ("rel", 0.02),
-        "the reference is a simulation's output, exact to 1e-4; surge is linear in both models (X_u u = thrust), "
-        "and the file has his loading; 2 % also holds the thrust rounding",
+        None,
+        "2 x 59.84 N / X_u = U_max / 2 (computed)",
+        ("rel", 0.005),
+        "surge is linear and decoupled in straight running: the simulated speed is the closed form to the "
+        "transient left after 120 s",
         otter_speed_fossen,
-        kind="prediction",
-        basis="the authors' simulation at a thrust other than the calibration point (U_max at full thrust)",
-        deviation=(
-            "ours is 5.8 % slower (1.543 m/s = 2 x 59.84 N / X_u, Fossen's own surge law at half of U_max): his "
-            "model adds the payload's weight as a body-axis force R^T [0, 0, m_p g] while the hull's restoring is "
-            "G eta with no surge row, so at his -1.7 deg bow-down trim the payload's weight pushes 25 x 9.81 x "
-            "sin 1.73 deg = 7.4 N forward (+0.096 m/s); in ours weight and buoyancy both act in G eta. His model "
-            "without that force gives 1.5432 m/s, ours to 4 digits"
-        ),
+        kind="analytic",
+        basis="re-classed from prediction (issue 38): half of the calibrated full thrust gives half of the "
+        "calibrated top speed, a closed form of the file's own coefficients (code verification); the comparison "
+        "with Fossen's program is vehicle-otter-pvs-*",
     ),
     Case(
         "vehicle-bluerov2-rated-speed",
