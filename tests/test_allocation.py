@@ -18,6 +18,7 @@ KEYS = [f"rov.tau_{a}" for a in "XYZKMN"]
 @pytest.fixture(scope="module")
 def rov():
     vf = load_vehicle("bluerov2-heavy")
+    vf = vf.model_copy(update={"control": vf.control.model_copy(update={"priority": None})})  # uniform scaling
     B = thruster_matrix(vf)
     hi = np.array([t.max_forward for t in vf.thrusters])
     lo = -np.array([t.max_reverse for t in vf.thrusters])

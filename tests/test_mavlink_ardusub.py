@@ -311,6 +311,41 @@ def test_rov_goes_to_a_guided_target_and_flies_a_mission(tmp_path):
     assert abs(reached[0][1] - 1.5) <= 0.5 and abs(reached[1][1] - 3.0) <= 0.5, reached
 
 
+@pytest.mark.parametrize("mode", ["guided", "auto"])
+def test_rov_goes_astern_at_depth_and_stays_in_the_water(tmp_path, mode):
+    """Issue 38: a target 20 m astern at 2 m depth, straight from the surface (GUIDED, or an AUTO mission
+    of one item). Before the fix the ROV pitched to -51 deg (a saturated surge scaled the pitch moment
+    down with it; the Munk moment of the translating hull pitched it) and climbed 3 m out of the water.
+    Now: the hull is never clear of the water (depth of the origin > -h/2), pitch stays within 15 deg,
+    the depth is held within 0.3 m once the ROV has reached it (within 0.1 m) and the target is reached."""
+    from oceangnc.models.vehicle import load_vehicle
+
+    lp = Loop("rov-station-keeping", tmp_path)
+    try:
+        lp.wait("HEARTBEAT", 1)
+        assert lp.command(1, M.MAV_CMD_COMPONENT_ARM_DISARM, 1) == M.MAV_RESULT_ACCEPTED
+        if mode == "guided":
+            assert lp.set_mode(1, GUIDED) == M.MAV_RESULT_ACCEPTED
+            lp.mav.set_position_target_local_ned_send(0, 1, 1, M.MAV_FRAME_LOCAL_NED, 0b110111111000, -20.0, 0.0,
+                                                      2.0, 0, 0, 0, 0, 0, 0, 0, 0)  # fmt: skip
+            lp.run(50.0)
+        else:
+            assert lp.upload(1, [(0.0, 0.0, 0.0), (-20.0, 0.0, -2.0)]) == M.MAV_MISSION_ACCEPTED
+            assert lp.set_mode(1, AUTO) == M.MAV_RESULT_ACCEPTED
+            assert lp.wait("MISSION_ITEM_REACHED", 1, seconds=60.0).seq == 1
+    finally:
+        df = lp.close()
+    h = load_vehicle("bluerov2-heavy").hydrostatics.height
+    assert df["vehicle.z"].min() > -0.5 * h, df["vehicle.z"].min()
+    assert np.degrees(np.abs(df["vehicle.theta"])).max() < 15.0
+    t_ref = df.loc[(df["vehicle.z"] - 2.0).abs() < 0.1, "t"].min()
+    held = df[df["t"] >= t_ref]
+    assert len(held) > 100 and (held["vehicle.z"] - 2.0).abs().max() < 0.3, (held["vehicle.z"] - 2.0).abs().max()
+    end = df.iloc[-1]
+    # GUIDED holds the target; AUTO reports the item reached at its acceptance radius and holds there
+    assert math.hypot(end["vehicle.x"] + 20.0, end["vehicle.y"]) < (1.0 if mode == "guided" else 2.5)
+
+
 def test_rov_estop_zeroes_the_thrust_and_rearming_ramps_it_back(tmp_path):
     """MANUAL with the stick held: DO_FLIGHTTERMINATION zeroes every thruster command at once; after the reset and a
     new arm the thrust comes back as a ramp (oceangnc.core.estop, 2 s), not a step; a stick stream that stops

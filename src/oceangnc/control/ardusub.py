@@ -114,6 +114,25 @@ def depth_reference(mode, entered, z, zc, stick_z, target, up, dn, dead, dt, z_m
     return new, (new - zc) / dt, 1.0
 
 
+@njit(cache=True)
+def level_from_body(phi, theta, a, b, c):
+    """A body-axis vector (a, b, c) in the level frame of the heading: R_y(theta) R_x(phi) (Fossen 2021
+    eq. 2.18 without the yaw rotation), e.g. the body velocity to (x', y', z') of that frame."""
+    cf, sf, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
+    y = cf * b - sf * c
+    z = sf * b + cf * c
+    return np.array([ct * a + st * z, y, -st * a + ct * z])
+
+
+@njit(cache=True)
+def body_from_level(phi, theta, a, b, c):
+    """A level-frame vector (a, b, c) in the body axes: the transpose of :func:`level_from_body`."""
+    cf, sf, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
+    x = ct * a - st * c
+    z = st * a + ct * c
+    return np.array([x, cf * b + sf * z, -sf * b + cf * z])
+
+
 # -- the towed UUV's depth reference ---------------------------------------------------------------------
 
 DEPTH_SIGNALS = Signals(
@@ -227,6 +246,7 @@ def sub_rov_law(t, sig, sl, st, pa):
         for i in range(4):
             stick[i] = sig[sl[_RS.stick + i]]
     hold = np.zeros(6)
+    zrate = 0.0  # the depth reference's rate (m/s, down positive): the heave error's rate is zrate - z'
     valid = int(sig[sl[_RS.valid]]) if pilot else 0
     # depth
     if mode == NO_PILOT:
@@ -234,7 +254,7 @@ def sub_rov_law(t, sig, sl, st, pa):
         hold[2] = 1.0
     else:
         tz = sig[sl[_RS.target + 2]] if valid & 2 else math.nan
-        zc, _, hz = depth_reference(
+        zc, zrate, hz = depth_reference(
             mode, entered, z, st[_RX.zc], stick[2], tz, pa[_RP.up], pa[_RP.dn], dead, dt, pa[_RP.z_max]
         )  # fmt: skip
         st[_RX.zc] = zc
@@ -285,17 +305,29 @@ def sub_rov_law(t, sig, sl, st, pa):
     direct[1] = stick[1]
     direct[2] = -stick[2]
     direct[5] = stick[3]
+    # the held translations in the level frame of the heading (x ahead, y to starboard, z down: the errors'
+    # frame), their rates from the body velocity by roll and pitch (ż, not w, is the depth's rate)
+    lv = level_from_body(sig[sl[_RS.att]], sig[sl[_RS.att + 1]], sig[sl[_RS.vel]], sig[sl[_RS.vel + 1]],
+                         sig[sl[_RS.vel + 2]])  # fmt: skip
+    held = np.zeros(3)
+    body = np.zeros(3)
     for i in range(6):
         if hold[i] != 0.0:
-            rate = sig[sl[_RS.vel + i]] if i < 3 else sig[sl[_RS.rate + i - 3]]
-            out = pid_run(st, _RX.pid + i * _NS, pa, _RP.pid + i * _NP, e[i], dt, -rate, True, 0.0, w)
+            de = (zrate - lv[2] if i == 2 else -lv[i]) if i < 3 else -sig[sl[_RS.rate + i - 3]]
+            out = pid_run(st, _RX.pid + i * _NS, pa, _RP.pid + i * _NP, e[i], dt, de, True, 0.0, w)
         else:
             pid_clear(st, _RX.pid + i * _NS)
             out = w * pa[_RP.gain] * pa[_RP.tau_max + i] * direct[i]
         if i < 3:
-            sig[sl[_RS.force + i]] = out
+            if hold[i] != 0.0:
+                held[i] = out
+            else:
+                body[i] = out
         else:
             sig[sl[_RS.moment + i - 3]] = out
+    fb = body_from_level(sig[sl[_RS.att]], sig[sl[_RS.att + 1]], held[0], held[1], held[2])
+    for i in range(3):
+        sig[sl[_RS.force + i]] = body[i] + fb[i]
     sig[sl[_RS.ref]] = st[_RX.xc]
     sig[sl[_RS.ref + 1]] = st[_RX.yc]
     sig[sl[_RS.ref + 2]] = st[_RX.zc]

@@ -11,7 +11,9 @@ With more thrusters than DOFs this is the optimum of min f^T W f subject to B_c 
 saturation handlings, chosen per vehicle file (``control.allocator``):
 
 * ``"pinv"`` (:func:`allocation_law`): when a thrust would pass its limit (forward or reverse), the
-  whole vector f is scaled down to fit: the direction of tau_c is kept and its magnitude reduced.
+  whole vector f is scaled down to fit: the direction of tau_c is kept and its magnitude reduced. With
+  ``control.priority`` (tiers of DOFs) the tiers are scaled one after the other into what is left
+  (:mod:`oceangnc.control.priority_allocation`): a saturated surge no longer takes pitch authority.
 * ``"redistribute"`` (:func:`redistribute_law`, the redistributed pseudo-inverse, Fossen 2021 ch. 11.2;
   Bordignon & Durham 1995): the thrusters past a limit are fixed at it (set S), and the rest F
   re-allocated to what remains, f_F = W_F^-1 B_F^T (B_F W_F^-1 B_F^T)^-1 (tau_c - B_S f_S), repeated
@@ -44,10 +46,11 @@ from ..core.law import In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
 from ..core.rotations import wrap
 from ..models.vehicle import DOF_NAMES, VehicleFile, load_vehicle, thruster_matrix
+from .priority_allocation import priority_scaled, tiers
 
 # -- allocation ----------------------------------------------------------------------------------------
 
-ALLOC_HEAD = Layout("n", "period", "ramp_s")
+ALLOC_HEAD = Layout("n", "period", "ramp_s", ("tier", 6))
 A = ALLOC_HEAD.at
 A_PINV = ALLOC_HEAD.size  #: then the n x 6 pseudo-inverse (row-major), forward limits (n), reverse limits (n)
 ALLOC_STATE = Layout("w")
@@ -100,14 +103,15 @@ def _read_tau(sig, sl, tau):
 @njit(cache=True)
 def allocation_law(t, sig, sl, st, pa):
     """Thrust commands (N) for the asked generalised force (module docstring): weighted
-    pseudo-inverse, uniform scaling into the limits, zero on an e-stop and the resume ramp after it."""
+    pseudo-inverse, scaling into the limits (uniform, or by the file's priority tiers), zero on an
+    e-stop and the resume ramp after it."""
     n = int(pa[A.n])
     stop = sl[AS.estop] >= 0 and sig[sl[AS.estop]] != 0.0
     st[AX.w] = resume_weight(st[AX.w], stop, pa[A.period], pa[A.ramp_s])
     tau = np.empty(6)
     f = np.empty(n)
     _read_tau(sig, sl, tau)
-    pinv_scaled(pa, A_PINV, n, tau, f)
+    priority_scaled(pa, A_PINV, n, tau, f, A.tier)  # one tier: the uniform scaling of pinv_scaled
     for i in range(n):
         sig[sl[AS.thrust + i]] = f[i] * st[AX.w]
 
@@ -246,7 +250,7 @@ class ThrustAllocation(LawBlock):
             estop="_estop",
             thrust=[f"{body}.thrust_{t.name}_cmd" for t in vf.thrusters],
         )
-        head = ALLOC_HEAD.pack(n=n, period=period, ramp_s=RESUME_RAMP_S)
+        head = ALLOC_HEAD.pack(n=n, period=period, ramp_s=RESUME_RAMP_S, tier=tiers(vf.control.priority, DOF_NAMES))
         fwd = [t.max_forward for t in vf.thrusters]
         rev = [t.max_reverse for t in vf.thrusters]
         self.pa = np.concatenate([head, allocation_matrix(vf).ravel(), fwd, rev])

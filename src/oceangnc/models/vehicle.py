@@ -75,6 +75,7 @@ from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
+from ._surface import immersed_fraction, lost_buoyancy
 from ._crossflow import HOERNER_B_2T, HOERNER_CD, CrossFlow, hoerner_cd  # noqa: F401 (re-exported)
 from ._mass_parts import RigidBody
 from ._shaft import SHAFT_FIELDS, Shaft, shaft_thrust
@@ -108,6 +109,8 @@ LAYOUT_HEAD = ParamLayout(
         Param("cf_dx", "m", description="strip width L / n"),
         Param("cf_strips", "1", derived=True, description="number of cross-flow strips n (0: no cross-flow drag)"),
         Param("n_thrusters", "1", derived=True, description="number of thrusters in the table"),
+        Param("hull_height", "m", description="height of the buoyancy ramp at the surface (0: no free surface)"),
+        Param("thr_immersion", "m", description="height of a thruster's thrust ramp at the surface (0: none)"),
         Param(
             "W_p", "N", description="weight added as a body-axis force on top of G eta (otter.py's payload; 0: none)"
         ),
@@ -119,6 +122,7 @@ P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
     "M_RB", "M_A", "M_inv", "D_L", "D_Q", "D_U", "munk_yaw", "n_thrusters"
 )
 P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
+P_HH, P_TIMM = LAYOUT_HEAD.indices("hull_height", "thr_immersion")
 P_WP, P_RP = LAYOUT_HEAD.indices("W_p", "r_p")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
 T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU, T_SHAFT = range(10)
@@ -202,6 +206,11 @@ def vehicle_deriv(t, x, u, p, out):
         tau[5] += p[P_RP] * fy - p[P_RP + 1] * fx
     else:
         g0, g1, g2, g3, g4, g5 = restoring(p, P_W, P_B, P_RG, P_RB, cf, sf, ct, st)
+        if p[P_HH].real > 0.0:  # the buoyancy of the emerged volume is lost (models._surface)
+            xb, yb, zb = p[P_RB], p[P_RB + 1], p[P_RB + 2]
+            lost = (1.0 - immersed_fraction(x[2] + r20 * xb + r21 * yb + r22 * zb, p[P_HH])) * p[P_B]
+            l0, l1, l2, l3, l4, l5 = lost_buoyancy(lost, xb, yb, zb, cf, sf, ct, st)
+            g0, g1, g2, g3, g4, g5 = g0 + l0, g1 + l1, g2 + l2, g3 + l3, g4 + l4, g5 + l5
         tau[0] -= g0
         tau[1] -= g1
         tau[2] -= g2
@@ -227,12 +236,14 @@ def vehicle_deriv(t, x, u, p, out):
         else:
             thrust = cmd
             out[12 + i] = 0.0
-        fx = thrust * p[k + T_DX]
-        fy = thrust * p[k + T_DY]
-        fz = thrust * p[k + T_DZ]
         rx = p[k + T_X]
         ry = p[k + T_Y]
         rz = p[k + T_Z]
+        if p[P_TIMM].real > 0.0:  # no thrust out of the water (models._surface)
+            thrust = thrust * immersed_fraction(x[2] + r20 * rx + r21 * ry + r22 * rz, p[P_TIMM])
+        fx = thrust * p[k + T_DX]
+        fy = thrust * p[k + T_DY]
+        fz = thrust * p[k + T_DZ]
         tau[0] += fx
         tau[1] += fy
         tau[2] += fz
@@ -272,6 +283,19 @@ class Hydrostatics(StrictModel):
     rho: float = Field(1025.0, gt=900, le=1100, description="water density, kg/m^3")
     volume: float | None = Field(None, gt=0, le=1e6, description="displaced volume (submerged), m^3")
     r_b: Vec3 = Field((0.0, 0.0, 0.0), description="centre of buoyancy from CO, m")
+    height: float | None = Field(
+        None,
+        gt=0,
+        le=100,
+        description="submerged: hull height over which the buoyancy ramps to zero as the hull emerges, m "
+        "(none: no free surface; oceangnc.models._surface)",
+    )
+    thruster_immersion: float | None = Field(
+        None,
+        gt=0,
+        le=10,
+        description="submerged: height over which a thruster's thrust ramps to zero out of the water, m",
+    )
     G: Vec6 | tuple[Vec6, Vec6, Vec6, Vec6, Vec6, Vec6] | None = Field(
         None, description="linear restoring: spring matrix on eta (diagonal or 6 x 6), N/m, N, N m"
     )
@@ -337,6 +361,13 @@ class Control(StrictModel):
         "pinv",
         description="pinv: weighted pseudo-inverse scaled into the limits; redistribute: saturated thrusters "
         "fixed at their limits and the rest re-allocated (oceangnc.control.thrust_allocation)",
+    )
+    priority: list[list[Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]]] | None = Field(
+        None,
+        min_length=1,
+        max_length=6,
+        description="pinv: tiers of DOFs served first to last past a thrust limit (oceangnc.control."
+        "priority_allocation); none: one tier, uniform scaling",
     )
 
 
@@ -496,6 +527,8 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "W_p": bw.mass * G if bw is not None and bw.apply else 0.0,
             "r_p": bw.r if bw is not None else (0.0, 0.0, 0.0),
             "n_thrusters": len(vf.thrusters),
+            "hull_height": h.height or 0.0,
+            "thr_immersion": h.thruster_immersion or 0.0,
         }
     )
     rows = []

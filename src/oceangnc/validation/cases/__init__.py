@@ -11,7 +11,7 @@ horizons are the scenarios' own (the survey ends at its last waypoint, ~40 s).
 from __future__ import annotations
 
 from .. import Case
-from . import berthing, cable, checks, combined, first_order, identification, otter_pvs, usv, vehicles
+from . import berthing, bluerov2_heavy, cable, checks, combined, first_order, identification, otter_pvs, usv, vehicles
 from ._common import D000, D001, D002, D003
 from .berthing import CHANNEL_SHORT
 from .first_order import TABLE2, TRIALS_SHORT
@@ -22,6 +22,7 @@ CASES: list[Case] = [
     *usv.CASES,
     *vehicles.CASES,
     *otter_pvs.CASES,
+    *bluerov2_heavy.CASES,
     *cable.CASES,
     *checks.CASES,
     *combined.CASES,
