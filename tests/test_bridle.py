@@ -122,3 +122,20 @@ def test_a_snatch_on_the_bridle_does_not_roll_the_hull():
         wire = max(wire, pl.p[int(pl.p[H_BRI]) + B_T : int(pl.p[H_BRI]) + B_T + 3].max())
     assert wire > 300.0  # the snatch happened (the wires take several times the UUV's 118 N)
     assert roll < 10.0
+
+
+def test_the_built_cable_hangs_the_uuv_at_the_field_tests_start_depth():
+    """field-test's fitted rig (scenarios/combined.py _BUILT: apex 1.25 m, cable paid out to 1.692 m) hangs the
+    UUV at 003's initial 3 m (fig 6-17) in still water, so the run starts without a drop onto a slack cable:
+    the centre settles within 3 cm of 3 m. On 3 m of cable the same bridle hangs it 1.2 m deeper."""
+    from oceangnc.scenarios.combined import _BUILT
+
+    cc = CableConfig(**_BUILT)
+    assert cc.attachment == "bridle" and cc.bridle.apex_z < -1.0
+    pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.0), cc, top="fixed")
+    pl.reset()
+    t = 0.0
+    while t < 20.0 - 1e-9:
+        t = pl.advance(t, 0.01, 100)
+    assert pl.x[pl.o_uuv + 2] == pytest.approx(3.0, abs=0.03)
+    assert abs(math.degrees(pl.x[pl.o_uuv + 4])) < 0.5  # level: the apex over the CB
