@@ -70,7 +70,8 @@ def run(out: Path, workers: int = 0) -> list[dict]:
         grid = {"cable.bridle.apex_z": APEX_Z, "formation.l_d": L_D}
         res = sweep("field-test", grid=grid, overrides=fixed, workers=workers, out=out / f"geometry-{s:g}")
         rows += _rows(res, {"cable.attachment": "bridle", "spacing_m": s})
-    res = sweep("field-test", grid=FORMATION, overrides=bri, workers=workers, out=out / "formation")
+    res = sweep("field-test", grid=FORMATION, overrides={**bri, "cable.bridle.apex_z": -1.0}, workers=workers,
+                out=out / "formation")  # fmt: skip
     rows += _rows(res, {"cable.attachment": "bridle", "spacing_m": 0.6})
     res = sweep("field-test", grid={"formation.l_d": L_D}, overrides={**bri, "cable.attachment": "single"}, workers=workers,
                 out=out / "single")  # fmt: skip
