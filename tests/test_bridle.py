@@ -107,8 +107,8 @@ def test_a_snatch_on_the_bridle_does_not_roll_the_hull():
     sideways (-3 N), as the PID does at the start. A colinear bridle restores roll only by the cable's tension on
     the hull's top line, 0.125 m above the CB, and W z_G: the roll stays under 10 deg. Before the junction's
     Newton kept its best point (backtracking on the balance's residual), an unconverged solve left the junction
-    up to 0.2 m off the centre line under the snatch and rolled the hull 44 deg in 0.8 s (62.7 deg in the field
-    test, and over 700 deg on a 2 m bridle)."""
+    where up to 700 N were unbalanced under the snatch, and the hull rolled 44 deg in 0.8 s (62.7 deg in the
+    field test, and over 700 deg on a 2 m bridle)."""
     cc = CableConfig(attachment="bridle", integrator="imex")
     pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.0), cc, top="usv")
     pl.reset()

@@ -22,7 +22,7 @@ EPS_K (r_A - r_J) toward the apex makes the junction determinate while everythin
 Why damped (issue 38): both the wires (0.7 MN/m) and the last segment (EA/l0 = 25 kN/m) are tension
 only, and a full Newton step from the apex crosses their kinks. Undamped, the solve cycled when the
 cable snatched taut (the field test's start drops the UUV by the bridle's height onto its slack cable)
-and ended on its last iterate: up to 0.2 m off the centre line with 700 N unbalanced. The cable's end
+and ended on its last iterate, with up to 700 N unbalanced (a snatch of ~160 N). The cable's end
 jumped with it and the hull, whose roll is restored only by T times the 0.125 m of its top line and by
 W z_G, rolled 44-63 deg in the first second (over 700 deg on a 2 m bridle). Damped, the same start
 rolls it under 10 deg (``tests/test_bridle.py``).
