@@ -98,3 +98,44 @@ def test_cli_bad_bridle_key_is_one_line_exit_2(capsys):
     assert main(["run", "field-test", "--set", "cable.bridle.apex_z=-50", "--no-plots", "--duration", "1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "cable.bridle.apex_z" in err[0] and "-20" in err[0]
+
+
+def test_a_snatch_on_the_bridle_does_not_roll_the_hull():
+    """The field test's start (issue 38): the UUV released 3 m deep on 3 m of cable with the junction 1 m above
+    its centre, so the cable is slack by the bridle's height; the UUV falls and the cable snatches taut (the wires
+    carry 0.8 kN for a step) while the stern thrusters back it away (2 x -31 N) and the bow thruster pushes
+    sideways (-3 N), as the PID does at the start. A colinear bridle restores roll only by the cable's tension on
+    the hull's top line, 0.125 m above the CB, and W z_G: the roll stays under 10 deg. Before the junction's
+    Newton kept its best point (backtracking on the balance's residual), an unconverged solve left the junction
+    where up to 700 N were unbalanced under the snatch, and the hull rolled 44 deg in 0.8 s (62.7 deg in the
+    field test, and over 700 deg on a 2 m bridle)."""
+    cc = CableConfig(attachment="bridle", integrator="imex")
+    pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.0), cc, top="usv")
+    pl.reset()
+    o = pl.o_uuv
+    pl.u[6] = pl.u[7] = -31.0  # uuv.thrust_port, uuv.thrust_stbd (N)
+    pl.u[8] = -3.0  # uuv.thrust_bow (N)
+    t, roll, wire = 0.0, 0.0, 0.0
+    for _ in range(150):  # 1.5 s: the fall, the snatch (~0.4 s) and the first rebound
+        t = pl.advance(t, 0.01, 1)
+        roll = max(roll, abs(math.degrees(pl.x[o + 3])))
+        wire = max(wire, pl.p[int(pl.p[H_BRI]) + B_T : int(pl.p[H_BRI]) + B_T + 3].max())
+    assert wire > 300.0  # the snatch happened (the wires take several times the UUV's 118 N)
+    assert roll < 10.0
+
+
+def test_the_built_cable_hangs_the_uuv_at_the_field_tests_start_depth():
+    """field-test's fitted rig (scenarios/combined.py _BUILT: apex 1.25 m, cable paid out to 1.692 m) hangs the
+    UUV at 003's initial 3 m (fig 6-17) in still water, so the run starts without a drop onto a slack cable:
+    the centre settles within 3 cm of 3 m. On 3 m of cable the same bridle hangs it 1.2 m deeper."""
+    from oceangnc.scenarios.combined import _BUILT
+
+    cc = CableConfig(**_BUILT)
+    assert cc.attachment == "bridle" and cc.bridle.apex_z < -1.0
+    pl = CombinedPlant(USVConfig(), UUVConfig(z0=3.0), cc, top="fixed")
+    pl.reset()
+    t = 0.0
+    while t < 20.0 - 1e-9:
+        t = pl.advance(t, 0.01, 100)
+    assert pl.x[pl.o_uuv + 2] == pytest.approx(3.0, abs=0.03)
+    assert abs(math.degrees(pl.x[pl.o_uuv + 4])) < 0.5  # level: the apex over the CB

@@ -394,15 +394,15 @@ def test_flagship_geometry_and_the_dragged_uuv():
 
 def test_field_pitch_is_a_calibration_that_fails_when_its_choice_moves(runner):
     """Class calibration target: the field test's pitch passes with the bridle's apex height and the formation
-    target l^d = 1.0 m chosen against it (docs/validation/bridle_sweep.csv); 20 % more l^d trails the UUV
-    further behind its cable, whose forward lean then pitches it out of the widened band. The bridle's
-    stiffness case (analytic) holds for both: it does not depend on the formation."""
+    target l^d = 0.4 m fitted to it, the depth and the distance (docs/validation/bridle_fit.csv); 50 % more l^d
+    trails the UUV further behind its cable, whose forward lean then pitches it out of the widened band. The
+    bridle's stiffness case (analytic) holds for both: it does not depend on the formation."""
     by = {c.id: c for c in CASES}
     case = by["003-ch6.2-field-pitch"]
     assert case.kind == "calibration" and "l_d" in case.basis and "apex_z" in case.basis
     base = run_case(case, runner)
     assert base.status == "pass" and -6.0 <= base.measured.value <= 0.0
-    r = Runner({"formation.l_d": 1.2})
+    r = Runner({"formation.l_d": 0.6})
     try:
         moved = run_case(case, r)
         stiff = run_case(by["physics-bridle-pitch-stiffness"], r)

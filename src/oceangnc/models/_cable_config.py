@@ -18,8 +18,9 @@ class BridleConfig(StrictModel):
     (z = -d/2 = -0.125 m for table 2-5's 0.25 m hull), 0.6 m fore and aft of the centre of buoyancy (a
     third of the 1.79 m hull); the wires rigged to meet at an apex on the centre of buoyancy's vertical,
     so that the hull hangs level in still water (the usual rule for a sling), 1.0 m above the centre of
-    buoyancy: the height picked from the sweep docs/validation/bridle_sweep.csv with the field test's
-    pitch in view (a calibration, docs/combined-vehicle.md 'The three-point bridle')."""
+    buoyancy by default (a round rig height). The vehicle as built (``field-test``) uses 1.25 m, fitted with
+    its formation target to 003's pitch, depth and distance (docs/validation/bridle_fit.py, a calibration:
+    docs/combined-vehicle.md 'The three-point bridle')."""
 
     fore_x: float = Field(0.6, ge=-10, le=10, description="fore hull point, body x (ahead of the CB), m")
     fore_y: float = Field(0.0, ge=-5, le=5, description="fore hull point, body y (starboard), m")

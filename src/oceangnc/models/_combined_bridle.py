@@ -14,7 +14,18 @@ quasi-statically at every right-hand-side evaluation: its body position r_J sati
 with F_c the force of the cable's last segment on it (tension, axial damping, half the segment's drag
 and submerged weight: :func:`~oceangnc.models.cable.cable_loads`, the same call the single point uses),
 and the junction moving with the hull (v_J = R (v + omega x r_J)). Newton on r_J with the tangent
-stiffness of the wires and of the last segment, K = EA/L t t^T + T/d (I - t t^T) (taut only).
+stiffness of the wires and of the last segment, K = EA/L t t^T + T/d (I - t t^T) (taut only), damped:
+a step that does not lower the balance's residual is halved (:func:`search`), and the junction
+returned is the last accepted point, so never one worse balanced than the rigged apex. A weak anchor
+EPS_K (r_A - r_J) toward the apex makes the junction determinate while everything is slack.
+
+Why damped (issue 38): both the wires (0.7 MN/m) and the last segment (EA/l0 = 25 kN/m) are tension
+only, and a full Newton step from the apex crosses their kinks. Undamped, the solve cycled when the
+cable snatched taut (the field test's start drops the UUV by the bridle's height onto its slack cable)
+and ended on its last iterate, with up to 700 N unbalanced (a snatch of ~160 N). The cable's end
+jumped with it and the hull, whose roll is restored only by T times the 0.125 m of its top line and by
+W z_G, rolled 44-63 deg in the first second (over 700 deg on a 2 m bridle). Damped, the same start
+rolls it under 10 deg (``tests/test_bridle.py``).
 
 **Why the UUV needs nothing else.** Each wire force acts along the line through h_i and r_J, so the
 moment of the three about the centre of buoyancy is sum h_i x (-T_i u_i) = r_J x F_c: the bridle acts on
@@ -62,18 +73,21 @@ BRIDLE = ParamLayout(
         ("mass", "kg", 12),
         ("jac", "N/m", 6),
         ("saved", "m", 3),
+        ("residual", "N"),
     ]
 )
-B_HULL, B_LEN, B_EA, B_APEX, B_T, B_RJ, B_POS, B_VEL, B_F, B_MN, B_J, B_SAVE = BRIDLE.indices(
-    "hull", "length", "ea", "apex", "tension", "junction", "pos", "vel", "force", "mass", "jac", "saved"
+B_HULL, B_LEN, B_EA, B_APEX, B_T, B_RJ, B_POS, B_VEL, B_F, B_MN, B_J, B_SAVE, B_RES = BRIDLE.indices(
+    "hull", "length", "ea", "apex", "tension", "junction", "pos", "vel", "force", "mass", "jac", "saved", "residual"
 )
 #: regularisation of the Newton matrix (N/m): keeps it invertible while every wire and the segment are
 #: slack (then there is no force to balance), negligible against the geometric stiffness T/d of a
 #: taut wire (~300 N/m at the survey tension)
 EPS_K = 1.0
-NEWTON_MAX = 40
+NEWTON_MAX = 60
 STEP_MAX = 0.05  # m, per Newton step
 STEP_TOL = 1e-12  # m
+RES_TOL = 1e-7  # N: an accepted point balanced to this is the junction
+LAM_MIN = 1.0 / 1024.0  # smallest step fraction of the backtracking before a point is taken anyway
 
 
 def bridle_block(bridle) -> np.ndarray:
@@ -136,43 +150,68 @@ def add_tangent(J, k_axial, tension, length, tx, ty, tz):
 
 
 @njit(cache=True)
-def newton_step(p, ob, rx, ry, rz, fx, fy, fz, J):
-    """One Newton step of the junction: the residual is the external force (fx, fy, fz) (N, body) plus
-    the wires' pull at r; ``J`` holds the external force's stiffness on entry (wires' added here).
-    Returns the new junction (body, m) and the step's length (m, at most ``STEP_MAX``)."""
+def junction_newton(p, ob, rx, ry, rz, fx, fy, fz, J):
+    """The junction's residual and Newton step at body point r (m): the residual G (N, body) is the external
+    force (fx, fy, fz) plus the wires' pull plus the anchor EPS_K (r_A - r) toward the rigged apex r_A; ``J``
+    holds the external force's stiffness on entry (the wires' and the anchor's added here). Returns the
+    residual's norm (N) and the step (K + EPS_K I)^-1 G (m), at most ``STEP_MAX`` long."""
     wx, wy, wz = wire_loads(p, ob, rx, ry, rz, J)
+    gx = fx + wx + EPS_K * (p[ob + B_APEX] - rx)
+    gy = fy + wy + EPS_K * (p[ob + B_APEX + 1] - ry)
+    gz = fz + wz + EPS_K * (p[ob + B_APEX + 2] - rz)
     J[0] += EPS_K
     J[3] += EPS_K
     J[5] += EPS_K
-    dx, dy, dz = solve_sym3(J, _I0, fx + wx, fy + wy, fz + wz)
+    dx, dy, dz = solve_sym3(J, _I0, gx, gy, gz)
     s = math.sqrt(dx * dx + dy * dy + dz * dz)
     if s > STEP_MAX:
         f = STEP_MAX / s
         dx *= f
         dy *= f
         dz *= f
-        s = STEP_MAX
-    return rx + dx, ry + dy, rz + dz, s
+    return math.sqrt(gx * gx + gy * gy + gz * gz), dx, dy, dz
+
+
+@njit(cache=True)
+def search(rx, ry, rz, res, nx, ny, nz, qx, qy, qz, qres, dx, dy, dz, lam):
+    """One move of the damped Newton on the junction (backtracking on the residual's norm).
+
+    r was just evaluated (residual norm ``res`` N, Newton step n); q is the last accepted point (residual
+    ``qres``), d the step tried from it with factor ``lam``. A point that does not lower the residual by
+    the Armijo fraction 1e-4 lam is rejected and the step from q halved (down to ``LAM_MIN``); otherwise it
+    is accepted and its full Newton step tried next. Returns the next point to evaluate, the updated
+    (q, qres, d, lam) and whether the solve is done (step under ``STEP_TOL`` or residual under ``RES_TOL``
+    at an accepted point)."""
+    if res > (1.0 - 1e-4 * lam) * qres and lam > LAM_MIN:
+        lam *= 0.5
+        return qx + lam * dx, qy + lam * dy, qz + lam * dz, qx, qy, qz, qres, dx, dy, dz, lam, False
+    done = res < RES_TOL or math.sqrt(nx * nx + ny * ny + nz * nz) < STEP_TOL
+    return rx + nx, ry + ny, rz + nz, rx, ry, rz, res, nx, ny, nz, 1.0, done
 
 
 @njit(cache=True)
 def junction_under_force(p, ob, fx, fy, fz):
     """The junction (body, m) under a fixed external force (N, body frame; the pitch stiffness of
-    :func:`pitch_stiffness`), by :func:`newton_step` from the rigged apex."""
+    :func:`pitch_stiffness`), by the damped Newton of :func:`search` from the rigged apex."""
     J = p[ob + B_J : ob + B_J + 6]
     rx = p[ob + B_APEX]
     ry = p[ob + B_APEX + 1]
     rz = p[ob + B_APEX + 2]
+    qx, qy, qz, qres, dx, dy, dz, lam = rx, ry, rz, math.inf, 0.0, 0.0, 0.0, 1.0
     for _ in range(NEWTON_MAX):
         for k in range(6):
             J[k] = 0.0
-        rx, ry, rz, s = newton_step(p, ob, rx, ry, rz, fx, fy, fz, J)
-        if s < STEP_TOL:
+        res, nx, ny, nz = junction_newton(p, ob, rx, ry, rz, fx, fy, fz, J)
+        rx, ry, rz, qx, qy, qz, qres, dx, dy, dz, lam, done = search(
+            rx, ry, rz, res, nx, ny, nz, qx, qy, qz, qres, dx, dy, dz, lam
+        )
+        if done:
             break
-    p[ob + B_RJ] = rx
-    p[ob + B_RJ + 1] = ry
-    p[ob + B_RJ + 2] = rz
-    return rx, ry, rz
+    p[ob + B_RJ] = qx
+    p[ob + B_RJ + 1] = qy
+    p[ob + B_RJ + 2] = qz
+    p[ob + B_RES] = qres
+    return qx, qy, qz
 
 
 def pitch_stiffness(cable_cfg, uuv_cfg, tension: float, lean_deg: float = 0.0, dtheta: float = 1e-4):

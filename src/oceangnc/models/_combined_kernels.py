@@ -53,7 +53,20 @@ from ._combined_layout import (
     rot_add,
     cross_add,
 )
-from ._combined_bridle import B_APEX, B_F, B_J, B_MN, B_POS, B_RJ, B_VEL, NEWTON_MAX, STEP_TOL, add_tangent, newton_step
+from ._combined_bridle import (
+    B_APEX,
+    B_F,
+    B_J,
+    B_MN,
+    B_POS,
+    B_RES,
+    B_RJ,
+    B_VEL,
+    NEWTON_MAX,
+    add_tangent,
+    junction_newton,
+    search,
+)
 from ._combined_winch import _winch_rhs
 from .cable import cable_loads, segment, solve_sym3
 from .usv import _M11, _M22, _M33, usv_rhs
@@ -246,9 +259,10 @@ def cable_state(x, p, nodes, ends):
 @njit(cache=True)
 def bridle_update(x, p, n, vcn, vce):
     """The bridle's junction (:mod:`._combined_bridle`) at state ``x``, written into the UUV's tow point
-    r_c: Newton from the rigged apex on the balance of the last cable segment's force on the junction
-    (:func:`_loads` on a one-segment view, as :func:`cable_state`; the junction moving with the hull)
-    and the three wires' pull. Current (m/s, NED) ``vcn``, ``vce``."""
+    r_c: the damped Newton of :func:`._combined_bridle.search` from the rigged apex on the balance of the
+    last cable segment's force on the junction (:func:`_loads` on a one-segment view, as :func:`cable_state`;
+    the junction moving with the hull) and the three wires' pull; its residual (N) at ``B_RES``. Current
+    (m/s, NED) ``vcn``, ``vce``."""
     ob = int(p[H_BRI])
     pos = p[ob + B_POS : ob + B_POS + 6]
     vel = p[ob + B_VEL : ob + B_VEL + 6]
@@ -271,9 +285,10 @@ def bridle_update(x, p, n, vcn, vce):
         lbd = 0.0
         l0 = p[H_L0]
     o, R, rx, ry, rz = tow_frame(x, p)
-    rx = p[ob + B_APEX]  # Newton starts from the rigged apex at every call (no history)
+    rx = p[ob + B_APEX]  # the damped Newton starts from the rigged apex at every call (no history)
     ry = p[ob + B_APEX + 1]
     rz = p[ob + B_APEX + 2]
+    qx, qy, qz, qres, sx, sy, sz, lam = rx, ry, rz, math.inf, 0.0, 0.0, 0.0, 1.0
     sea = p[H_SEA] > 0.0
     for _ in range(NEWTON_MAX):
         pos[3], pos[4], pos[5] = rot_add(R, x[o], x[o + 1], x[o + 2], rx, ry, rz)
@@ -295,9 +310,14 @@ def bridle_update(x, p, n, vcn, vce):
             ty = R[1] * dx + R[4] * dy + R[7] * dz
             tz = R[2] * dx + R[5] * dy + R[8] * dz
             add_tangent(J, p[H_EA] / l0, p[H_EA] * (ln - l0) / l0, ln, tx / ln, ty / ln, tz / ln)
-        rx, ry, rz, s = newton_step(p, ob, rx, ry, rz, fx, fy, fz, J)
-        if s < STEP_TOL:
+        res, nx, ny, nz = junction_newton(p, ob, rx, ry, rz, fx, fy, fz, J)
+        rx, ry, rz, qx, qy, qz, qres, sx, sy, sz, lam, done = search(
+            rx, ry, rz, res, nx, ny, nz, qx, qy, qz, qres, sx, sy, sz, lam
+        )
+        if done:
             break
+    rx, ry, rz = qx, qy, qz  # the last accepted point
+    p[ob + B_RES] = qres
     p[ob + B_RJ] = rx
     p[ob + B_RJ + 1] = ry
     p[ob + B_RJ + 2] = rz

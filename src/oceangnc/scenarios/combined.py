@@ -10,7 +10,8 @@
 * ``field-test`` (003 ch. 6.2, figs. 6-13 to 6-19): waypoints (50,0) (50,-50) (0,-50) (0,0), USV
   target 1.3 m/s, PID, sensors on (GPS, AHRS, USBL, depth sensor), guidance and control on the
   measured signals; the vehicle as built: the UUV on the three-point bridle of 003 fig. 5-6
-  (``cable.attachment = "bridle"``), held 1.0 m astern (``formation.l_d``).
+  (``cable.attachment = "bridle"``, apex 1.25 m above the CB, 1.692 m of cable: the UUV hangs at 3 m), held
+  0.4 m astern (``formation.l_d``); both fitted to 003's pitch, depth and distance (docs/validation/bridle_fit.py).
 
 The chain each control period (blocks fire in this order): environment -> sensors (if on) -> USBL
 dropout hold and navigation -> pure pursuit (USV) and leader-follower (UUV) guidance -> USV loops
@@ -358,10 +359,16 @@ class CombinedScenario(Scenario):
 #: explicit scheme of the first releases.
 _SIM = {"dt": 0.01, "log_rate": 10.0}
 _CABLE = {"integrator": "imex"}
-#: the vehicle as built (003 ch. 5-6): towed through the three-point bridle of fig. 5-6, and held 1.0 m astern
-#: (ch. 6.2 prints no formation; the close 0.5 m of the ch. 4 survey left the UUV ahead of its cable, pitched
-#: nose-up; docs/combined-vehicle.md 'The three-point bridle', sweep docs/validation/bridle_sweep.csv)
-_BUILT = {**_CABLE, "attachment": "bridle"}
+#: the vehicle as built (003 ch. 5-6): towed through the three-point bridle of fig. 5-6. Its rig height and the
+#: formation target, which 003 does not print, are a least-squares fit to 003's pitch (-2..-4 deg, ch. 6.2), depth
+#: (3 -> 2.75 m, fig. 6-17) and formation distance (within 0.8 m, ch. 6.1.2) on a grid of field-test runs
+#: (docs/validation/bridle_fit.py, table docs/validation/bridle_fit.csv, residuals in docs/validation.md): apex
+#: 1.25 m above the CB, l^d = 0.4 m. The cable is paid out so that the UUV hangs at 003's initial 3 m (fig. 6-17;
+#: ch. 5.2: the winch sets the depth): 3 m - 1.25 m less its static stretch under the UUV (bridle_fit.hang_length)
+BUILT_APEX_H = 1.25
+BUILT_LENGTH = 1.692
+BUILT_L_D = 0.4
+_BUILT = {**_CABLE, "attachment": "bridle", "length": BUILT_LENGTH, "bridle": {"apex_z": -BUILT_APEX_H}}
 
 SCENARIOS = [
     CombinedScenario(
@@ -385,7 +392,7 @@ SCENARIOS = [
         {
             "sim": {**_SIM, "duration": 500.0},
             "cable": _BUILT,
-            "formation": {"l_d": 1.0},
+            "formation": {"l_d": BUILT_L_D},
             "guidance": {"waypoints": [(0.0, 0.0), (50.0, 0.0), (50.0, -50.0), (0.0, -50.0), (0.0, 0.0)]},
             "control": {"surge_speed": 1.3, "uuv": {"kind": "pid"}},
             "sensors": {"enabled": True},

@@ -299,10 +299,10 @@ _DEV_BS = (
     "formation target sits where the towed UUV trails anyway; see docs/combined-vehicle.md 'The flagship result'."
 )
 _DEV_FIELD_DEPTH = (
-    "On the bridle the UUV's centre hangs the bridle's height (1.0 m, unprinted) below the cable's end: 3.92 m on "
-    "the 3 m cable, and on a single point 3.23 m. A rise to 2.75 m needs a shorter paid-out cable (003 ch. 5: the "
-    "winch sets the depth; ch. 6.2 prints no length) or the UUV 1.2-1.8 m behind its hanging point; the sweep "
-    "docs/validation/bridle_sweep.csv shows 3.4-4.9 m for every bridle and formation on 3 m of cable."
+    "The fit of the bridle's apex height and l^d to 003's pitch, depth and distance at once (docs/validation/"
+    "bridle_fit.csv: the cable paid out to hang the UUV at 003's initial 3 m, apex 1.25 m, l^d = 0.4 m) leaves the "
+    "depth at 2.80 m, 1.05 tolerances deep: along the fit's valley (apex 0.75-1.25 m at l^d 0.4 m) it stays "
+    "2.78-2.83 m. On the 3 m cable of ch. 4 the bridle hangs the UUV its height deeper: 3.43-4.43 m on the grid."
 )
 _DEV_FIELD_LEGS = (
     "Our USV runs the 50 m legs at 0.96 m/s, not the 1.3 m/s that 003's turn times imply (50 m in 38.5 s): its "
@@ -469,7 +469,10 @@ CASES: list[Case] = in_group(
         "'about 2.75' read to ±0.05 m",
         field_depth,
         deviation=_DEV_FIELD_DEPTH,
-        **_PRED,
+        kind="calibration",
+        basis="one of the three numbers the bridle's apex height (cable.bridle.apex_z = -1.25 m) and formation target "
+        "(formation.l_d = 0.4 m) are fitted to by least squares (docs/validation/bridle_fit.py); the cable's length "
+        "(1.692 m) hangs the UUV at 003's initial 3 m",
     ),
     Case(
         "003-ch6.2-field-pitch",
@@ -484,9 +487,9 @@ CASES: list[Case] = in_group(
         "swings by 2-4 deg",
         field_pitch,
         kind="calibration",
-        basis="the bridle's apex height cable.bridle.apex_z = -1.0 m and the formation target formation.l_d = 1.0 m, "
-        "chosen from the sweep docs/validation/bridle_sweep.csv with this band in view (003 prints neither); the "
-        "single point gives -36 deg",
+        basis="the bridle's apex height cable.bridle.apex_z = -1.25 m and the formation target formation.l_d = 0.4 m, "
+        "fitted by least squares to this range, 003's depth (fig 6-17) and its 0.8 m distance (ch. 6.1.2) at once "
+        "(docs/validation/bridle_fit.py; 003 prints neither); the single point gives -36 deg",
     ),
     Case(
         "physics-bridle-pitch-stiffness",
