@@ -9,7 +9,10 @@ maximum over the logged rows.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import pytest
 
 from oceangnc.models._combined_events import (
     E_ARMED,
@@ -127,3 +130,36 @@ def test_tow_sea_state_log_rate_changes_no_count_or_maximum(tmp_path):
         w = r.df[r.df["t"] >= 10.0]
         assert w["cable.top_tension"].max() <= ref["cable.top_max_N"] + 1e-9
     assert res[100.0].df["cable.top_tension"].size > 5 * res[10.0].df["cable.top_tension"].size
+
+
+def test_named_criteria_and_per_cable_load_limits(tmp_path):
+    """One tow summarised under each criterion: static-fraction fails when the least tension is below the
+    fraction of the static tension and passes below it; the load limit is the SWL, or the MBL over its
+    factor, when chosen; a load limit without its value is refused naming the key."""
+    import oceangnc
+    from oceangnc.errors import ConfigError
+    from oceangnc.io.config import validate
+    from oceangnc.scenarios.sea_state import SeaLimits, sea_summary, static_tension
+
+    r = oceangnc.run("tow-sea-state", duration=20.0, plots=False, overrides={"analysis.settle_s": 10.0}, out=tmp_path)
+    cfg, df, s = r.config, r.df, r.summary
+    static = static_tension(cfg)
+    assert static == s["cable.static_tension_N"] > 0.0
+    least = min(s["cable.top_min_N"], s["cable.bottom_min_N"])
+
+    def summary(**lim):
+        c = cfg.model_copy(update={"limits": cfg.limits.model_copy(update=lim)})
+        return sea_summary(df, c)
+
+    assert summary(criterion="static-fraction", min_tension_fraction=0.9 * least / static)["limits.no_snap"] == 1
+    assert summary(criterion="static-fraction", min_tension_fraction=min(1.0, 1.1 * least / static))[
+        "limits.no_snap"
+    ] == int(least >= static)
+    top = s["cable.top_max_N"]
+    assert summary(load_limit="swl", swl_N=1.01 * top)["limits.tension_ok"] == 1
+    assert summary(load_limit="swl", swl_N=0.99 * top)["limits.tension_ok"] == 0
+    low = summary(load_limit="mbl", mbl_N=3.0 * top, mbl_factor=3.3)
+    assert low["limits.tension_ok"] == 0 and low["sea.pass"] == 0
+    assert math.isclose(low["limits.tension_limit_N"], 3.0 * top / 3.3)
+    with pytest.raises(ConfigError, match="limits.swl_N"):
+        validate(SeaLimits, {"load_limit": "swl"})

@@ -96,10 +96,42 @@ class SeaAnalysis(StrictModel):
 
 
 class SeaLimits(StrictModel):
-    tension_max_N: float = Field(600.0, gt=0, le=1e7, description="top tension limit, N")
-    snap_allowed: bool = Field(False, description="accept snap events (default: any snap fails)")
+    tension_max_N: float = Field(600.0, gt=0, le=1e7, description="top tension limit (load_limit = tension), N")
+    snap_allowed: bool = Field(False, description="accept snap events (criterion = project; default: any snap fails)")
+    criterion: Literal["project", "static-fraction"] = Field(
+        "project",
+        description="slack/snap criterion: project (no snap: slack, then a peak above snap_factor x the "
+        "reference within snap_window_s), static-fraction (the minimum tension of both ends >= "
+        "min_tension_fraction x the static tension: no slack, hence no snap)",
+    )
+    min_tension_fraction: float = Field(
+        0.1, ge=0, le=1, description="criterion = static-fraction: least tension as a fraction of the static, 1"
+    )
+    load_limit: Literal["tension", "swl", "mbl"] = Field(
+        "tension",
+        description="what the largest tension over the steps (snap peaks included) is checked against: "
+        "tension_max_N, the cable's safe working load swl_N, or its breaking load mbl_N / mbl_factor",
+    )
+    swl_N: float | None = Field(None, gt=0, le=1e9, description="the cable's safe working load (SWL/WLL), N")
+    mbl_N: float | None = Field(None, gt=0, le=1e9, description="the cable's minimum breaking load (MBL), N")
+    mbl_factor: float = Field(1.0, ge=1, le=100, description="safety factor on mbl_N (your rule's), 1")
     depth_std_max_m: float = Field(0.5, gt=0, le=100, description="UUV depth standard deviation limit, m")
     pitch_std_max_deg: float = Field(3.0, gt=0, le=90, description="UUV pitch standard deviation limit, deg")
+
+    @model_validator(mode="after")
+    def _load(self):
+        need = {"swl": "swl_N", "mbl": "mbl_N"}.get(self.load_limit)
+        if need and getattr(self, need) is None:
+            raise ValueError(f"limits.load_limit = {self.load_limit!r} needs limits.{need} (> 0, N)")
+        return self
+
+    def tension_limit(self) -> float:
+        """The tension (N) the largest tension is checked against (``load_limit``)."""
+        if self.load_limit == "swl":
+            return float(self.swl_N)
+        if self.load_limit == "mbl":
+            return float(self.mbl_N) / self.mbl_factor
+        return self.tension_max_N
 
 
 class TowSeaStateConfig(ScenarioConfig):
@@ -188,9 +220,16 @@ def sea_summary(df, cfg) -> dict:
     out["analysis.events_in_step"] = int(in_step)
     out.update(motion_statistics(w))
     lim = cfg.limits
+    static = static_tension(cfg)
+    out["cable.static_tension_N"] = static
+    out["limits.tension_limit_N"] = lim.tension_limit()
+    if lim.criterion == "static-fraction":
+        slack_ok = min(out["cable.top_min_N"], out["cable.bottom_min_N"]) >= lim.min_tension_fraction * static
+    else:
+        slack_ok = lim.snap_allowed or (out["cable.top_snap_events"] + out["cable.bottom_snap_events"]) == 0
     checks = {
-        "limits.tension_ok": out["cable.top_max_N"] <= lim.tension_max_N,
-        "limits.no_snap": lim.snap_allowed or (out["cable.top_snap_events"] + out["cable.bottom_snap_events"]) == 0,
+        "limits.tension_ok": max(out["cable.top_max_N"], out["cable.top_snap_max_N"]) <= lim.tension_limit(),
+        "limits.no_snap": slack_ok,
         "limits.depth_std_ok": out["uuv.depth_std_m"] <= lim.depth_std_max_m,
         "limits.pitch_std_ok": out["uuv.pitch_std_deg"] <= lim.pitch_std_max_deg,
     }
