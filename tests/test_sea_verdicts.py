@@ -86,3 +86,30 @@ def test_operability_table_holds_the_estimate_and_other_seeds_flip_only_marginal
     assert "marginal T" in md and " [" in md
     csv = pd.read_csv(files[0])
     assert {"tension_mpm_N", "tension_lo_N", "tension_hi_N", "verdict"} <= set(csv.columns)
+
+
+def test_a_cell_outside_the_linear_model_is_never_pass(tmp_path):
+    """A sea state whose runs pass every limit but left the model (sea.in_model = 0) is drawn and tabled
+    "outside model"; its neighbour inside the model passes."""
+    df = _sweep(np.random.default_rng(3), {0.5: 480.0, 2.0: 480.0})
+    df["sea.in_model"] = np.where(df["param.environment.waves.hs"] > 1.0, 0, 1)
+    files = operability(df, tmp_path, plots=True)
+    t = pd.read_csv(files[0])
+    assert list(t["verdict"]) == ["pass", "outside model"]
+    assert "| 2 m | outside model |" in files[1].read_text()
+
+
+def test_usv_pitch_beyond_the_linear_range_is_flagged(tmp_path):
+    """tow-sea-state in steep head seas (Hs 2 m, Tp 4 s: the USV pitches about 14 deg std) is outside the
+    model (pitch amplitude above 10 deg, and the sea steeper than 1/14); a long low swell is inside."""
+    import oceangnc
+
+    base = {"analysis.settle_s": 10.0, "environment.waves.direction_deg": 180.0}
+    steep = {**base, "environment.waves.hs": 2.0, "environment.waves.tp": 4.0}
+    s = oceangnc.run("tow-sea-state", duration=30.0, plots=False, overrides=steep, out=tmp_path / "a").summary
+    assert s["validity.usv_angle_amplitude_deg"] > 10.0 and s["validity.usv_angles_ok"] == 0
+    assert s["validity.steepness_ok"] == 0 and s["sea.in_model"] == 0
+    swell = {**base, "environment.waves.hs": 0.5, "environment.waves.tp": 8.0}
+    s = oceangnc.run("tow-sea-state", duration=30.0, plots=False, overrides=swell, out=tmp_path / "b").summary
+    assert s["validity.usv_angles_ok"] == 1 and s["validity.relative_motion_ok"] == 1
+    assert s["validity.cable_wet_ok"] == 1 and s["sea.in_model"] == 1

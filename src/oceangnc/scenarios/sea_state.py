@@ -49,6 +49,7 @@ from ..models.usv import USVConfig
 from ..models.uuv import UUVConfig
 from ..units import G
 from ._common import environment_blocks
+from ._sea_validity import SeaValidity, validity
 from .base import Scenario
 
 CONTROL_PERIOD = 0.01  # s
@@ -143,6 +144,7 @@ class TowSeaStateConfig(ScenarioConfig):
     command: TowCommand = TowCommand()
     analysis: SeaAnalysis = SeaAnalysis()
     limits: SeaLimits = SeaLimits()
+    validity: SeaValidity = SeaValidity()
 
 
 def window(df, settle_s: float):
@@ -235,6 +237,7 @@ def sea_summary(df, cfg) -> dict:
     }
     out.update({k: int(bool(v)) for k, v in checks.items()})
     out["sea.pass"] = int(all(checks.values()))
+    out.update(validity(w, cfg))  # inside the model's assumptions? (._sea_validity)
     return out
 
 

@@ -37,7 +37,7 @@ LIMITS = {
 }
 PASS = "sea.pass"
 #: the diagram's shade of a verdict (green pass, yellow marginal, red fail; issue 40)
-VERDICT_SHADE = {"pass": 1.0, "marginal": 0.5, "fail": 0.0}
+VERDICT_SHADE = {"pass": 1.0, "marginal": 0.5, "fail": 0.0, "outside model": np.nan}  # nan: left blank (white)
 
 
 def _key(params: list[str], suffix: str) -> str | None:
@@ -92,6 +92,8 @@ def _extremes(d: pd.DataFrame, by: list[str]) -> pd.DataFrame:
             f = float(g["limits.tension_ok"].mean())
             tv = "pass" if f >= 1.0 else ("fail" if f <= 0.0 else "marginal")
         verdict = cell_verdict(tv, float(g["_other"].mean())) if len(okg) == len(g) else "fail"  # a run blew up
+        if "sea.in_model" in okg and (okg["sea.in_model"].fillna(1) < 1).any():
+            verdict = "outside model"  # never "pass" where the model does not hold (._sea_validity)
         rows.append((*key, mpm, lo, hi, lim, tv, verdict))
     cols = [*by, "tension_mpm_N", "tension_lo_N", "tension_hi_N", "tension_limit_N", "tension_verdict", "verdict"]
     return pd.DataFrame(rows, columns=cols)
@@ -105,6 +107,8 @@ def _label(row) -> str:
         if (row.get("tension_verdict", "pass") != "pass" if c == "limits.tension_ok" else row[c] < 1.0)
     )
     v = row.get("verdict")
+    if v == "outside model":
+        return v
     if v == "pass" or (v is None and row["pass_fraction"] >= 1.0):
         return "pass"
     if v == "marginal":
@@ -185,7 +189,9 @@ def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
             j = tps.index(r[tp_key])
             grid[i, j] = VERDICT_SHADE.get(r.get("verdict"), r["pass_fraction"])
             lab = _label(r)
-            txt = lab.replace("marginal", "marg.") if lab.startswith("marginal") else lab.split(" ")[0]
+            txt = {"marginal": lab.replace("marginal", "marg."), "outside model": "outside\nmodel"}.get(
+                r.get("verdict"), lab.split(" ")[0]
+            )
             ax.text(j, i, "" if lab == "pass" else txt, ha="center", va="center", fontsize=7)
         im = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0.0, vmax=1.0, aspect="auto")
         ax.set_xticks(range(len(tps)), [f"{v:g}" for v in tps])
