@@ -163,3 +163,15 @@ def test_named_criteria_and_per_cable_load_limits(tmp_path):
     assert math.isclose(low["limits.tension_limit_N"], 3.0 * top / 3.3)
     with pytest.raises(ConfigError, match="limits.swl_N"):
         validate(SeaLimits, {"load_limit": "swl"})
+
+
+def test_the_plain_rk4_stepper_publishes_no_event_counters():
+    """The core RK4 stepper does not call the tracker: such a plant carries no event block and publishes
+    no counters, so its summary falls back to the logged rows instead of reading zeros."""
+    cc = CableConfig(length=10.0, segments=10, E=7.5e6, integrator="rk4")
+    pl = CombinedPlant(
+        USVConfig(), UUVConfig(x0=0.0, z0=10.125), cc, top="fixed", events=EV, heave="sine", heave_period=PERIOD
+    )
+    assert pl.events("top").shape == (0, 3)
+    assert not any(k.endswith("_tension_max") for k in pl.output_units)
+    assert _heaving(heave="sine", heave_period=PERIOD).output_units["cable.top_tension_max"] == "N"

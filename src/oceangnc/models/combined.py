@@ -148,7 +148,9 @@ class CombinedPlant(Plant):
         if self._wf:  # the USV's wave-frequency block after the sea block, its states after all others
             p, x0, names, wf_limit = attach_usv_motions(p, x0, names, usv_motions, waves, cable_cfg, top)
         self._ev_idx = np.zeros(0, dtype=np.int64)
-        if self._sea and events is not None:  # in-step slack/snap tracking (._combined_events) at the end of p
+        # in-step slack/snap tracking (._combined_events) at the end of p: the imex and split steppers call it
+        # (the plain RK4 stepper of oceangnc.core does not: its runs are summarised on their logged rows)
+        if self._sea and events is not None and integrator != "rk4":
             p, self._ev_idx = attach_events(p, nmax, events)
         c = cable_cfg
         mrb = p[P_UUV + P_MRB : P_UUV + P_MRB + 36].reshape(6, 6)
