@@ -6,10 +6,10 @@ All vectorised numpy over the logged rows (no Python loop per row).
 (``slack``, N; default ``slack_fraction`` x the mean tension, 1 %): the cable has gone (nearly) slack.
 **Snap event**: a slack event after whose end (the first row back above T_s) the tension exceeds
 ``snap_factor`` x the mean (default 2) within ``snap_window`` s (default 2 s): the jerk of a cable
-that goes taut again (DNV-RP-H103 (2011) sec. 4.7.1 names the same criterion - slack, then a snap
-force - for lifting through the splash zone; its 10 % of the static weight is the threshold it uses
-to *avoid* slack, ``slack_fraction = 0.1`` gives it). The snap force of an event is the largest
-tension in its window.
+that goes taut again (this project's rule, on logged rows and without hysteresis; the scenarios count
+events on every integration step instead, :mod:`oceangnc.models._combined_events`, and name the
+standard criteria as options: docs/sea-state.md). The snap force of an event is the largest tension in
+its window.
 
 **Spectra**: one-sided power spectral densities by Welch's method (Hann windows of ``nperseg`` rows,
 50 % overlap, mean removed; scipy.signal.welch), in N^2/Hz for the tension, m^2/Hz for the wave

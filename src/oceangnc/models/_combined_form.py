@@ -60,6 +60,19 @@ def _wf_lines(plant, slot_of, args: dict) -> list[str]:
     return ["for j in range({wfslots}.size):", "    sig[{wfslots}[j]] = {x}[{wfidx}[j]]"]
 
 
+def _ev_lines(plant, slot_of, args: dict) -> list[str]:
+    """With in-step event tracking: the lines publishing its counters and extremes from ``p`` (as
+    :meth:`CombinedPlant.publish`); none otherwise."""
+    idx = getattr(plant, "_ev_idx", np.zeros(0, dtype=np.int64))
+    if not idx.size:
+        return []
+    from ._combined_events import EVENT_KEYS
+
+    args["evidx"] = idx
+    args["evslots"] = np.array([slot_of(k) for k in EVENT_KEYS], dtype=np.int64)
+    return ["for j in range({evslots}.size):", "    sig[{evslots}[j]] = {p}[{evidx}[j]]"]
+
+
 def combined_plant_form(plant, slot_of) -> PlantForm | None:
     """The :class:`~oceangnc.core.fused.PlantForm` of a ``CombinedPlant``: :func:`var_plant_form`
     with a winch or a seabed, else the fixed-node form (module docstring)."""
@@ -91,6 +104,7 @@ def combined_plant_form(plant, slot_of) -> PlantForm | None:
         "for j in range({oslots}.size):",
         "    sig[{oslots}[j]] = {out}[j]",
         *_wf_lines(plant, slot_of, args),
+        *_ev_lines(plant, slot_of, args),
     ]
     return PlantForm(imports, args, code)
 
@@ -134,5 +148,6 @@ def var_plant_form(plant, slot_of) -> PlantForm | None:
         "for j in range({oslots}.size):",
         "    sig[{oslots}[j]] = {full}[{oidx}[j]]",
         *_wf_lines(plant, slot_of, args),
+        *_ev_lines(plant, slot_of, args),
     ]
     return PlantForm(imports, args, code)

@@ -31,6 +31,7 @@ from ._combined_layout import (
 )
 from ._combined_bridle import B_SAVE
 from ._combined_kernels import combined_rhs
+from ._combined_events import track_events
 from .uuv import P_RC
 from ._combined_winch import remesh
 from ._sea_layout import S_WF, W_XO, lever_ned, top_heave
@@ -385,4 +386,6 @@ def imex_advance(t, x, u, p, dt, nsteps, work, bound):
         if WINCH and winch:
             remesh(x, p)
         t += dt
+        if SEA and p[H_SEA] > 0.0:  # slack and snap events on every step (._combined_events)
+            track_events(t, x, u, p)
     return t

@@ -63,6 +63,7 @@ from ._sea_layout import (
     S_TMID,
     S_TNEXT,
     S_WF,
+    S_EV,
     S_WHEEL,
     coef_base,
     sea_size,
@@ -122,7 +123,8 @@ def reset_sea(p) -> None:
         p[s + S_T0] = math.inf
         p[s + S_NLAST] = -1.0
         p[H_T] = 0.0
-        end = int(p[s + S_WF]) if p[s + S_WF] > 0 else p.size  # the USV's block after the coefficients
+        # the USV's block, then the event block, after the coefficients
+        end = int(p[s + S_WF]) if p[s + S_WF] > 0 else (int(p[s + S_EV]) if p[s + S_EV] > 0 else p.size)
         p[coef_base(p, s) : end] = 0.0
 
 

@@ -16,12 +16,17 @@ from ._combined_layout import (
     H_CV,
     H_MC,
     H_MA,
+    H_SEA,
     P_SCR,
     _gather,
     _inv3,
 )
+from ._combined_events import track_events
 from ._combined_kernels import combined_rhs
 from .cable import segment
+
+# feature switch (oceangnc.core.variants): True here; the plain plant's copy never compiles the event tracker
+SEA = True
 
 
 @njit(cache=True)
@@ -167,4 +172,6 @@ def split_advance(t, x, u, p, dt, nsteps, work, bound):
         # the closing half step of this step and the opening half step of the next are fused
         damping_substep(x, p, dt if s < nsteps - 1 else 0.5 * dt)
         t += dt
+        if SEA and p[H_SEA] > 0.0:  # slack and snap events on every step (._combined_events)
+            track_events(t, x, u, p)
     return t

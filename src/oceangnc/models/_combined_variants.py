@@ -15,6 +15,7 @@ import functools
 from collections.abc import Mapping
 
 from ..core.variants import Variants
+from ._combined_events import track_events
 from ._combined_imex import _imex_end_increments, _imex_factor, _imex_solve, imex_advance
 from ._combined_kernels import _loads, _loads_sea, bridle_update, cable_state, combined_rhs
 from ._combined_layout import _ends, _gather, top_l0
@@ -29,6 +30,7 @@ KERNELS = Variants(
     (
         _ends, _gather, top_l0, cable_loads, _loads, _loads_sea, combined_rhs, cable_state, bridle_update, _imex_factor, _imex_end_increments,
         _imex_solve, imex_advance, damping_substep, split_advance, _fill_outputs, _fill_outputs_var, remesh, _winch_rhs,
+        track_events,
     ),
 )  # fmt: skip
 

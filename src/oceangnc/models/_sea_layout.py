@@ -31,7 +31,8 @@ S_NPT = 12  # number of point slots (n_max + 2)
 S_NLAST = 13  # segment count at the last update (a winch changes it)
 S_SUMA = 14  # sum of the amplitudes: a bound on |eta| (m)
 S_WF = 15  # offset in p of the USV's wave-frequency block (0: the USV moves as in calm water; part B)
-S_COMP = 16  # components: 8 rows of nc (a, omega, k, cos theta, sin theta, eps, 1/(1 - exp(-2kh)), deep)
+S_EV = 16  # offset in p of the event block (0: no in-step slack/snap tracking; ._combined_events)
+S_COMP = 17  # components: 8 rows of nc (a, omega, k, cos theta, sin theta, eps, 1/(1 - exp(-2kh)), deep)
 NQ = 7  # quantities per point: eta, u_N, u_E, w_D, du_N/dt, du_E/dt, dw_D/dt
 NCOEF = 3 * NQ  # coefficients per point: each quantity as c0 + c1 tau + c2 tau^2
 

@@ -59,7 +59,8 @@ from ._combined_layout import (
 )
 from ._combined_outputs import _fill_outputs, _fill_outputs_var, _unit_of, output_keys  # noqa: F401
 from ._combined_sea import HEAVE_MODES, reset_sea, sea_block, sea_update
-from ._sea_layout import S_WF, W_XO
+from ._sea_layout import S_EV, S_WF, W_XO
+from ._combined_events import ENDS, EVENT_KEYS, attach_events, event_table, event_units, reset_events
 from ._usv_waves import WF_OUTPUTS, attach_usv_motions
 from ._combined_setup import build_arrays
 from ._combined_split import damping_substep, split_advance  # noqa: F401
@@ -98,6 +99,7 @@ class CombinedPlant(Plant):
         heave_period: float = 0.0,
         wave_update_dt: float = 0.1,
         usv_motions=None,
+        events=None,
     ):
         if top not in ("usv", "fixed"):
             raise ConfigError(f"CombinedPlant top = {top!r}: allowed values 'usv', 'fixed'")
@@ -145,6 +147,11 @@ class CombinedPlant(Plant):
         wf_limit = math.inf
         if self._wf:  # the USV's wave-frequency block after the sea block, its states after all others
             p, x0, names, wf_limit = attach_usv_motions(p, x0, names, usv_motions, waves, cable_cfg, top)
+        self._ev_idx = np.zeros(0, dtype=np.int64)
+        # in-step slack/snap tracking (._combined_events) at the end of p: the imex and split steppers call it
+        # (the plain RK4 stepper of oceangnc.core does not: its runs are summarised on their logged rows)
+        if self._sea and events is not None and integrator != "rk4":
+            p, self._ev_idx = attach_events(p, nmax, events)
         c = cable_cfg
         mrb = p[P_UUV + P_MRB : P_UUV + P_MRB + 36].reshape(6, 6)
         ma = p[P_UUV + P_MA : P_UUV + P_MA + 36].reshape(6, 6)
@@ -187,6 +194,7 @@ class CombinedPlant(Plant):
             ow = int(self.p[int(self.p[int(self.p[H_SEA]) + S_WF]) + W_XO])
             self._wf_idx = np.array([ow + k for _, k in WF_OUTPUTS], dtype=np.int64)
             self.output_units.update({k: _unit_of(k) for k, _ in WF_OUTPUTS})
+        self.output_units.update(event_units(self._ev_idx))
         self._out = np.zeros(len(self._out_keys))
 
     @property
@@ -204,6 +212,8 @@ class CombinedPlant(Plant):
         """Restore the initial state and node count (and forget the wave expansions)."""
         super().reset()
         reset_sea(self.p)
+        if self._ev_idx.size:
+            reset_events(self.p, int(self.p[int(self.p[H_SEA]) + S_EV]))
         if self.winch_cfg is not None:
             l0 = self.p[H_L0]
             self.p[H_N] = max(1, int(round(self.cable_cfg.length / l0)))
@@ -286,6 +296,16 @@ class CombinedPlant(Plant):
         bus.update(zip(self._out_keys, self._out.tolist()))
         for (k, _), i in zip(WF_OUTPUTS, self._wf_idx):
             bus[k] = float(self.x[i])
+        for k, i in zip(EVENT_KEYS, self._ev_idx):
+            bus[k] = float(self.p[i])
+
+    def events(self, end: str = "top") -> np.ndarray:
+        """The slack events recorded on every integration step at the ``end`` ("top" or "bottom") after the
+        start-up transient, rows (start s, slack duration s, peak N within the snap window after it);
+        empty without in-step tracking (the ``events`` argument)."""
+        if not self._ev_idx.size:
+            return np.zeros((0, 3))
+        return event_table(self.p, int(self.p[int(self.p[H_SEA]) + S_EV]), ENDS.index(end))
 
     # -- diagnostics -------------------------------------------------------------------------------
     def energy(self) -> float:

@@ -39,6 +39,8 @@ LIMITS = {
     "limits.pitch_std_ok": "P",
 }
 PASS = "sea.pass"
+#: the diagram's shade of a verdict (green pass, yellow marginal, red fail; issue 40)
+VERDICT_SHADE = {"pass": 1.0, "marginal": 0.5, "fail": 0.0, "outside model": np.nan}  # nan: left blank (white)
 
 
 #: axis names of the usual swept keys (by the key's ending): (name, unit)
@@ -94,16 +96,55 @@ def operability_table(df: pd.DataFrame, hs_key: str | None = None, tp_key: str |
         d[c] = np.where(ok, d[c].fillna(0).astype(float), 0.0) if c in d else np.where(ok, 1.0, 0.0)
     by = [PARAM + k for k in [*panels, hs_key, tp_key] if k is not None]
     agg = {"_pass": "mean", "status": "size", **{c: "mean" for c in LIMITS}}
+    others = [c for c in LIMITS if c != "limits.tension_ok"]
+    d["_other"] = np.where(ok, np.all([d[c].to_numpy() >= 1.0 for c in others], axis=0), False).astype(float)
     t = d.groupby(by, sort=True, dropna=False).agg(agg).reset_index()
+    t = t.merge(_extremes(d, by), on=by, how="left")
     t = t.rename(columns={"_pass": "pass_fraction", "status": "runs", **{PARAM + k: k for k in [*params, tp_key]}})
     return t, hs_key, tp_key, panels
 
 
+def _extremes(d: pd.DataFrame, by: list[str]) -> pd.DataFrame:
+    """Per sea state: the most probable maximum top tension and its interval from the seeds' maxima
+    (:func:`.extremes.gumbel_mpm`), the tension limit, and the verdict (:func:`.extremes.cell_verdict`)."""
+    from .extremes import cell_verdict, gumbel_mpm, tension_verdict
+
+    rows = []
+    for key, g in d.groupby(by, sort=True, dropna=False):
+        key = key if isinstance(key, tuple) else (key,)
+        okg = g[g["status"] == "ok"]
+        mx = okg["cable.top_max_N"].to_numpy(float) if "cable.top_max_N" in okg else np.zeros(0)
+        win = float(okg["analysis.window_s"].mean()) if "analysis.window_s" in okg and len(okg) else 0.0
+        mpm, lo, hi, _ = gumbel_mpm(mx, win)
+        lim = float(okg["limits.tension_limit_N"].iloc[0]) if "limits.tension_limit_N" in okg and len(okg) else np.nan
+        if np.isfinite(lim) and len(okg) == len(g):
+            tv = tension_verdict(mpm, lo, hi, lim)
+        else:  # no limit in the summaries, or runs that failed: the per-run tension checks decide
+            f = float(g["limits.tension_ok"].mean())
+            tv = "pass" if f >= 1.0 else ("fail" if f <= 0.0 else "marginal")
+        verdict = cell_verdict(tv, float(g["_other"].mean())) if len(okg) == len(g) else "fail"  # a run blew up
+        if "sea.in_model" in okg and (okg["sea.in_model"].fillna(1) < 1).any():
+            verdict = "outside model"  # never "pass" where the model does not hold (._sea_validity)
+        rows.append((*key, mpm, lo, hi, lim, tv, verdict))
+    cols = [*by, "tension_mpm_N", "tension_lo_N", "tension_hi_N", "tension_limit_N", "tension_verdict", "verdict"]
+    return pd.DataFrame(rows, columns=cols)
+
+
 def _label(row) -> str:
-    failed = "".join(letter for c, letter in LIMITS.items() if row[c] < 1.0)
-    f = row["pass_fraction"]
-    if f >= 1.0:
+    """``pass``, ``marginal: <limits>`` or the failed limits' letters (pass fraction if neither 0 nor 1)."""
+    failed = "".join(
+        letter
+        for c, letter in LIMITS.items()
+        if (row.get("tension_verdict", "pass") != "pass" if c == "limits.tension_ok" else row[c] < 1.0)
+    )
+    v = row.get("verdict")
+    if v == "outside model":
+        return v
+    if v == "pass" or (v is None and row["pass_fraction"] >= 1.0):
         return "pass"
+    if v == "marginal":
+        return f"marginal {failed}".strip()
+    f = row["pass_fraction"]
     return (failed or "fail") + ("" if f == 0.0 else f" ({f:.0%})")
 
 
@@ -122,8 +163,10 @@ def operability_markdown(t, hs_key, tp_key, panels) -> str:
     lines = [
         "# Operability",
         "",
-        "Per sea state: `pass` when every run passed every limit, else the failed limits (T tension, S snap, "
-        "D UUV depth std, P UUV pitch std) and the pass fraction over the runs.",
+        "Per sea state: `pass`, `marginal` (the extreme tension's interval straddles its limit, or the seeds "
+        "disagree on another limit) or the failed limits (T tension, S snap, D UUV depth std, P UUV pitch std) "
+        "with the pass fraction over the runs. Below each table: the most probable maximum top tension over the "
+        "record and its 90 % interval (Gumbel fit of the seeds' maxima; one seed: its maximum, no interval).",
     ]
     tps = sorted(t[tp_key].unique())
     (rn, ru), (cn, cu) = axis(hs_key), axis(None if tp_key == "_one" else tp_key)
@@ -136,7 +179,23 @@ def operability_markdown(t, hs_key, tp_key, panels) -> str:
                 r = g[(g[hs_key] == hs) & (g[tp_key] == tp)]
                 cells.append(_label(r.iloc[0]) if len(r) else "")
             lines.append(f"| {_fmt(hs, ru)} | " + " | ".join(cells) + " |")
+        head = f"| {rn} \\ {cn or '-'} (MPM [interval] N) | " + " | ".join(_fmt(v, cu) for v in tps) + " |"
+        lines += ["", head]
+        lines.append("|---" * (len(tps) + 1) + "|")
+        for hs in sorted(g[hs_key].unique()):
+            cells = []
+            for tp in tps:
+                r = g[(g[hs_key] == hs) & (g[tp_key] == tp)]
+                cells.append(_estimate(r.iloc[0]) if len(r) else "")
+            lines.append(f"| {_fmt(hs, ru)} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _estimate(row) -> str:
+    mpm, lo, hi = (row.get(k, np.nan) for k in ("tension_mpm_N", "tension_lo_N", "tension_hi_N"))
+    if not np.isfinite(mpm):
+        return ""
+    return f"{mpm:.0f}" if not np.isfinite(lo) else f"{mpm:.0f} [{lo:.0f}, {hi:.0f}]"
 
 
 def plot_operability(t, hs_key, tp_key, panels, path: Path, title: str) -> Path:
@@ -176,9 +235,12 @@ def operability_figure(t, hs_key, tp_key, panels, title: str):
         for _, r in g.iterrows():
             i = hss.index(r[hs_key])
             j = tps.index(r[tp_key])
-            grid[i, j] = r["pass_fraction"]
+            grid[i, j] = VERDICT_SHADE.get(r.get("verdict"), r["pass_fraction"])
             lab = _label(r)
-            ax.text(j, i, "" if lab == "pass" else lab.split(" ")[0], ha="center", va="center", fontsize=7)
+            txt = {"marginal": lab.replace("marginal", "marg."), "outside model": "outside\nmodel"}.get(
+                r.get("verdict"), lab.split(" ")[0]
+            )
+            ax.text(j, i, "" if lab == "pass" else txt, ha="center", va="center", fontsize=7)
         im = ax.imshow(grid, origin="lower", cmap="RdYlGn", vmin=0.0, vmax=1.0, aspect="auto")
         ax.set_xticks(range(len(tps)), [f"{v:g}" for v in tps])
         ax.set_yticks(range(len(hss)), [f"{v:g}" for v in hss])
