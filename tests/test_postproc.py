@@ -35,6 +35,7 @@ def _cli(out: Path, mode: str, prelude: str = "", scenario: str = "combined-surv
     assert rc == 0
     summary = json.loads((out / "summary.json").read_text())
     summary.pop("wall_time_s")
+    summary.pop("wall_time_start_unix_s", None)
     return summary, {p.name: p.stat().st_size for p in out.glob("*.png")}, heavy
 
 

@@ -36,7 +36,7 @@ ARGS = [
     "environment.wind.gust_sigma=0.5",
     "--quiet",
 ]
-VOLATILE = ["wall_time_s", "cpu_time_s", "worker", "finished_at", "out_dir"]
+VOLATILE = ["wall_time_s", "wall_time_start_unix_s", "cpu_time_s", "worker", "finished_at", "out_dir"]
 
 
 def _sweep(tmp_path, name, *extra):
