@@ -100,15 +100,16 @@ def test_a_cell_outside_the_linear_model_is_never_pass(tmp_path):
 
 
 def test_usv_pitch_beyond_the_linear_range_is_flagged(tmp_path):
-    """tow-sea-state in steep head seas (Hs 2 m, Tp 4 s: the USV pitches about 14 deg std) is outside the
-    model (pitch amplitude above 10 deg, and the sea steeper than 1/14); a long low swell is inside."""
+    """tow-sea-state in steep head seas (Hs 1.6 m, Tp 4 s, just inside DNV-RP-C205's steepness limit that
+    refuses the issue's Hs 2 m: the USV pitches about 11 deg std) is outside the model (pitch amplitude above
+    10 deg); a long low swell is inside."""
     import oceangnc
 
     base = {"analysis.settle_s": 10.0, "environment.waves.direction_deg": 180.0}
-    steep = {**base, "environment.waves.hs": 2.0, "environment.waves.tp": 4.0}
+    steep = {**base, "environment.waves.hs": 1.6, "environment.waves.tp": 4.0}
     s = oceangnc.run("tow-sea-state", duration=30.0, plots=False, overrides=steep, out=tmp_path / "a").summary
     assert s["validity.usv_angle_amplitude_deg"] > 10.0 and s["validity.usv_angles_ok"] == 0
-    assert s["validity.steepness_ok"] == 0 and s["sea.in_model"] == 0
+    assert s["sea.in_model"] == 0
     swell = {**base, "environment.waves.hs": 0.5, "environment.waves.tp": 8.0}
     s = oceangnc.run("tow-sea-state", duration=30.0, plots=False, overrides=swell, out=tmp_path / "b").summary
     assert s["validity.usv_angles_ok"] == 1 and s["validity.relative_motion_ok"] == 1
