@@ -75,6 +75,7 @@ from ..core.csmath import cabs
 from ..core.model import Model, Param, ParamLayout
 from ..errors import ConfigError
 from ..units import G
+from ._fins import F_X, F_Y, F_Z, FIN_FIELDS, NFIN, Fin, fin_force, fin_step
 from ._surface import immersed_fraction, lost_buoyancy
 from ._crossflow import HOERNER_B_2T, HOERNER_CD, CrossFlow, hoerner_cd  # noqa: F401 (re-exported)
 from ._mass_parts import RigidBody
@@ -115,6 +116,8 @@ LAYOUT_HEAD = ParamLayout(
             "W_p", "N", description="weight added as a body-axis force on top of G eta (otter.py's payload; 0: none)"
         ),
         Param("r_p", "m", 3, description="where W_p acts, from CO"),
+        Param("n_fins", "1", derived=True, description="number of fins in the table after the thrusters"),
+        Param("rho", "kg/m^3", description="water density of the fins' lift (hydrostatics.rho)"),
     ]
 )
 P_W, P_B, P_RG, P_RB, P_LINR, P_GLIN = LAYOUT_HEAD.indices("W", "B", "r_g", "r_b", "linear_restoring", "G_lin")
@@ -124,6 +127,7 @@ P_MRB, P_MA, P_MINV, P_DL, P_DQ, P_DU, P_MUNK, P_NTHR = LAYOUT_HEAD.indices(
 P_CFK, P_CFX0, P_CFDX, P_CFN = LAYOUT_HEAD.indices("cf_coeff", "cf_x0", "cf_dx", "cf_strips")
 P_HH, P_TIMM = LAYOUT_HEAD.indices("hull_height", "thr_immersion")
 P_WP, P_RP = LAYOUT_HEAD.indices("W_p", "r_p")
+P_NFIN, P_RHO = LAYOUT_HEAD.indices("n_fins", "rho")
 P_THR = LAYOUT_HEAD.size  #: the thruster table starts here: NT values per thruster (THR_FIELDS)
 T_X, T_Y, T_Z, T_DX, T_DY, T_DZ, T_FWD, T_REV, T_TAU, T_SHAFT = range(10)
 
@@ -140,8 +144,9 @@ def vehicle_deriv(t, x, u, p, out):
     q = x[10]
     r = x[11]
     r00, r01, r02, r10, r11, r12, r20, r21, r22, cf, sf, ct, st = euler_kinematics(x, out)
-    vcn = u[n]
-    vce = u[n + 1]
+    nf = int(p[P_NFIN].real)
+    vcn = u[n + nf]
+    vce = u[n + nf + 1]
     ucb = r00 * vcn + r10 * vce
     vcb = r01 * vcn + r11 * vce
     wcb = r02 * vcn + r12 * vce
@@ -250,6 +255,17 @@ def vehicle_deriv(t, x, u, p, out):
         tau[3] += ry * fz - rz * fy + torque * p[k + T_DX]
         tau[4] += rz * fx - rx * fz + torque * p[k + T_DY]
         tau[5] += rx * fy - ry * fx + torque * p[k + T_DZ]
+    for j in range(nf):  # control surfaces (models._fins): the angle is a state after the thrusters'
+        kf = P_THR + NT * n + NFIN * j
+        out[12 + n + j], delta = fin_step(p, kf, u[n + j], x[12 + n + j])
+        fx, fy, fz = fin_force(p, kf, delta, p[P_RHO], ur, vr, wr)
+        rx, ry, rz = p[kf + F_X], p[kf + F_Y], p[kf + F_Z]
+        tau[0] += fx
+        tau[1] += fy
+        tau[2] += fz
+        tau[3] += ry * fz - rz * fy
+        tau[4] += rz * fx - rx * fz
+        tau[5] += rx * fy - ry * fx
     t0, t1, t2, t3, t4, t5 = tau[0], tau[1], tau[2], tau[3], tau[4], tau[5]
     for i in range(6):
         out[6 + i] = row6(p, P_MINV + 6 * i, t0, t1, t2, t3, t4, t5)
@@ -384,6 +400,7 @@ class VehicleFile(StrictModel):
     added_mass: AddedMass
     damping: Damping
     thrusters: list[Thruster] = Field(min_length=1, max_length=32)
+    fins: list[Fin] = Field(default_factory=list, max_length=8, description="control surfaces (models._fins)")
     control: Control
 
 
@@ -529,6 +546,8 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
             "n_thrusters": len(vf.thrusters),
             "hull_height": h.height or 0.0,
             "thr_immersion": h.thruster_immersion or 0.0,
+            "n_fins": len(vf.fins),
+            "rho": h.rho,
         }
     )
     rows = []
@@ -537,7 +556,8 @@ def vehicle_params(vf: VehicleFile) -> np.ndarray:
         d = d / np.linalg.norm(d)
         shaft = t.shaft.row(t.max_forward, t.max_reverse) if t.shaft is not None else [0.0] * len(SHAFT_FIELDS)
         rows.append([*t.position, *d, t.max_forward, t.max_reverse, t.time_constant, *shaft])
-    return np.concatenate([head, np.asarray(rows, float).ravel()])
+    fins = [f.row() for f in vf.fins]
+    return np.concatenate([head, np.asarray(rows, float).ravel(), np.asarray(fins, float).ravel()])
 
 
 def vehicle_layout(vf: VehicleFile) -> ParamLayout:
@@ -545,6 +565,8 @@ def vehicle_layout(vf: VehicleFile) -> ParamLayout:
     units = ("m",) * 3 + ("1",) * 3 + ("N", "N", "s", "N s^2", "N s^2", "N s", "N m s^2", "N m s^2", "N m s", "1")
     units += ("rad/s", "rad/s")
     extra = [Param(f"{t.name}.{f}", units[i]) for t in vf.thrusters for i, f in enumerate(THR_FIELDS)]
+    fin_units = ("m", "m", "m", "1", "m^2", "1/rad", "rad", "s")
+    extra += [Param(f"{f.name}.{n}", fin_units[i]) for f in vf.fins for i, n in enumerate(FIN_FIELDS)]
     return ParamLayout([*LAYOUT_HEAD.params, *extra])
 
 
@@ -560,12 +582,14 @@ def thruster_state(t: Thruster) -> tuple[str, str]:
 
 def vehicle_model(vf: VehicleFile | str | Path, params=None) -> Model:
     """The :class:`~oceangnc.core.model.Model` of a vehicle file (or shipped name): states
-    :data:`STATE_NAMES` then ``thrust_<name>`` (N), inputs ``thrust_<name>_cmd`` (N), ``current_n``,
-    ``current_e`` (m/s)."""
+    :data:`STATE_NAMES` then ``thrust_<name>`` (N), ``fin_<name>`` (rad), inputs ``thrust_<name>_cmd`` (N),
+    ``fin_<name>_cmd`` (rad), ``current_n``, ``current_e`` (m/s)."""
     if not isinstance(vf, VehicleFile):
         vf = load_vehicle(vf)
     states = [*zip(STATE_NAMES, STATE_UNITS), *(thruster_state(t) for t in vf.thrusters)]
-    inputs = [*((f"thrust_{t.name}_cmd", "N") for t in vf.thrusters), ("current_n", "m/s"), ("current_e", "m/s")]
+    states += [(f"fin_{f.name}", "rad") for f in vf.fins]
+    inputs = [*((f"thrust_{t.name}_cmd", "N") for t in vf.thrusters), *((f"fin_{f.name}_cmd", "rad") for f in vf.fins)]
+    inputs += [("current_n", "m/s"), ("current_e", "m/s")]
     p = vehicle_params(vf) if params is None else np.asarray(params, dtype=np.float64)
     return Model(vf.name, vehicle_rhs, states, inputs, vehicle_layout(vf), p, bound=1e6, description=vf.description)
 

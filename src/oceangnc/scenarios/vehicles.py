@@ -94,7 +94,8 @@ def _plant(cfg: VehicleScenarioConfig, vf):
     x0 = np.zeros(m.nx)
     s = cfg.start
     x0[[0, 1, 2, 5, 6]] = [s.x, s.y, s.z, math.radians(s.psi_deg), s.u]
-    names = [f"vehicle.thrust_{t.name}_cmd" for t in vf.thrusters] + ["env.current_n", "env.current_e"]
+    names = [f"vehicle.thrust_{t.name}_cmd" for t in vf.thrusters] + [f"vehicle.fin_{f.name}_cmd" for f in vf.fins]
+    names += ["env.current_n", "env.current_e"]
     return VehiclePlant(m, "vehicle", x0, names)  # publishes the thrust of lag-free thrusters too
 
 
