@@ -63,13 +63,13 @@ def sensitivity(model, t, Z, U, idx, a0, sd) -> np.ndarray:
     p0 = np.array(model.params, dtype=np.float64)
     p0[idx] = a0
     x0 = np.asarray(Z[0], float)[: model.nx]
-    base = _measured(model, model.simulate(t, U, x0, substeps=1, p=p0), U, p0)
+    base = _measured(model, model.simulate(t, U, x0, substeps=step, p=p0), U, p0)  # the log's own step
     cols = []
     for j, i in enumerate(idx):
         p = p0.copy()
         h = REL_STEP * abs(a0[j])
         p[i] += h
-        zj = _measured(model, model.simulate(t, U, x0, substeps=1, p=p), U, p)
+        zj = _measured(model, model.simulate(t, U, x0, substeps=step, p=p), U, p)
         cols.append(((zj - base) * (a0[j] / h) / sd).ravel())
     return np.column_stack(cols) * math.sqrt(step)  # a thinned log: each kept sample stands for `step`
 
