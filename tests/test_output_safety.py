@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import socket
 import stat
+from pathlib import Path
 
 import pytest
 
@@ -209,3 +210,24 @@ def test_the_mcap_export_streams_the_log_in_bounded_parts_with_the_same_messages
     assert max(parts) <= 50 and sum(parts) == 2 * rows  # two passes, each over every row in parts of <= 50
     a, b = _messages(whole), _messages(streamed)
     assert len(a[0]) >= 8 * rows and a == b
+
+
+def test_a_fifo_named_like_a_log_part_is_not_read(run_dir, tmp_path):
+    """A FIFO among a log's parts blocked every reader of the log forever; parts are regular files."""
+    import shutil
+    import subprocess
+    import sys
+
+    d = tmp_path / "r"
+    shutil.copytree(run_dir, d)
+    os.mkfifo(d / "log.parquet" / "part-000007.parquet")
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "src")}
+    r = subprocess.run(
+        [sys.executable, "-m", "oceangnc.cli", "view", str(d), "--out", str(tmp_path / "p.html")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+        check=False,
+    )
+    assert r.returncode == 0, r.stderr

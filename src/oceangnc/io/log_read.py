@@ -34,7 +34,8 @@ def _part_index(p: Path) -> int | None:
 def list_parts(folder: str | Path) -> list[Path]:
     """The visible part files of a dataset folder, in write order."""
     d = Path(folder)
-    parts = [(i, p) for p in d.iterdir() if (i := _part_index(p)) is not None]
+    # regular files only: a FIFO or device named like a part would block or never end a read
+    parts = [(i, p) for p in d.iterdir() if (i := _part_index(p)) is not None and p.is_file()]
     return [p for _, p in sorted(parts)]
 
 

@@ -34,6 +34,7 @@ import pandas as pd
 from ..errors import ConfigError, DivergenceError, InputError
 from .design import Design, RunSpec
 from .table import FIXED_COLUMNS, PARAM, ResultsTable
+from ..core.files import LIMIT_JSON, read_text_bounded
 
 SPEC_FILE = "sweep.json"
 
@@ -69,8 +70,8 @@ def run_one(task: dict) -> dict:
     except DivergenceError as e:
         status, error = "diverged", _one_line(e)
         try:
-            summary = json.loads((out_dir / "summary.json").read_text())
-        except (OSError, ValueError):
+            summary = json.loads(read_text_bounded(out_dir / "summary.json", LIMIT_JSON, "summary"))
+        except (OSError, ValueError, RecursionError):
             summary = {}
     except Exception as e:  # noqa: BLE001 - any failure of one run is a data point of the sweep
         status, error = "failed", _one_line(f"{type(e).__name__}: {e}")
@@ -216,8 +217,8 @@ def _prepare_dir(out: Path, design: Design, resume: bool) -> None:
         if not resume:
             raise InputError(f"{out} already holds a sweep; pass --resume to continue it or choose another --out")
         try:
-            stored = json.loads(spec.read_text())
-        except (OSError, ValueError):
+            stored = json.loads(read_text_bounded(spec, LIMIT_JSON, "sweep spec"))
+        except (OSError, ValueError, RecursionError):
             stored = None
         if stored is not None and Design.from_json(stored).identity() != design.identity():
             raise InputError(

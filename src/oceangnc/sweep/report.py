@@ -27,6 +27,7 @@ import pandas as pd
 
 from ..errors import InputError
 from .table import FIXED_COLUMNS, PARAM, read_results
+from ..core.files import LIMIT_JSON, read_text_bounded
 
 MAX_GROUPS = 6
 MAX_LEVELS = 20
@@ -196,8 +197,8 @@ def make_report(sweep_dir: str | Path, metrics: list[str] | None = None, plots: 
     d = Path(sweep_dir)
     df = read_results(d)
     try:
-        spec = json.loads((d / "sweep.json").read_text())
-    except (OSError, ValueError):
+        spec = json.loads(read_text_bounded(d / "sweep.json", LIMIT_JSON, "sweep spec"))
+    except (OSError, ValueError, RecursionError):
         spec = {}
     params = [c[len(PARAM) :] for c in df.columns if c.startswith(PARAM)]
     order = [*(spec.get("grid") or {}), *(spec.get("random") or {})]

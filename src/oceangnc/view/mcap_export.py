@@ -403,7 +403,7 @@ def build_channels(rd: RunData, whole: Whole | None = None) -> list[Channel]:
     return out
 
 
-BATCH_ROWS = 20_000  #: log rows per part of a streamed export (bounds its memory)
+BATCH_ROWS = 2_000  #: log rows per part of a streamed export (bounds its memory: about 13 kB of messages a row)
 
 
 def export_mcap(run: str | Path | RunData, out: str | Path | None = None, batch_rows: int = BATCH_ROWS) -> Path:
