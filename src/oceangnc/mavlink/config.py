@@ -42,7 +42,8 @@ class MavlinkConfig(StrictModel):
         None,
         ge=1,
         le=255,
-        description="system id of the controlling ground station; default: the one that armed or last commanded",
+        description="system id of the controlling ground station (SYSID_MYGCS); default: the one whose control act "
+        "(arm/disarm, mode change, mission start) was last accepted",
     )
     fs_gcs_enable: int = Field(
         1,

@@ -157,7 +157,7 @@ def build_params(v) -> dict[str, Param]:
             255,
             INT16,
             "",
-            "controlling ground station's system id (0: the one that armed or last commanded)",
+            "controlling ground station's system id (0: the one whose arm, mode change or mission start was last accepted)",
         )
     )
     # -- failsafes (ArduPilot Rover's names and numbers)
