@@ -78,8 +78,8 @@ def test_one_hz_heartbeats_without_a_stick_keep_manual(tmp_path):
         g.pump(3.0)
         assert v.mode == MANUAL and not v.failsafe
         assert v.cfg_mav.gcs_timeout_s == 5.0
-        g.pump(0.6, stick=(300, 0))  # a stick stream starts, then stops: the stick failsafe
-        assert wait_for(lambda: v.mode == HOLD, 3.0) and v.failsafe
+        g.pump(0.6, stick=(300, 0))  # a stick stream starts, then stops: the stick failsafe (RC_OVERRIDE_TIME 3 s)
+        assert wait_for(lambda: v.mode == HOLD, 5.0) and v.stick_failsafe and not v.failsafe
         assert any("stick stream lost" in s for _, s in v.events)
     finally:
         g.close()

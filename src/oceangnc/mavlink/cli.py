@@ -84,7 +84,7 @@ def register(subparsers) -> None:
 
 
 def _cmd(args) -> int:
-    from ..errors import InputError
+    from ..errors import InputError, Terminated
 
     try:
         from .vehicle import MavlinkVehicle
@@ -127,20 +127,20 @@ def _cmd(args) -> int:
         tlog=None if args.no_tlog else "telemetry.tlog",
         params=args.params,
     )
-    stream = None
-    if args.foxglove is not None:
-        from ..view.foxglove_ws import start_vehicle_foxglove
-
-        stream = start_vehicle_foxglove(v, args.foxglove, token, args.allow_origin)
-        if stream is None:
-            v.close()
-            return 2
-    # SIGTERM ends the vehicle as Ctrl-C does: serve() closes the log (compacted) and writes summary.json.
-    # Installed before the line that says the vehicle serves: a SIGTERM right after it must not kill it
+    # SIGTERM ends the vehicle as Ctrl-C does: serve() closes the log (compacted) and writes summary.json;
+    # installed before the "Ctrl-C to stop" line, so that a signal right after it finds the handler
     from ..core.interrupts import terminate_like_ctrl_c
 
     restore = terminate_like_ctrl_c()
+    stream = None
     try:
+        if args.foxglove is not None:
+            from ..view.foxglove_ws import start_vehicle_foxglove
+
+            stream = start_vehicle_foxglove(v, args.foxglove, token, args.allow_origin)
+            if stream is None:
+                v.close()
+                return 2
         if not args.quiet:
             print(
                 f"oceangnc mavlink: {v.scenario.name} on udp:{v.address[0]}:{v.address[1]} "
@@ -148,7 +148,9 @@ def _cmd(args) -> int:
                 flush=True,
             )
         v.serve()
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as e:
+        if v.stopped_by is None:  # (a signal before serve() took over)
+            v.stopped_by = "SIGTERM" if isinstance(e, Terminated) else "SIGINT"
         v.close()
     finally:
         if restore is not None:

@@ -31,11 +31,19 @@ class MavlinkConfig(StrictModel):
         description="stick failsafe (ArduPilot Rover FS_TIMEOUT): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream "
         "that was flowing in a stick mode stops for this long -> HOLD, wall-clock s",
     )
+    rc_override_time_s: float = Field(
+        3.0,
+        gt=0.05,
+        le=120,
+        description="ArduPilot's RC_OVERRIDE_TIME: a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE holds for this long; "
+        "the stick failsafe comes when a stream stopped for this long (or FS_TIMEOUT if longer), wall-clock s",
+    )
     gcs_sysid: int | None = Field(
         None,
         ge=1,
         le=255,
-        description="system id of the controlling ground station; default: the one that armed or last commanded",
+        description="system id of the controlling ground station (SYSID_MYGCS); default: the one whose control act "
+        "(arm/disarm, mode change, mission start) was last accepted",
     )
     fs_gcs_enable: int = Field(
         1,

@@ -253,7 +253,7 @@ class MissionMixin:
         self.mission_current = seq
         if self.mode == self._AUTO:
             self._start_mission()
-        self._send(self.mav.mission_current_encode(seq))
+        self._send_mission_current()  # with total, mission_state, mission_mode
         return M.MAV_RESULT_ACCEPTED
 
     def _on_mission_set_current(self, m) -> None:
@@ -283,7 +283,7 @@ class MissionMixin:
             self._send(self.mav.mission_item_reached_encode(seq))
             self.event(f"Reached waypoint #{seq}")
             self.mission_current = self._route_seqs[self._progress] if self._progress < len(self._route_seqs) else seq
-            self._send(self.mav.mission_current_encode(self.mission_current))
+            self._send_mission_current()  # MAVLink 2's extensions in every one (issue 39)
         if self._progress >= len(self._route_seqs):
             self._route_seqs = []
             self._switch_mode(HOLD)

@@ -36,6 +36,8 @@ M = mavlink
 
 #: a leg's arrival is read only after the guidance has run on the new route this long (simulated s)
 _FRESH_S = 0.1
+#: a GUIDED target closer than this to the current one is the same target re-sent, m (2e-7 deg ~ 2 cm)
+_SAME_TARGET_M = 0.05
 
 
 class NavMixin:
@@ -234,6 +236,9 @@ class NavMixin:
                 return res
         c = self.cfg_mav
         p = latlon_to_ned(lat, lon, c.origin_lat_deg, c.origin_lon_deg)
+        t = self.guided_target
+        if t is not None and math.hypot(p[0] - t[0], p[1] - t[1]) < _SAME_TARGET_M:
+            return M.MAV_RESULT_ACCEPTED  # the same target again (streamed by offboard clients): the leg goes on
         self.guided_target = p
         self.loiter_center = p
         self._start_leg([p])

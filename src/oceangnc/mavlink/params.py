@@ -157,7 +157,7 @@ def build_params(v) -> dict[str, Param]:
             255,
             INT16,
             "",
-            "controlling ground station's system id (0: the one that armed or last commanded)",
+            "controlling ground station's system id (0: the one whose arm, mode change or mission start was last accepted)",
         )
     )
     # -- failsafes (ArduPilot Rover's names and numbers)
@@ -165,6 +165,7 @@ def build_params(v) -> dict[str, Param]:
               to=int, frm=float)  # fmt: skip
     cfg_param("FS_GCS_TIMEOUT", "gcs_timeout_s", REAL32, "s")
     cfg_param("FS_TIMEOUT", "stick_timeout_s", REAL32, "s")
+    cfg_param("RC_OVERRIDE_TIME", "rc_override_time_s", REAL32, "s")
     cfg_param("FS_ACTION", "fs_action", INT8, "", "failsafe action: 1 RTL, 2 HOLD, 3 SMART_RTL else RTL, "
               "4 SMART_RTL else HOLD", to=int, frm=float)  # fmt: skip
     # -- navigation

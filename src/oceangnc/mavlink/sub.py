@@ -328,7 +328,7 @@ class SubAutopilot(MissionMixin):
             self.event(f"Reached waypoint #{seq}")
             last = self._progress >= len(self._legs)
             self.mission_current = seq if last else self._route_seqs[self._progress]
-            self.mav.send(self.mav.mission_current_encode(self.mission_current))
+            self.send_mission_current()
             self._aim()
         if self._progress >= len(self._legs):
             self._switch_mode(POSHOLD)
@@ -347,6 +347,8 @@ class SubAutopilot(MissionMixin):
         else:
             total, state = n - 1, M.MISSION_STATE_PAUSED if self.reached else M.MISSION_STATE_NOT_STARTED
         self.mav.send(self.mav.mission_current_encode(seq, total, state, 1 if self.mode == AUTO else 2))
+
+    _send_mission_current = send_mission_current  # (the name MissionMixin calls)
 
     # -- the bus and the heartbeat -----------------------------------------------------------------------
     def bus_values(self) -> dict:

@@ -77,7 +77,7 @@ class TelemetryMixin:
             base |= M.MAV_MODE_FLAG_GUIDED_ENABLED | M.MAV_MODE_FLAG_STABILIZE_ENABLED
         if self.estop:
             status = M.MAV_STATE_EMERGENCY
-        elif self.failsafe or (sub is not None and sub.failsafe):
+        elif self.failsafe or self.stick_failsafe or (sub is not None and sub.failsafe):
             status = M.MAV_STATE_CRITICAL
         else:
             status = M.MAV_STATE_ACTIVE if self.armed else M.MAV_STATE_STANDBY
@@ -181,6 +181,8 @@ class TelemetryMixin:
                 self._heartbeat(uuv=True)
         if self._due("SYS_STATUS", now):
             self._send_sys_status()
+            if uuv is not None:
+                self._send_sys_status(uuv=True)
         if self._due("GPS_RAW_INT", now):
             b = self.sim.bus
             gx, gy = float(b.get("gps.x", usv["x"])), float(b.get("gps.y", usv["y"]))
@@ -293,7 +295,9 @@ class TelemetryMixin:
             healthy &= ~S.MAV_SYS_STATUS_PREARM_CHECK
         return present, present, healthy
 
-    def _send_sys_status(self) -> None:
+    def _send_sys_status(self, uuv: bool = False) -> None:
+        """SYS_STATUS of system 1, or with ``uuv`` of system 2 (the towed UUV: the same sensors and the one
+        battery of the vehicle, so that MAVSDK and QGroundControl see it armable with a position)."""
         present, enabled, healthy = self._sensor_bits()
         n = max(1, self.counts["rx_packets"])
         drop = int(min(10000, 10000 * self.counts["rx_bad"] / n))
@@ -303,7 +307,7 @@ class TelemetryMixin:
 
         b = self.battery
         self._send(
-            self.mav.sys_status_encode(
+            (self.mav_uuv if uuv else self.mav).sys_status_encode(
                 present,
                 enabled,
                 healthy,
@@ -317,7 +321,8 @@ class TelemetryMixin:
                 cap(self.counts["rx_unknown"]),
                 cap(self.counts["rx_out_of_range"]),
                 0,
-            )
+            ),
+            uuv=uuv,
         )
 
     def _send_battery_status(self) -> None:

@@ -195,12 +195,15 @@ class UUVMixin:
         ):
             self._uuv_ack(cmd, M.MAV_RESULT_ACCEPTED)
             self._send_home(uuv=True)
+        elif cmd == M.MAV_CMD_REQUEST_MESSAGE and round(m.param1) == M.MAVLINK_MSG_ID_SYS_STATUS:
+            self._uuv_ack(cmd, M.MAV_RESULT_ACCEPTED)
+            self._send_sys_status(uuv=True)
         elif cmd == M.MAV_CMD_REQUEST_MESSAGE and round(m.param1) == M.MAVLINK_MSG_ID_MISSION_CURRENT:
             self._uuv_ack(cmd, M.MAV_RESULT_ACCEPTED)
             self.sub2.send_mission_current()
         elif cmd == M.MAV_CMD_SET_MESSAGE_INTERVAL:
             name = self._stream_name(round(m.param1))
-            ok = name in ("HEARTBEAT", "GLOBAL_POSITION_INT", "ATTITUDE", "VFR_HUD", "MISSION_CURRENT")
+            ok = name in ("HEARTBEAT", "SYS_STATUS", "GLOBAL_POSITION_INT", "ATTITUDE", "VFR_HUD", "MISSION_CURRENT")
             self._uuv_ack(cmd, self._set_interval(round(m.param1), m.param2) if ok else M.MAV_RESULT_UNSUPPORTED)
         else:
             self.counts["rx_ignored"] += 1

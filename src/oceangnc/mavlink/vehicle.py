@@ -10,7 +10,7 @@ One loop (default 100 Hz, run in a thread by :meth:`MavlinkVehicle.start` or in 
    ``mavlink.rx_unknown``, ``mavlink.rx_out_of_range`` on the bus and in the log) and otherwise ignored;
 2. run ArduPilot Rover's failsafes (:meth:`MavlinkVehicle._watchdog`): the *controlling* ground station
    silent for FS_GCS_TIMEOUT (5 s) in a stick mode, or in any mode but HOLD / RTL / SMART_RTL while armed
-   once it has been heard, or a stick stream that was flowing stopped for FS_TIMEOUT (1.5 s), runs
+   once it has been heard, or a stick stream that was flowing stopped for RC_OVERRIDE_TIME (3 s), runs
    FS_ACTION (HOLD, RTL or SMART_RTL, :mod:`.nav`); other systems' heartbeats do not count;
 3. write the vehicle's state onto the simulation bus with ``sim.inject`` (the console's keys, see
    :mod:`oceangnc.console.session`): ``console.mode`` ("auto" while a route is flown: AUTO, or a leg of
@@ -202,7 +202,8 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         # -- state
         self.armed = False
         self.estop = False
-        self.failsafe = False
+        self.failsafe = False  # the GCS failsafe (cleared by the controlling ground station's heartbeat)
+        self.stick_failsafe = False  # the stick failsafe (cleared when the stick is back or the mode is set)
         self.mode = HOLD
         self.stick = (0.0, 0.0)
         self.t_gcs = -math.inf  # wall time of the last message from the controlling ground station
@@ -240,7 +241,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         self._batt_warned = 1.0
         self.params = build_params(self)
         if self.sub1 is not None:  # ArduSub's failsafes in place of Rover's (oceangnc.mavlink.sub)
-            for name in ("FS_GCS_ENABLE", "FS_TIMEOUT", "FS_ACTION", "LOIT_RADIUS"):
+            for name in ("FS_GCS_ENABLE", "FS_TIMEOUT", "RC_OVERRIDE_TIME", "FS_ACTION", "LOIT_RADIUS"):
                 self.params.pop(name, None)
             self.params.update({p.name: p for p in rov_params(self, self.sub1, rov, vname)})
         self.uuv_params = build_uuv_params(self) if self.has_uuv else {}
@@ -354,23 +355,26 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
         * GCS (FS_GCS_ENABLE, on by default): the *controlling* ground station silent for ``gcs_timeout_s``
           (FS_GCS_TIMEOUT, 5 s) in a stick mode, or in any other mode but HOLD / RTL / SMART_RTL while armed
           once that ground station has been heard; FS_GCS_ENABLE = 2 lets a mission in AUTO continue;
-        * stick (FS_TIMEOUT, 1.5 s): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream that was flowing in a
-          stick mode stops (a ground station without a joystick never starts one, so MANUAL with 1 Hz
+        * stick (RC_OVERRIDE_TIME, 3 s, or FS_TIMEOUT if longer): a MANUAL_CONTROL / RC_CHANNELS_OVERRIDE stream
+          that was flowing in a stick mode stops (ArduPilot: an override holds for RC_OVERRIDE_TIME; a ground
+          station without a joystick never starts one, so MANUAL with 1 Hz
           heartbeats stays MANUAL);
 
         either runs FS_ACTION (HOLD by default; RTL, SMART_RTL) once, until the link is back."""
-        if self.failsafe:
-            return
         c = self.cfg_mav
         silent = now - self.t_gcs > c.gcs_timeout_s
         watched = self.mode in STICK_MODES or (self.armed and math.isfinite(self.t_gcs))
-        if c.fs_gcs_enable and silent and watched and self.mode not in (HOLD, RTL, SMART_RTL):
+        stick_s = max(c.stick_timeout_s, c.rc_override_time_s)  # an override holds for RC_OVERRIDE_TIME
+        if not self.failsafe and c.fs_gcs_enable and silent and watched and self.mode not in (HOLD, RTL, SMART_RTL):
             why = "GCS link lost"
-        elif self.mode in STICK_MODES and self.stick_flowing and now - self.t_stick > c.stick_timeout_s:
-            why = "stick stream lost"
+            self.failsafe = True
+        elif (
+            not self.stick_failsafe and self.mode in STICK_MODES and self.stick_flowing and now - self.t_stick > stick_s
+        ):
+            why = "stick stream lost"  # (not the GCS link: its heartbeats may still come, and clear nothing)
+            self.stick_failsafe = True
         else:
             return
-        self.failsafe = True
         self.stick = (0.0, 0.0)
         self.stick_flowing = False
         if why == "GCS link lost" and self.mode == AUTO and c.fs_gcs_enable == 2:
@@ -390,7 +394,7 @@ class MavlinkVehicle(LinkMixin, CommandsMixin, ParamsMixin, NavMixin, MissionMix
             "joystick.surge": float(stick[0]),
             "joystick.yaw": float(stick[1]),
             "_estop": bool(stop),
-            "console.failsafe": float(self.failsafe),
+            "console.failsafe": float(self.failsafe or self.stick_failsafe),
             "console.estop": float(self.estop),
             "mavlink.armed": float(self.armed),
             "mavlink.mode": float(self.mode if self.sub1 is None else self.sub1.mode),
