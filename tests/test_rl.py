@@ -1,6 +1,7 @@
-"""oceangnc.rl (issue 44): the Gymnasium environment over the Otter path-following task.
+"""oceangnc.rl (issue 44): the Gymnasium environments of the Otter path-following and BlueROV2
+station-keeping tasks.
 
-One environment per module (building it loads the fused driver); short episodes."""
+One environment per task and module (building it loads the fused driver); short episodes."""
 
 from __future__ import annotations
 
@@ -13,15 +14,21 @@ from oceangnc import rl  # noqa: E402
 from oceangnc.errors import ConfigError, InputError  # noqa: E402
 
 
+@pytest.fixture(scope="module", params=[("otter-waypoints", "otter-path"), ("rov-station-keeping", "rov-station")])
+def any_env(request):
+    scenario, task = request.param
+    return rl.make(scenario, task=task, time_limit=3.0)
+
+
 @pytest.fixture(scope="module")
 def env():
     return rl.make("otter-waypoints", task="otter-path", time_limit=3.0)
 
 
-def test_check_env_passes(env):
+def test_check_env_passes(any_env):
     from gymnasium.utils.env_checker import check_env
 
-    check_env(env, skip_render_check=True)
+    check_env(any_env, skip_render_check=True)
 
 
 def _rollout(env, seed, actions):
@@ -35,8 +42,9 @@ def _rollout(env, seed, actions):
     return out, env.sim.plants[0].x.copy()
 
 
-def test_same_seed_same_trajectory_bit_for_bit(env):
-    acts = np.random.default_rng(7).uniform(-1, 1, size=(30, 2)).astype(np.float32)
+def test_same_seed_same_trajectory_bit_for_bit(any_env):
+    env = any_env
+    acts = np.random.default_rng(7).uniform(-1, 1, size=(30, env.action_space.shape[0])).astype(np.float32)
     a, xa = _rollout(env, 11, acts)
     _rollout(env, 12, acts[::-1])  # another episode in between: nothing of it may leak into the next
     b, xb = _rollout(env, 11, acts)
@@ -100,6 +108,18 @@ def test_bad_task_or_override_is_one_clear_error(kwargs, err, words):
         rl.make("otter-waypoints", **kwargs)
     msg = str(ei.value)
     assert words in msg and "\n" not in msg
+
+
+def test_station_keeping_spaces_and_penalty():
+    env = rl.make("rov-station-keeping", d_max=3.0, start_band=1.0, start_depth_band=0.5, time_limit=30.0)
+    assert env.action_space.shape == (8,) and env.observation_space.shape == (20,)  # 12 + the 8 thrusts
+    env.reset(seed=4)
+    down = np.array([0, 0, 0, 0, 1, 1, 1, 1], np.float32)  # the four vertical thrusters, +z (down) in its file
+    while True:
+        _, r, term, trunc, info = env.step(down)
+        if term or trunc:
+            break
+    assert term and info["reason"] == "left_station" and r < -env.task.params.end_penalty + 1.0
 
 
 def test_scenario_without_task_is_refused():

@@ -83,6 +83,13 @@ def _check(t: Task) -> None:
     e_max, cross = getattr(p, "e_max", math.inf), getattr(p, "start_cross_max", 0.0)
     if cross >= e_max:
         raise ConfigError(f"config error: start_cross_max = {cross:g}: must be below e_max = {e_max:g} m")
+    d_max, band = getattr(p, "d_max", math.inf), getattr(p, "start_band", 0.0)
+    deep = getattr(p, "start_depth_band", 0.0)
+    if math.sqrt(2 * band**2 + deep**2) >= d_max:  # the farthest corner of the start box
+        raise ConfigError(
+            f"config error: start_band = {band:g}, start_depth_band = {deep:g}: the start box's corner must lie "
+            f"within d_max = {d_max:g} m"
+        )
 
 
 __all__ = ["make", "task_names", "ScenarioEnv", "Task", "TaskParams", "TASKS"]

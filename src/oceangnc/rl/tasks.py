@@ -178,4 +178,64 @@ class OtterPathFollowing(Task):
         return r, ("off_channel" if not abs(e) <= p.e_max else None)
 
 
-TASKS: dict[str, type[Task]] = {OtterPathFollowing.name: OtterPathFollowing}
+class StationParams(TaskParams):
+    d_max: float = Field(5.0, gt=0, le=1e4, description="distance from the set point that ends the episode, m")
+    start_band: float = Field(2.0, ge=0, le=1e4, description="initial north/east offset within +-, m")
+    start_depth_band: float = Field(1.0, ge=0, le=1e4, description="initial depth offset within +- (>= 0 m), m")
+    vel_range: float = Field(1.0, gt=0, le=50, description="range of u, v, w (m/s)")
+    rate_range: float = Field(1.0, gt=0, le=50, description="range of p, q, r (rad/s)")
+    tilt_range_deg: float = Field(45.0, gt=0, le=180, description="range of roll and pitch, deg")
+
+
+class RovStationKeeping(Task):
+    """Station keeping on ``rov-station-keeping`` (docs/rl.md, "rov-station").
+
+    Observation: the position error (set point - position) in the yaw-rotated frame (ahead, starboard)
+    and in depth / d_max, psi_err / pi (psi_err = wrap(psi_sp - psi)), roll and pitch / tilt range,
+    u, v, w / vel_range, p, q, r / rate_range, the 8 thrusts / max_forward. Reward
+    r = 1 - |dp| / d_max - c_psi |psi_err| / pi - c_a mean(a^2); termination ``left_station``
+    (|dp| > d_max, with -R_end).
+    """
+
+    name = "rov-station"
+    scenario = "rov-station-keeping"
+    Params = StationParams
+
+    def obs_names(self) -> list[str]:
+        return ["e_ahead", "e_starboard", "e_down", "psi_err", "phi", "theta", "u", "v", "w", "p", "q", "r"]
+
+    def obs_ranges(self) -> list[float]:
+        p = self.params
+        tilt = math.radians(p.tilt_range_deg)
+        return [p.d_max] * 3 + [math.pi, tilt, tilt] + [p.vel_range] * 3 + [p.rate_range] * 3
+
+    def _errors(self, bus: dict) -> tuple[float, float, float, float]:
+        sp = self.cfg.setpoint
+        dn, de, dd = sp.x - bus["vehicle.x"], sp.y - bus["vehicle.y"], sp.z - bus["vehicle.z"]
+        return dn, de, dd, _wrap(math.radians(sp.psi_deg) - bus["vehicle.psi"])
+
+    def raw_obs(self, bus: dict) -> list[float]:
+        dn, de, dd, psi_err = self._errors(bus)
+        c, s = math.cos(bus["vehicle.psi"]), math.sin(bus["vehicle.psi"])
+        rest = [bus[f"vehicle.{k}"] for k in ("phi", "theta", "u", "v", "w", "p", "q", "r")]
+        return [c * dn + s * de, -s * dn + c * de, dd, psi_err, *rest]
+
+    def start(self, sim, rng: np.random.Generator) -> None:
+        """Initial position: the set point +- start_band north and east, +- start_depth_band in depth (not
+        above the surface); heading the set point's +- heading_band_deg; at rest; then the current."""
+        p, sp = self.params, self.cfg.setpoint
+        x = sp.x + rng.uniform(-p.start_band, p.start_band)
+        y = sp.y + rng.uniform(-p.start_band, p.start_band)
+        z = max(0.0, sp.z + rng.uniform(-p.start_depth_band, p.start_depth_band))
+        psi = math.radians(sp.psi_deg + rng.uniform(-p.heading_band_deg, p.heading_band_deg))
+        self._set_start(sim, {"x": x, "y": y, "z": z, "psi": psi}, rng)
+
+    def reward(self, bus: dict, a: np.ndarray) -> tuple[float, str | None]:
+        p = self.params
+        dn, de, dd, psi_err = self._errors(bus)
+        d = math.sqrt(dn * dn + de * de + dd * dd)
+        r = 1.0 - d / p.d_max - p.c_psi * abs(psi_err) / math.pi - p.c_a * float(np.mean(a**2))
+        return r, ("left_station" if not d <= p.d_max else None)
+
+
+TASKS: dict[str, type[Task]] = {OtterPathFollowing.name: OtterPathFollowing, RovStationKeeping.name: RovStationKeeping}
