@@ -56,6 +56,20 @@ def test_same_seed_same_trajectory_bit_for_bit(any_env):
     assert not np.array_equal(a[0], c[0])  # the seed does draw the initial state
 
 
+def test_env_steps_equal_the_clocks_run(env):
+    """The env's driver calls (actions written by slot) give the plant state of Simulation.run with the
+    actions put on the bus, bit for bit."""
+    acts = np.random.default_rng(3).uniform(-1, 1, size=(20, 2)).astype(np.float32)
+    a, xa = _rollout(env, 5, acts)
+    env.reset(seed=5)
+    sim = env.sim
+    sim.bus.update({"_stop": False})
+    for act in acts[: len(a) - 1]:
+        sim.inject(env.task.act(np.asarray(act, np.float64)))
+        sim.run(env.period)
+    assert np.array_equal(sim.plants[0].x, xa)
+
+
 def test_full_thrust_moves_forward_faster_than_none():
     env = rl.make("otter-waypoints", time_limit=5.0, u0_max=0.0, current_max=0.0, heading_band_deg=0.0)
     speeds = {}
@@ -65,10 +79,10 @@ def test_full_thrust_moves_forward_faster_than_none():
             _, _, term, trunc, _ = env.step(np.full(2, a, np.float32))
             if term or trunc:
                 break
-        speeds[a] = env.sim.bus["vehicle.u"]
+        speeds[a] = env.signals["vehicle.u"]
     assert abs(speeds[0.0]) < 0.05  # at rest, no current, no thrust
     assert speeds[1.0] > 1.0  # full forward on both propellers: the Otter's top speed is about 3 m/s
-    assert env.sim.bus["vehicle.shaft_left"] > 90.0  # rad/s, the shaft near n_max = 103.9 rad/s
+    assert env.signals["vehicle.shaft_left"] > 90.0  # rad/s, the shaft near n_max = 103.9 rad/s
 
 
 def test_episode_truncates_at_time_limit(env):

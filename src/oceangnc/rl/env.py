@@ -4,8 +4,9 @@ The scenario is built the usual way (:meth:`oceangnc.scenarios.base.Scenario.bui
 blocks the agent replaces (the controller and the thrust allocation) and declares what it writes instead
 (the thruster commands, the current) as external inputs of a new :class:`~oceangnc.core.clock.Simulation`
 over the same plant and the remaining blocks (guidance, environment). That simulation runs on the fused
-compiled loop (:mod:`oceangnc.core.fused`): one :meth:`~oceangnc.core.clock.Simulation.run` call per
-environment step advances every physics step and block firing of the control period in compiled code.
+compiled loop (:mod:`oceangnc.core.fused`): one call of its driver per environment step advances every
+physics step and block firing of the control period in compiled code; the action is written into, and
+the observation read from, the driver's signal array by slot (:class:`SignalView`).
 
 Reset does not rebuild anything: :class:`LoopSnapshot` keeps a copy of every array of the fused loop
 (the signal array, the blocks' states, the plant's state) taken before the first tick, and puts it back
@@ -45,6 +46,23 @@ class LoopSnapshot:
         self.arrays = {k: v.copy() for k, v in fz.args.items() if isinstance(v, np.ndarray)}
         self.gens = [v for v in fz.args.values() if isinstance(v, np.random.Generator)]
         self.bus = dict(sim.bus)
+        self.args = [fz.args[a] for a in fz.arg_names]
+        self.buf = np.empty((1, len(fz.log_slots) + 1))
+        self.signals = SignalView(fz)
+
+    def advance(self, n: int) -> None:
+        """``n`` physics steps from where the loop is, in one call of the fused driver, the signal array
+        left as the driver leaves it (what :meth:`Simulation.run` does between its copies from and to the
+        bus dict, which cost more than the driver here). Raises the clock's DivergenceError."""
+        sim, fz = self.sim, self.fz
+        k, done_k, _, status, info, t_new = fz.drive(
+            sim.k, sim._done_k, sim.k + n, sim.tick, sim.dt, fz.sig, fz.stop_slot, False, sim.log_steps,
+            fz.log_slots, fz.nan_ok, self.buf, 1 << 62, fz.nbs, *self.args,
+        )  # fmt: skip
+        sim.k, sim._done_k = int(k), int(done_k)
+        sim.t = sim.k * sim.dt
+        if status in (2, 3):
+            raise sim._fused_error(int(status), int(info), float(t_new))
 
     def restore(self, rng: np.random.Generator) -> None:
         """Back to the state before the first tick; each block's generator restarts from a child of ``rng``."""
@@ -57,6 +75,24 @@ class LoopSnapshot:
         sim.bus = dict(self.bus)
         sim.k, sim._done_k, sim.t = 0, -1, 0.0
         sim.fire_count = [0] * len(sim.blocks)
+
+
+class SignalView:
+    """The fused loop's signals by name, read from its signal array (``view["vehicle.u"]``, ``view.get``)."""
+
+    def __init__(self, fz):
+        self.sig, self.slot = fz.sig, fz.slot
+
+    def __getitem__(self, name: str) -> float:
+        return float(self.sig[self.slot[name]])
+
+    def get(self, name: str, default=None):
+        i = self.slot.get(name)
+        return default if i is None else float(self.sig[i])
+
+    def write(self, values: dict) -> None:
+        for k, v in values.items():
+            self.sig[self.slot[k]] = v
 
 
 class ScenarioEnv(gymnasium.Env):
@@ -80,6 +116,9 @@ class ScenarioEnv(gymnasium.Env):
         self.action_space = task.action_space
         self.observation_space = task.observation_space
         self._snap = LoopSnapshot(sim)
+        self._steps = int(round(self.period / sim.dt))
+        #: the loop's signals by name (read-only use; the clock's bus dict is not updated between resets)
+        self.signals = self._snap.signals
         self._ended = True
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[np.ndarray, dict]:
@@ -91,20 +130,20 @@ class ScenarioEnv(gymnasium.Env):
         self.task.start(self.sim, self.np_random)
         self.sim.run(0.0)  # the first tick: every block fires at t = 0
         self._ended = False
-        return self.task.observe(self.sim.bus), {"t": 0.0}
+        return self.task.observe(self.signals), {"t": 0.0}
 
     def step(self, action) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._ended:
             raise RuntimeError("rl: step() after the episode ended; call reset() first")
         a = np.clip(np.asarray(action, dtype=np.float64).reshape(self.action_space.shape), -1.0, 1.0)
-        self.sim.bus.update(self.task.act(a))
+        bus = self.signals
+        bus.write(self.task.act(a))
         info: dict[str, Any] = {}
         diverged = False
         try:
-            self.sim.run(self.period)
+            self._snap.advance(self._steps)
         except DivergenceError:  # reported as a termination named "diverged"
             diverged = True
-        bus = self.sim.bus
         info["t"] = t = self.sim.k * self.sim.dt
         obs = self.task.observe(bus)
         reward, reason = self.task.reward(bus, a)

@@ -85,7 +85,9 @@ class Task:
         """raw / range for every item, then the actuator states / their range, clipped to [-1, 1] (float32)."""
         vals = [v / s for v, s in zip(self.raw_obs(bus), self.obs_ranges())]
         vals += [bus[k] / s for k, s in self.act_obs]
-        return np.clip(np.nan_to_num(np.array(vals)), -1.0, 1.0).astype(np.float32)
+        out = np.array(vals)
+        out[~np.isfinite(out)] = 0.0  # a diverged step (terminated): a finite observation all the same
+        return np.clip(out, -1.0, 1.0).astype(np.float32)
 
     def obs_ranges(self) -> list[float]:
         raise NotImplementedError
