@@ -56,6 +56,23 @@ def test_same_seed_same_trajectory_bit_for_bit(any_env):
     assert not np.array_equal(a[0], c[0])  # the seed does draw the initial state
 
 
+def test_initial_states_lie_in_the_stated_bands_and_fill_them(env):
+    p = env.task.params
+    e, dpsi, u, cur = [], [], [], []
+    for seed in range(20):
+        env.reset(seed=seed)
+        s = env.signals
+        e.append(s["guidance.e"])  # the first leg runs north from (0, 0): e is the east offset
+        dpsi.append(np.degrees(s["vehicle.psi"]))
+        u.append(s["vehicle.u"])
+        cur.append(np.hypot(s["env.current_n"], s["env.current_e"]))
+    e, dpsi, u, cur = map(np.array, (e, dpsi, u, cur))
+    assert np.abs(e).max() <= p.start_cross_max and np.abs(e).max() > 0.5 * p.start_cross_max
+    assert np.abs(dpsi).max() <= p.heading_band_deg and np.abs(dpsi).max() > 0.5 * p.heading_band_deg
+    assert u.min() >= 0.0 and u.max() <= p.u0_max and u.max() > 0.5 * p.u0_max
+    assert cur.max() <= p.current_max and cur.max() > 0.5 * p.current_max
+
+
 def test_env_steps_equal_the_clocks_run(env):
     """The env's driver calls (actions written by slot) give the plant state of Simulation.run with the
     actions put on the bus, bit for bit."""
