@@ -33,6 +33,7 @@ BENCHMARKS = {
     ),
     "vehicles": ("bench_combined.py", ["rov-station-keeping", "otter-waypoints"], {"NUMBA_NUM_THREADS": "1"}),
     "usv": ("bench_usv.py", ["--duration", "300", "--repeat", "3"], {}),
+    "rl": ("bench_rl.py", ["--steps", "20000", "--repeat", "3"], {"NUMBA_NUM_THREADS": "1"}),
     "ekf": ("bench_ekf.py", ["--seeds", "10"], {"NUMBA_NUM_THREADS": "1"}),
     "berthing": ("bench_berthing.py", [], {}),
     "tow": ("bench_tow.py", [], {}),
