@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 
 KGF = 9.80665
 

@@ -76,7 +76,7 @@ class GCS:
 def upload_mission(g: GCS, pts, lat0: float, lon0: float, seconds: float = 3.0) -> None:
     """Mission upload as every ground station does it: MISSION_COUNT, then one MISSION_ITEM_INT per
     MISSION_REQUEST_INT; ``pts`` are (north, east) m about (lat0, lon0), the first one home (item 0)."""
-    from oceangnc.mavlink.geo import ned_to_latlon
+    from oceangnc.io.geo import ned_to_latlon
 
     g.mav.mission_count_send(1, 1, len(pts), 0)
     for seq, (n, e) in enumerate(pts):

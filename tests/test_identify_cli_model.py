@@ -214,7 +214,7 @@ def _turn_bin(path, one, usv, firmware=None, params=None):
     """One turning trial of a rudder boat as an ArduPilot DataFlash log: MSG (firmware) and PARM records first,
     then GPS, ATT, IMU, RCOU with C1 steering and C3 throttle PWM."""
     from log_writers import DataFlashWriter
-    from oceangnc.mavlink.geo import ned_to_latlon
+    from oceangnc.io.geo import ned_to_latlon
 
     lim = math.radians(usv.rudder_limit_deg)
     w = DataFlashWriter(path)

@@ -13,7 +13,7 @@ import pytest
 from log_writers import as_pre_iron_bag, write_dataflash, write_rosbag, write_tlog, write_ulog
 from oceangnc.cli import main
 from oceangnc.io.importers import import_log, read_any
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 
 LAT0, LON0 = 63.4305, 10.3951
 KGF = 9.80665

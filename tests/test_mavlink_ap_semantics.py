@@ -6,7 +6,7 @@ loss gives the stick failsafe without a word about the GCS link; the towed UUV (
 
 from __future__ import annotations
 
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 

@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 

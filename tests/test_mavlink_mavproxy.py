@@ -13,7 +13,7 @@ import time
 import pytest
 
 from mavlink_gcs import MAVProxy, wait_for
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 

@@ -10,7 +10,7 @@ import time
 import pytest
 
 from mavlink_gcs import mavsdk_system
-from oceangnc.mavlink.geo import ned_to_latlon
+from oceangnc.io.geo import ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 

@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from mavlink_gcs import GCS, qgc_connect, qgc_set_mode, qgc_start_mission, upload_mission
-from oceangnc.mavlink.geo import latlon_to_ned, ned_to_latlon
+from oceangnc.io.geo import latlon_to_ned, ned_to_latlon
 from oceangnc.mavlink.protocol import mavlink as M
 from oceangnc.mavlink.vehicle import MavlinkVehicle
 

@@ -169,7 +169,7 @@ def _synthetic_run(path: Path) -> pd.DataFrame:
 
 
 def test_mcap_gps_gaps_and_seabed(tmp_path):
-    from oceangnc.mavlink.geo import ned_to_latlon
+    from oceangnc.io.geo import ned_to_latlon
     from oceangnc.view.mcap_export import export_mcap
 
     df = _synthetic_run(tmp_path / "syn")

@@ -52,7 +52,7 @@ def steepness_error(kind: str, hs: float, tp: float, depth: float) -> str | None
     if kind == "none":
         return None
     if kind == "regular":
-        from .waves import wave_number
+        from .dispersion import wave_number
 
         k = float(wave_number(2.0 * math.pi / tp, depth)[0])
         lam = 2.0 * math.pi / k

@@ -51,7 +51,7 @@ from numba import njit
 from pydantic import Field, model_validator
 
 from ..io.config import StrictModel
-from ..units import G
+from .dispersion import wave_number
 
 #: k h above which the deep-water forms are used (tanh(20) = 1 - 8e-18)
 DEEP_KH = 20.0
@@ -119,22 +119,6 @@ def jonswap(f, hs: float, tp: float, gamma: float = 3.3):
     sigma = np.where(f <= fp, 0.07, 0.09)
     r = np.exp(-((f - fp) ** 2) / (2.0 * sigma**2 * fp**2))
     return (1.0 - 0.287 * math.log(gamma)) * pierson_moskowitz(f, hs, tp) * gamma**r
-
-
-def wave_number(omega, depth: float):
-    """Wave numbers k (rad/m) of angular frequencies ``omega`` (rad/s) in water of ``depth`` (m):
-    omega^2 = g k tanh(k h), by Newton from the deep-water value."""
-    w = np.atleast_1d(np.asarray(omega, dtype=np.float64))
-    k = w**2 / G
-    for _ in range(50):
-        th = np.tanh(k * depth)
-        f = G * k * th - w**2
-        df = G * th + G * k * depth * (1.0 - th**2)
-        step = f / df
-        k = k - step
-        if np.all(np.abs(step) <= 1e-14 * k):
-            break
-    return k
 
 
 class WaveField:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from .geo import latlon_to_ned, ned_to_latlon
+from ..io.geo import latlon_to_ned, ned_to_latlon
 from .protocol import AUTO, GUIDED, HOLD, mavlink
 
 M = mavlink

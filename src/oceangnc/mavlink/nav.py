@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 
-from .geo import latlon_to_ned, ned_to_latlon
+from ..io.geo import latlon_to_ned, ned_to_latlon
 from .protocol import AUTO, GUIDED, HOLD, LOITER, NAV_MODES, RTL, SMART_RTL, STICK_MODES, mavlink, mode_name
 
 M = mavlink

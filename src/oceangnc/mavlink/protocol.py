@@ -7,11 +7,7 @@ Planner, MAVProxy) show Rover's flight-mode names for the ``custom_mode`` number
 
 from __future__ import annotations
 
-import os
-
-os.environ.setdefault("MAVLINK20", "1")
-
-from pymavlink.dialects.v20 import ardupilotmega as mavlink
+from ..io.mavlink_dialect import mavlink
 
 #: ArduPilot Rover mode numbers (ArduPilot ``Rover/mode.h``) that the vehicle accepts, and what they do.
 ROVER_MODES = {

@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 
 from ..control.ardusub import ACRO, ALT_HOLD, AUTO, FLOWN, GUIDED, MANUAL, POSHOLD, STABILIZE, SURFACE
-from .geo import latlon_to_ned
+from ..io.geo import latlon_to_ned
 from .mission import MissionMixin
 from .protocol import mavlink
 

@@ -6,7 +6,7 @@ import math
 
 from .. import __version__
 from ..core.rotations import wrap_array
-from .geo import ned_to_latlon
+from ..io.geo import ned_to_latlon
 from .protocol import AUTO, MAX_RATE_HZ, NAV_MODES, STICK_MODES, mavlink
 
 M = mavlink

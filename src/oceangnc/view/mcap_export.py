@@ -530,7 +530,7 @@ def _gps_messages(rd: RunData, stamps) -> list[tuple[str, list[bytes | None]]]:
         body = rd.latlon[0].rpartition(".")[0] or "gps"
         out.append((f"/{body}/gps", [fix(i, lat[i], lon[i], 0.0) for i in range(rd.rows)]))
     elif rd.origin:
-        from ..mavlink.geo import ned_to_latlon
+        from ..io.geo import ned_to_latlon
 
         for b in rd.bodies:
             n, e, d = (rd.col(b.columns[k]).tolist() for k in ("x", "y", "z"))

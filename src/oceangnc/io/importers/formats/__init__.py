@@ -3,7 +3,7 @@
 Conventions converted at this edge (and nowhere else):
 
 * ArduPilot (DataFlash and MAVLink): angles in deg or cdeg -> rad; lat/lon in deg or 1e-7 deg ->
-  north/east m about the origin (:mod:`oceangnc.mavlink.geo`); speeds in cm/s -> m/s; servo PWM
+  north/east m about the origin (:mod:`oceangnc.io.geo`); speeds in cm/s -> m/s; servo PWM
   about 1500 us with +-400 us full scale -> -1..1 (skid-steer boat: output 1 = left/port throttle,
   output 3 = right/starboard throttle, ArduPilot SERVOn_FUNCTION 73/74).
 * PX4 ULog: ``vehicle_local_position`` is already NED (x north, y east, z down, m); attitude

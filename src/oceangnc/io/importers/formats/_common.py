@@ -31,7 +31,7 @@ def pwm(v):
 
 def north_east(lat, lon, origin):
     """lat, lon (deg) -> north, east (m) about ``origin`` (default the first valid fix), and the origin."""
-    from ....mavlink.geo import latlon_to_ned
+    from ...geo import latlon_to_ned
 
     lat = np.asarray(lat, float)
     lon = np.asarray(lon, float)
@@ -99,7 +99,7 @@ def mav_type_class(mav_type: int) -> str | None:
 
 
 def mav_type_name(mav_type: int) -> str:
-    from ....mavlink.protocol import mavlink as M
+    from ...mavlink_dialect import mavlink as M
 
     e = M.enums["MAV_TYPE"].get(int(mav_type))
     return e.name if e is not None else f"MAV_TYPE {int(mav_type)}"

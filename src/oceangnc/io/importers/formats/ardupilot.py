@@ -23,7 +23,7 @@ def read_tlog(
     Time base: the vehicle's clock (``time_boot_ms`` / ``time_usec``) where a message has one, else the
     record's time stamp shifted by the median offset between the two (so both share one axis).
     """
-    from ....mavlink.protocol import mavlink as M
+    from ...mavlink_dialect import mavlink as M
 
     data = path.read_bytes()
     if len(data) < 20:
