@@ -12,8 +12,9 @@ One home for the rules the reliability tests rely on (issues 26 and 41; docs/rel
   every :data:`POLL_S` (SIGALRM) until the code has returned. Until issue 41 only SIGTERM was handled so;
   SIGINT kept Python's default handler, which raises anywhere, and neither handler knew of ctypes
   (:func:`_unsafe`): a signal at a random instant of a cached ``oceangnc run usv-turn`` ended in
-  SIGSEGV inside the fused driver's call (2 in 34 SIGINTs and 1 in 12 SIGTERMs in the issue; the stress
-  test crashed after 32 to 47 signals before the fix).
+  SIGSEGV inside the fused driver's call (2 in 34 SIGINTs and 1 in 12 SIGTERMs in the issue, 1 in 50
+  SIGINTs here; the stress test crashed after 32 and 47 signals with this handler before ctypes was
+  added to :data:`UNSAFE_MODULES`).
 * A phase that stays unsafe longer than :data:`HARD_STOP_S` (numba compiling a driver for tens of
   seconds on a first run) is not waited for: the run's *hard stop* (:func:`on_hard_stop`, registered by
   :func:`oceangnc.api.run`) writes ``summary.json`` and the process ends at once with ``os._exit`` (the
