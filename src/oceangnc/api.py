@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from . import postproc
+from . import postproc, run_stop
 from .errors import DivergenceError
 from .io.config import deep_merge, dump_toml, load_toml, to_dict, validate
 from .io.logs import LogWriter, atomic_write_text, read_table, remove_log
@@ -168,6 +168,7 @@ def run(
     model: str | Path | None = None,
     overwrite: bool = False,
     _post: postproc.PostProcess | None = None,
+    _track: run_stop.Track | None = None,
 ) -> RunResult:
     """Run a scenario and write its outputs.
 
@@ -262,6 +263,8 @@ def run(
         remove_log(out_dir / "log.parquet")  # and the hidden folders of an interrupted merge beside it
         dump_toml(cfg, out_dir / "config.toml")
         log = LogWriter.for_run(out_dir, cfg.log)
+    if _track is not None:  # what an interrupt keeps from here on (oceangnc.run_stop)
+        _track.folder(out_dir, log, sc.name)
     ctx = RunContext(
         out_dir=out_dir, log=log, rng=np.random.default_rng(cfg.sim.seed), progress=progress, verbose=verbose
     )
@@ -275,6 +278,8 @@ def run(
 
     def write_summary():
         atomic_write_text(out_dir / "summary.json", json.dumps(summary, indent=2))
+        if _track is not None:
+            _track.status = summary.get("status")
 
     try:
         metrics = sc.run(cfg, ctx)
@@ -338,6 +343,9 @@ def run(
     finally:
         postproc.cancel(post, done=True)
     return RunResult(log=table, summary=summary, config=cfg, out_dir=out_dir, plots=plot_paths)
+
+
+run = run_stop.guarded(run)  # an interrupt in any phase writes summary.json or says what was kept
 
 
 def log_frame(sc, table):

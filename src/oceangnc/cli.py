@@ -274,11 +274,10 @@ def main(argv: list[str] | None = None) -> int:
         rc = e.exit_code
     except KeyboardInterrupt as e:
         term = isinstance(e, Terminated)
-        print(
-            f"{'terminated (SIGTERM)' if term else 'interrupted'}: the log written so far is kept "
-            "(summary.json status: interrupted)",
-            file=sys.stderr,
-        )
+        kept = getattr(e, "kept", None)  # oceangnc.run_stop: what the interrupted run kept
+        if kept is None:
+            kept = "no summary written: stopped before the run started" if args.command == "run" else "stopped"
+        print(f"{'terminated (SIGTERM)' if term else 'interrupted'}: {kept}", file=sys.stderr)
         rc = 143 if term else 130
     except BrokenPipeError:  # the reader of the output went away (``oceangnc list | head``): end quietly
         try:  # so that the interpreter's final flush of stdout does not fail again

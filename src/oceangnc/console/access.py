@@ -7,13 +7,21 @@ peer (issue 26: 1,100 tokenless requests flushed a take-over alarm out of the ev
   over). Summaries go to their own short history on the session, never into the operators' one, and
   to the run's ``events.jsonl``.
 * :class:`Throttle` gives each peer address a bucket of ``limit`` failed token checks that refills
-  over ``window_s``; an empty bucket answers HTTP 429 to every request of that peer that needs the
-  token, the right token included (else a 429/200 difference would still tell a guesser when it hit),
-  until the bucket refills. No sleep: a refusal costs one dictionary look-up.
+  over ``window_s``; an empty bucket answers HTTP 429 to every wrong or missing token of that peer until
+  the bucket refills. The right token always gets through (issue 41): every local user shares
+  127.0.0.1, so a process sending 5 wrong tokens a second locked the operator out (0 of 30 reconnects
+  with the right token, when an empty bucket refused the right token too). The throttle slows the
+  failures only. That a throttled guesser still learns when it hits is harmless: the token holds 128
+  random bits (:func:`oceangnc.console.server.new_token`, and the Foxglove stream's own token), 2^127
+  guesses on average. No sleep: a refusal costs one dictionary look-up.
+* :func:`token_refusal` is that rule, shared by the console and the Foxglove streams
+  (:mod:`oceangnc.view.foxglove_ws`).
 """
 
 from __future__ import annotations
 
+import math
+import secrets
 import threading
 import time
 from collections import Counter
@@ -61,6 +69,20 @@ class Throttle:
             del self._peers[p]
         while len(self._peers) >= self.max_peers:
             del self._peers[next(iter(self._peers))]
+
+
+def token_refusal(throttle: Throttle, peer: str, presented: str, token: str) -> tuple[int, str, int] | None:
+    """None when ``presented`` is ``token`` (compared in constant time; never throttled), else
+    ``(429, message, retry-after s)`` while ``peer``'s bucket is empty, else ``(401, message, 0)`` with the
+    failure counted against ``peer`` (module docstring)."""
+    if secrets.compare_digest(presented.encode(), token.encode()):
+        return None
+    wait = throttle.wait_s(peer)
+    if wait > 0.0:
+        secs = math.ceil(wait)
+        return 429, f"too many wrong or missing session tokens from {peer}; retry in {secs} s", secs
+    throttle.failed(peer)
+    return 401, "missing or wrong session token", 0
 
 
 class AccessLog:

@@ -18,8 +18,9 @@ Who can connect (docs/reliability.md)
 * **Token.** Every ``/api/...`` request and every WebSocket must present the session token (query
   ``?token=``, header ``X-Oceangnc-Token`` or ``Authorization: Bearer``); the page takes it from its
   own URL. Without it: HTTP 401 (WebSocket: refused at the handshake with HTTP 401). A peer address
-  that failed the check 20 times in a minute gets HTTP 429 for every request needing the token, the
-  right one included, until a try comes back (:class:`oceangnc.console.access.Throttle`).
+  that failed the check 20 times in a minute gets HTTP 429 for every further wrong or missing token
+  until a try comes back (:class:`oceangnc.console.access.Throttle`); the right token always gets
+  through (every local user shares 127.0.0.1: a process guessing there must not lock the operator out).
 * **Refusals** are counted by kind, not logged one by one: at most one summary event per 10 s, in a
   history of their own (:class:`oceangnc.console.access.AccessLog`), so a flood without the token
   cannot push an operator's event out.
@@ -47,7 +48,6 @@ import asyncio
 import contextlib
 import ipaddress
 import json
-import math
 import secrets
 import sys
 from pathlib import Path
@@ -58,7 +58,7 @@ from fastapi import FastAPI, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, Response
 from fastapi.staticfiles import StaticFiles
 
-from .access import Throttle
+from .access import Throttle, token_refusal
 from .messages import RateLimiter, Rejected, parse_message
 from .session import Session
 
@@ -123,16 +123,12 @@ class Guard:
                 return Refusal(403, f"origin {origin!r} not allowed (only pages served by this console)", "origin")
         if need_token:
             peer = conn.client.host if conn.client is not None else "?"
-            wait = self.throttle.wait_s(peer)
-            if wait > 0.0:
-                secs = math.ceil(wait)
-                msg = f"too many wrong or missing session tokens from {peer}; retry in {secs} s"
-                return Refusal(429, msg, "throttled", secs)
-            if not secrets.compare_digest(self.presented_token(conn).encode(), self.token.encode()):
-                self.throttle.failed(peer)
-                return Refusal(
-                    401, "missing or wrong session token (open the URL printed by 'oceangnc console')", "token"
-                )
+            bad = token_refusal(self.throttle, peer, self.presented_token(conn), self.token)
+            if bad is not None:
+                status, msg, secs = bad
+                if status == 429:
+                    return Refusal(429, msg, "throttled", secs)
+                return Refusal(401, msg + " (open the URL printed by 'oceangnc console')", "token")
         return None
 
 

@@ -35,6 +35,13 @@ from . import compile_note
 from .blocks import Block, Plant
 from .signals import WiringError, check_wiring
 
+#: wall time of one call of the fused driver (s): a signal is handled between two calls (issue 41)
+CALL_S = 0.1
+#: the most physics steps between two ticks of the clock (block firings, log rows): the plants advance them in
+#: one compiled call, which a signal cannot interrupt (2e4 steps: 0.01 s of the fastest vehicle, 0.5 s of a
+#: plant 40 times slower; a tick is 10-50 steps at the default dt)
+MAX_TICK_STEPS = 20_000
+
 
 def _steps(period: float, dt: float, what: str) -> int:
     k = period / dt
@@ -118,6 +125,12 @@ class Simulation:
         self.block_steps = [_steps(b.period, self.dt, f"block '{b.name}'") for b in self.blocks]
         self.log_steps = _steps(log_period, self.dt, "sim.log_rate")
         self.tick = math.gcd(self.log_steps, *self.block_steps) if self.block_steps else self.log_steps
+        if self.tick > MAX_TICK_STEPS:
+            raise ConfigError(
+                f"sim.dt = {self.dt:g} s: {self.tick} physics steps between two block firings or log rows "
+                f"({self.tick * self.dt:g} s), more than {MAX_TICK_STEPS}: the loop could not stop within a "
+                "second on a signal; raise sim.dt (or sim.log_rate)"
+            )
         self.bus: dict = {}
         self._injected: set[str] = set()  # keys written by inject(): front ends' inputs
         self.t = 0.0
@@ -276,16 +289,20 @@ class Simulation:
             fz.set_log([])
         if not hasattr(fz, "buf") or fz.buf.shape[1] != len(fz.log_slots) + 1:
             fz.buf = np.empty((2000, len(fz.log_slots) + 1))
-        # chunk so that a progress bar or a wall-clock limit is honoured (about 0.2 s of work per call)
-        max_ticks = 2000 if (bar is not None or wall_limit is not None) else 1 << 62
+        # chunk so that a progress bar, a wall-clock limit and a signal are honoured: the driver returns to
+        # Python after about CALL_S of wall time (issue 41: a SIGINT/SIGTERM is handled between two calls);
+        # the first call runs a few ticks, each next one as many as the last rate gives in CALL_S
+        cap = 1 << 62
         flush = getattr(log, "flush_period", None) if log_on else None
         if flush:  # crash safety: hand the log its rows at least once per flush period of simulated time
-            max_ticks = min(max_ticks, max(1, int(flush / (self.tick * self.dt) + 1e-9)))
+            cap = max(1, int(flush / (self.tick * self.dt) + 1e-9))
+        max_ticks = min(cap, 16)
         args = [fz.args[a] for a in fz.arg_names]
         # the first tick, when the driver runs it, with its own slots for the optional inputs (FirstTick)
         first = fz.first_args if self._done_k < 0 else None
         while True:
             call_args = args if first is None else [first[a] for a in fz.arg_names]
+            k_call, w_call = self.k, time.perf_counter()
             k, done_k, rows, status, info, t_new = fz.drive(
                 self.k,
                 self._done_k,
@@ -304,6 +321,9 @@ class Simulation:
                 *call_args,
             )
             first = None
+            took = time.perf_counter() - w_call
+            ticks_done = max(1, (int(k) - k_call) // self.tick)
+            max_ticks = int(min(cap, max(1, ticks_done * min(CALL_S / max(took, 1e-6), 8.0))))
             if self._done_k < 0 <= done_k:  # the driver ran the first tick: every block fired
                 self.fire_count = [n + 1 for n in self.fire_count]
             self.k, self._done_k = int(k), int(done_k)

@@ -85,32 +85,30 @@ class FoxgloveRunServer:
     def process_request(self, connection, request):
         """The token check of the WebSocket handshake (before the protocol): None lets the connection
         through; else an HTTP 401 (missing or wrong token) or 429 (too many failed tries from that peer,
-        :class:`oceangnc.console.access.Throttle`: the right token is refused too until a try comes back)."""
+        :func:`oceangnc.console.access.token_refusal`: the right token always gets through)."""
         if not self.token:
             return None
         from urllib.parse import parse_qs
 
-        from ..console.access import Throttle
+        from ..console.access import Throttle, token_refusal
 
         if self._throttle is None:
             self._throttle = Throttle()
         peer = str((connection.remote_address or ("?",))[0])
-        wait = self._throttle.wait_s(peer)
-        if wait > 0.0:
-            resp = connection.respond(
-                429, f"too many wrong or missing tokens from {peer}; retry in {math.ceil(wait)} s\n"
-            )
-            resp.headers["Retry-After"] = str(math.ceil(wait))
-            return resp
         tok = (parse_qs(urlsplit(request.path).query).get("token") or [""])[0]
         tok = tok or request.headers.get("X-Oceangnc-Token", "")
         auth = request.headers.get("Authorization", "")
         if not tok and auth.lower().startswith("bearer "):
             tok = auth[7:].strip()
-        if not secrets.compare_digest(tok.encode(), self.token.encode()):
-            self._throttle.failed(peer)
-            return connection.respond(401, "missing or wrong session token (the URL printed at start has it)\n")
-        return None
+        bad = token_refusal(self._throttle, peer, tok, self.token)
+        if bad is None:
+            return None
+        status, msg, secs = bad
+        if status == 401:
+            return connection.respond(401, msg + " (the URL printed at start has it)\n")
+        resp = connection.respond(429, msg + "\n")
+        resp.headers["Retry-After"] = str(secs)
+        return resp
 
     # -- protocol ----------------------------------------------------------------------------------
     def server_info(self) -> str:

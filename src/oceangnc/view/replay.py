@@ -190,36 +190,25 @@ def serve(run, port: int = 8060, open_browser: bool = False, out=None, ready=Non
     """Serve the replay page of ``run`` on http://127.0.0.1:PORT/ until interrupted (0 on Ctrl-C).
 
     Only three paths answer: ``/`` (the page, importing ``/vendor/three.module.min.js`` and
-    ``/vendor/scene3d.js``) and those two files. ``out`` also writes the self-contained file;
+    ``/vendor/scene3d.js``) and those two files; Host and Origin are checked and the connections bounded
+    as :mod:`oceangnc.view.replay_server` says. ``out`` also writes the self-contained file;
     ``ready(port)`` is called once listening (tests)."""
-    from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+    from .replay_server import make_server
 
     rd = load_run(run)
     if out is not None:
         write_replay(rd, out)
     page = build_html(rd, base="/vendor").encode()
 
-    class Handler(BaseHTTPRequestHandler):
-        def do_GET(self):  # noqa: N802 (http.server's name)
-            path = self.path.split("?", 1)[0]
-            if path in ("/", "/index.html", "/replay.html"):
-                body, ctype = page, "text/html; charset=utf-8"
-            elif path.startswith("/vendor/") and (f := vendor_file(path[len("/vendor/") :])) is not None:
-                body, ctype = f.read_bytes(), "text/javascript; charset=utf-8"
-            else:
-                self.send_error(404)
-                return
-            self.send_response(200)
-            self.send_header("Content-Type", ctype)
-            self.send_header("Content-Length", str(len(body)))
-            self.send_header("Cache-Control", "no-store")
-            self.end_headers()
-            self.wfile.write(body)
+    def files(path: str):
+        if path in ("/", "/index.html", "/replay.html"):
+            return page, "text/html; charset=utf-8"
+        if path.startswith("/vendor/") and (f := vendor_file(path[len("/vendor/") :])) is not None:
+            return f.read_bytes(), "text/javascript; charset=utf-8"
+        return None
 
-        def log_message(self, fmt, *args):
-            pass
-
-    httpd = ThreadingHTTPServer(("127.0.0.1", port), Handler)
+    # Host and Origin checked, connections and idle time bounded (oceangnc.view.replay_server)
+    httpd = make_server(files, port)
     url = f"http://127.0.0.1:{httpd.server_address[1]}/"
     print(f"replay of {rd.path} at {url} (Ctrl-C to stop)", flush=True)
     if ready is not None:
