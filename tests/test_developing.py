@@ -55,7 +55,7 @@ def test_the_users_sensor_holds_its_last_heading_through_a_dropout():
 
     from oceangnc.core.registry import BlockContext
 
-    c = Compass({"sigma_deg": 0.5, "p_drop": 0.3}, BlockContext(period=0.05, cfg=None))
+    c = Compass({"sigma_deg": 0.5, "p_drop": 0.3}, BlockContext(period=0.05))
     c.reset(np.random.default_rng(3))
     bus, out, valid = {}, [], []
     for k in range(400):

@@ -78,6 +78,7 @@ from ..core.rotations import wrap
 from ..guidance.leader_follower import target_point
 from ..io.config import StrictModel
 from ..models._hydro import damping_coefficient
+from ..models.uuv import UUVConfig
 from ..sensors.filters import lowpass_step
 from ..units import KGF
 
@@ -96,6 +97,14 @@ class BacksteppingConfig(StrictModel):
     accel_cutoff_hz: float = Field(
         0.5, gt=0, le=50, description="low-pass cut-off of the leader acceleration estimate, Hz"
     )
+
+
+class BacksteppingParams(BacksteppingConfig):
+    """The gains and what the block takes from its scenario (``build_block(..., given=...)``)."""
+
+    uuv: UUVConfig = Field(..., description="the UUV driven: its 3-DOF model (eq. 3.32) and thrust limits")
+    l_d: float = Field(..., ge=0, description="target horizontal range l^d, m")
+    lambda_d: float = Field(..., description="target bearing lambda^d from the leader's bow, rad")
 
 
 @dataclass(frozen=True)
@@ -293,7 +302,7 @@ class UUVBackstepping(LawBlock):
     role = "controller"
     name = "uuv_control"
     law = staticmethod(backstepping_law)
-    params_model = BacksteppingConfig
+    params_model = BacksteppingParams
 
     def __init__(self, cfg: BacksteppingConfig, uuv_cfg, l_d: float, lambda_d: float, period: float = 0.05, keys=None):
         self.cfg = cfg
@@ -315,11 +324,12 @@ class UUVBackstepping(LawBlock):
         self.st = np.zeros(BS_STATE.size)
 
     @classmethod
-    def from_context(cls, params: BacksteppingConfig, ctx) -> UUVBackstepping:
-        """Built from a scenario's ``control.uuv`` slot: leader (USV) and follower (UUV) signals by
-        role from ``ctx.signal``, the target geometry ``ctx.info["l_d"]``, ``ctx.info["lambda_d"]`` (rad)."""
+    def from_context(cls, params: BacksteppingParams, ctx) -> UUVBackstepping:
+        """Built from a scenario's ``control.uuv`` slot: its own parameters (the gains, the vehicle
+        ``uuv``, the target geometry ``l_d`` (m), ``lambda_d`` (rad)), leader (USV) and follower (UUV)
+        signals by role from ``ctx.signal``."""
         keys = {n: ctx.signal(r) for n, r in ROLES.items()}
-        return cls(params, ctx.cfg.uuv, ctx.info["l_d"], ctx.info["lambda_d"], ctx.period, keys=keys)
+        return cls(params, params.uuv, params.l_d, params.lambda_d, ctx.period, keys=keys)
 
     def reset(self, rng) -> None:
         self.st[:] = 0.0

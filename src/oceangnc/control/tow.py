@@ -195,6 +195,12 @@ class UUVFollowConfig(StrictModel):
     kd_heading: float = Field(40.0, ge=0, le=1e4, description="heading D gain, N s/rad")
 
 
+class UUVFollowParams(UUVFollowConfig):
+    """The gains and the vehicle the block drives, given by its scenario (``build_block(..., given=...)``)."""
+
+    uuv: UUVConfig = Field(..., description="the UUV driven: thrust limits and surge drag X_uu")
+
+
 FOLLOW_SIGNALS = Signals(
     usv_x=In("m"), usv_y=In("m"), uuv_x=In("m"), uuv_y=In("m"), uuv_u=In("m/s"), uuv_psi=In("rad"), uuv_r=In("rad/s"),
     port=Out("N"), stbd=Out("N"), bow=Out("N"),
@@ -228,7 +234,7 @@ class UUVFollow(LawBlock):
     name = "uuv_follow"
     law = staticmethod(uuv_follow_law)
     signals = FOLLOW_SIGNALS
-    params_model = UUVFollowConfig
+    params_model = UUVFollowParams
 
     def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = 0.01):
         self.cfg = cfg
@@ -253,9 +259,10 @@ class UUVFollow(LawBlock):
         self.head = PID.view(self.st, _FX.head, self.pa, _FP.head)
 
     @classmethod
-    def from_context(cls, params: UUVFollowConfig, ctx) -> UUVFollow:
-        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``)."""
-        return cls(params, ctx.cfg.uuv, ctx.period)
+    def from_context(cls, params: UUVFollowParams, ctx) -> UUVFollow:
+        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``): its gains
+        and the vehicle ``uuv`` it drives."""
+        return cls(params, params.uuv, ctx.period)
 
     def reset(self, rng) -> None:
         self.st[:] = 0.0

@@ -44,6 +44,7 @@ from ..core.fused_strings import ENUMS
 from ..core.law import FALSE, TRUE, Ext, In, LawBlock, Layout, Opt, Out, Signals, param
 from ..core.registry import register_block
 from ..core.rotations import wrap
+from ..models.usv import USVConfig
 from ..units import KGF
 from .pid import PID, PID_PARAMS, PID_STATE, pid_clear, pid_params, pid_run, pid_step_w
 
@@ -92,6 +93,14 @@ class USVControlConfig(StrictModel):
     yaw_rate_ki: float = Field(100.0, ge=0, le=1e5, description="remote-mode yaw-rate integral gain, N/rad")
     u_max: float = Field(1.5, gt=0, le=5, description="remote mode: surge speed at full stick, m/s")
     r_max_degps: float = Field(15.0, gt=0, le=90, description="remote mode: yaw rate at full stick, deg/s")
+
+
+class USVControlParams(USVControlConfig):
+    """The gains and what the block takes from its scenario (``build_block(..., given=...)``): the
+    vehicle it drives (thrust limits, d11) and the surge speed target."""
+
+    usv: USVConfig = Field(..., description="the USV driven: thrust limits (kgf) and d11 (feed-forward)")
+    u_d: float = Field(..., description="surge speed target, m/s")
 
 
 USV_PID_SIGNALS = Signals(
@@ -195,7 +204,7 @@ class USVController(LawBlock):
     name = "usv_control"
     law = staticmethod(usv_pid_law)
     signals = USV_PID_SIGNALS
-    params_model = USVControlConfig
+    params_model = USVControlParams
 
     def __init__(self, cfg: USVControlConfig, usv_cfg, u_d: float, period: float = 0.05, meas=None):
         self.cfg = cfg
@@ -245,11 +254,11 @@ class USVController(LawBlock):
     u_d = param(_P.u_d, "surge speed target (m/s) when no block publishes usv.u_d; settable while running")
 
     @classmethod
-    def from_context(cls, params: USVControlConfig, ctx) -> USVController:
-        """Built from a scenario's ``control.usv`` slot: ``ctx.cfg.usv`` (thrust limits, d11), the surge
-        target ``ctx.info["surge_speed"]`` (m/s) and the measured u, psi, r by role."""
+    def from_context(cls, params: USVControlParams, ctx) -> USVController:
+        """Built from a scenario's ``control.usv`` slot: its own parameters (the gains, the vehicle
+        ``usv``: thrust limits, d11; the surge target ``u_d``, m/s) and the measured u, psi, r by role."""
         meas = {"u": ctx.signal("usv.u"), "psi": ctx.signal("usv.psi"), "r": ctx.signal("usv.r")}
-        return cls(params, ctx.cfg.usv, ctx.info["surge_speed"], ctx.period, meas=meas)
+        return cls(params, params.usv, params.u_d, ctx.period, meas=meas)
 
     def reset(self, rng) -> None:
         self.st[:] = 0.0

@@ -23,6 +23,8 @@ rates, e_dot = r_usv - r_uuv (n = 2) and -r_uuv (n = 3).
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 from numba import njit
 from pydantic import Field
@@ -31,6 +33,7 @@ from ..core.config import StrictModel
 from ..core.estop import RESUME_RAMP_S, resume_weight
 from ..core.law import FALSE, TRUE, In, LawBlock, Layout, Opt, Out, Signals
 from ..core.registry import register_block
+from ..models.uuv import UUVConfig
 from ..sensors.filters import lowpass_coefficient, lowpass_step
 from ..units import KGF
 from .pid import PID, PID_PARAMS, PID_STATE, pid_params, pid_run
@@ -49,6 +52,13 @@ class UUVPIDConfig(StrictModel):
     los_kp: float = Field(40.0, ge=0, le=1e5, description="heading-to-USV loop proportional gain, N/rad")
     los_ki: float = Field(0.0, ge=0, le=1e5, description="heading-to-USV loop integral gain, N/(rad s)")
     los_kd: float = Field(25.0, ge=0, le=1e5, description="heading-to-USV loop derivative gain, N s/rad")
+
+
+class UUVPIDParams(UUVPIDConfig):
+    """The gains and what the block takes from its scenario (``build_block(..., given=...)``)."""
+
+    uuv: UUVConfig = Field(..., description="the UUV driven: its thrust limits, kgf")
+    mode: Literal["relative-angle", "relative-angle-plus-heading"] = Field(..., description="formation mode")
 
 
 UUV_PID_SIGNALS = Signals(
@@ -150,7 +160,7 @@ class UUVPIDController(LawBlock):
     name = "uuv_control"
     law = staticmethod(uuv_pid_law)
     signals = UUV_PID_SIGNALS
-    params_model = UUVPIDConfig
+    params_model = UUVPIDParams
 
     def __init__(
         self, cfg: UUVPIDConfig, uuv_cfg, period: float = 0.05, mode: str = "relative-angle-plus-heading", meas=None
@@ -193,15 +203,15 @@ class UUVPIDController(LawBlock):
         self.los = PID.view(self.st, _X.los, self.pa, _P.los)
 
     @classmethod
-    def from_context(cls, params: UUVPIDConfig, ctx) -> UUVPIDController:
+    def from_context(cls, params: UUVPIDParams, ctx) -> UUVPIDController:
         """Built from a scenario's ``control.uuv`` slot (:func:`oceangnc.core.registry.build_block`):
-        ``ctx.cfg.uuv`` for the thrust limits, ``ctx.info["mode"]`` the formation mode, measured yaw
-        rates and USV heading from ``ctx.signal``."""
+        its own parameters (the gains, the vehicle ``uuv`` for the thrust limits, the formation
+        ``mode``), measured yaw rates and USV heading from ``ctx.signal``."""
         return cls(
             params,
-            ctx.cfg.uuv,
+            params.uuv,
             ctx.period,
-            mode=ctx.info.get("mode", "relative-angle-plus-heading"),
+            mode=params.mode,
             meas={"r_usv": ctx.signal("usv.r"), "r_uuv": ctx.signal("uuv.r"), "psi_usv": ctx.signal("usv.psi")},
         )
 

@@ -202,7 +202,13 @@ def load_plugin(path: str | Path) -> None:
 
 @dataclass
 class BlockContext:
-    """What a scenario offers a block it builds from a ``kind``.
+    """What a scenario offers every block it builds from a ``kind``: the firing period and the wiring.
+
+    A block takes nothing else from its scenario: no config, no scenario facts. What it needs (the
+    vehicle it drives, a speed target, a formation geometry) is one of its own parameters (a field of
+    its ``params_model``, filled by the scenario through ``build_block(..., given=...)``) or a declared
+    input read from the bus, so it runs in every scenario that offers them, whatever that scenario's
+    config looks like (``tests/test_block_context.py``).
 
     Attributes
     ----------
@@ -211,16 +217,10 @@ class BlockContext:
     signals : dict
         Role -> bus key of the measurements the scenario wires (roles are the truth signal
         names, e.g. ``"usv.psi"`` -> ``"usv_ahrs.psi"`` when sensors are on); see :meth:`signal`.
-    cfg : pydantic model
-        The scenario's resolved config (vehicle configs: ``cfg.usv``, ``cfg.uuv``, ...).
-    info : dict
-        Scenario-specific values (e.g. the formation geometry ``l_d``, ``lambda_d``, ``mode``).
     """
 
     period: float
     signals: dict[str, str] = field(default_factory=dict)
-    cfg: Any = None
-    info: dict[str, Any] = field(default_factory=dict)
 
     def signal(self, role: str) -> str:
         """The bus key wired to ``role`` (the role itself when the scenario maps nothing)."""
@@ -284,18 +284,27 @@ class BlockChoice(BaseModel):
         return dict(self.model_extra or {})
 
 
-def build_block(choice: BlockChoice, ctx: BlockContext, key: str, base: dict | None = None):
+def build_block(choice: BlockChoice, ctx: BlockContext, key: str, base: dict | None = None, given: dict | None = None):
     """Build the block ``choice`` picks, with ``base`` parameters (the scenario's section for a
-    built-in kind) updated by the choice's own keys.
+    built-in kind) updated by the choice's own keys, and the ``given`` values its ``params_model``
+    declares.
 
-    A class with ``params_model`` gets its parameters validated into that model (a bad value is a
-    ConfigError naming ``<key>.<param>``); one with a ``from_context(params, ctx)`` classmethod is
-    built by it, any other as ``cls(params, ctx)``.
+    ``given`` is what the scenario offers every block of the slot, by parameter name (the vehicle
+    config ``usv`` or ``uuv``, the surge target ``u_d``, the formation ``l_d``, ``lambda_d``,
+    ``mode``): a block gets those its ``params_model`` has a field for, and the choice may not set
+    them (their home is the scenario's own section; a ConfigError says so). A class with
+    ``params_model`` gets its parameters validated into that model (a bad value is a ConfigError
+    naming ``<key>.<param>``); one with a ``from_context(params, ctx)`` classmethod is built by it,
+    any other as ``cls(params, ctx)``.
     """
     cls = lookup(choice.full_kind, f"{key}.kind")
     params: Any = {**(base or {}), **choice.params}
     model = getattr(cls, "params_model", None)
     if model is not None:
+        for name in model.model_fields.keys() & (given or {}).keys():
+            if name in choice.params:
+                raise ConfigError(f"config error: {key}.{name} is set by the scenario, not by the block's slot")
+            params[name] = given[name]  # type: ignore[index]
         try:
             params = model.model_validate(params)
         except ValidationError as err:

@@ -246,7 +246,7 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
         usv_pos, usv_psi, usv_r, usv_u = ("usv.x", "usv.y"), "usv.psi", "usv.r", "usv.u"
         uuv_pos, uuv_psi, uuv_r = ("uuv.x", "uuv.y"), "uuv.psi", "uuv.r"
     for i, choice in enumerate(cfg.sensors.extra):
-        blocks.append(build_block(choice, BlockContext(period=h, cfg=cfg), f"sensors.extra.{i}"))
+        blocks.append(build_block(choice, BlockContext(period=h), f"sensors.extra.{i}"))
     g = cfg.guidance
     at_guidance = len(blocks)  # the pure pursuit goes here once its look-ahead is known (below)
     f = cfg.formation
@@ -270,15 +270,13 @@ def build_simulation(cfg: CombinedConfig, rng) -> Simulation:
     }
     if sens:
         signals["usv.v"] = "_zero"  # no sway measurement on the USV: take v_l = 0
-    ctx = BlockContext(
-        period=h,
-        signals=signals,
-        cfg=cfg,
-        info={"l_d": f.l_d, "lambda_d": lam, "mode": f.mode, "surge_speed": c.surge_speed},
-    )
-    blocks.append(build_block(c.usv, ctx, "control.usv"))
+    ctx = BlockContext(period=h, signals=signals)
+    # what the scenario offers its controllers, by parameter name: each takes those it declares
+    given = {"usv": cfg.usv, "uuv": cfg.uuv, "u_d": c.surge_speed, "l_d": f.l_d, "lambda_d": lam, "mode": f.mode}
+    blocks.append(build_block(c.usv, ctx, "control.usv", given=given))
     base = {"uuv.pid": c.uuv_pid, "uuv.backstepping": c.backstepping}.get(c.uuv.full_kind)
-    blocks.append(build_block(c.uuv, ctx, "control.uuv", base=base.model_dump() if base is not None else None))
+    dump = base.model_dump() if base is not None else None
+    blocks.append(build_block(c.uuv, ctx, "control.uuv", base=dump, given=given))
     if winch is not None:  # the UUV's depth by the winch, in ArduSub's modes when a ground station flies it
         wc = cfg.winch_control
         if wc.mode != "depth" or wc.profile:
