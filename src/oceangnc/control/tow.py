@@ -236,22 +236,16 @@ class UUVFollow(LawBlock):
     signals = FOLLOW_SIGNALS
     params_model = UUVFollowParams
 
-    def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = 0.01):
+    #: role (a truth signal name) of each measured input; the scenario may wire another bus key to it
+    MEASURED = {"usv_x": "usv.x", "usv_y": "usv.y", "uuv_x": "uuv.x", "uuv_y": "uuv.y", "uuv_u": "uuv.u",
+                "uuv_psi": "uuv.psi", "uuv_r": "uuv.r"}  # fmt: skip
+
+    def __init__(self, cfg: UUVFollowConfig, uuv: UUVConfig, period: float = 0.01, meas=None):
         self.cfg = cfg
         self.uuv_cfg = uuv
         self.period = period
-        self.bind(
-            usv_x="usv.x",
-            usv_y="usv.y",
-            uuv_x="uuv.x",
-            uuv_y="uuv.y",
-            uuv_u="uuv.u",
-            uuv_psi="uuv.psi",
-            uuv_r="uuv.r",
-            port="uuv.thrust_port_cmd",
-            stbd="uuv.thrust_stbd_cmd",
-            bow="uuv.thrust_bow_cmd",
-        )
+        keys = {**self.MEASURED, **(meas or {})}
+        self.bind(**keys, port="uuv.thrust_port_cmd", stbd="uuv.thrust_stbd_cmd", bow="uuv.thrust_bow_cmd")
         speed, head = uuv_loop_params(uuv, cfg.kp_speed, cfg.ki_speed, cfg.kp_heading, cfg.kd_heading)
         self.pa = FOLLOW_PARAMS.pack(speed=speed, head=head, u_d=cfg.speed, h=period, x_uu=uuv.X_uu_total)
         self.st = np.zeros(FOLLOW_STATE.size)
@@ -260,9 +254,10 @@ class UUVFollow(LawBlock):
 
     @classmethod
     def from_context(cls, params: UUVFollowParams, ctx) -> UUVFollow:
-        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``): its gains
-        and the vehicle ``uuv`` it drives."""
-        return cls(params, params.uuv, ctx.period)
+        """Built from a scenario's UUV controller slot (``control.uuv.kind = "follow_tow"``): its gains,
+        the vehicle ``uuv`` it drives and the measured positions, speed, heading and yaw rate by role."""
+        meas = {n: ctx.signal(role) for n, role in cls.MEASURED.items()}
+        return cls(params, params.uuv, ctx.period, meas=meas)
 
     def reset(self, rng) -> None:
         self.st[:] = 0.0
