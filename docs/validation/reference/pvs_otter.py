@@ -14,54 +14,33 @@ current) and, for a turn, checks R against the radius of the circle through the 
 
 from __future__ import annotations
 
-import datetime
 import json
 import math
-import subprocess
 import sys
 
+import _pvs  # the recipes' shared part (this folder)
 import numpy as np
 
 CASES = ((0.5, 0.5), (0.75, 0.75), (1.0, 1.0), (1.0, 0.5), (1.0, 0.0))  #: (port, starboard) fractions of n_max
 H, T_END = 0.02, 200.0
 
 
-def _circle_radius(x: np.ndarray, y: np.ndarray) -> float:
-    """Least-squares circle (Kasa fit) through the points: its radius."""
-    A = np.column_stack([x, y, np.ones_like(x)])
-    c, *_ = np.linalg.lstsq(A, x**2 + y**2, rcond=None)
-    return float(math.sqrt(c[2] + (c[0] / 2) ** 2 + (c[1] / 2) ** 2))
-
-
 def run(pvs: str) -> dict:
-    sys.path.insert(0, f"{pvs}/src")
-    from python_vehicle_simulator.lib.gnc import attitudeEuler
+    out = _pvs.header(pvs, "Python Vehicle Simulator, vehicles/otter.py, otter() (stepInput), unmodified", H, T_END)
     from python_vehicle_simulator.vehicles.otter import otter
 
-    commit = subprocess.run(["git", "-C", pvs, "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
-    date = subprocess.run(["git", "-C", pvs, "log", "-1", "--format=%cI"], capture_output=True, text=True).stdout
-    out = {"program": "Python Vehicle Simulator, vehicles/otter.py, otter() (stepInput), unmodified",
-           "repository": "https://github.com/cybergalactic/PythonVehicleSimulator", "commit": commit,
-           "commit_date": date.strip(), "run_date": datetime.date.today().isoformat(), "h_s": H, "t_end_s": T_END,
-           "cases": []}  # fmt: skip
-    n_steps = int(round(T_END / H))
     for fp, fs in CASES:
         v = otter()
         out["n_max_rad_s"] = v.n_max
         u_control = np.array([fp * v.n_max, fs * v.n_max], float)
-        eta, nu, u_actual = np.zeros(6), v.nu.copy(), v.u_actual.copy()
-        track = np.zeros((n_steps + 1, 2))
-        for i in range(n_steps):
-            nu, u_actual = v.dynamics(eta, nu, u_actual, u_control, H)
-            eta = attitudeEuler(eta, nu, H)
-            track[i + 1] = eta[0:2]
+        eta, nu, track = _pvs.simulate(v, u_control, H, T_END, 2)
         u, vv, r = float(nu[0]), float(nu[1]), float(nu[5])
         case = {"port": fp, "starboard": fs, "n_port_rad_s": u_control[0], "n_stbd_rad_s": u_control[1],
                 "u": u, "v": vv, "r": r, "speed": math.hypot(u, vv)}  # fmt: skip
         if fp != fs:
             case["radius"] = math.hypot(u, vv) / abs(r)
             tail = track[-int(50.0 / H) :]
-            case["radius_track"] = _circle_radius(tail[:, 0], tail[:, 1])
+            case["radius_track"] = _pvs.circle_radius(tail[:, 0], tail[:, 1])
         out["cases"].append(case)
     return out
 

@@ -18,12 +18,11 @@ and Prestero (2000) give 2.5 m/s, the speed the drag coefficient was calibrated 
 
 from __future__ import annotations
 
-import datetime
 import json
 import math
-import subprocess
 import sys
 
+import _pvs  # the recipes' shared part (this folder)
 import numpy as np
 
 #: (rudder deg, stern plane deg, propeller rpm)
@@ -31,34 +30,16 @@ CASES = ((0.0, 0.0, 500.0), (0.0, 0.0, 1000.0), (0.0, 0.0, 1525.0), (5.0, 0.0, 1
 H, T_END = 0.02, 300.0
 
 
-def _circle_radius(x: np.ndarray, y: np.ndarray) -> float:
-    """Least-squares circle (Kasa fit) through the points: its radius."""
-    A = np.column_stack([x, y, np.ones_like(x)])
-    c, *_ = np.linalg.lstsq(A, x**2 + y**2, rcond=None)
-    return float(math.sqrt(c[2] + (c[0] / 2) ** 2 + (c[1] / 2) ** 2))
-
-
 def run(pvs: str) -> dict:
-    sys.path.insert(0, f"{pvs}/src")
-    from python_vehicle_simulator.lib.gnc import attitudeEuler
+    out = _pvs.header(
+        pvs, "Python Vehicle Simulator, vehicles/remus100.py, remus100() (stepInput class), unmodified", H, T_END
+    )
     from python_vehicle_simulator.vehicles.remus100 import remus100
 
-    commit = subprocess.run(["git", "-C", pvs, "rev-parse", "HEAD"], capture_output=True, text=True).stdout.strip()
-    date = subprocess.run(["git", "-C", pvs, "log", "-1", "--format=%cI"], capture_output=True, text=True).stdout
-    out = {"program": "Python Vehicle Simulator, vehicles/remus100.py, remus100() (stepInput class), unmodified",
-           "repository": "https://github.com/cybergalactic/PythonVehicleSimulator", "commit": commit,
-           "commit_date": date.strip(), "run_date": datetime.date.today().isoformat(), "h_s": H, "t_end_s": T_END,
-           "cases": []}  # fmt: skip
-    n_steps = int(round(T_END / H))
     for dr, ds, rpm in CASES:
         v = remus100()
         u_control = np.array([math.radians(dr), math.radians(ds), rpm], float)
-        eta, nu, u_actual = np.zeros(6), v.nu.copy(), v.u_actual.copy()
-        track = np.zeros((n_steps + 1, 3))
-        for i in range(n_steps):
-            nu, u_actual = v.dynamics(eta, nu, u_actual, u_control, H)
-            eta = attitudeEuler(eta, nu, H)
-            track[i + 1] = eta[0:3]
+        eta, nu, track = _pvs.simulate(v, u_control, H, T_END, 3)
         u, vv, r = float(nu[0]), float(nu[1]), float(nu[5])
         case = {"rudder_deg": dr, "stern_deg": ds, "rpm": rpm, "u": u, "v": vv, "w": float(nu[2]), "r": r,
                 "speed": math.hypot(u, vv), "roll_deg": math.degrees(eta[3]), "pitch_deg": math.degrees(eta[4]),
@@ -66,7 +47,7 @@ def run(pvs: str) -> dict:
         if dr != 0.0:
             case["radius"] = math.hypot(u, vv) / abs(r)
             tail = track[-int(60.0 / H) :]
-            case["radius_track"] = _circle_radius(tail[:, 0], tail[:, 1])
+            case["radius_track"] = _pvs.circle_radius(tail[:, 0], tail[:, 1])
         out["cases"].append(case)
     return out
 
