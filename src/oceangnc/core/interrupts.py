@@ -131,10 +131,13 @@ def terminate_like_ctrl_c() -> Callable[[], None] | None:
 
     def restore() -> None:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
+        pending = _STATE["pending"]
         _STATE.update(installed=False, pending=None, hard_stop=None)
         for s, h in prev.items():
             signal.signal(s, signal.SIG_DFL if h is None else h)  # (None: a handler not set from Python)
         signal.signal(signal.SIGALRM, signal.SIG_DFL)
+        if pending is not None:  # held back to the end of the command: delivered to the handler now in place
+            signal.raise_signal(pending)
 
     return restore
 
